@@ -1,0 +1,1 @@
+//! SQL layer (placeholder while the core compiles).

@@ -1,0 +1,532 @@
+//! Construction of the adaptive hierarchical triangulation.
+//!
+//! Level 0 is built by greedy insertion (Garland & Heckbert): start from the
+//! convex hull of the samples, repeatedly insert the sample with the largest
+//! vertical error in the worst triangle, keep the triangulation Delaunay, stop
+//! when every triangle is within tolerance 0. Level `i+1` continues from level
+//! `i` with every edge of level `i` made a constraint of a constrained Delaunay
+//! triangulation (spade), so constraint edges persist (a vertex inserted on one
+//! splits it) and every new triangle stays inside one triangle of level `i`.
+//! Errors are measured exactly at every sample inside each triangle.
+//!
+//! ```
+//! use tinmerge::tin::build::build;
+//! // a 20 x 20 grid of samples of a tilted plane with one bump
+//! let mut pts = Vec::new();
+//! for i in 0..20 {
+//!     for j in 0..20 {
+//!         let (x, y) = (i as f64, j as f64);
+//!         let bump = if i == 10 && j == 10 { 5.0 } else { 0.0 };
+//!         pts.push([x, y, 0.5 * x + bump]);
+//!     }
+//! }
+//! let tin = build(pts, &[4.0, 0.0], 0, &mut || Ok(())).unwrap();
+//! assert_eq!(tin.levels.len(), 2);
+//! assert!(tin.levels[1].max_error <= 1e-9);
+//! tin.sanity_check().unwrap();
+//! ```
+
+use super::samples::{c2, SampleGrid};
+use super::{grid, interpolate, locate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
+use robust::orient2d;
+use spade::handles::FixedVertexHandle;
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// Most samples one build accepts (bounds memory: about 100 bytes a sample).
+pub const MAX_SAMPLES: usize = 50_000_000;
+
+/// Per-level tolerances `tolerance * 2^(levels-1-i)`, checked.
+pub fn default_tolerances(tolerance: f64, levels: i32) -> Result<Vec<f64>, TinError> {
+    if !(1..=MAX_LEVELS as i32).contains(&levels) {
+        return Err(TinError::InvalidParameter(format!(
+            "levels must be between 1 and {MAX_LEVELS}, got {levels}"
+        )));
+    }
+    check_tolerance(tolerance)?;
+    Ok((0..levels)
+        .map(|i| tolerance * 2f64.powi(levels - 1 - i))
+        .collect())
+}
+
+fn check_tolerance(t: f64) -> Result<(), TinError> {
+    if !t.is_finite() || t < 0.0 {
+        return Err(TinError::InvalidParameter(format!(
+            "tolerance must be a finite number >= 0, got {t}"
+        )));
+    }
+    Ok(())
+}
+
+/// Check an explicit tolerance list (coarsest first, strictly decreasing).
+pub fn check_tolerances(tols: &[f64]) -> Result<(), TinError> {
+    if tols.is_empty() || tols.len() > MAX_LEVELS {
+        return Err(TinError::InvalidParameter(format!(
+            "tolerances must have between 1 and {MAX_LEVELS} elements, got {}",
+            tols.len()
+        )));
+    }
+    for &t in tols {
+        check_tolerance(t)?;
+    }
+    for w in tols.windows(2) {
+        if w[1] >= w[0] {
+            return Err(TinError::InvalidParameter(format!(
+                "tolerances must be strictly decreasing (level 0 = coarsest first), got {} then {}",
+                w[0], w[1]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Sort samples by (x, y), merge equal (x, y) by averaging z, reject non-finite.
+pub fn prepare_samples(mut pts: Vec<[f64; 3]>) -> Result<Vec<[f64; 3]>, TinError> {
+    if pts.len() > MAX_SAMPLES {
+        return Err(TinError::TooLarge(format!(
+            "{} samples exceed the limit of {MAX_SAMPLES} for one tin; split the terrain into tiles",
+            pts.len()
+        )));
+    }
+    if let Some(p) = pts.iter().find(|p| !p.iter().all(|c| c.is_finite())) {
+        return Err(TinError::InvalidParameter(format!(
+            "sample coordinates must be finite, got ({}, {}, {})",
+            p[0], p[1], p[2]
+        )));
+    }
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    let mut out: Vec<[f64; 3]> = Vec::with_capacity(pts.len());
+    let mut run = 1.0;
+    for p in pts {
+        match out.last_mut() {
+            Some(q) if q[0] == p[0] && q[1] == p[1] => {
+                // running mean of z over the duplicates
+                run += 1.0;
+                q[2] += (p[2] - q[2]) / run;
+            }
+            _ => {
+                run = 1.0;
+                out.push(p);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Convex hull (counter-clockwise, no collinear points) by Andrew's monotone
+/// chain on samples sorted by (x, y); returns sample indices.
+fn convex_hull(pts: &[[f64; 3]]) -> Vec<usize> {
+    let n = pts.len();
+    let mut h: Vec<usize> = Vec::with_capacity(64);
+    let turn = |h: &Vec<usize>, i: usize| {
+        orient2d(c2(&pts[h[h.len() - 2]]), c2(&pts[h[h.len() - 1]]), c2(&pts[i]))
+    };
+    for i in 0..n {
+        while h.len() >= 2 && turn(&h, i) <= 0.0 {
+            h.pop();
+        }
+        h.push(i);
+    }
+    let lower = h.len() + 1;
+    for i in (0..n.saturating_sub(1)).rev() {
+        while h.len() >= lower && turn(&h, i) <= 0.0 {
+            h.pop();
+        }
+        h.push(i);
+    }
+    h.pop();
+    h
+}
+
+#[derive(Clone, Copy)]
+struct FaceState {
+    gen: u32,
+    err: f64,
+    cand: u32,
+}
+
+#[derive(PartialEq)]
+struct Entry {
+    err: f64,
+    face: u32,
+    gen: u32,
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Entry {
+    fn cmp(&self, o: &Self) -> Ordering {
+        self.err
+            .total_cmp(&o.err)
+            .then(o.face.cmp(&self.face))
+            .then(self.gen.cmp(&o.gen))
+    }
+}
+
+struct Builder {
+    cdt: Cdt,
+    /// z of each triangulation vertex (by spade vertex index).
+    vz: Vec<f64>,
+    grid: SampleGrid,
+    inserted: Vec<bool>,
+    faces: Vec<FaceState>,
+    heap: BinaryHeap<Entry>,
+}
+
+impl Builder {
+    fn vert3(&self, h: FixedVertexHandle) -> [f64; 3] {
+        let p = self.cdt.vertex(h).position();
+        [p.x, p.y, self.vz[h.index()]]
+    }
+
+    /// Re-measure one inner face and queue it.
+    fn scan_face(&mut self, face: spade::handles::FixedFaceHandle<spade::handles::InnerTag>) {
+        let f = self.cdt.face(face);
+        let vs = f.vertices();
+        let c = [
+            self.vert3(vs[0].fix()),
+            self.vert3(vs[1].fix()),
+            self.vert3(vs[2].fix()),
+        ];
+        let mut best = 0.0f64;
+        let mut cand = NONE;
+        let inserted = &self.inserted;
+        self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
+            if inserted[i] {
+                return;
+            }
+            let e = (interpolate(&c, p[0], p[1]) - p[2]).abs();
+            if e > best {
+                best = e;
+                cand = i as u32;
+            }
+        });
+        let idx = face.index();
+        if idx >= self.faces.len() {
+            self.faces.resize(
+                idx + 1,
+                FaceState {
+                    gen: 0,
+                    err: 0.0,
+                    cand: NONE,
+                },
+            );
+        }
+        let st = &mut self.faces[idx];
+        st.gen = st.gen.wrapping_add(1);
+        st.err = best;
+        st.cand = cand;
+        if cand != NONE {
+            self.heap.push(Entry {
+                err: best,
+                face: idx as u32,
+                gen: st.gen,
+            });
+        }
+    }
+
+    fn insert_sample(&mut self, i: usize) -> Result<FixedVertexHandle, TinError> {
+        let p = self.grid.pts[i];
+        let before = self.cdt.num_vertices();
+        let h = self
+            .cdt
+            .insert(Point2::new(p[0], p[1]))
+            .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
+        self.inserted[i] = true;
+        if self.cdt.num_vertices() > before {
+            self.vz.push(p[2]);
+        }
+        Ok(h)
+    }
+
+    fn rescan_around(&mut self, v: FixedVertexHandle) {
+        let faces: Vec<_> = self
+            .cdt
+            .vertex(v)
+            .out_edges()
+            .filter_map(|e| e.face().as_inner().map(|f| f.fix()))
+            .collect();
+        for f in faces {
+            self.scan_face(f);
+        }
+    }
+
+    /// Refine until every face is within `tol`; returns the measured max error.
+    fn refine(
+        &mut self,
+        tol: f64,
+        interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    ) -> Result<f64, TinError> {
+        self.heap.clear();
+        let all: Vec<_> = self.cdt.fixed_inner_faces().collect();
+        for (k, f) in all.into_iter().enumerate() {
+            if k % 4096 == 0 {
+                interrupt()?;
+            }
+            self.scan_face(f);
+        }
+        let mut n = 0usize;
+        while let Some(top) = self.heap.pop() {
+            let st = self.faces[top.face as usize];
+            if st.gen != top.gen {
+                continue;
+            }
+            if top.err <= tol {
+                self.heap.push(top);
+                break;
+            }
+            n += 1;
+            if n % 256 == 0 {
+                interrupt()?;
+            }
+            let v = self.insert_sample(st.cand as usize)?;
+            self.rescan_around(v);
+            // A sample that did not become a new vertex (cannot happen for
+            // distinct samples, but never loop on it) is marked inserted;
+            // its old face must be re-measured without it.
+            let idx = top.face as usize;
+            if self.faces[idx].gen == st.gen {
+                if let Some(f) = self
+                    .cdt
+                    .fixed_inner_faces()
+                    .find(|f| f.index() == idx)
+                {
+                    self.scan_face(f);
+                }
+            }
+        }
+        let mut max = 0.0f64;
+        for f in self.cdt.fixed_inner_faces() {
+            max = max.max(self.faces[f.index()].err);
+        }
+        Ok(max)
+    }
+
+    fn constrain_all_edges(&mut self) {
+        let edges: Vec<_> = self
+            .cdt
+            .undirected_edges()
+            .filter(|e| !e.is_constraint_edge())
+            .map(|e| {
+                let [a, b] = e.vertices();
+                (a.fix(), b.fix())
+            })
+            .collect();
+        for (a, b) in edges {
+            self.cdt.add_constraint(a, b);
+        }
+    }
+
+    fn snapshot(&self) -> Vec<[u32; 3]> {
+        self.cdt
+            .inner_faces()
+            .map(|f| {
+                let v = f.vertices();
+                [
+                    v[0].fix().index() as u32,
+                    v[1].fix().index() as u32,
+                    v[2].fix().index() as u32,
+                ]
+            })
+            .collect()
+    }
+}
+
+/// Build a hierarchy from samples (x, y, z) with one tolerance per level
+/// (coarsest first, strictly decreasing). `interrupt` is called regularly and
+/// may abort the build by returning an error.
+pub fn build(
+    samples: Vec<[f64; 3]>,
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Tin, TinError> {
+    check_tolerances(tolerances)?;
+    let pts = prepare_samples(samples)?;
+    if pts.len() < 3 {
+        return Err(TinError::Degenerate(format!(
+            "need at least 3 samples with distinct x,y to build a tin, got {}",
+            pts.len()
+        )));
+    }
+    let grid = SampleGrid::new(pts, 1.0);
+    // hull on an (x, y)-sorted copy of the bucketed samples
+    let mut order: Vec<usize> = (0..grid.pts.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (p, q) = (&grid.pts[a], &grid.pts[b]);
+        p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1]))
+    });
+    let sorted: Vec<[f64; 3]> = order.iter().map(|&i| grid.pts[i]).collect();
+    let hull: Vec<usize> = convex_hull(&sorted).into_iter().map(|k| order[k]).collect();
+    drop(sorted);
+    if hull.len() < 3 {
+        return Err(TinError::Degenerate(
+            "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
+        ));
+    }
+    let n = grid.pts.len();
+    let mut b = Builder {
+        cdt: Cdt::new(),
+        vz: Vec::new(),
+        grid,
+        inserted: vec![false; n],
+        faces: Vec::new(),
+        heap: BinaryHeap::new(),
+    };
+    for &i in &hull {
+        b.insert_sample(i)?;
+    }
+    let mut raw_levels = Vec::with_capacity(tolerances.len());
+    for (l, &tol) in tolerances.iter().enumerate() {
+        if l > 0 {
+            b.constrain_all_edges();
+        }
+        let max_error = b.refine(tol, interrupt)?;
+        raw_levels.push((tol, max_error, b.cdt.num_vertices() as u32, b.snapshot()));
+    }
+    let verts: Vec<[f64; 3]> = (0..b.cdt.num_vertices())
+        .map(|i| b.vert3(FixedVertexHandle::from_index(i)))
+        .collect();
+    drop(b);
+    assemble(verts, raw_levels, srid, interrupt)
+}
+
+/// Morton code of a point normalised to the bbox (16 bits per axis).
+fn morton(b: &Bbox, x: f64, y: f64) -> u32 {
+    let nx = ((x - b.min_x) / (b.max_x - b.min_x).max(f64::MIN_POSITIVE) * 65535.0) as u32;
+    let ny = ((y - b.min_y) / (b.max_y - b.min_y).max(f64::MIN_POSITIVE) * 65535.0) as u32;
+    fn spread(mut v: u32) -> u32 {
+        v &= 0xffff;
+        v = (v | (v << 8)) & 0x00ff00ff;
+        v = (v | (v << 4)) & 0x0f0f0f0f;
+        v = (v | (v << 2)) & 0x33333333;
+        v = (v | (v << 1)) & 0x55555555;
+        v
+    }
+    spread(nx) | (spread(ny) << 1)
+}
+
+/// Neighbour links of a triangle list (edge matching by sort).
+pub fn compute_neighbours(tris: &[[u32; 3]]) -> Result<Vec<[u32; 3]>, TinError> {
+    let mut e: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(tris.len() * 3);
+    for (t, tri) in tris.iter().enumerate() {
+        for j in 0..3 {
+            let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+            e.push((a.min(b), a.max(b), t as u32, j as u8));
+        }
+    }
+    e.sort_unstable();
+    let mut nbrs = vec![[NONE; 3]; tris.len()];
+    let mut i = 0;
+    while i < e.len() {
+        let mut k = i + 1;
+        while k < e.len() && e[k].0 == e[i].0 && e[k].1 == e[i].1 {
+            k += 1;
+        }
+        match k - i {
+            1 => {}
+            2 => {
+                nbrs[e[i].2 as usize][e[i].3 as usize] = e[i + 1].2;
+                nbrs[e[i + 1].2 as usize][e[i + 1].3 as usize] = e[i].2;
+            }
+            _ => {
+                return Err(TinError::Corrupt(format!(
+                    "edge {}-{} is shared by {} triangles",
+                    e[i].0,
+                    e[i].1,
+                    k - i
+                )))
+            }
+        }
+        i = k;
+    }
+    Ok(nbrs)
+}
+
+/// Order triangles, link neighbours, find parents and build grid indexes.
+fn assemble(
+    verts: Vec<[f64; 3]>,
+    raw: Vec<(f64, f64, u32, Vec<[u32; 3]>)>,
+    srid: i32,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Tin, TinError> {
+    let bbox = Bbox::of(&verts);
+    let mut tin = Tin {
+        srid,
+        bbox,
+        verts,
+        levels: Vec::with_capacity(raw.len()),
+    };
+    for (l, (tolerance, max_error, num_vertices, tris)) in raw.into_iter().enumerate() {
+        interrupt()?;
+        let centroid = |t: &[u32; 3]| {
+            let (a, b, c) = (
+                tin.verts[t[0] as usize],
+                tin.verts[t[1] as usize],
+                tin.verts[t[2] as usize],
+            );
+            ((a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0)
+        };
+        let mut keyed: Vec<(u32, u32, [u32; 3])> = Vec::with_capacity(tris.len());
+        for t in &tris {
+            let (x, y) = centroid(t);
+            let parent = if l == 0 {
+                NONE
+            } else {
+                locate::locate(&tin, l - 1, x, y).ok_or_else(|| {
+                    TinError::Degenerate(format!(
+                        "internal: no parent at level {} for a triangle of level {l}",
+                        l - 1
+                    ))
+                })?
+            };
+            keyed.push((parent, morton(&tin.bbox, x, y), *t));
+        }
+        keyed.sort_unstable();
+        let tris: Vec<[u32; 3]> = keyed.iter().map(|k| k.2).collect();
+        let parent: Vec<u32> = keyed.iter().map(|k| k.0).collect();
+        if l > 0 {
+            let prev = &mut tin.levels[l - 1];
+            prev.child_start = child_starts(&parent, prev.tris.len());
+        }
+        let nbrs = compute_neighbours(&tris)?;
+        let mut level = Level {
+            tolerance,
+            max_error,
+            num_vertices,
+            tris,
+            nbrs,
+            parent,
+            child_start: Vec::new(),
+            grid: super::Grid {
+                cell: 1.0,
+                nx: 0,
+                ny: 0,
+                cells: Vec::new(),
+            },
+        };
+        level.grid = grid::build_grid(&tin.verts, &tin.bbox, &level);
+        tin.levels.push(level);
+    }
+    Ok(tin)
+}
+
+/// CSR offsets of children from a parent array sorted ascending.
+pub fn child_starts(parent: &[u32], num_parents: usize) -> Vec<u32> {
+    let mut cs = vec![0u32; num_parents + 1];
+    for &p in parent {
+        if (p as usize) < num_parents {
+            cs[p as usize + 1] += 1;
+        }
+    }
+    for i in 0..num_parents {
+        cs[i + 1] += cs[i];
+    }
+    cs
+}

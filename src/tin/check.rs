@@ -1,0 +1,279 @@
+//! Invariant checkers.
+//!
+//! [`validate_structure`] is what every value read from disk or the wire must
+//! pass before any algorithm touches it: it is linear in the value's size and
+//! guarantees that no index is out of range, links are symmetric, triangles
+//! are counter-clockwise and children lie in their parents, so no later walk
+//! can index out of bounds or loop forever.
+//!
+//! [`Tin::sanity_check`] adds the geometric properties of the hierarchy that
+//! tests check on real data: each level tiles one convex domain, children tile
+//! their parent (so coarse edges persist), and triangles are constrained
+//! Delaunay (edges inside a parent are locally Delaunay).
+
+use super::{Tin, TinError, MAX_LEVELS, NONE};
+use robust::{incircle, orient2d, Coord};
+
+fn xy(p: &[f64; 3]) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+fn bad(msg: String) -> TinError {
+    TinError::Corrupt(msg)
+}
+
+/// Cheap structural validation (see module docs).
+pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
+    let nl = tin.levels.len();
+    if nl == 0 || nl > MAX_LEVELS {
+        return Err(bad(format!("number of levels {nl} is not in 1..{MAX_LEVELS}")));
+    }
+    let nv = tin.verts.len();
+    if nv < 3 {
+        return Err(bad(format!("{nv} vertices, at least 3 needed")));
+    }
+    for (i, v) in tin.verts.iter().enumerate() {
+        if !v.iter().all(|c| c.is_finite()) {
+            return Err(bad(format!("vertex {i} has a non-finite coordinate")));
+        }
+    }
+    let b = super::Bbox::of(&tin.verts);
+    if b != tin.bbox {
+        return Err(bad("bounding box does not match the vertices".into()));
+    }
+    let mut prev_nv = 0u32;
+    let mut prev_tol = f64::INFINITY;
+    for (l, lv) in tin.levels.iter().enumerate() {
+        if !(lv.tolerance.is_finite() && lv.tolerance >= 0.0 && lv.tolerance < prev_tol) {
+            return Err(bad(format!(
+                "level {l}: tolerance {} is not finite, >= 0 and below the previous level's",
+                lv.tolerance
+            )));
+        }
+        prev_tol = lv.tolerance;
+        if !(lv.max_error.is_finite() && lv.max_error >= 0.0) {
+            return Err(bad(format!("level {l}: max error {} is invalid", lv.max_error)));
+        }
+        if lv.num_vertices < prev_nv.max(3) || lv.num_vertices as usize > nv {
+            return Err(bad(format!(
+                "level {l}: vertex count {} is not in {}..={nv}",
+                lv.num_vertices,
+                prev_nv.max(3)
+            )));
+        }
+        prev_nv = lv.num_vertices;
+        let nt = lv.tris.len();
+        if nt == 0 || lv.nbrs.len() != nt || lv.parent.len() != nt {
+            return Err(bad(format!("level {l}: inconsistent triangle arrays")));
+        }
+        for (t, tri) in lv.tris.iter().enumerate() {
+            if tri.iter().any(|&v| v >= lv.num_vertices) {
+                return Err(bad(format!("level {l}: triangle {t} has a vertex index out of range")));
+            }
+            let o = orient2d(
+                xy(&tin.verts[tri[0] as usize]),
+                xy(&tin.verts[tri[1] as usize]),
+                xy(&tin.verts[tri[2] as usize]),
+            );
+            if o <= 0.0 {
+                return Err(bad(format!(
+                    "level {l}: triangle {t} is not counter-clockwise with positive area"
+                )));
+            }
+            for j in 0..3 {
+                let nb = lv.nbrs[t][j];
+                if nb == NONE {
+                    continue;
+                }
+                if nb as usize >= nt || nb as usize == t {
+                    return Err(bad(format!("level {l}: triangle {t} has an invalid neighbour {nb}")));
+                }
+                let (a, bb) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+                let other = lv.tris[nb as usize];
+                let back = (0..3).find(|&k| lv.nbrs[nb as usize][k] == t as u32);
+                match back {
+                    Some(k) if other[(k + 1) % 3] == bb && other[(k + 2) % 3] == a => {}
+                    _ => {
+                        return Err(bad(format!(
+                            "level {l}: neighbour link {t} -> {nb} is not mirrored along the shared edge"
+                        )))
+                    }
+                }
+            }
+        }
+        // parents
+        if l == 0 {
+            if lv.parent.iter().any(|&p| p != NONE) {
+                return Err(bad("level 0 triangles must have no parent".into()));
+            }
+        } else {
+            let pl = &tin.levels[l - 1];
+            let mut last = 0u32;
+            for (t, &p) in lv.parent.iter().enumerate() {
+                if p as usize >= pl.tris.len() || p < last {
+                    return Err(bad(format!(
+                        "level {l}: triangle {t} has parent {p}, out of range or not sorted"
+                    )));
+                }
+                last = p;
+                let pt = pl.tris[p as usize];
+                for &v in &lv.tris[t] {
+                    let q = xy(&tin.verts[v as usize]);
+                    for j in 0..3 {
+                        let o = orient2d(
+                            xy(&tin.verts[pt[j] as usize]),
+                            xy(&tin.verts[pt[(j + 1) % 3] as usize]),
+                            q,
+                        );
+                        if o < 0.0 {
+                            return Err(bad(format!(
+                                "level {l}: triangle {t} is not inside its parent {p}"
+                            )));
+                        }
+                    }
+                }
+            }
+            if pl.child_start.len() != pl.tris.len() + 1
+                || pl.child_start != super::build::child_starts(&lv.parent, pl.tris.len())
+            {
+                return Err(bad(format!("level {}: child offsets are inconsistent", l - 1)));
+            }
+        }
+        if l + 1 == nl && !lv.child_start.is_empty() {
+            return Err(bad("finest level must have no children".into()));
+        }
+        let g = &lv.grid;
+        if !(g.cell.is_finite() && g.cell > 0.0)
+            || g.nx == 0
+            || g.ny == 0
+            || (g.nx as u64) * (g.ny as u64) != g.cells.len() as u64
+            || g.cells.iter().any(|&c| c as usize >= nt)
+        {
+            return Err(bad(format!("level {l}: invalid grid index")));
+        }
+    }
+    if prev_nv as usize != nv {
+        return Err(bad("the finest level must use every vertex".into()));
+    }
+    Ok(())
+}
+
+/// Twice the signed area of triangle `t` (positive for CCW).
+fn area2(tin: &Tin, tri: &[u32; 3]) -> f64 {
+    let [a, b, c] = [
+        tin.verts[tri[0] as usize],
+        tin.verts[tri[1] as usize],
+        tin.verts[tri[2] as usize],
+    ];
+    (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+}
+
+impl Tin {
+    /// Check every invariant of the hierarchy (structure, tiling of one convex
+    /// domain per level, nesting, persistence of coarse edges, constrained
+    /// Delaunay). Meant for tests: O(n log n).
+    pub fn sanity_check(&self) -> Result<(), TinError> {
+        validate_structure(self)?;
+        let mut domain_area = None;
+        for (l, lv) in self.levels.iter().enumerate() {
+            // boundary: one closed convex cycle
+            let mut next = std::collections::HashMap::new();
+            for (t, tri) in lv.tris.iter().enumerate() {
+                for j in 0..3 {
+                    if lv.nbrs[t][j] == NONE {
+                        let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+                        if next.insert(a, b).is_some() {
+                            return Err(bad(format!("level {l}: boundary touches itself at vertex {a}")));
+                        }
+                    }
+                }
+            }
+            let Some((&start, _)) = next.iter().next() else {
+                return Err(bad(format!("level {l}: no boundary")));
+            };
+            let mut cycle = vec![start];
+            let mut cur = start;
+            while let Some(&n) = next.get(&cur) {
+                if n == start {
+                    break;
+                }
+                cycle.push(n);
+                cur = n;
+                if cycle.len() > next.len() {
+                    break;
+                }
+            }
+            if cycle.len() != next.len() {
+                return Err(bad(format!("level {l}: boundary is not a single cycle")));
+            }
+            let k = cycle.len();
+            let mut poly2 = 0.0;
+            for i in 0..k {
+                let a = self.verts[cycle[i] as usize];
+                let b = self.verts[cycle[(i + 1) % k] as usize];
+                let c = self.verts[cycle[(i + 2) % k] as usize];
+                if orient2d(xy(&a), xy(&b), xy(&c)) < 0.0 {
+                    return Err(bad(format!("level {l}: domain is not convex at vertex {}", cycle[(i + 1) % k])));
+                }
+                poly2 += a[0] * b[1] - b[0] * a[1];
+            }
+            let tri2: f64 = lv.tris.iter().map(|t| area2(self, t)).sum();
+            if (tri2 - poly2).abs() > 1e-9 * poly2.abs() {
+                return Err(bad(format!(
+                    "level {l}: triangles cover area {} but the boundary encloses {} (overlap or gap)",
+                    tri2 / 2.0,
+                    poly2 / 2.0
+                )));
+            }
+            match domain_area {
+                None => domain_area = Some(poly2),
+                Some(d) if (d - poly2).abs() <= 1e-9 * d.abs() => {}
+                Some(d) => {
+                    return Err(bad(format!("level {l}: domain area {} differs from level 0's {}", poly2 / 2.0, d / 2.0)))
+                }
+            }
+            // children tile their parent
+            if l + 1 < self.levels.len() {
+                let cl = &self.levels[l + 1];
+                for (p, tri) in lv.tris.iter().enumerate() {
+                    let (s, e) = (lv.child_start[p] as usize, lv.child_start[p + 1] as usize);
+                    let sum: f64 = cl.tris[s..e].iter().map(|t| area2(self, t)).sum();
+                    let pa = area2(self, tri);
+                    if e == s || (sum - pa).abs() > 1e-9 * pa {
+                        return Err(bad(format!(
+                            "level {l}: children of triangle {p} do not tile it (area {} vs {})",
+                            sum / 2.0,
+                            pa / 2.0
+                        )));
+                    }
+                }
+            }
+            // constrained Delaunay: an edge inside one parent is locally Delaunay
+            for (t, tri) in lv.tris.iter().enumerate() {
+                for j in 0..3 {
+                    let nb = lv.nbrs[t][j];
+                    if nb == NONE || (nb as usize) < t {
+                        continue;
+                    }
+                    if l > 0 && lv.parent[t] != lv.parent[nb as usize] {
+                        continue; // on a persisted coarser edge: a constraint
+                    }
+                    let ot = lv.tris[nb as usize];
+                    let k = (0..3).find(|&k| lv.nbrs[nb as usize][k] == t as u32).unwrap_or(0);
+                    let d = self.verts[ot[k] as usize];
+                    let [a, b, c] = [
+                        self.verts[tri[0] as usize],
+                        self.verts[tri[1] as usize],
+                        self.verts[tri[2] as usize],
+                    ];
+                    if incircle(xy(&a), xy(&b), xy(&c), xy(&d)) > 0.0 {
+                        return Err(bad(format!(
+                            "level {l}: edge between triangles {t} and {nb} is not locally Delaunay"
+                        )));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

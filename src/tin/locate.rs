@@ -1,0 +1,174 @@
+//! Point location: grid cell in O(1), then a walk over neighbours decided by
+//! exact orientation tests (`robust::orient2d`).
+//!
+//! The walk is the "remembering stochastic walk" (Devillers, Pion & Teillaud,
+//! *Walking in a triangulation*): at each triangle, test the edges in a
+//! pseudo-random order (skipping the edge just crossed) and cross the first
+//! one with the point strictly on its outer side. It terminates on any
+//! triangulation, Delaunay or not; a step limit with a brute-force fallback
+//! guards values whose structure is valid but geometrically unusual.
+//!
+//! Points on an edge or vertex belong to several closed triangles; the result
+//! is always the smallest triangle id among them, so it does not depend on
+//! the path of the walk.
+
+use super::{Level, Tin, NONE};
+use robust::{orient2d, Coord};
+
+/// Outcome of a walk.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Walk {
+    /// The closed triangle contains the point.
+    Inside(u32),
+    /// The point is outside the (convex) domain; the last triangle visited,
+    /// on the hull, is the nearest the walk got.
+    Outside(u32),
+}
+
+#[inline]
+fn xy(p: &[f64; 3]) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+/// Grid-index start triangle for (x, y) at `level`.
+#[inline]
+pub fn start_triangle(tin: &Tin, level: usize, x: f64, y: f64) -> u32 {
+    let g = &tin.levels[level].grid;
+    if g.cells.is_empty() {
+        return 0;
+    }
+    let cx = ((x - tin.bbox.min_x) / g.cell).floor();
+    let cy = ((y - tin.bbox.min_y) / g.cell).floor();
+    let cx = if cx > 0.0 { (cx as u32).min(g.nx - 1) } else { 0 };
+    let cy = if cy > 0.0 { (cy as u32).min(g.ny - 1) } else { 0 };
+    g.cells[(cy * g.nx + cx) as usize]
+}
+
+/// Walk from `start` towards (x, y) at `level`.
+pub fn walk(tin: &Tin, level: usize, start: u32, x: f64, y: f64) -> Walk {
+    walk_raw(&tin.verts, &tin.levels[level], start, x, y)
+}
+
+/// [`walk`] on a level given with its vertex array (used while building).
+pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> Walk {
+    let n = lv.tris.len();
+    let p = Coord { x, y };
+    let mut t = start;
+    let mut came_from = NONE;
+    let mut seed: u32 = 0x9e37_79b9 ^ start;
+    let limit = 2 * n + 64;
+    for _ in 0..limit {
+        let tri = lv.tris[t as usize];
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        let r = (seed % 3) as usize;
+        let mut crossed = false;
+        for k in 0..3 {
+            let j = (r + k) % 3;
+            let nb = lv.nbrs[t as usize][j];
+            if nb == came_from && nb != NONE {
+                continue;
+            }
+            let a = xy(&verts[tri[(j + 1) % 3] as usize]);
+            let b = xy(&verts[tri[(j + 2) % 3] as usize]);
+            if orient2d(a, b, p) < 0.0 {
+                if nb == NONE {
+                    return Walk::Outside(t);
+                }
+                came_from = t;
+                t = nb;
+                crossed = true;
+                break;
+            }
+        }
+        if !crossed {
+            // The skipped edge (the one we came through) has p on its inner
+            // side by construction, so t contains p.
+            return Walk::Inside(t);
+        }
+    }
+    brute_force(verts, lv, x, y).map_or(Walk::Outside(t), Walk::Inside)
+}
+
+/// Whether the closed triangle `t` contains (x, y).
+#[inline]
+pub fn contains(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> bool {
+    contains_raw(&tin.verts, &tin.levels[level], t, x, y)
+}
+
+#[inline]
+fn contains_raw(verts: &[[f64; 3]], lv: &Level, t: u32, x: f64, y: f64) -> bool {
+    let tri = lv.tris[t as usize];
+    let p = Coord { x, y };
+    (0..3).all(|j| {
+        orient2d(
+            xy(&verts[tri[j] as usize]),
+            xy(&verts[tri[(j + 1) % 3] as usize]),
+            p,
+        ) >= 0.0
+    })
+}
+
+fn brute_force(verts: &[[f64; 3]], lv: &Level, x: f64, y: f64) -> Option<u32> {
+    (0..lv.tris.len() as u32).find(|&t| contains_raw(verts, lv, t, x, y))
+}
+
+/// Among the closed triangles containing (x, y), the smallest id, found by
+/// visiting the triangles across edges that pass through the point.
+pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
+    let lv = &tin.levels[level];
+    let p = Coord { x, y };
+    let mut best = t;
+    let mut stack = [NONE; 16];
+    let mut seen = [NONE; 16];
+    let (mut sp, mut ns) = (1usize, 1usize);
+    stack[0] = t;
+    seen[0] = t;
+    while sp > 0 {
+        sp -= 1;
+        let u = stack[sp];
+        best = best.min(u);
+        let tri = lv.tris[u as usize];
+        for j in 0..3 {
+            let a = xy(&tin.verts[tri[(j + 1) % 3] as usize]);
+            let b = xy(&tin.verts[tri[(j + 2) % 3] as usize]);
+            if orient2d(a, b, p) == 0.0 {
+                let nb = lv.nbrs[u as usize][j];
+                if nb != NONE && !seen[..ns].contains(&nb) && ns < seen.len() && sp < stack.len() {
+                    seen[ns] = nb;
+                    ns += 1;
+                    stack[sp] = nb;
+                    sp += 1;
+                }
+            }
+        }
+    }
+    if ns == seen.len() {
+        // A vertex with more than 15 incident triangles: finish by scanning
+        // the fan exhaustively (rare; still exact).
+        for u in 0..lv.tris.len() as u32 {
+            if u < best && contains(tin, level, u, x, y) {
+                return u;
+            }
+        }
+    }
+    best
+}
+
+/// Triangle at `level` containing (x, y), or None outside the domain or for
+/// non-finite coordinates.
+pub fn locate(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
+    if !(x.is_finite() && y.is_finite()) {
+        return None;
+    }
+    let b = &tin.bbox;
+    if x < b.min_x || x > b.max_x || y < b.min_y || y > b.max_y {
+        return None;
+    }
+    let s = start_triangle(tin, level, x, y);
+    match walk(tin, level, s, x, y) {
+        Walk::Inside(t) => Some(canonical(tin, level, t, x, y)),
+        Walk::Outside(_) => None,
+    }
+}

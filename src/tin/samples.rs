@@ -1,0 +1,152 @@
+//! Source samples bucketed on a regular grid, so that the samples inside a
+//! triangle can be enumerated by scanning only the buckets it overlaps.
+
+use robust::{orient2d, Coord};
+
+/// Samples sorted into square buckets (CSR layout). Indices used by callers
+/// refer to the bucket-sorted order in [`SampleGrid::pts`].
+pub struct SampleGrid {
+    pub pts: Vec<[f64; 3]>,
+    ox: f64,
+    oy: f64,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    start: Vec<u32>,
+}
+
+#[inline]
+pub(crate) fn c2(p: &[f64; 3]) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+impl SampleGrid {
+    /// Bucket `pts` (finite, at least one) with about `per_bucket` samples per bucket.
+    pub fn new(pts: Vec<[f64; 3]>, per_bucket: f64) -> SampleGrid {
+        let b = super::Bbox::of(&pts);
+        let w = (b.max_x - b.min_x).max(0.0);
+        let h = (b.max_y - b.min_y).max(0.0);
+        let n = pts.len().max(1) as f64;
+        let mut cell = ((w * h) * per_bucket / n).sqrt();
+        if !(cell.is_finite() && cell > 0.0) {
+            cell = (w.max(h) / n).max(1e-9);
+        }
+        // Keep the bucket count proportional to the sample count.
+        let max_buckets = (4.0 * n + 16.0).min(1e8);
+        while ((w / cell).floor() + 1.0) * ((h / cell).floor() + 1.0) > max_buckets {
+            cell *= 1.5;
+        }
+        let nx = (w / cell).floor() as usize + 1;
+        let ny = (h / cell).floor() as usize + 1;
+        let mut g = SampleGrid {
+            pts: Vec::new(),
+            ox: b.min_x,
+            oy: b.min_y,
+            cell,
+            nx,
+            ny,
+            start: vec![0; nx * ny + 1],
+        };
+        let keys: Vec<u32> = pts.iter().map(|p| g.bucket_of(p[0], p[1]) as u32).collect();
+        for &k in &keys {
+            g.start[k as usize + 1] += 1;
+        }
+        for i in 0..nx * ny {
+            g.start[i + 1] += g.start[i];
+        }
+        let mut fill = g.start.clone();
+        let mut sorted = vec![[0.0; 3]; pts.len()];
+        for (p, &k) in pts.iter().zip(&keys) {
+            sorted[fill[k as usize] as usize] = *p;
+            fill[k as usize] += 1;
+        }
+        g.pts = sorted;
+        g
+    }
+
+    #[inline]
+    fn col(&self, x: f64) -> usize {
+        let c = ((x - self.ox) / self.cell).floor();
+        if c <= 0.0 {
+            0
+        } else {
+            (c as usize).min(self.nx - 1)
+        }
+    }
+
+    #[inline]
+    fn row(&self, y: f64) -> usize {
+        let r = ((y - self.oy) / self.cell).floor();
+        if r <= 0.0 {
+            0
+        } else {
+            (r as usize).min(self.ny - 1)
+        }
+    }
+
+    #[inline]
+    fn bucket_of(&self, x: f64, y: f64) -> usize {
+        self.row(y) * self.nx + self.col(x)
+    }
+
+    /// Calls `f(index, sample)` for every sample in the closed triangle
+    /// `a, b, c` (counter-clockwise), decided with exact predicates.
+    pub fn for_each_in_triangle(
+        &self,
+        a: &[f64; 3],
+        b: &[f64; 3],
+        c: &[f64; 3],
+        mut f: impl FnMut(usize, &[f64; 3]),
+    ) {
+        let (ca, cb, cc) = (c2(a), c2(b), c2(c));
+        let ymin = a[1].min(b[1]).min(c[1]);
+        let ymax = a[1].max(b[1]).max(c[1]);
+        let (r0, r1) = (self.row(ymin), self.row(ymax));
+        let corners = [a, b, c];
+        for r in r0..=r1 {
+            // x-extent of the triangle within this row's band (slightly widened
+            // so rounding never drops a bucket; membership is decided exactly).
+            let lo = self.oy + r as f64 * self.cell;
+            let hi = lo + self.cell;
+            let (blo, bhi) = (lo.max(ymin), hi.min(ymax));
+            let mut xmin = f64::INFINITY;
+            let mut xmax = f64::NEG_INFINITY;
+            for p in corners {
+                if p[1] >= blo && p[1] <= bhi {
+                    xmin = xmin.min(p[0]);
+                    xmax = xmax.max(p[0]);
+                }
+            }
+            for i in 0..3 {
+                let p = corners[i];
+                let q = corners[(i + 1) % 3];
+                for yy in [blo, bhi] {
+                    if (p[1] - yy) * (q[1] - yy) <= 0.0 && p[1] != q[1] {
+                        let t = (yy - p[1]) / (q[1] - p[1]);
+                        let x = p[0] + t * (q[0] - p[0]);
+                        xmin = xmin.min(x);
+                        xmax = xmax.max(x);
+                    }
+                }
+            }
+            if xmin > xmax {
+                // Band touched only through rounding: fall back to the bbox.
+                xmin = a[0].min(b[0]).min(c[0]);
+                xmax = a[0].max(b[0]).max(c[0]);
+            }
+            let pad = self.cell * 1e-9;
+            let (c0, c1) = (self.col(xmin - pad), self.col(xmax + pad));
+            let s = self.start[r * self.nx + c0] as usize;
+            let e = self.start[r * self.nx + c1 + 1] as usize;
+            for (i, p) in self.pts[s..e].iter().enumerate() {
+                let cp = c2(p);
+                if orient2d(ca, cb, cp) >= 0.0
+                    && orient2d(cb, cc, cp) >= 0.0
+                    && orient2d(cc, ca, cp) >= 0.0
+                {
+                    f(s + i, p);
+                }
+            }
+        }
+    }
+}
