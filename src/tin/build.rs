@@ -479,7 +479,7 @@ fn assemble(
             let parent = if l == 0 {
                 NONE
             } else {
-                locate::locate(&tin, l - 1, x, y).ok_or_else(|| {
+                find_parent(&tin, l - 1, t, x, y).ok_or_else(|| {
                     TinError::Degenerate(format!(
                         "internal: no parent at level {} for a triangle of level {l}",
                         l - 1
@@ -515,6 +515,30 @@ fn assemble(
         tin.levels.push(level);
     }
     Ok(tin)
+}
+
+/// The triangle of `level` that contains all three corners of `t` (exact
+/// test). The centroid's triangle is tried first, then its neighbours, then
+/// every triangle: a sliver's rounded centroid can fall just outside it.
+fn find_parent(tin: &Tin, level: usize, t: &[u32; 3], cx: f64, cy: f64) -> Option<u32> {
+    let holds = |p: u32| {
+        t.iter().all(|&v| {
+            let q = tin.verts[v as usize];
+            locate::contains(tin, level, p, q[0], q[1])
+        })
+    };
+    let lv = &tin.levels[level];
+    if let Some(p) = locate::locate(tin, level, cx, cy) {
+        if holds(p) {
+            return Some(p);
+        }
+        for &n in &lv.nbrs[p as usize] {
+            if n != NONE && holds(n) {
+                return Some(n);
+            }
+        }
+    }
+    (0..lv.tris.len() as u32).find(|&p| holds(p))
 }
 
 /// CSR offsets of children from a parent array sorted ascending.

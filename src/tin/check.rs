@@ -158,14 +158,20 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
     Ok(())
 }
 
-/// Twice the signed area of triangle `t` (positive for CCW).
-fn area2(tin: &Tin, tri: &[u32; 3]) -> f64 {
+/// Twice the signed area of triangle `t` (positive for CCW), and a bound on
+/// its rounding error (products of coordinate differences).
+fn area2(tin: &Tin, tri: &[u32; 3]) -> (f64, f64) {
     let [a, b, c] = [
         tin.verts[tri[0] as usize],
         tin.verts[tri[1] as usize],
         tin.verts[tri[2] as usize],
     ];
-    (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+    let (p, q) = ((b[0] - a[0]) * (c[1] - a[1]), (c[0] - a[0]) * (b[1] - a[1]));
+    // each coordinate difference is off by at most an ulp of the magnitude
+    let mag = a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()).max(c[0].abs()).max(c[1].abs());
+    let m = (b[0] - a[0]).abs().max((b[1] - a[1]).abs()).max((c[0] - a[0]).abs()).max((c[1] - a[1]).abs());
+    let err = 8.0 * f64::EPSILON * (p.abs() + q.abs() + 4.0 * mag * m);
+    (p - q, err)
 }
 
 impl Tin {
@@ -217,7 +223,7 @@ impl Tin {
                 }
                 poly2 += a[0] * b[1] - b[0] * a[1];
             }
-            let tri2: f64 = lv.tris.iter().map(|t| area2(self, t)).sum();
+            let tri2: f64 = lv.tris.iter().map(|t| area2(self, t).0).sum();
             if (tri2 - poly2).abs() > 1e-9 * poly2.abs() {
                 return Err(bad(format!(
                     "level {l}: triangles cover area {} but the boundary encloses {} (overlap or gap)",
@@ -237,9 +243,14 @@ impl Tin {
                 let cl = &self.levels[l + 1];
                 for (p, tri) in lv.tris.iter().enumerate() {
                     let (s, e) = (lv.child_start[p] as usize, lv.child_start[p + 1] as usize);
-                    let sum: f64 = cl.tris[s..e].iter().map(|t| area2(self, t)).sum();
-                    let pa = area2(self, tri);
-                    if e == s || (sum - pa).abs() > 1e-9 * pa {
+                    let (mut sum, mut err) = (0.0, 0.0);
+                    for t in &cl.tris[s..e] {
+                        let (a, e) = area2(self, t);
+                        sum += a;
+                        err += e;
+                    }
+                    let (pa, pe) = area2(self, tri);
+                    if e == s || (sum - pa).abs() > err + pe + 1e-12 * pa {
                         return Err(bad(format!(
                             "level {l}: children of triangle {p} do not tile it (area {} vs {})",
                             sum / 2.0,

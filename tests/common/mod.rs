@@ -1,0 +1,74 @@
+//! Test support: read the bundled GeoTIFF DEMs with the `tiff` crate (an
+//! independent reader: the extension itself never parses TIFF).
+#![allow(dead_code)]
+
+use std::fs::File;
+use tiff::decoder::{Decoder, DecodingResult};
+use tiff::tags::Tag;
+
+pub struct Dem {
+    pub width: usize,
+    pub height: usize,
+    pub origin_x: f64,
+    pub origin_y: f64,
+    pub scale_x: f64,
+    pub scale_y: f64,
+    pub nodata: Option<f64>,
+    pub values: Vec<f64>,
+}
+
+impl Dem {
+    pub fn centre(&self, col: usize, row: usize) -> (f64, f64) {
+        (
+            self.origin_x + (col as f64 + 0.5) * self.scale_x,
+            self.origin_y - (row as f64 + 0.5) * self.scale_y,
+        )
+    }
+
+    /// Valid samples (x, y, z) at pixel centres.
+    pub fn samples(&self) -> Vec<[f64; 3]> {
+        let mut out = Vec::new();
+        for r in 0..self.height {
+            for c in 0..self.width {
+                let v = self.values[r * self.width + c];
+                if v.is_nan() || Some(v) == self.nodata {
+                    continue;
+                }
+                let (x, y) = self.centre(c, r);
+                out.push([x, y, v]);
+            }
+        }
+        out
+    }
+}
+
+pub fn data_path(name: &str) -> String {
+    format!("{}/tests/data/{}", env!("CARGO_MANIFEST_DIR"), name)
+}
+
+pub fn read_dem(name: &str) -> Dem {
+    let f = File::open(data_path(name)).expect("open DEM");
+    let mut d = Decoder::new(f).expect("tiff decoder");
+    let (w, h) = d.dimensions().expect("dimensions");
+    let scale = d.get_tag_f64_vec(Tag::ModelPixelScaleTag).expect("pixel scale");
+    let tie = d.get_tag_f64_vec(Tag::ModelTiepointTag).expect("tiepoint");
+    let nodata = d
+        .get_tag_ascii_string(Tag::GdalNodata)
+        .ok()
+        .and_then(|s| s.trim_matches(char::from(0)).trim().parse::<f64>().ok());
+    let values: Vec<f64> = match d.read_image().expect("read image") {
+        DecodingResult::F32(v) => v.into_iter().map(|x| x as f64).collect(),
+        DecodingResult::F64(v) => v,
+        _ => panic!("unexpected sample format"),
+    };
+    Dem {
+        width: w as usize,
+        height: h as usize,
+        origin_x: tie[3] - tie[0] * scale[0],
+        origin_y: tie[4] + tie[1] * scale[1],
+        scale_x: scale[0],
+        scale_y: scale[1],
+        nodata,
+        values,
+    }
+}
