@@ -14,4 +14,3 @@ pub mod pg_test {
         vec![]
     }
 }
-

@@ -27,8 +27,14 @@ fn brute_force_errors(tin: &Tin, samples: &[[f64; 3]]) -> Vec<(f64, usize)> {
         }
         for t in 0..lv.tris.len() {
             let c = tin.corners(l, t as u32);
-            let (x0, x1) = (c.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min), c.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max));
-            let (y0, y1) = (c.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min), c.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max));
+            let (x0, x1) = (
+                c.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min),
+                c.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
+            );
+            let (y0, y1) = (
+                c.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
+                c.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max),
+            );
             let lo = ys.partition_point(|&y| y < y0);
             let hi = ys.partition_point(|&y| y <= y1);
             for y in &ys[lo..hi] {
@@ -37,9 +43,14 @@ fn brute_force_errors(tin: &Tin, samples: &[[f64; 3]]) -> Vec<(f64, usize)> {
                         continue;
                     }
                     // independent inside test: barycentric with a tiny slack
-                    let d = (c[1][0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
-                    let u = ((s[0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (s[1] - c[0][1])) / d;
-                    let v = ((c[1][0] - c[0][0]) * (s[1] - c[0][1]) - (s[0] - c[0][0]) * (c[1][1] - c[0][1])) / d;
+                    let d = (c[1][0] - c[0][0]) * (c[2][1] - c[0][1])
+                        - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
+                    let u = ((s[0] - c[0][0]) * (c[2][1] - c[0][1])
+                        - (c[2][0] - c[0][0]) * (s[1] - c[0][1]))
+                        / d;
+                    let v = ((c[1][0] - c[0][0]) * (s[1] - c[0][1])
+                        - (s[0] - c[0][0]) * (c[1][1] - c[0][1]))
+                        / d;
                     if u < -1e-12 || v < -1e-12 || u + v > 1.0 + 1e-12 {
                         continue;
                     }
@@ -51,7 +62,10 @@ fn brute_force_errors(tin: &Tin, samples: &[[f64; 3]]) -> Vec<(f64, usize)> {
             }
         }
         let uncovered = best.iter().filter(|e| e.is_nan()).count();
-        let max = best.iter().filter(|e| !e.is_nan()).fold(0.0f64, |a, &b| a.max(b));
+        let max = best
+            .iter()
+            .filter(|e| !e.is_nan())
+            .fold(0.0f64, |a, &b| a.max(b));
         out.push((max, uncovered));
     }
     out
@@ -68,14 +82,27 @@ fn jacksboro_utm_tolerance_2m_5_levels() {
     let dt = t0.elapsed();
     tin.sanity_check().unwrap();
     let counts: Vec<usize> = tin.levels.iter().map(|l| l.tris.len()).collect();
-    eprintln!("levels {:?} tolerances {:?} triangles {:?} build {:?}", tin.levels.len(), tols, counts, dt);
+    eprintln!(
+        "levels {:?} tolerances {:?} triangles {:?} build {:?}",
+        tin.levels.len(),
+        tols,
+        counts,
+        dt
+    );
     // coarse to fine: more triangles at every level
     assert!(counts.windows(2).all(|w| w[0] < w[1]), "{counts:?}");
     let errs = brute_force_errors(&tin, &samples);
     for (l, (max, uncovered)) in errs.iter().enumerate() {
-        eprintln!("level {l}: tolerance {} brute-force max error {max:.4} (stored {:.4})", tols[l], tin.levels[l].max_error);
+        eprintln!(
+            "level {l}: tolerance {} brute-force max error {max:.4} (stored {:.4})",
+            tols[l], tin.levels[l].max_error
+        );
         assert_eq!(*uncovered, 0, "level {l}: samples outside every triangle");
-        assert!(*max <= tols[l] + 1e-6, "level {l}: error {max} > {}", tols[l]);
+        assert!(
+            *max <= tols[l] + 1e-6,
+            "level {l}: error {max} > {}",
+            tols[l]
+        );
         assert!((max - tin.levels[l].max_error).abs() < 1e-6);
     }
     // storage round trip is exact and validated
@@ -94,6 +121,12 @@ fn jacksboro_utm_tolerance_2m_5_levels() {
 #[test]
 fn geographic_dem_builds_too() {
     let dem = common::read_dem("jacksboro_fault_dem.tif");
-    let tin = build(dem.samples(), &default_tolerances(4.0, 3).unwrap(), 4326, &mut || Ok(())).unwrap();
+    let tin = build(
+        dem.samples(),
+        &default_tolerances(4.0, 3).unwrap(),
+        4326,
+        &mut || Ok(()),
+    )
+    .unwrap();
     tin.sanity_check().unwrap();
 }

@@ -61,9 +61,7 @@ impl Geom {
         match self {
             Geom::Point(p) => p.iter().for_each(|c| f(c)),
             Geom::LineString(l) | Geom::MultiPoint(l) => l.iter().for_each(|c| f(c)),
-            Geom::Polygon(rs) | Geom::MultiLineString(rs) => {
-                rs.iter().flatten().for_each(|c| f(c))
-            }
+            Geom::Polygon(rs) | Geom::MultiLineString(rs) => rs.iter().flatten().for_each(|c| f(c)),
             Geom::MultiPolygon(ps) => ps.iter().flatten().flatten().for_each(|c| f(c)),
             Geom::Collection(gs) => gs.iter().for_each(|g| g.for_each_coord(f)),
         }
@@ -71,7 +69,11 @@ impl Geom {
 }
 
 fn coord<C: CoordTrait<T = f64>>(c: &C, has_z: bool) -> Coord3 {
-    let z = if has_z { c.nth(2).unwrap_or(f64::NAN) } else { f64::NAN };
+    let z = if has_z {
+        c.nth(2).unwrap_or(f64::NAN)
+    } else {
+        f64::NAN
+    };
     [c.x(), c.y(), z]
 }
 
@@ -99,11 +101,15 @@ fn convert<G: GeometryTrait<T = f64>>(g: &G, z: bool) -> Result<Geom, IoError> {
         GeometryType::Point(p) => Geom::Point(point(p, z)),
         GeometryType::LineString(l) => Geom::LineString(line(l, z)),
         GeometryType::Polygon(p) => Geom::Polygon(poly(p, z)),
-        GeometryType::MultiPoint(m) => Geom::MultiPoint(m.points().filter_map(|p| point(&p, z)).collect()),
+        GeometryType::MultiPoint(m) => {
+            Geom::MultiPoint(m.points().filter_map(|p| point(&p, z)).collect())
+        }
         GeometryType::MultiLineString(m) => {
             Geom::MultiLineString(m.line_strings().map(|l| line(&l, z)).collect())
         }
-        GeometryType::MultiPolygon(m) => Geom::MultiPolygon(m.polygons().map(|p| poly(&p, z)).collect()),
+        GeometryType::MultiPolygon(m) => {
+            Geom::MultiPolygon(m.polygons().map(|p| poly(&p, z)).collect())
+        }
         GeometryType::GeometryCollection(c) => Geom::Collection(
             c.geometries()
                 .map(|g| convert(&g, z))
@@ -116,7 +122,10 @@ fn convert<G: GeometryTrait<T = f64>>(g: &G, z: bool) -> Result<Geom, IoError> {
 /// Read EWKB or ISO WKB bytes (as PostGIS's `geometry::bytea` cast gives).
 pub fn read(b: &[u8]) -> Result<Ewkb, IoError> {
     if b.len() < 5 {
-        return Err(IoError::Geometry(format!("EWKB too short ({} bytes)", b.len())));
+        return Err(IoError::Geometry(format!(
+            "EWKB too short ({} bytes)",
+            b.len()
+        )));
     }
     let le = match b[0] {
         0 => false,

@@ -138,7 +138,11 @@ impl<'a> Rd<'a> {
 /// Parse WKB raster bytes, keeping band `band` (1-based). `band` beyond the
 /// band count is an error unless the raster has no bands and `band` is None.
 pub fn read(b: &[u8], band: Option<usize>) -> Result<Raster, IoError> {
-    let mut r = Rd { b, pos: 0, le: true };
+    let mut r = Rd {
+        b,
+        pos: 0,
+        le: true,
+    };
     r.le = match r.u8()? {
         0 => false,
         1 => true,
@@ -146,7 +150,9 @@ pub fn read(b: &[u8], band: Option<usize>) -> Result<Raster, IoError> {
     };
     let version = r.u16()?;
     if version != 0 {
-        return Err(IoError::Raster(format!("WKB raster version {version} is not supported")));
+        return Err(IoError::Raster(format!(
+            "WKB raster version {version} is not supported"
+        )));
     }
     let nb = r.u16()? as usize;
     let gt = GeoTransform {
@@ -160,9 +166,13 @@ pub fn read(b: &[u8], band: Option<usize>) -> Result<Raster, IoError> {
     let srid = r.i32()?;
     let width = r.u16()? as usize;
     let height = r.u16()? as usize;
-    let g = [gt.scale_x, gt.scale_y, gt.ip_x, gt.ip_y, gt.skew_x, gt.skew_y];
+    let g = [
+        gt.scale_x, gt.scale_y, gt.ip_x, gt.ip_y, gt.skew_x, gt.skew_y,
+    ];
     if !g.iter().all(|v| v.is_finite()) {
-        return Err(IoError::Raster("georeference has a non-finite value".into()));
+        return Err(IoError::Raster(
+            "georeference has a non-finite value".into(),
+        ));
     }
     let mut out = Raster {
         srid,
@@ -197,11 +207,16 @@ pub fn read(b: &[u8], band: Option<usize>) -> Result<Raster, IoError> {
             continue;
         }
         if i != want {
-            r.take(npix.checked_mul(size).ok_or_else(|| IoError::Raster("size overflow".into()))?)?;
+            r.take(
+                npix.checked_mul(size)
+                    .ok_or_else(|| IoError::Raster("size overflow".into()))?,
+            )?;
             continue;
         }
         // Check the length before allocating.
-        let need = npix.checked_mul(size).ok_or_else(|| IoError::Raster("size overflow".into()))?;
+        let need = npix
+            .checked_mul(size)
+            .ok_or_else(|| IoError::Raster("size overflow".into()))?;
         if r.pos + need > b.len() {
             return Err(IoError::Raster(format!(
                 "truncated: band {i} needs {need} bytes of pixels, {} remain",

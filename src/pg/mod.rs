@@ -1,1 +1,100 @@
-//! SQL layer (placeholder while the core compiles).
+//! The SQL layer: converts arguments, calls the pure core, maps errors to
+//! SQLSTATEs. Nothing algorithmic lives here.
+
+use pgrx::prelude::*;
+use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
+
+use crate::io::IoError;
+use crate::tin::TinError;
+
+mod cache;
+mod functions;
+mod types;
+
+::pgrx::pg_module_magic!(name, version);
+
+/// `tinmerge.cache_size`: MB of decoded tin values kept per backend.
+pub static CACHE_SIZE_MB: GucSetting<i32> = GucSetting::<i32>::new(256);
+
+#[pg_guard]
+pub extern "C-unwind" fn _PG_init() {
+    GucRegistry::define_int_guc(
+        c"tinmerge.cache_size",
+        c"Megabytes of decoded tin values cached per backend.",
+        c"A query calling tinmerge functions once per row on the same tin decodes it once per backend; this bounds the memory those decoded values use (0 disables the cache).",
+        &CACHE_SIZE_MB,
+        0,
+        64 * 1024,
+        GucContext::Userset,
+        GucFlags::UNIT_MB,
+    );
+}
+
+/// Raise an ERROR with an SQLSTATE; never returns.
+pub(crate) fn raise(code: PgSqlErrorCode, msg: impl Into<String>) -> ! {
+    let msg: String = msg.into();
+    ereport!(ERROR, code, msg);
+}
+
+/// Map a core error to its SQLSTATE and raise it.
+pub(crate) fn raise_tin(e: TinError) -> ! {
+    use PgSqlErrorCode::*;
+    let code = match &e {
+        TinError::InvalidParameter(_)
+        | TinError::LevelOutOfRange { .. }
+        | TinError::Degenerate(_) => ERRCODE_INVALID_PARAMETER_VALUE,
+        TinError::Corrupt(_) => ERRCODE_DATA_CORRUPTED,
+        TinError::TooLarge(_) => ERRCODE_PROGRAM_LIMIT_EXCEEDED,
+        TinError::Interrupted => ERRCODE_QUERY_CANCELED,
+    };
+    raise(code, e.to_string())
+}
+
+/// Map an input-format error to its SQLSTATE and raise it.
+pub(crate) fn raise_io(e: IoError) -> ! {
+    use PgSqlErrorCode::*;
+    let code = match &e {
+        IoError::Geometry(_) | IoError::Raster(_) => ERRCODE_INVALID_BINARY_REPRESENTATION,
+        IoError::Unsupported(_) => ERRCODE_INVALID_PARAMETER_VALUE,
+    };
+    raise(code, e.to_string())
+}
+
+pub(crate) trait OrRaise<T> {
+    fn or_raise(self) -> T;
+}
+
+impl<T> OrRaise<T> for Result<T, TinError> {
+    fn or_raise(self) -> T {
+        self.unwrap_or_else(|e| raise_tin(e))
+    }
+}
+
+impl<T> OrRaise<T> for Result<T, IoError> {
+    fn or_raise(self) -> T {
+        self.unwrap_or_else(|e| raise_io(e))
+    }
+}
+
+#[cfg(any(test, feature = "pg_test"))]
+#[pg_schema]
+mod tests {
+    use pgrx::prelude::*;
+
+    #[pg_test]
+    fn build_roundtrip_and_cache() {
+        Spi::run("CREATE EXTENSION IF NOT EXISTS postgis").unwrap();
+        Spi::run("CREATE EXTENSION IF NOT EXISTS postgis_raster").unwrap();
+        let n: Option<i32> = Spi::get_one(
+            "SELECT tin_num_levels(tin_from_points('SRID=32616;MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3, 10 10 9, 5 5 20)'::geometry, 0.5, 2))",
+        )
+        .unwrap();
+        assert_eq!(n, Some(2));
+        let same: Option<bool> = Spi::get_one(
+            "WITH t AS (SELECT tin_from_points('SRID=32616;MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3, 10 10 9, 5 5 20)'::geometry, 0.5, 2) AS t)
+             SELECT (t::text)::tin::text = t::text FROM t",
+        )
+        .unwrap();
+        assert_eq!(same, Some(true));
+    }
+}

@@ -122,7 +122,11 @@ fn convex_hull(pts: &[[f64; 3]]) -> Vec<usize> {
     let n = pts.len();
     let mut h: Vec<usize> = Vec::with_capacity(64);
     let turn = |h: &Vec<usize>, i: usize| {
-        orient2d(c2(&pts[h[h.len() - 2]]), c2(&pts[h[h.len() - 1]]), c2(&pts[i]))
+        orient2d(
+            c2(&pts[h[h.len() - 2]]),
+            c2(&pts[h[h.len() - 1]]),
+            c2(&pts[i]),
+        )
     };
     for i in 0..n {
         while h.len() >= 2 && turn(&h, i) <= 0.0 {
@@ -292,11 +296,7 @@ impl Builder {
             // its old face must be re-measured without it.
             let idx = top.face as usize;
             if self.faces[idx].gen == st.gen {
-                if let Some(f) = self
-                    .cdt
-                    .fixed_inner_faces()
-                    .find(|f| f.index() == idx)
-                {
+                if let Some(f) = self.cdt.fixed_inner_faces().find(|f| f.index() == idx) {
                     self.scan_face(f);
                 }
             }

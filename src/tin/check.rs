@@ -26,7 +26,9 @@ fn bad(msg: String) -> TinError {
 pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
     let nl = tin.levels.len();
     if nl == 0 || nl > MAX_LEVELS {
-        return Err(bad(format!("number of levels {nl} is not in 1..{MAX_LEVELS}")));
+        return Err(bad(format!(
+            "number of levels {nl} is not in 1..{MAX_LEVELS}"
+        )));
     }
     let nv = tin.verts.len();
     if nv < 3 {
@@ -52,7 +54,10 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
         }
         prev_tol = lv.tolerance;
         if !(lv.max_error.is_finite() && lv.max_error >= 0.0) {
-            return Err(bad(format!("level {l}: max error {} is invalid", lv.max_error)));
+            return Err(bad(format!(
+                "level {l}: max error {} is invalid",
+                lv.max_error
+            )));
         }
         if lv.num_vertices < prev_nv.max(3) || lv.num_vertices as usize > nv {
             return Err(bad(format!(
@@ -68,7 +73,9 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
         }
         for (t, tri) in lv.tris.iter().enumerate() {
             if tri.iter().any(|&v| v >= lv.num_vertices) {
-                return Err(bad(format!("level {l}: triangle {t} has a vertex index out of range")));
+                return Err(bad(format!(
+                    "level {l}: triangle {t} has a vertex index out of range"
+                )));
             }
             let o = orient2d(
                 xy(&tin.verts[tri[0] as usize]),
@@ -86,7 +93,9 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
                     continue;
                 }
                 if nb as usize >= nt || nb as usize == t {
-                    return Err(bad(format!("level {l}: triangle {t} has an invalid neighbour {nb}")));
+                    return Err(bad(format!(
+                        "level {l}: triangle {t} has an invalid neighbour {nb}"
+                    )));
                 }
                 let (a, bb) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
                 let other = lv.tris[nb as usize];
@@ -136,7 +145,10 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
             if pl.child_start.len() != pl.tris.len() + 1
                 || pl.child_start != super::build::child_starts(&lv.parent, pl.tris.len())
             {
-                return Err(bad(format!("level {}: child offsets are inconsistent", l - 1)));
+                return Err(bad(format!(
+                    "level {}: child offsets are inconsistent",
+                    l - 1
+                )));
             }
         }
         if l + 1 == nl && !lv.child_start.is_empty() {
@@ -168,8 +180,18 @@ fn area2(tin: &Tin, tri: &[u32; 3]) -> (f64, f64) {
     ];
     let (p, q) = ((b[0] - a[0]) * (c[1] - a[1]), (c[0] - a[0]) * (b[1] - a[1]));
     // each coordinate difference is off by at most an ulp of the magnitude
-    let mag = a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()).max(c[0].abs()).max(c[1].abs());
-    let m = (b[0] - a[0]).abs().max((b[1] - a[1]).abs()).max((c[0] - a[0]).abs()).max((c[1] - a[1]).abs());
+    let mag = a[0]
+        .abs()
+        .max(a[1].abs())
+        .max(b[0].abs())
+        .max(b[1].abs())
+        .max(c[0].abs())
+        .max(c[1].abs());
+    let m = (b[0] - a[0])
+        .abs()
+        .max((b[1] - a[1]).abs())
+        .max((c[0] - a[0]).abs())
+        .max((c[1] - a[1]).abs());
     let err = 8.0 * f64::EPSILON * (p.abs() + q.abs() + 4.0 * mag * m);
     (p - q, err)
 }
@@ -189,7 +211,9 @@ impl Tin {
                     if lv.nbrs[t][j] == NONE {
                         let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
                         if next.insert(a, b).is_some() {
-                            return Err(bad(format!("level {l}: boundary touches itself at vertex {a}")));
+                            return Err(bad(format!(
+                                "level {l}: boundary touches itself at vertex {a}"
+                            )));
                         }
                     }
                 }
@@ -219,7 +243,10 @@ impl Tin {
                 let b = self.verts[cycle[(i + 1) % k] as usize];
                 let c = self.verts[cycle[(i + 2) % k] as usize];
                 if orient2d(xy(&a), xy(&b), xy(&c)) < 0.0 {
-                    return Err(bad(format!("level {l}: domain is not convex at vertex {}", cycle[(i + 1) % k])));
+                    return Err(bad(format!(
+                        "level {l}: domain is not convex at vertex {}",
+                        cycle[(i + 1) % k]
+                    )));
                 }
                 poly2 += a[0] * b[1] - b[0] * a[1];
             }
@@ -235,7 +262,11 @@ impl Tin {
                 None => domain_area = Some(poly2),
                 Some(d) if (d - poly2).abs() <= 1e-9 * d.abs() => {}
                 Some(d) => {
-                    return Err(bad(format!("level {l}: domain area {} differs from level 0's {}", poly2 / 2.0, d / 2.0)))
+                    return Err(bad(format!(
+                        "level {l}: domain area {} differs from level 0's {}",
+                        poly2 / 2.0,
+                        d / 2.0
+                    )))
                 }
             }
             // children tile their parent
@@ -270,7 +301,9 @@ impl Tin {
                         continue; // on a persisted coarser edge: a constraint
                     }
                     let ot = lv.tris[nb as usize];
-                    let k = (0..3).find(|&k| lv.nbrs[nb as usize][k] == t as u32).unwrap_or(0);
+                    let k = (0..3)
+                        .find(|&k| lv.nbrs[nb as usize][k] == t as u32)
+                        .unwrap_or(0);
                     let d = self.verts[ot[k] as usize];
                     let [a, b, c] = [
                         self.verts[tri[0] as usize],

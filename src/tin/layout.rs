@@ -133,12 +133,16 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
     let _flags = r.u16()?;
     let hl = r.u32()?;
     if hl as usize != HEADER_LEN {
-        return Err(corrupt(format!("header length {hl}, expected {HEADER_LEN}")));
+        return Err(corrupt(format!(
+            "header length {hl}, expected {HEADER_LEN}"
+        )));
     }
     let srid = r.u32()? as i32;
     let nl = r.u32()?;
     if nl == 0 || nl as usize > MAX_LEVELS {
-        return Err(corrupt(format!("number of levels {nl} is not in 1..{MAX_LEVELS}")));
+        return Err(corrupt(format!(
+            "number of levels {nl} is not in 1..{MAX_LEVELS}"
+        )));
     }
     let num_vertices = r.u32()?;
     let total_len = r.u64()?;
@@ -183,7 +187,11 @@ fn body_len(h: &Header) -> Option<u64> {
         let t = lv.num_triangles as u64;
         len = len.checked_add(t.checked_mul(28)?)?;
         len = pad8(len)?;
-        len = len.checked_add((lv.grid_nx as u64).checked_mul(lv.grid_ny as u64)?.checked_mul(4)?)?;
+        len = len.checked_add(
+            (lv.grid_nx as u64)
+                .checked_mul(lv.grid_ny as u64)?
+                .checked_mul(4)?,
+        )?;
         len = pad8(len)?;
     }
     Some(len)
@@ -285,10 +293,7 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
     if content_hash(b) != h.hash {
         return Err(corrupt("content hash mismatch (value is corrupted)"));
     }
-    let mut r = Rd {
-        b,
-        pos: HEADER_LEN,
-    };
+    let mut r = Rd { b, pos: HEADER_LEN };
     let mut verts = Vec::with_capacity(h.num_vertices as usize);
     for _ in 0..h.num_vertices {
         verts.push([r.f64()?, r.f64()?, r.f64()?]);
@@ -333,7 +338,10 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
     }
     for l in 1..levels.len() {
         let np = levels[l - 1].tris.len();
-        let parents_ok = levels[l].parent.iter().all(|&p| p != NONE && (p as usize) < np);
+        let parents_ok = levels[l]
+            .parent
+            .iter()
+            .all(|&p| p != NONE && (p as usize) < np);
         if parents_ok {
             levels[l - 1].child_start = child_starts(&levels[l].parent, np);
         }

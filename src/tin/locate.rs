@@ -39,8 +39,16 @@ pub fn start_triangle(tin: &Tin, level: usize, x: f64, y: f64) -> u32 {
     }
     let cx = ((x - tin.bbox.min_x) / g.cell).floor();
     let cy = ((y - tin.bbox.min_y) / g.cell).floor();
-    let cx = if cx > 0.0 { (cx as u32).min(g.nx - 1) } else { 0 };
-    let cy = if cy > 0.0 { (cy as u32).min(g.ny - 1) } else { 0 };
+    let cx = if cx > 0.0 {
+        (cx as u32).min(g.nx - 1)
+    } else {
+        0
+    };
+    let cy = if cy > 0.0 {
+        (cy as u32).min(g.ny - 1)
+    } else {
+        0
+    };
     g.cells[(cy * g.nx + cx) as usize]
 }
 

@@ -50,7 +50,9 @@ pub fn read_dem(name: &str) -> Dem {
     let f = File::open(data_path(name)).expect("open DEM");
     let mut d = Decoder::new(f).expect("tiff decoder");
     let (w, h) = d.dimensions().expect("dimensions");
-    let scale = d.get_tag_f64_vec(Tag::ModelPixelScaleTag).expect("pixel scale");
+    let scale = d
+        .get_tag_f64_vec(Tag::ModelPixelScaleTag)
+        .expect("pixel scale");
     let tie = d.get_tag_f64_vec(Tag::ModelTiepointTag).expect("tiepoint");
     let nodata = d
         .get_tag_ascii_string(Tag::GdalNodata)

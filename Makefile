@@ -1,0 +1,29 @@
+# tinmerge: the two commands are `make demo` and `make test`.
+.PHONY: demo test install start stop psql bench clean
+
+demo:
+	scripts/demo.sh
+
+test:
+	scripts/test.sh
+
+install:
+	scripts/setup.sh
+	if [ "$$(id -u)" -eq 0 ]; then cargo pgrx install --release --pg-config /usr/lib/postgresql/15/bin/pg_config; \
+	else cargo pgrx install --release --sudo --pg-config /usr/lib/postgresql/15/bin/pg_config; fi
+
+start:
+	scripts/cluster.sh start
+
+stop:
+	scripts/cluster.sh stop
+
+psql:
+	scripts/cluster.sh psql -d tinmerge_demo
+
+bench:
+	scripts/bench.sh
+
+clean:
+	scripts/cluster.sh stop
+	cargo clean

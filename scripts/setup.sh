@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs what tinmerge needs, only when missing: Debian packages,
+# cargo-pgrx 0.18.0, the pgrx PostgreSQL 15 configuration, Python test libs.
+# Works as root (CI) and as a user with sudo.
+set -euo pipefail
+PG_CONFIG=/usr/lib/postgresql/15/bin/pg_config
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+
+pkgs="postgresql-15 postgresql-server-dev-15 postgresql-15-postgis-3 postgis libclang-dev clang sudo gdal-bin"
+missing=""
+for p in $pkgs; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  echo "== installing Debian packages:$missing"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO -E apt-get install -y -qq $missing
+fi
+
+if ! cargo pgrx --version 2>/dev/null | grep -q "0.18.0"; then
+  echo "== installing cargo-pgrx 0.18.0 (about 5 minutes)"
+  cargo install --locked cargo-pgrx --version =0.18.0
+fi
+
+if ! grep -qs "pg15" "${PGRX_HOME:-$HOME/.pgrx}/config.toml"; then
+  echo "== cargo pgrx init (uses the system PostgreSQL 15, downloads nothing)"
+  cargo pgrx init --pg15 "$PG_CONFIG"
+fi
+
+# Python libraries used by the independent property test
+if ! python3 -c "import numpy, matplotlib, shapely" 2>/dev/null; then
+  echo "== installing Python test libraries"
+  python3 -m pip install -q numpy matplotlib shapely
+fi

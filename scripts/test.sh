@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# The whole test suite: module boundary, formatting, plain cargo tests on real
+# data, #[pg_test]s, the pg_regress suite, and the independent property test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PG_CONFIG=/usr/lib/postgresql/15/bin/pg_config
+scripts/setup.sh
+
+echo "== module boundary"
+scripts/check-boundary.sh
+echo "== cargo fmt --check"
+cargo fmt --check
+echo "== cargo test (pure Rust core, real DEM)"
+cargo test --release --lib --tests --doc
+
+echo "== cargo pgrx test (#[pg_test])"
+if [ "$(id -u)" -eq 0 ]; then
+  mkdir -p target/pgrx-test && chown postgres target/pgrx-test
+  cargo pgrx test pg15 --runas postgres --pgdata "$PWD/target/pgrx-test/data"
+else
+  cargo pgrx test pg15
+fi
+
+echo "== install the extension"
+if [ "$(id -u)" -eq 0 ]; then
+  cargo pgrx install --release --pg-config "$PG_CONFIG"
+else
+  cargo pgrx install --release --sudo --pg-config "$PG_CONFIG"
+fi
+
+echo "== pg_regress"
+scripts/cluster.sh stop
+rm -rf target/pg
+scripts/cluster.sh start
+trap 'scripts/cluster.sh stop' EXIT
+scripts/cluster.sh psql -q -d postgres -c "CREATE DATABASE tinmerge_regress"
+scripts/cluster.sh psql -q -d tinmerge_regress -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
+scripts/load-data.sh tinmerge_regress
+mkdir -p target/regress
+tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | sort)
+/usr/lib/postgresql/15/lib/pgxs/src/test/regress/pg_regress \
+  --host="$PWD/target/pg" --port="${TINMERGE_PORT:-28815}" --user=postgres \
+  --use-existing --dbname=tinmerge_regress \
+  --inputdir=tests/pg_regress --outputdir=target/regress $tests \
+  || { cat target/regress/regression.diffs 2>/dev/null | head -200; exit 1; }
+
+echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
+python3 tests/properties/check_hierarchy.py
+echo "== all tests passed"

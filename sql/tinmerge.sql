@@ -1,0 +1,59 @@
+-- tinmerge public SQL API: PostGIS geometry/raster signatures over the
+-- internal bytea functions (_tin_*), plus a comment on every function.
+-- Levels are 0-based: 0 = coarsest; a NULL or omitted level = finest.
+
+CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1)
+RETURNS tin AS $$ SELECT _tin_from_raster($1::bytea, $2, $3, $4) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
+COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int) IS
+'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16.';
+
+CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1)
+RETURNS tin AS $$ SELECT _tin_from_raster_tolerances($1::bytea, $2, $3) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
+COMMENT ON FUNCTION tin_from_raster(raster, float8[], int) IS
+'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing).';
+
+CREATE FUNCTION tin_from_points(pts geometry, tolerance float8, levels int DEFAULT 5)
+RETURNS tin AS $$ SELECT _tin_from_points($1::bytea, $2, $3) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
+COMMENT ON FUNCTION tin_from_points(geometry, float8, int) IS
+'Builds a tin from every vertex of a geometry with Z (typically MULTIPOINT Z); points with equal x,y are merged (mean z). Error is measured at the samples.';
+
+CREATE FUNCTION tin_envelope(t tin)
+RETURNS geometry AS $$ SELECT _tin_envelope($1)::geometry $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
+COMMENT ON FUNCTION tin_envelope(tin) IS
+'Bounding box of the tin as a POLYGON with its SRID (read from the header only).';
+
+CREATE FUNCTION tin_triangles(t tin, level int DEFAULT NULL)
+RETURNS TABLE(id int, parent int, geom geometry) AS
+$$ SELECT id, parent, geom::geometry FROM _tin_triangles($1, $2) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_triangles(tin, int) IS
+'Triangles of one level (NULL = finest) as POLYGON Z with the tin''s SRID; parent is the containing triangle of the previous level (NULL at level 0).';
+
+CREATE FUNCTION tin_as_geometry(t tin, level int DEFAULT NULL)
+RETURNS geometry AS $$ SELECT _tin_as_geometry($1, $2)::geometry $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_as_geometry(tin, int) IS
+'One level (NULL = finest) as a PostGIS TIN Z geometry.';
+
+COMMENT ON FUNCTION tin_srid(tin) IS 'SRID of the tin (header only).';
+COMMENT ON FUNCTION tin_num_levels(tin) IS 'Number of levels of detail (header only).';
+COMMENT ON FUNCTION tin_num_triangles(tin, int) IS 'Triangles at a level (NULL = finest; header only).';
+COMMENT ON FUNCTION tin_num_vertices(tin, int) IS 'Vertices used by a level (NULL = finest; header only).';
+COMMENT ON FUNCTION tin_tolerance(tin, int) IS 'Vertical error bound a level was built to (NULL = finest; header only).';
+COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes and per level: tolerance, triangles, vertices and the max error measured at the source samples (header only).';
+COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes (see tinmerge.cache_size).';
+
+COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int) IS 'Internal: use tin_from_raster(raster, ...).';
+COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int) IS 'Internal: use tin_from_raster(raster, float8[], int).';
+COMMENT ON FUNCTION _tin_from_points(bytea, float8, int) IS 'Internal: use tin_from_points(geometry, ...).';
+COMMENT ON FUNCTION _tin_envelope(tin) IS 'Internal: use tin_envelope(tin).';
+COMMENT ON FUNCTION _tin_triangles(tin, int) IS 'Internal: use tin_triangles(tin, int).';
+COMMENT ON FUNCTION _tin_as_geometry(tin, int) IS 'Internal: use tin_as_geometry(tin, int).';
+COMMENT ON FUNCTION tin_in(cstring) IS 'Text input of tin: hex of the binary form, fully validated.';
+COMMENT ON FUNCTION tin_out(tin) IS 'Text output of tin: hex of the binary form.';
+COMMENT ON FUNCTION tin_recv(internal) IS 'Binary input of tin, fully validated.';
+COMMENT ON FUNCTION tin_send(tin) IS 'Binary output of tin.';

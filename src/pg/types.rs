@@ -1,0 +1,200 @@
+//! The `tin` SQL type: a flat varlena (see `crate::tin::layout`) passed to
+//! Rust as the raw Datum, so header-only functions read just a slice and
+//! full reads go through the backend cache.
+
+use pgrx::callconv::{Arg, ArgAbi, BoxRet, FcInfo};
+use pgrx::datum::Datum as RetDatum;
+use pgrx::pg_sys;
+use pgrx::prelude::*;
+use pgrx::{FromDatum, IntoDatum};
+use std::ffi::{CStr, CString};
+use std::sync::Arc;
+
+use super::{cache, raise, OrRaise};
+use crate::tin::layout::{self, Header, HEADER_LEN};
+use crate::tin::Tin;
+
+/// Largest value we write: under PostgreSQL's 1 GB varlena limit.
+const MAX_VALUE_BYTES: usize = (1 << 30) - 1024;
+
+/// A `tin` argument: the Datum as passed, not detoasted.
+pub struct TinArg(pg_sys::Datum);
+
+impl FromDatum for TinArg {
+    unsafe fn from_polymorphic_datum(
+        d: pg_sys::Datum,
+        is_null: bool,
+        _: pg_sys::Oid,
+    ) -> Option<Self> {
+        (!is_null).then_some(TinArg(d))
+    }
+}
+
+unsafe impl<'fcx> ArgAbi<'fcx> for TinArg {
+    unsafe fn unbox_arg_unchecked(arg: Arg<'_, 'fcx>) -> Self {
+        let i = arg.index();
+        unsafe { arg.unbox_arg_using_from_datum() }.unwrap_or_else(|| {
+            raise(
+                PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
+                format!("tin argument {i} is NULL"),
+            )
+        })
+    }
+}
+
+pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(TinArg, arg_only = "tin");
+
+impl TinArg {
+    fn ptr(&self) -> *mut pg_sys::varlena {
+        self.0.cast_mut_ptr()
+    }
+
+    /// The fixed header, read through a prefix slice (no full detoast).
+    pub fn header(&self) -> Header {
+        let bytes = unsafe {
+            let s = pg_sys::pg_detoast_datum_slice(self.ptr(), 0, HEADER_LEN as i32);
+            pgrx::varlena::varlena_to_byte_slice(s)
+        };
+        layout::read_header(bytes).or_raise()
+    }
+
+    /// The whole value's bytes (detoasted into the current memory context).
+    pub fn bytes(&self) -> &[u8] {
+        unsafe {
+            let v = pg_sys::pg_detoast_datum(self.ptr());
+            pgrx::varlena::varlena_to_byte_slice(v)
+        }
+    }
+
+    /// The decoded, validated value, from the backend cache when the same
+    /// content was decoded before.
+    pub fn tin(&self) -> Arc<Tin> {
+        let h = self.header();
+        cache::get_or_decode(h.hash, h.total_len, || layout::decode(self.bytes()))
+    }
+}
+
+/// A `tin` result: storage bytes, copied into a palloc'd varlena on return.
+pub struct TinOut(pub Vec<u8>);
+
+impl IntoDatum for TinOut {
+    fn into_datum(self) -> Option<pg_sys::Datum> {
+        if self.0.len() > MAX_VALUE_BYTES {
+            raise(
+                PgSqlErrorCode::ERRCODE_PROGRAM_LIMIT_EXCEEDED,
+                format!(
+                    "tin value of {} bytes exceeds the 1 GB limit of one value; use a larger tolerance or tiles",
+                    self.0.len()
+                ),
+            );
+        }
+        unsafe {
+            let total = self.0.len() + pg_sys::VARHDRSZ;
+            let p = pg_sys::palloc(total) as *mut u8;
+            std::ptr::copy_nonoverlapping(self.0.as_ptr(), p.add(pg_sys::VARHDRSZ), self.0.len());
+            pgrx::set_varsize_4b(p as *mut pg_sys::varlena, total as i32);
+            Some(pg_sys::Datum::from(p))
+        }
+    }
+    fn type_oid() -> pg_sys::Oid {
+        pg_sys::InvalidOid
+    }
+}
+
+unsafe impl BoxRet for TinOut {
+    unsafe fn box_into<'fcx>(self, fcinfo: &mut FcInfo<'fcx>) -> RetDatum<'fcx> {
+        match self.into_datum() {
+            Some(d) => unsafe { fcinfo.return_raw_datum(d) },
+            None => fcinfo.return_null(),
+        }
+    }
+}
+
+pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(TinOut, "tin");
+
+impl TinOut {
+    pub fn from_tin(t: &Tin) -> TinOut {
+        TinOut(layout::encode(t))
+    }
+}
+
+extension_sql!("CREATE TYPE tin;", name = "tin_shell", bootstrap);
+
+/// Text input: hex of the storage bytes, fully validated.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_in(input: &CStr) -> TinOut {
+    let text = input.to_str().unwrap_or_else(|_| {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION,
+            "tin text is not valid UTF-8",
+        )
+    });
+    let bytes = layout::from_hex(text).unwrap_or_else(|e| {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION,
+            e.to_string(),
+        )
+    });
+    layout::decode(&bytes).unwrap_or_else(|e| {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION,
+            e.to_string(),
+        )
+    });
+    TinOut(bytes)
+}
+
+/// Text output: upper-case hex of the storage bytes.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_out(t: TinArg) -> CString {
+    CString::new(layout::to_hex(t.bytes())).unwrap_or_default()
+}
+
+/// Binary input: the storage bytes, fully validated.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_recv(mut buf: pgrx::datum::Internal) -> TinOut {
+    let si = unsafe { buf.get_mut::<pg_sys::StringInfoData>() }.unwrap_or_else(|| {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION,
+            "no tin data",
+        )
+    });
+    let (start, len) = (si.cursor.max(0) as usize, si.len.max(0) as usize);
+    let bytes: Vec<u8> = if len > start {
+        unsafe { std::slice::from_raw_parts((si.data as *const u8).add(start), len - start) }
+            .to_vec()
+    } else {
+        Vec::new()
+    };
+    si.cursor = si.len;
+    layout::decode(&bytes).unwrap_or_else(|e| {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION,
+            e.to_string(),
+        )
+    });
+    TinOut(bytes)
+}
+
+/// Binary output: the storage bytes.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_send(t: TinArg) -> Vec<u8> {
+    t.bytes().to_vec()
+}
+
+extension_sql!(
+    r#"
+CREATE TYPE tin (
+    INPUT = tin_in,
+    OUTPUT = tin_out,
+    RECEIVE = tin_recv,
+    SEND = tin_send,
+    INTERNALLENGTH = VARIABLE,
+    ALIGNMENT = double,
+    STORAGE = external
+);
+COMMENT ON TYPE tin IS 'A terrain surface as an adaptive hierarchical triangulation: levels 0 (coarsest) to n-1 (finest), each nested in the previous one. Text form: hex of the binary form.';
+"#,
+    name = "tin_type",
+    requires = [tin_in, tin_out, tin_recv, tin_send]
+);
