@@ -11,7 +11,7 @@ scripts/check-boundary.sh
 echo "== cargo fmt --check"
 cargo fmt --check
 echo "== cargo test (pure Rust core, real DEM)"
-cargo test --release --lib --tests --doc
+cargo test --release
 
 echo "== cargo pgrx test (#[pg_test])"
 if [ "$(id -u)" -eq 0 ]; then

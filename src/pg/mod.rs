@@ -76,7 +76,7 @@ impl<T> OrRaise<T> for Result<T, IoError> {
     }
 }
 
-#[cfg(any(test, feature = "pg_test"))]
+#[cfg(feature = "pg_test")]
 #[pg_schema]
 mod tests {
     use pgrx::prelude::*;
