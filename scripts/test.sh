@@ -44,6 +44,9 @@ tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | 
   --inputdir=tests/pg_regress --outputdir=target/regress $tests \
   || { cat target/regress/regression.diffs 2>/dev/null | head -200; exit 1; }
 
+echo "== COPY, pg_dump, pg_restore"
+tests/dump_restore.sh
+
 echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 python3 tests/properties/check_hierarchy.py
 echo "== all tests passed"
