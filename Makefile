@@ -9,8 +9,7 @@ test:
 
 install:
 	scripts/setup.sh
-	if [ "$$(id -u)" -eq 0 ]; then cargo pgrx install --release --pg-config /usr/lib/postgresql/15/bin/pg_config; \
-	else cargo pgrx install --release --sudo --pg-config /usr/lib/postgresql/15/bin/pg_config; fi
+	scripts/install.sh
 
 start:
 	scripts/cluster.sh start

@@ -4,14 +4,9 @@
 # build its TIN, print tin_info and per-level triangle counts.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PG_CONFIG=/usr/lib/postgresql/15/bin/pg_config
 scripts/setup.sh
 echo "== building and installing tinmerge"
-if [ "$(id -u)" -eq 0 ]; then
-  cargo pgrx install --release --pg-config "$PG_CONFIG"
-else
-  cargo pgrx install --release --sudo --pg-config "$PG_CONFIG"
-fi
+scripts/install.sh
 scripts/cluster.sh start
 scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS tinmerge_demo" -c "CREATE DATABASE tinmerge_demo"
 scripts/cluster.sh psql -q -d tinmerge_demo -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null

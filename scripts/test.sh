@@ -3,7 +3,6 @@
 # data, #[pg_test]s, the pg_regress suite, and the independent property test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PG_CONFIG=/usr/lib/postgresql/15/bin/pg_config
 scripts/setup.sh
 
 echo "== module boundary"
@@ -22,11 +21,7 @@ else
 fi
 
 echo "== install the extension"
-if [ "$(id -u)" -eq 0 ]; then
-  cargo pgrx install --release --pg-config "$PG_CONFIG"
-else
-  cargo pgrx install --release --sudo --pg-config "$PG_CONFIG"
-fi
+scripts/install.sh
 
 echo "== pg_regress"
 scripts/cluster.sh stop
