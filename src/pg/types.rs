@@ -120,6 +120,15 @@ impl TinOut {
 
 extension_sql!("CREATE TYPE tin;", name = "tin_shell", bootstrap);
 
+/// Input bytes as a result value, once they decode and validate in full;
+/// otherwise an ERROR with `code`.
+fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> TinOut {
+    if let Err(e) = layout::decode(&bytes) {
+        raise(code, e.to_string());
+    }
+    TinOut(bytes)
+}
+
 /// Text input: hex of the storage bytes, fully validated.
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn tin_in(input: &CStr) -> TinOut {
@@ -135,13 +144,7 @@ fn tin_in(input: &CStr) -> TinOut {
             e.to_string(),
         )
     });
-    layout::decode(&bytes).unwrap_or_else(|e| {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION,
-            e.to_string(),
-        )
-    });
-    TinOut(bytes)
+    validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION)
 }
 
 /// Text output: upper-case hex of the storage bytes.
@@ -167,13 +170,7 @@ fn tin_recv(mut buf: pgrx::datum::Internal) -> TinOut {
         Vec::new()
     };
     si.cursor = si.len;
-    layout::decode(&bytes).unwrap_or_else(|e| {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION,
-            e.to_string(),
-        )
-    });
-    TinOut(bytes)
+    validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION)
 }
 
 /// Binary output: the storage bytes.

@@ -277,8 +277,8 @@ pub fn encode(tin: &Tin) -> Vec<u8> {
     out
 }
 
-/// Parse and fully validate storage bytes. `max_bytes` bounds the value size
-/// accepted (checked before allocating).
+/// Parse and fully validate storage bytes. The length implied by the header's
+/// counts is checked against the actual length before anything is allocated.
 pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
     let h = read_header(b)?;
     let expect = body_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
