@@ -2,6 +2,7 @@
 //!
 //! `tin`, `merge` and `io` are pure Rust (no pgrx); `pg` is the SQL layer.
 pub mod io;
+pub mod merge;
 pub mod tin;
 
 pub mod pg;

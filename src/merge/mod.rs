@@ -1,0 +1,6 @@
+//! The merges of the seed method (section 6): one module per kind of data
+//! merged with the terrain. Pure Rust over [`crate::tin::Tin`]: never imports
+//! pgrx. Each function takes the level to work at as an index already
+//! resolved with [`crate::tin::Tin::level_index`].
+
+pub mod point;
