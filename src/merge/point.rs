@@ -19,8 +19,13 @@
 //! let z = height(&tin, 0, 2.5, 3.25).unwrap();
 //! assert!((z - 9.0).abs() < 1e-12);
 //! assert_eq!(height(&tin, 0, -1.0, 0.0), None);
-//! let r = Rect::new(4.5, 4.5, 0.0, 0.0, 0.0).unwrap();
+//! // the plane needs only its four corners: two triangles
+//! assert_eq!(tin.levels[0].tris.len(), 2);
+//! // a point footprint off the diagonal meets one, the whole square both
+//! let r = Rect::new(4.5, 3.0, 0.0, 0.0, 0.0).unwrap();
 //! assert_eq!(footprint(&tin, 0, &r, &mut || Ok(())).unwrap().len(), 1);
+//! let r = Rect::new(4.5, 4.5, 9.0, 9.0, 0.0).unwrap();
+//! assert_eq!(footprint(&tin, 0, &r, &mut || Ok(())).unwrap(), vec![0, 1]);
 //! ```
 
 use crate::tin::locate::{self, Walk};

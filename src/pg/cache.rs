@@ -1,12 +1,91 @@
 //! Backend-local cache of decoded `tin` values, keyed by the content hash and
 //! length stored in the header, bounded by `tinmerge.cache_size` (MB), least
 //! recently used first out. Holds owned Rust data only (never Datums).
+//!
+//! A second, smaller map remembers the header of each on-disk TOAST value
+//! seen in the current transaction, keyed by the TOAST pointer (relation,
+//! value id, sizes), as PostGIS's `lwgeom_cache.c` does: a query calling a
+//! function once per row on the same stored tin then reads neither the value
+//! nor its header again; the per-row cost is two hash look-ups. The map is
+//! emptied when the transaction changes, so a value id reused after VACUUM
+//! can never be mistaken for the value it replaced.
 
 use std::cell::RefCell;
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Weak};
 
 use super::{raise_tin, CACHE_SIZE_MB};
+use crate::tin::layout::Header;
 use crate::tin::{Tin, TinError};
+
+/// Identity of an on-disk TOAST value: `varatt_external`'s fields.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ToastKey {
+    pub relid: u32,
+    pub valueid: u32,
+    pub rawsize: i32,
+    pub extinfo: u32,
+}
+
+/// Most TOAST keys remembered per transaction before the map is emptied.
+const MAX_ALIASES: usize = 4096;
+
+/// What is remembered about one on-disk value: its header and, once
+/// decoded, a weak link to the cached value (weak, so that the LRU bound
+/// still decides what stays in memory).
+#[derive(Clone)]
+pub struct Alias {
+    pub header: Arc<Header>,
+    pub tin: Weak<Tin>,
+}
+
+#[derive(Default)]
+struct Aliases {
+    epoch: i64,
+    /// The key looked up last: a per-row call on one stored tin hits here.
+    last: Option<(ToastKey, Alias)>,
+    map: HashMap<ToastKey, Alias>,
+}
+
+thread_local! {
+    static ALIASES: RefCell<Aliases> = RefCell::new(Aliases::default());
+}
+
+/// What is remembered for `key` in transaction `epoch`, if anything.
+pub fn alias_for(key: &ToastKey, epoch: i64) -> Option<Alias> {
+    ALIASES.with(|a| {
+        let mut a = a.borrow_mut();
+        if a.epoch != epoch {
+            a.epoch = epoch;
+            a.last = None;
+            a.map.clear();
+            return None;
+        }
+        if let Some((k, v)) = &a.last {
+            if k == key {
+                return Some(v.clone());
+            }
+        }
+        let found = a.map.get(key).cloned();
+        if let Some(v) = &found {
+            a.last = Some((*key, v.clone()));
+        }
+        found
+    })
+}
+
+/// Remember `alias` for `key` in transaction `epoch`.
+pub fn remember(key: ToastKey, epoch: i64, alias: Alias) {
+    ALIASES.with(|a| {
+        let mut a = a.borrow_mut();
+        if a.epoch != epoch || a.map.len() >= MAX_ALIASES {
+            a.epoch = epoch;
+            a.map.clear();
+        }
+        a.last = Some((key, alias.clone()));
+        a.map.insert(key, alias);
+    })
+}
 
 struct Entry {
     hash: u64,
@@ -90,6 +169,11 @@ pub fn get_or_decode(
         });
     }
     tin
+}
+
+/// Count a hit served through a TOAST-key alias (bypassing the LRU scan).
+pub fn count_alias_hit() {
+    CACHE.with(|c| c.borrow_mut().hits += 1);
 }
 
 /// (hits, misses, entries, bytes) of this backend's cache.

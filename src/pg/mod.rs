@@ -7,8 +7,10 @@ use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
 use crate::io::IoError;
 use crate::tin::TinError;
 
+mod args;
 mod cache;
 mod functions;
+mod point;
 mod types;
 
 ::pgrx::pg_module_magic!(name, version);

@@ -8,7 +8,7 @@ use pgrx::pg_sys;
 use pgrx::prelude::*;
 use pgrx::{FromDatum, IntoDatum};
 use std::ffi::{CStr, CString};
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 
 use super::{cache, raise, OrRaise};
 use crate::tin::layout::{self, Header, HEADER_LEN};
@@ -49,8 +49,54 @@ impl TinArg {
         self.0.cast_mut_ptr()
     }
 
-    /// The fixed header, read through a prefix slice (no full detoast).
-    pub fn header(&self) -> Header {
+    /// The TOAST pointer's identity when the Datum is an on-disk TOAST
+    /// pointer (the usual case for a tin read from a table).
+    fn toast_key(&self) -> Option<cache::ToastKey> {
+        let p = self.ptr();
+        unsafe {
+            if pgrx::varatt_is_1b_e(p)
+                && pgrx::vartag_external(p) as u32 == pg_sys::vartag_external::VARTAG_ONDISK
+            {
+                let e = std::ptr::read_unaligned(
+                    pgrx::vardata_1b_e(p) as *const pg_sys::varatt_external
+                );
+                Some(cache::ToastKey {
+                    relid: e.va_toastrelid.to_u32(),
+                    valueid: e.va_valueid.to_u32(),
+                    rawsize: e.va_rawsize,
+                    extinfo: e.va_extinfo,
+                })
+            } else {
+                None
+            }
+        }
+    }
+
+    /// The fixed header, read through a prefix slice (no full detoast), or
+    /// remembered from an earlier row of this transaction for the same
+    /// on-disk value.
+    pub fn header(&self) -> Arc<Header> {
+        let Some(key) = self.toast_key() else {
+            return Arc::new(self.read_header());
+        };
+        let epoch = unsafe { pg_sys::GetCurrentTransactionStartTimestamp() };
+        if let Some(a) = cache::alias_for(&key, epoch) {
+            return a.header;
+        }
+        let header = Arc::new(self.read_header());
+        let tin = Weak::new();
+        cache::remember(
+            key,
+            epoch,
+            cache::Alias {
+                header: header.clone(),
+                tin,
+            },
+        );
+        header
+    }
+
+    fn read_header(&self) -> Header {
         let bytes = unsafe {
             let s = pg_sys::pg_detoast_datum_slice(self.ptr(), 0, HEADER_LEN as i32);
             pgrx::varlena::varlena_to_byte_slice(s)
@@ -67,10 +113,33 @@ impl TinArg {
     }
 
     /// The decoded, validated value, from the backend cache when the same
-    /// content was decoded before.
+    /// content was decoded before. For a stored value met again in this
+    /// transaction this is one look-up, with no read of the value at all.
     pub fn tin(&self) -> Arc<Tin> {
-        let h = self.header();
-        cache::get_or_decode(h.hash, h.total_len, || layout::decode(self.bytes()))
+        let Some(key) = self.toast_key() else {
+            let h = self.read_header();
+            return cache::get_or_decode(h.hash, h.total_len, || layout::decode(self.bytes()));
+        };
+        let epoch = unsafe { pg_sys::GetCurrentTransactionStartTimestamp() };
+        let header = match cache::alias_for(&key, epoch) {
+            Some(a) => {
+                if let Some(t) = a.tin.upgrade() {
+                    cache::count_alias_hit();
+                    return t;
+                }
+                a.header
+            }
+            None => Arc::new(self.read_header()),
+        };
+        let tin = cache::get_or_decode(header.hash, header.total_len, || {
+            layout::decode(self.bytes())
+        });
+        let alias = cache::Alias {
+            header,
+            tin: Arc::downgrade(&tin),
+        };
+        cache::remember(key, epoch, alias);
+        tin
     }
 }
 

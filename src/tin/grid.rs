@@ -1,20 +1,23 @@
 //! Per-level grid index (seed 6.3): a regular grid over the bounding box with
-//! about one level vertex per cell; each cell keeps the triangle containing
+//! about four cells per level vertex (so a cell holds at most about one
+//! vertex and a walk from the cell's triangle takes one or two steps); each cell keeps the triangle containing
 //! its centre (or, for a centre outside the domain, the hull triangle a walk
 //! towards it ended on), so point location starts next to the answer.
 
 use super::locate::{walk_raw, Walk};
 use super::{Bbox, Grid, Level};
 
-/// Largest number of cells per level vertex.
-pub const MAX_CELLS_PER_VERTEX: u64 = 4;
+/// Cells per level vertex aimed at.
+pub const CELLS_PER_VERTEX: f64 = 4.0;
+/// Largest number of cells per level vertex (bounds the index's size).
+pub const MAX_CELLS_PER_VERTEX: u64 = 8;
 
 /// Cell size and dimensions for `nv` vertices over `b`.
 pub fn grid_shape(b: &Bbox, nv: u32) -> (f64, u32, u32) {
     let w = (b.max_x - b.min_x).max(0.0);
     let h = (b.max_y - b.min_y).max(0.0);
     let nv = nv.max(1) as f64;
-    let mut cell = (w * h / nv).sqrt();
+    let mut cell = (w * h / (CELLS_PER_VERTEX * nv)).sqrt();
     if !(cell.is_finite() && cell > 0.0) {
         cell = w.max(h).max(1e-9);
     }

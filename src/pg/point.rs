@@ -1,0 +1,115 @@
+//! SQL functions of the point merge: `tin_locate`, `tin_height`,
+//! `tin_drape` and `tin_footprint`. A NULL tin or geometry gives NULL (the
+//! functions are not STRICT because the level argument may be NULL =
+//! finest); an empty geometry gives NULL.
+
+use pgrx::prelude::*;
+
+use super::args::{check_srid, point_xy};
+use super::types::TinArg;
+use super::{raise, OrRaise};
+use crate::io::ewkb::{self, Geom};
+use crate::merge::point::{self, Rect};
+use crate::tin::{resolve_level, Tin, TinError};
+use std::sync::Arc;
+
+fn interrupt() -> Result<(), TinError> {
+    pg_sys::check_for_interrupts!();
+    Ok(())
+}
+
+/// Level index for a tin argument, checked against the header.
+fn level_of(t: &TinArg, level: Option<i32>) -> usize {
+    resolve_level(level, t.header().num_levels()).or_raise()
+}
+
+/// The decoded tin and the level index (one cache look-up per row).
+fn tin_level(t: &TinArg, level: Option<i32>) -> (Arc<Tin>, usize) {
+    let tin = t.tin();
+    let l = tin.level_index(level).or_raise();
+    (tin, l)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_locate(
+    t: Option<TinArg>,
+    pt: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<i32> {
+    let (t, pt) = (t?, pt?);
+    let (tin, l) = tin_level(&t, level);
+    let [x, y] = point_xy(pt, tin.srid, "tin_locate")?;
+    point::locate(&tin, l, x, y).map(|i| i as i32)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_height(
+    t: Option<TinArg>,
+    pt: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<f64> {
+    let (t, pt) = (t?, pt?);
+    let (tin, l) = tin_level(&t, level);
+    let [x, y] = point_xy(pt, tin.srid, "tin_height")?;
+    point::height(&tin, l, x, y)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_drape(
+    t: Option<TinArg>,
+    geom: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<Vec<u8>> {
+    let (t, geom) = (t?, geom?);
+    let srid = t.header().srid;
+    let l = level_of(&t, level);
+    let g = ewkb::read(geom).or_raise();
+    check_srid(g.srid, srid, "tin_drape");
+    if g.geom.is_empty() {
+        return None;
+    }
+    let tin = t.tin();
+    let z = |p: &[f64; 3]| point::height(&tin, l, p[0], p[1]).map(|z| [p[0], p[1], z]);
+    let out = match &g.geom {
+        Geom::Point(Some(p)) => Geom::Point(Some(z(p)?)),
+        Geom::MultiPoint(ps) => {
+            let v: Vec<[f64; 3]> = ps.iter().filter_map(z).collect();
+            if v.is_empty() {
+                return None;
+            }
+            Geom::MultiPoint(v)
+        }
+        other => raise(
+            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
+            format!(
+                "tin_drape of a {} is not supported yet: only POINT and MULTIPOINT",
+                other.type_name()
+            ),
+        ),
+    };
+    Some(ewkb::Writer::write(g.srid, true, &out))
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_footprint(
+    t: Option<TinArg>,
+    pt: Option<&[u8]>,
+    width: Option<f64>,
+    length: Option<f64>,
+    angle: Option<f64>,
+    level: default!(Option<i32>, "NULL"),
+) -> SetOfIterator<'static, i32> {
+    let none = || SetOfIterator::new(Vec::new());
+    let (Some(t), Some(pt), Some(width), Some(length), Some(angle)) = (t, pt, width, length, angle)
+    else {
+        return none();
+    };
+    let srid = t.header().srid;
+    let l = level_of(&t, level);
+    let Some([x, y]) = point_xy(pt, srid, "tin_footprint") else {
+        return none();
+    };
+    let rect = Rect::new(x, y, width, length, angle).or_raise();
+    let ids = point::footprint(&t.tin(), l, &rect, &mut interrupt).or_raise();
+    SetOfIterator::new(ids.into_iter().map(|i| i as i32))
+}
