@@ -47,3 +47,28 @@ SELECT try($$SELECT (left(t::text, 4000) || 'FF' || substr(t::text, 4003))::tin 
 SELECT try($$SELECT (left(t::text, 20000) || '7F' || substr(t::text, 20003))::tin FROM terrain$$);
 -- nothing above broke the backend
 SELECT tin_num_levels(t) FROM terrain;
+-- point merge
+SELECT try($$SELECT tin_height(t, 'SRID=4326;POINT(-84 36)'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_locate(t, 'SRID=32616;LINESTRING(0 0, 1 1)'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_height(t, 'SRID=32616;MULTIPOINT(0 0, 1 1)'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_height(t, 'SRID=32616;POLYGON EMPTY'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_height(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 5) FROM terrain$$);
+SELECT try($$SELECT tin_locate(t, 'SRID=32616;POINT(740000 4060000)'::geometry, -1) FROM terrain$$);
+SELECT try($$SELECT tin_height(t, 'SRID=32616;POINT M (740000 4060000 1)'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_drape(t, 'SRID=4326;MULTIPOINT(-84 36)'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_drape(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_footprint(t, 'SRID=32616;POINT(740000 4060000)'::geometry, -1, 10, 0) FROM terrain$$);
+SELECT try($$SELECT tin_footprint(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 10, 'NaN', 0) FROM terrain$$);
+SELECT try($$SELECT tin_footprint(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 10, 10, 'Infinity') FROM terrain$$);
+SELECT try($$SELECT tin_footprint(t, 'SRID=32616;LINESTRING(0 0, 1 1)'::geometry, 10, 10, 0) FROM terrain$$);
+SELECT try($$SELECT tin_footprint(t, 'SRID=4326;POINT(-84 36)'::geometry, 10, 10, 0) FROM terrain$$);
+-- NULL and empty inputs give NULL (or no rows), never an error
+SELECT tin_height(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin,
+       tin_height(t, NULL::geometry) IS NULL AS null_geom,
+       tin_height(t, 'SRID=32616;POINT EMPTY'::geometry) IS NULL AS empty_point,
+       tin_locate(t, 'POINT EMPTY'::geometry) IS NULL AS empty_locate,
+       tin_drape(t, 'SRID=32616;MULTIPOINT EMPTY'::geometry) IS NULL AS empty_drape,
+       tin_height(t, 'POINT(740000 4060000)'::geometry) IS NOT NULL AS srid_0_accepted,
+       (SELECT count(*) FROM tin_footprint(t, NULL, 1, 1, 0)) AS null_footprint,
+       (SELECT count(*) FROM tin_footprint(t, 'SRID=32616;POINT EMPTY'::geometry, 1, 1, 0)) AS empty_footprint
+FROM terrain;
