@@ -37,3 +37,56 @@ q -F ' | ' <<'SQL'
 SELECT * FROM bench('header only: tin_num_triangles(t, 0) x 10000', 'SELECT sum(tin_num_triangles(t, 0)) FROM terrain, generate_series(1, 10000)', 5)
 UNION ALL SELECT * FROM bench('full value via cache: tin_as_geometry(t, 0) x 100', 'SELECT count(tin_as_geometry(t, 0)) FROM terrain, generate_series(1, 100)', 5);
 SQL
+
+echo "== point merge: 200,000 random points over the DEM's bounding box"
+# what PostGIS users do today: (a) the DEM loaded as 64x64 tiles with a GiST index
+raster2pgsql -s 32616 -N -9999 -t 64x64 -I tests/data/jacksboro_fault_dem_utm16n.tif public.dem_tiles 2>/dev/null \
+  | scripts/cluster.sh psql -q -d tinmerge_bench >/dev/null
+q <<'SQL'
+SELECT setseed(0.25);
+CREATE TABLE rpts AS
+SELECT i AS id, ST_SetSRID(ST_MakePoint(x0 + random() * w, y0 + random() * h), 32616) AS geom
+FROM (SELECT ST_XMin(e) x0, ST_YMin(e) y0, ST_XMax(e) - ST_XMin(e) w, ST_YMax(e) - ST_YMin(e) h
+      FROM (SELECT tin_envelope(t)::box2d e FROM terrain) s) b, generate_series(1, 200000) i;
+-- (b) the triangles as POLYGON Z rows with a GiST index; height from the plane
+CREATE TABLE tri_rows AS SELECT id, geom FROM terrain, tin_triangles(t);
+CREATE INDEX ON tri_rows USING gist (geom);
+CREATE FUNCTION plane_z(tri geometry, p geometry) RETURNS float8 LANGUAGE sql IMMUTABLE PARALLEL SAFE AS $$
+  SELECT z0 - (nx * (ST_X(p) - x0) + ny * (ST_Y(p) - y0)) / nz
+  FROM (SELECT x0, y0, z0,
+               (y1 - y0) * (z2 - z0) - (z1 - z0) * (y2 - y0) AS nx,
+               (z1 - z0) * (x2 - x0) - (x1 - x0) * (z2 - z0) AS ny,
+               (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0) AS nz
+        FROM (SELECT ST_X(a) x0, ST_Y(a) y0, ST_Z(a) z0, ST_X(b) x1, ST_Y(b) y1, ST_Z(b) z1, ST_X(c) x2, ST_Y(c) y2, ST_Z(c) z2
+              FROM (SELECT ST_PointN(r, 1) a, ST_PointN(r, 2) b, ST_PointN(r, 3) c FROM (SELECT ST_ExteriorRing(tri) r) s) s) s) s
+$$;
+-- the same query on a ~1k-triangle tin and on a ~1M-triangle tin (synthetic
+-- 720 x 720 grid with hashed noise of +-2 m, one level at 0.25 m)
+CREATE TABLE terrain_1k AS SELECT tin_from_raster(rast, 120.0, 1) AS t FROM dem;
+CREATE TABLE terrain_1m AS
+SELECT tin_from_points(ST_SetSRID(ST_Collect(ST_MakePoint(x0 + i * w / 719, y0 + j * h / 719,
+         50 * sin(i / 37.0) * cos(j / 53.0) + 20 * sin((i + j) / 17.0) + (hashint8(i * 1000 + j) % 1000) / 500.0)), 32616), 0.25, 1) AS t
+FROM (SELECT ST_XMin(e) x0, ST_YMin(e) y0, ST_XMax(e) - ST_XMin(e) w, ST_YMax(e) - ST_YMin(e) h
+      FROM (SELECT tin_envelope(t)::box2d e FROM terrain) s) b,
+     generate_series(0, 719) i, generate_series(0, 719) j
+GROUP BY x0, y0, w, h;
+ANALYZE;
+SQL
+q -F ' | ' -c "SELECT 'terrain' AS tin, tin_num_triangles(t) FROM terrain UNION ALL SELECT 'terrain_1k', tin_num_triangles(t) FROM terrain_1k UNION ALL SELECT 'terrain_1m', tin_num_triangles(t) FROM terrain_1m"
+q -F ' | ' <<'SQL'
+SELECT * FROM bench('tinmerge: sum(tin_height(t, geom)), finest level (162k triangles)', 'SELECT sum(tin_height(t, geom)) FROM rpts, terrain', 5)
+UNION ALL SELECT * FROM bench('tinmerge: count(tin_locate(t, geom)), finest level', 'SELECT count(tin_locate(t, geom)) FROM rpts, terrain', 5)
+UNION ALL SELECT * FROM bench('PostGIS (a): sum(ST_Value(rast, 1, geom)), 64x64 tiles + GiST', 'SELECT sum(ST_Value(rast, 1, geom)) FROM rpts p JOIN dem_tiles r ON ST_Intersects(r.rast, p.geom)', 3)
+UNION ALL SELECT * FROM bench('PostGIS (b): sum(plane_z(tri, geom)), POLYGON Z rows + GiST', 'SELECT sum(plane_z(t.geom, p.geom)) FROM rpts p JOIN LATERAL (SELECT geom FROM tri_rows t WHERE ST_Intersects(t.geom, p.geom) ORDER BY id LIMIT 1) t ON true', 3)
+UNION ALL SELECT * FROM bench('PostGIS (b''): count(*) of the ST_Intersects join alone', 'SELECT count(*) FROM rpts p JOIN tri_rows t ON ST_Intersects(t.geom, p.geom)', 3)
+UNION ALL SELECT * FROM bench('tinmerge: sum(tin_height(t, geom)) on the ~1k-triangle tin', 'SELECT sum(tin_height(t, geom)) FROM rpts, terrain_1k', 5)
+UNION ALL SELECT * FROM bench('tinmerge: sum(tin_height(t, geom)) on the ~1M-triangle tin', 'SELECT sum(tin_height(t, geom)) FROM rpts, terrain_1m', 5);
+SQL
+echo "== footprints: 10,000 rectangles 200 m x 500 m at random angles, finest level"
+q -F ' | ' <<'SQL'
+CREATE TABLE rects AS SELECT id, geom, random() * 360 AS angle FROM rpts WHERE id <= 10000;
+SELECT * FROM bench('tinmerge: tin_footprint(t, geom, 200, 500, angle)', 'SELECT count(*) FROM rects r, terrain, tin_footprint(t, r.geom, 200, 500, r.angle)', 3)
+UNION ALL SELECT * FROM bench('PostGIS: ST_Intersects(tri, ST_Rotate(ST_MakeEnvelope(...))) + GiST', 'SELECT count(*) FROM rects r JOIN tri_rows t ON ST_Intersects(t.geom, ST_Rotate(ST_MakeEnvelope(ST_X(r.geom) - 100, ST_Y(r.geom) - 250, ST_X(r.geom) + 100, ST_Y(r.geom) + 250, 32616), -radians(r.angle), r.geom))', 3);
+SQL
+echo "== core locate (cargo bench --bench locate): ns per point"
+cargo bench --bench locate 2>/dev/null

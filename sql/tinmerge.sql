@@ -39,17 +39,13 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_as_geometry(tin, int) IS
 'One level (NULL = finest) as a PostGIS TIN Z geometry.';
 
--- Point merge (seed 6.3). Not STRICT (a NULL level means finest); a NULL
--- tin or geometry gives NULL, an empty geometry gives NULL.
-CREATE FUNCTION tin_locate(t tin, pt geometry, level int DEFAULT NULL)
-RETURNS int AS $$ SELECT _tin_locate($1, $2::bytea, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+-- Point merge (seed 6.3). tin_locate, tin_height and tin_footprint are Rust
+-- functions taking geometry directly (read without a WKB conversion). Not
+-- STRICT (a NULL level means finest); a NULL tin or geometry gives NULL, an
+-- empty geometry gives NULL.
 COMMENT ON FUNCTION tin_locate(tin, geometry, int) IS
 'Id (as in tin_triangles) of the triangle of a level (NULL = finest) containing a POINT; on a shared edge or vertex, the smallest id; NULL outside the domain. Grid index + exact walk: constant time per point.';
 
-CREATE FUNCTION tin_height(t tin, pt geometry, level int DEFAULT NULL)
-RETURNS float8 AS $$ SELECT _tin_height($1, $2::bytea, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_height(tin, geometry, int) IS
 'Height of the surface of a level (NULL = finest) at a POINT, by linear interpolation on the triangle containing it; NULL outside the domain. The point''s own Z, if any, is ignored.';
 
@@ -59,9 +55,6 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS
 'The geometry with Z taken from the surface of a level (NULL = finest). POINT and MULTIPOINT: points outside the domain are dropped (NULL when none is left).';
 
-CREATE FUNCTION tin_footprint(t tin, pt geometry, width float8, length float8, angle float8, level int DEFAULT NULL)
-RETURNS SETOF int AS $$ SELECT _tin_footprint($1, $2::bytea, $3, $4, $5, $6) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_footprint(tin, geometry, float8, float8, float8, int) IS
 'Ids of the triangles of a level (NULL = finest) meeting the closed rectangle centred on a POINT, width across and length along angle (degrees clockwise from north), in increasing id order. Width and length >= 0 (0 gives a segment or a point).';
 
@@ -79,10 +72,7 @@ COMMENT ON FUNCTION _tin_from_points(bytea, float8, int) IS 'Internal: use tin_f
 COMMENT ON FUNCTION _tin_envelope(tin) IS 'Internal: use tin_envelope(tin).';
 COMMENT ON FUNCTION _tin_triangles(tin, int) IS 'Internal: use tin_triangles(tin, int).';
 COMMENT ON FUNCTION _tin_as_geometry(tin, int) IS 'Internal: use tin_as_geometry(tin, int).';
-COMMENT ON FUNCTION _tin_locate(tin, bytea, int) IS 'Internal: use tin_locate(tin, geometry, int).';
-COMMENT ON FUNCTION _tin_height(tin, bytea, int) IS 'Internal: use tin_height(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_drape(tin, bytea, int) IS 'Internal: use tin_drape(tin, geometry, int).';
-COMMENT ON FUNCTION _tin_footprint(tin, bytea, float8, float8, float8, int) IS 'Internal: use tin_footprint(tin, geometry, float8, float8, float8, int).';
 COMMENT ON FUNCTION tin_in(cstring) IS 'Text input of tin: hex of the binary form, fully validated.';
 COMMENT ON FUNCTION tin_out(tin) IS 'Text output of tin: hex of the binary form.';
 COMMENT ON FUNCTION tin_recv(internal) IS 'Binary input of tin, fully validated.';

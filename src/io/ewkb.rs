@@ -165,51 +165,6 @@ pub fn read(b: &[u8]) -> Result<Ewkb, IoError> {
     Ok(Ewkb { srid, has_z, geom })
 }
 
-/// Fast path for the commonest argument, one POINT: `Some((srid, xy))` with
-/// `xy = None` for `POINT EMPTY`; `None` when the bytes are anything else
-/// (then [`read`] gives the full answer or the error).
-pub fn read_point(b: &[u8]) -> Option<(i32, Option<[f64; 2]>)> {
-    let le = match b.first()? {
-        0 => false,
-        1 => true,
-        _ => return None,
-    };
-    let word = |s: &[u8]| -> Option<u32> {
-        let a: [u8; 4] = s.get(..4)?.try_into().ok()?;
-        Some(if le {
-            u32::from_le_bytes(a)
-        } else {
-            u32::from_be_bytes(a)
-        })
-    };
-    let ty = word(b.get(1..)?)?;
-    let (srid, at) = if ty & 0x2000_0000 != 0 {
-        (word(b.get(5..)?)? as i32, 9)
-    } else {
-        (0, 5)
-    };
-    let (base, z) = match ty & 0x0fff_ffff {
-        1 if ty & 0x4000_0000 == 0 => (1, ty & 0x8000_0000 != 0),
-        1001 if ty & 0xc000_0000 == 0 => (1, true),
-        _ => return None,
-    };
-    debug_assert_eq!(base, 1);
-    let n = if z { 3 } else { 2 };
-    if b.len() != at + 8 * n {
-        return None;
-    }
-    let f = |i: usize| -> Option<f64> {
-        let a: [u8; 8] = b.get(at + 8 * i..at + 8 * i + 8)?.try_into().ok()?;
-        Some(if le {
-            f64::from_le_bytes(a)
-        } else {
-            f64::from_be_bytes(a)
-        })
-    };
-    let (x, y) = (f(0)?, f(1)?);
-    Some((srid, (!(x.is_nan() && y.is_nan())).then_some([x, y])))
-}
-
 /// Little-endian EWKB writer.
 pub struct Writer {
     pub buf: Vec<u8>,
@@ -392,33 +347,5 @@ mod tests {
             assert!(read(&g[..n]).is_err(), "prefix of {n} bytes accepted");
         }
         assert!(read(&[7, 1, 2, 3, 4, 5]).is_err());
-    }
-
-    #[test]
-    fn point_fast_path_agrees_with_full_reader() {
-        let hex = "01010000a0e6100000000000000000f03f00000000000000400000000000000840";
-        let b: Vec<u8> = (0..hex.len() / 2)
-            .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
-            .collect();
-        assert_eq!(read_point(&b), Some((4326, Some([1.0, 2.0]))));
-        for (srid, z, p) in [
-            (0, false, [5.0, -7.5, 0.0]),
-            (32616, true, [1e6, 4e6, 300.0]),
-        ] {
-            let b = Writer::write(srid, z, &Geom::Point(Some(p)));
-            assert_eq!(read_point(&b), Some((srid, Some([p[0], p[1]]))));
-            assert_eq!(read(&b).unwrap().srid, srid);
-            // every strict prefix is refused by both readers
-            for n in 0..b.len() {
-                assert_eq!(read_point(&b[..n]), None);
-                assert!(read(&b[..n]).is_err());
-            }
-        }
-        // POINT EMPTY is NaN NaN in WKB
-        let e = Writer::write(0, false, &Geom::Point(None));
-        assert_eq!(read_point(&e), Some((0, None)));
-        // a line is not a point
-        let l = Writer::write(0, false, &Geom::LineString(vec![[0.0; 3], [1.0; 3]]));
-        assert_eq!(read_point(&l), None);
     }
 }

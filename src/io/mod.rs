@@ -4,6 +4,7 @@
 //! - [`raster`]: the WKB raster format (PostGIS RFC2), read by hand.
 
 pub mod ewkb;
+pub mod gserialized;
 pub mod raster;
 
 use thiserror::Error;

@@ -1,10 +1,83 @@
 //! Checks shared by the functions that take PostGIS geometries: SRIDs and
 //! geometry types, with messages that say what was received.
 
+use pgrx::callconv::{Arg, ArgAbi};
+use pgrx::pg_sys;
 use pgrx::prelude::*;
+use pgrx::FromDatum;
 
 use super::{raise, OrRaise};
-use crate::io::ewkb;
+use crate::io::gserialized;
+
+/// A PostGIS `geometry` argument as the raw Datum: read in PostGIS's own
+/// serialisation (see [`gserialized`]) with no conversion to WKB.
+pub struct GeomArg(pg_sys::Datum);
+
+impl FromDatum for GeomArg {
+    unsafe fn from_polymorphic_datum(
+        d: pg_sys::Datum,
+        is_null: bool,
+        _: pg_sys::Oid,
+    ) -> Option<Self> {
+        (!is_null).then_some(GeomArg(d))
+    }
+}
+
+unsafe impl<'fcx> ArgAbi<'fcx> for GeomArg {
+    unsafe fn unbox_arg_unchecked(arg: Arg<'_, 'fcx>) -> Self {
+        let i = arg.index();
+        unsafe { arg.unbox_arg_using_from_datum() }.unwrap_or_else(|| {
+            raise(
+                PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
+                format!("geometry argument {i} is NULL"),
+            )
+        })
+    }
+}
+
+pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(GeomArg, arg_only = "geometry");
+
+impl GeomArg {
+    /// The value's bytes after the varlena header (detoasted if needed,
+    /// short headers accepted).
+    pub fn bytes(&self) -> &[u8] {
+        unsafe {
+            let v = pg_sys::pg_detoast_datum_packed(self.0.cast_mut_ptr());
+            pgrx::varlena::varlena_to_byte_slice(v)
+        }
+    }
+
+    /// The x, y of a POINT argument (None for `POINT EMPTY`), after the SRID
+    /// check; an ERROR naming the type for anything but a point.
+    pub fn point_xy(&self, tin_srid: i32, func: &str) -> Option<[f64; 2]> {
+        let p = gserialized::peek(self.bytes()).or_raise();
+        check_srid(p.srid, tin_srid, func);
+        if p.has_m {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                "geometries with M coordinates are not supported; use ST_Force3DZ or ST_Force2D",
+            );
+        }
+        match p.point {
+            Some(xy) => xy,
+            None => not_a_point(func, gserialized::type_name(p.type_code)),
+        }
+    }
+}
+
+fn not_a_point(func: &str, type_name: &str) -> ! {
+    raise(
+        PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+        format!(
+            "{func} takes a POINT, got a {type_name}{}",
+            if type_name == "MULTIPOINT" {
+                " (use tin_drape for MULTIPOINT, or ST_Dump it)"
+            } else {
+                ""
+            }
+        ),
+    )
+}
 
 /// ERROR unless the SRIDs agree (0 on either side means "unknown": accepted).
 pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str) {
@@ -16,26 +89,4 @@ pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str) {
             ),
         );
     }
-}
-
-/// The x, y of a POINT argument (None for `POINT EMPTY`), after the SRID
-/// check; an ERROR naming the type for anything but a point.
-pub fn point_xy(bytes: &[u8], tin_srid: i32, func: &str) -> Option<[f64; 2]> {
-    if let Some((srid, xy)) = ewkb::read_point(bytes) {
-        check_srid(srid, tin_srid, func);
-        return xy;
-    }
-    let g = ewkb::read(bytes).or_raise();
-    check_srid(g.srid, tin_srid, func);
-    raise(
-        PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-        format!(
-            "{func} takes a POINT, got a {}{}",
-            g.geom.type_name(),
-            match g.geom {
-                ewkb::Geom::MultiPoint(_) => " (use tin_drape for MULTIPOINT, or ST_Dump it)",
-                _ => "",
-            }
-        ),
-    )
 }

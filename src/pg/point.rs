@@ -5,7 +5,7 @@
 
 use pgrx::prelude::*;
 
-use super::args::{check_srid, point_xy};
+use super::args::{check_srid, GeomArg};
 use super::types::TinArg;
 use super::{raise, OrRaise};
 use crate::io::ewkb::{self, Geom};
@@ -31,26 +31,26 @@ fn tin_level(t: &TinArg, level: Option<i32>) -> (Arc<Tin>, usize) {
 }
 
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
-fn _tin_locate(
+fn tin_locate(
     t: Option<TinArg>,
-    pt: Option<&[u8]>,
+    pt: Option<GeomArg>,
     level: default!(Option<i32>, "NULL"),
 ) -> Option<i32> {
     let (t, pt) = (t?, pt?);
     let (tin, l) = tin_level(&t, level);
-    let [x, y] = point_xy(pt, tin.srid, "tin_locate")?;
+    let [x, y] = pt.point_xy(tin.srid, "tin_locate")?;
     point::locate(&tin, l, x, y).map(|i| i as i32)
 }
 
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
-fn _tin_height(
+fn tin_height(
     t: Option<TinArg>,
-    pt: Option<&[u8]>,
+    pt: Option<GeomArg>,
     level: default!(Option<i32>, "NULL"),
 ) -> Option<f64> {
     let (t, pt) = (t?, pt?);
     let (tin, l) = tin_level(&t, level);
-    let [x, y] = point_xy(pt, tin.srid, "tin_height")?;
+    let [x, y] = pt.point_xy(tin.srid, "tin_height")?;
     point::height(&tin, l, x, y)
 }
 
@@ -91,9 +91,9 @@ fn _tin_drape(
 }
 
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
-fn _tin_footprint(
+fn tin_footprint(
     t: Option<TinArg>,
-    pt: Option<&[u8]>,
+    pt: Option<GeomArg>,
     width: Option<f64>,
     length: Option<f64>,
     angle: Option<f64>,
@@ -106,7 +106,7 @@ fn _tin_footprint(
     };
     let srid = t.header().srid;
     let l = level_of(&t, level);
-    let Some([x, y]) = point_xy(pt, srid, "tin_footprint") else {
+    let Some([x, y]) = pt.point_xy(srid, "tin_footprint") else {
         return none();
     };
     let rect = Rect::new(x, y, width, length, angle).or_raise();

@@ -449,13 +449,49 @@ pub fn compute_neighbours(tris: &[[u32; 3]]) -> Result<Vec<[u32; 3]>, TinError> 
     Ok(nbrs)
 }
 
+/// Sort each level's block of new vertices (`num_vertices` of the previous
+/// level up to its own) by Morton code, keeping the prefix property, and
+/// renumber the triangles: vertices near in space are then near in memory,
+/// which is what a walk between neighbouring triangles reads.
+fn reorder_vertices(
+    verts: Vec<[f64; 3]>,
+    raw: &mut [(f64, f64, u32, Vec<[u32; 3]>)],
+) -> Vec<[f64; 3]> {
+    let bbox = Bbox::of(&verts);
+    let mut order: Vec<u32> = (0..verts.len() as u32).collect();
+    let mut start = 0usize;
+    for r in raw.iter() {
+        let end = (r.2 as usize).min(verts.len());
+        if end > start {
+            order[start..end].sort_by_key(|&v| {
+                let p = verts[v as usize];
+                (morton(&bbox, p[0], p[1]), v)
+            });
+            start = end;
+        }
+    }
+    let mut new_id = vec![0u32; verts.len()];
+    for (new, &old) in order.iter().enumerate() {
+        new_id[old as usize] = new as u32;
+    }
+    for r in raw.iter_mut() {
+        for t in r.3.iter_mut() {
+            for v in t.iter_mut() {
+                *v = new_id[*v as usize];
+            }
+        }
+    }
+    order.iter().map(|&v| verts[v as usize]).collect()
+}
+
 /// Order triangles, link neighbours, find parents and build grid indexes.
 fn assemble(
     verts: Vec<[f64; 3]>,
-    raw: Vec<(f64, f64, u32, Vec<[u32; 3]>)>,
+    mut raw: Vec<(f64, f64, u32, Vec<[u32; 3]>)>,
     srid: i32,
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
 ) -> Result<Tin, TinError> {
+    let verts = reorder_vertices(verts, &mut raw);
     let bbox = Bbox::of(&verts);
     let mut tin = Tin {
         srid,
