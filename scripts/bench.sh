@@ -73,7 +73,10 @@ GROUP BY x0, y0, w, h;
 ANALYZE;
 SQL
 q -F ' | ' -c "SELECT 'terrain' AS tin, tin_num_triangles(t) FROM terrain UNION ALL SELECT 'terrain_1k', tin_num_triangles(t) FROM terrain_1k UNION ALL SELECT 'terrain_1m', tin_num_triangles(t) FROM terrain_1m"
+# one core per query for both sides (parallel workers would each load the
+# libraries and decode the tin again; per-row cost is what is compared)
 q -F ' | ' <<'SQL'
+SET max_parallel_workers_per_gather = 0;
 SELECT * FROM bench('tinmerge: sum(tin_height(t, geom)), finest level (162k triangles)', 'SELECT sum(tin_height(t, geom)) FROM rpts, terrain', 5)
 UNION ALL SELECT * FROM bench('tinmerge: count(tin_locate(t, geom)), finest level', 'SELECT count(tin_locate(t, geom)) FROM rpts, terrain', 5)
 UNION ALL SELECT * FROM bench('PostGIS (a): sum(ST_Value(rast, 1, geom)), 64x64 tiles + GiST', 'SELECT sum(ST_Value(rast, 1, geom)) FROM rpts p JOIN dem_tiles r ON ST_Intersects(r.rast, p.geom)', 3)
@@ -84,6 +87,7 @@ UNION ALL SELECT * FROM bench('tinmerge: sum(tin_height(t, geom)) on the ~1M-tri
 SQL
 echo "== footprints: 10,000 rectangles 200 m x 500 m at random angles, finest level"
 q -F ' | ' <<'SQL'
+SET max_parallel_workers_per_gather = 0;
 CREATE TABLE rects AS SELECT id, geom, random() * 360 AS angle FROM rpts WHERE id <= 10000;
 SELECT * FROM bench('tinmerge: tin_footprint(t, geom, 200, 500, angle)', 'SELECT count(*) FROM rects r, terrain, tin_footprint(t, r.geom, 200, 500, r.angle)', 3)
 UNION ALL SELECT * FROM bench('PostGIS: ST_Intersects(tri, ST_Rotate(ST_MakeEnvelope(...))) + GiST', 'SELECT count(*) FROM rects r JOIN tri_rows t ON ST_Intersects(t.geom, ST_Rotate(ST_MakeEnvelope(ST_X(r.geom) - 100, ST_Y(r.geom) - 250, ST_X(r.geom) + 100, ST_Y(r.geom) + 250, 32616), -radians(r.angle), r.geom))', 3);
