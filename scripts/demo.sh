@@ -24,6 +24,11 @@ SELECT l AS level, tin_tolerance(t, l) AS tolerance_m, tin_num_triangles(t, l) A
        tin_num_vertices(t, l) AS vertices,
        round(((tin_info(t)->'levels'->l)->>'max_error')::numeric, 3) AS max_error_m
 FROM terrain, generate_series(0, tin_num_levels(t) - 1) l ORDER BY l;
+\echo == point merge: height of one point at every level, its triangle, and a 30 m x 80 m footprint
+SELECT l AS level, tin_locate(t, p, l) AS triangle, round(tin_height(t, p, l)::numeric, 2) AS height_m,
+       (SELECT count(*) FROM tin_footprint(t, p, 30, 80, 45, l)) AS footprint_triangles
+FROM terrain, generate_series(0, tin_num_levels(t) - 1) l,
+     (SELECT ST_Centroid(tin_envelope(t)) AS p FROM terrain) c ORDER BY l;
 SQL
 echo
 echo "The cluster is still running. Explore with: make psql   (database tinmerge_demo; table terrain)"
