@@ -5,6 +5,7 @@
 //! - spade's own `locate` with its `HierarchyHintGenerator`, on the very same
 //!   triangulation (a CDT bulk-loaded with every edge of the level),
 //! - locate + interpolate (`merge::point::height`).
+//!
 //! Prints a markdown table of medians over 5 runs. `cargo bench --bench locate`.
 #[path = "../tests/common/mod.rs"]
 mod common;

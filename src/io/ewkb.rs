@@ -59,10 +59,10 @@ impl Geom {
     /// Visit every coordinate.
     pub fn for_each_coord(&self, f: &mut dyn FnMut(&Coord3)) {
         match self {
-            Geom::Point(p) => p.iter().for_each(|c| f(c)),
-            Geom::LineString(l) | Geom::MultiPoint(l) => l.iter().for_each(|c| f(c)),
-            Geom::Polygon(rs) | Geom::MultiLineString(rs) => rs.iter().flatten().for_each(|c| f(c)),
-            Geom::MultiPolygon(ps) => ps.iter().flatten().flatten().for_each(|c| f(c)),
+            Geom::Point(p) => p.iter().for_each(&mut *f),
+            Geom::LineString(l) | Geom::MultiPoint(l) => l.iter().for_each(&mut *f),
+            Geom::Polygon(rs) | Geom::MultiLineString(rs) => rs.iter().flatten().for_each(&mut *f),
+            Geom::MultiPolygon(ps) => ps.iter().flatten().flatten().for_each(&mut *f),
             Geom::Collection(gs) => gs.iter().for_each(|g| g.for_each_coord(f)),
         }
     }

@@ -1,41 +1,18 @@
 //! Checks shared by the functions that take PostGIS geometries: SRIDs and
 //! geometry types, with messages that say what was received.
 
-use pgrx::callconv::{Arg, ArgAbi};
 use pgrx::pg_sys;
 use pgrx::prelude::*;
-use pgrx::FromDatum;
 
 use super::{raise, OrRaise};
 use crate::io::gserialized;
 
-/// A PostGIS `geometry` argument as the raw Datum: read in PostGIS's own
-/// serialisation (see [`gserialized`]) with no conversion to WKB.
-pub struct GeomArg(pg_sys::Datum);
-
-impl FromDatum for GeomArg {
-    unsafe fn from_polymorphic_datum(
-        d: pg_sys::Datum,
-        is_null: bool,
-        _: pg_sys::Oid,
-    ) -> Option<Self> {
-        (!is_null).then_some(GeomArg(d))
-    }
-}
-
-unsafe impl<'fcx> ArgAbi<'fcx> for GeomArg {
-    unsafe fn unbox_arg_unchecked(arg: Arg<'_, 'fcx>) -> Self {
-        let i = arg.index();
-        unsafe { arg.unbox_arg_using_from_datum() }.unwrap_or_else(|| {
-            raise(
-                PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
-                format!("geometry argument {i} is NULL"),
-            )
-        })
-    }
-}
-
-pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(GeomArg, arg_only = "geometry");
+raw_datum_arg!(
+    /// A PostGIS `geometry` argument as the raw Datum: read in PostGIS's own
+    /// serialisation (see [`gserialized`]) with no conversion to WKB.
+    GeomArg,
+    "geometry"
+);
 
 impl GeomArg {
     /// The value's bytes after the varlena header (detoasted if needed,

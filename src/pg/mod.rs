@@ -7,6 +7,40 @@ use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
 use crate::io::IoError;
 use crate::tin::TinError;
 
+/// Declare an argument type that keeps the raw Datum of SQL type `$sql`
+/// (no detoast, no copy): `FromDatum`, `ArgAbi` (a NULL where the function
+/// is STRICT is an ERROR naming the argument) and the SQL type mapping.
+macro_rules! raw_datum_arg {
+    ($(#[$doc:meta])* $name:ident, $sql:literal) => {
+        $(#[$doc])*
+        pub struct $name(pgrx::pg_sys::Datum);
+
+        impl pgrx::FromDatum for $name {
+            unsafe fn from_polymorphic_datum(
+                d: pgrx::pg_sys::Datum,
+                is_null: bool,
+                _: pgrx::pg_sys::Oid,
+            ) -> Option<Self> {
+                (!is_null).then_some($name(d))
+            }
+        }
+
+        unsafe impl<'fcx> pgrx::callconv::ArgAbi<'fcx> for $name {
+            unsafe fn unbox_arg_unchecked(arg: pgrx::callconv::Arg<'_, 'fcx>) -> Self {
+                let i = arg.index();
+                unsafe { arg.unbox_arg_using_from_datum() }.unwrap_or_else(|| {
+                    $crate::pg::raise(
+                        pgrx::PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
+                        format!("{} argument {i} is NULL", $sql),
+                    )
+                })
+            }
+        }
+
+        pgrx::pgrx_sql_entity_graph::impl_sql_translatable!($name, arg_only = $sql);
+    };
+}
+
 mod args;
 mod cache;
 mod functions;

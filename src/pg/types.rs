@@ -2,11 +2,11 @@
 //! Rust as the raw Datum, so header-only functions read just a slice and
 //! full reads go through the backend cache.
 
-use pgrx::callconv::{Arg, ArgAbi, BoxRet, FcInfo};
+use pgrx::callconv::{BoxRet, FcInfo};
 use pgrx::datum::Datum as RetDatum;
 use pgrx::pg_sys;
 use pgrx::prelude::*;
-use pgrx::{FromDatum, IntoDatum};
+use pgrx::IntoDatum;
 use std::ffi::{CStr, CString};
 use std::sync::{Arc, Weak};
 
@@ -17,32 +17,11 @@ use crate::tin::Tin;
 /// Largest value we write: under PostgreSQL's 1 GB varlena limit.
 const MAX_VALUE_BYTES: usize = (1 << 30) - 1024;
 
-/// A `tin` argument: the Datum as passed, not detoasted.
-pub struct TinArg(pg_sys::Datum);
-
-impl FromDatum for TinArg {
-    unsafe fn from_polymorphic_datum(
-        d: pg_sys::Datum,
-        is_null: bool,
-        _: pg_sys::Oid,
-    ) -> Option<Self> {
-        (!is_null).then_some(TinArg(d))
-    }
-}
-
-unsafe impl<'fcx> ArgAbi<'fcx> for TinArg {
-    unsafe fn unbox_arg_unchecked(arg: Arg<'_, 'fcx>) -> Self {
-        let i = arg.index();
-        unsafe { arg.unbox_arg_using_from_datum() }.unwrap_or_else(|| {
-            raise(
-                PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
-                format!("tin argument {i} is NULL"),
-            )
-        })
-    }
-}
-
-pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(TinArg, arg_only = "tin");
+raw_datum_arg!(
+    /// A `tin` argument: the Datum as passed, not detoasted.
+    TinArg,
+    "tin"
+);
 
 impl TinArg {
     fn ptr(&self) -> *mut pg_sys::varlena {

@@ -286,7 +286,7 @@ impl Builder {
                 break;
             }
             n += 1;
-            if n % 256 == 0 {
+            if n.is_multiple_of(256) {
                 interrupt()?;
             }
             let v = self.insert_sample(st.cand as usize)?;

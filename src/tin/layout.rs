@@ -246,7 +246,7 @@ pub fn encode(tin: &Tin) -> Vec<u8> {
         }
     }
     let pad = |out: &mut Vec<u8>| {
-        while out.len() % 8 != 0 {
+        while !out.len().is_multiple_of(8) {
             out.push(0);
         }
     };
@@ -370,7 +370,7 @@ pub fn to_hex(b: &[u8]) -> String {
 /// Parse hex text (either case) into bytes.
 pub fn from_hex(s: &str) -> Result<Vec<u8>, TinError> {
     let s = s.trim();
-    if s.len() % 2 != 0 {
+    if !s.len().is_multiple_of(2) {
         return Err(corrupt("hex text has an odd number of digits"));
     }
     let val = |c: u8| -> Result<u8, TinError> {

@@ -39,18 +39,11 @@ pub fn start_triangle(tin: &Tin, level: usize, x: f64, y: f64) -> u32 {
     if g.cells.is_empty() {
         return 0;
     }
-    let cx = ((x - tin.bbox.min_x) / g.cell).floor();
-    let cy = ((y - tin.bbox.min_y) / g.cell).floor();
-    let cx = if cx > 0.0 {
-        (cx as u32).min(g.nx - 1)
-    } else {
-        0
-    };
-    let cy = if cy > 0.0 {
-        (cy as u32).min(g.ny - 1)
-    } else {
-        0
-    };
+    // `as u32` truncates (towards zero) and saturates (negative and NaN give
+    // 0), which is floor for the non-negative values that matter here; the
+    // `min` clamps points right of or above the grid.
+    let cx = (((x - tin.bbox.min_x) / g.cell) as u32).min(g.nx - 1);
+    let cy = (((y - tin.bbox.min_y) / g.cell) as u32).min(g.ny - 1);
     g.cells[(cy * g.nx + cx) as usize]
 }
 
