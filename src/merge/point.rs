@@ -28,7 +28,7 @@
 //! assert_eq!(footprint(&tin, 0, &r, &mut || Ok(())).unwrap(), vec![0, 1]);
 //! ```
 
-use crate::tin::locate::{self, Walk};
+use crate::tin::locate;
 use crate::tin::{interpolate, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 use std::collections::HashSet;
@@ -240,13 +240,4 @@ pub fn locate_descend(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
         t = (a..b).find(|&c| locate::contains(tin, l, c, x, y))?;
     }
     Some(locate::canonical(tin, level, t, x, y))
-}
-
-/// The walk only (no grid): from triangle 0 of `level`. Used by benchmarks to
-/// show what the grid index saves.
-pub fn locate_walk_from_zero(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
-    match locate::walk(tin, level, 0, x, y) {
-        Walk::Inside(t) => Some(locate::canonical(tin, level, t, x, y)),
-        Walk::Outside(_) => None,
-    }
 }

@@ -10,17 +10,12 @@ use super::types::TinArg;
 use super::{raise, OrRaise};
 use crate::io::ewkb::{self, Geom};
 use crate::merge::point::{self, Rect};
-use crate::tin::{resolve_level, Tin, TinError};
+use crate::tin::{Tin, TinError};
 use std::sync::Arc;
 
 fn interrupt() -> Result<(), TinError> {
     pg_sys::check_for_interrupts!();
     Ok(())
-}
-
-/// Level index for a tin argument, checked against the header.
-fn level_of(t: &TinArg, level: Option<i32>) -> usize {
-    resolve_level(level, t.header().num_levels()).or_raise()
 }
 
 /// The decoded tin and the level index (one cache look-up per row).
@@ -61,14 +56,12 @@ fn _tin_drape(
     level: default!(Option<i32>, "NULL"),
 ) -> Option<Vec<u8>> {
     let (t, geom) = (t?, geom?);
-    let srid = t.header().srid;
-    let l = level_of(&t, level);
+    let (tin, l) = tin_level(&t, level);
     let g = ewkb::read(geom).or_raise();
-    check_srid(g.srid, srid, "tin_drape");
+    check_srid(g.srid, tin.srid, "tin_drape");
     if g.geom.is_empty() {
         return None;
     }
-    let tin = t.tin();
     let z = |p: &[f64; 3]| point::height(&tin, l, p[0], p[1]).map(|z| [p[0], p[1], z]);
     let out = match &g.geom {
         Geom::Point(Some(p)) => Geom::Point(Some(z(p)?)),
@@ -104,12 +97,11 @@ fn tin_footprint(
     else {
         return none();
     };
-    let srid = t.header().srid;
-    let l = level_of(&t, level);
-    let Some([x, y]) = pt.point_xy(srid, "tin_footprint") else {
+    let (tin, l) = tin_level(&t, level);
+    let Some([x, y]) = pt.point_xy(tin.srid, "tin_footprint") else {
         return none();
     };
     let rect = Rect::new(x, y, width, length, angle).or_raise();
-    let ids = point::footprint(&t.tin(), l, &rect, &mut interrupt).or_raise();
+    let ids = point::footprint(&tin, l, &rect, &mut interrupt).or_raise();
     SetOfIterator::new(ids.into_iter().map(|i| i as i32))
 }

@@ -51,15 +51,22 @@ impl TinArg {
         }
     }
 
+    /// For an on-disk value: its TOAST key, the transaction it is looked up
+    /// in, and what this transaction remembers of it.
+    fn remembered(&self) -> Option<(cache::ToastKey, i64, Option<cache::Alias>)> {
+        let key = self.toast_key()?;
+        let epoch = unsafe { pg_sys::GetCurrentTransactionStartTimestamp() };
+        Some((key, epoch, cache::alias_for(&key, epoch)))
+    }
+
     /// The fixed header, read through a prefix slice (no full detoast), or
     /// remembered from an earlier row of this transaction for the same
     /// on-disk value.
     pub fn header(&self) -> Arc<Header> {
-        let Some(key) = self.toast_key() else {
+        let Some((key, epoch, alias)) = self.remembered() else {
             return Arc::new(self.read_header());
         };
-        let epoch = unsafe { pg_sys::GetCurrentTransactionStartTimestamp() };
-        if let Some(a) = cache::alias_for(&key, epoch) {
+        if let Some(a) = alias {
             return a.header;
         }
         let header = Arc::new(self.read_header());
@@ -95,12 +102,11 @@ impl TinArg {
     /// content was decoded before. For a stored value met again in this
     /// transaction this is one look-up, with no read of the value at all.
     pub fn tin(&self) -> Arc<Tin> {
-        let Some(key) = self.toast_key() else {
+        let Some((key, epoch, alias)) = self.remembered() else {
             let h = self.read_header();
             return cache::get_or_decode(h.hash, h.total_len, || layout::decode(self.bytes()));
         };
-        let epoch = unsafe { pg_sys::GetCurrentTransactionStartTimestamp() };
-        let header = match cache::alias_for(&key, epoch) {
+        let header = match alias {
             Some(a) => {
                 if let Some(t) = a.tin.upgrade() {
                     cache::count_alias_hit();

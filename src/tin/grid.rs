@@ -1,8 +1,9 @@
 //! Per-level grid index (seed 6.3): a regular grid over the bounding box with
 //! about four cells per level vertex (so a cell holds at most about one
-//! vertex and a walk from the cell's triangle takes one or two steps); each cell keeps the triangle containing
-//! its centre (or, for a centre outside the domain, the hull triangle a walk
-//! towards it ended on), so point location starts next to the answer.
+//! vertex and a walk from the cell's triangle takes one or two steps). Each
+//! cell keeps the triangle containing its centre (or, for a centre outside
+//! the domain, the hull triangle a walk towards it ended on), so point
+//! location starts next to the answer.
 
 use super::locate::{walk_raw, Walk};
 use super::{Bbox, Grid, Level};
