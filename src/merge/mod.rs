@@ -3,4 +3,5 @@
 //! pgrx. Each function takes the level to work at as an index already
 //! resolved with [`crate::tin::Tin::level_index`].
 
+pub mod line;
 pub mod point;
