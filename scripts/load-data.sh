@@ -7,3 +7,16 @@ db="$1"
   raster2pgsql -s 32616 -N -9999 tests/data/jacksboro_fault_dem_utm16n.tif public.dem
   raster2pgsql -s 4326 tests/data/jacksboro_fault_dem.tif public.dem_geo
 } 2>/dev/null | scripts/cluster.sh psql -q -d "$db" >/dev/null
+# Contour lines of the UTM DEM every 50 m (gdal_contour), as table contours.
+tmp=$(mktemp -d)
+gdal_contour -q -f CSV -lco GEOMETRY=AS_WKT -a elev -i 50 \
+  tests/data/jacksboro_fault_dem_utm16n.tif "$tmp/contours.csv"
+chmod -R a+rX "$tmp"
+scripts/cluster.sh psql -q -d "$db" >/dev/null <<SQL
+CREATE TABLE contours_raw(wkt text, id int, elev float8);
+\copy contours_raw FROM '$tmp/contours.csv' CSV HEADER
+CREATE TABLE contours AS
+  SELECT id, elev, ST_GeomFromText(wkt, 32616)::geometry(LineString, 32616) AS geom FROM contours_raw;
+DROP TABLE contours_raw;
+SQL
+rm -rf "$tmp"

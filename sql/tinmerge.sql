@@ -49,14 +49,42 @@ COMMENT ON FUNCTION tin_locate(tin, geometry, int) IS
 COMMENT ON FUNCTION tin_height(tin, geometry, int) IS
 'Height of the surface of a level (NULL = finest) at a POINT, by linear interpolation on the triangle containing it; NULL outside the domain. The point''s own Z, if any, is ignored.';
 
+COMMENT ON FUNCTION tin_footprint(tin, geometry, float8, float8, float8, int) IS
+'Ids of the triangles of a level (NULL = finest) meeting the closed rectangle centred on a POINT, width across and length along angle (degrees clockwise from north), in increasing id order. Width and length >= 0 (0 gives a segment or a point).';
+
+-- Line merge (seed 6.4). Lines travel as EWKB to the _tin_line_* functions.
+CREATE FUNCTION tin_line_triangles(t tin, line geometry, level int DEFAULT NULL, width float8 DEFAULT 0)
+RETURNS TABLE(seq int, triangle int) AS
+$$ SELECT * FROM _tin_line_triangles($1, $2::bytea, $3, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_line_triangles(tin, geometry, int, float8) IS
+'Triangles of a level (NULL = finest) a LINESTRING or MULTILINESTRING passes through, in travel order (seq from 1; a triangle entered again appears again). With width > 0: every triangle within width/2 of the line, each once, ordered by where the line first comes that close. Stretches outside the domain are skipped; along a shared edge the smaller triangle id holds the stretch.';
+
+CREATE FUNCTION tin_line_segments(t tin, line geometry, level int DEFAULT NULL)
+RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
+$$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM _tin_line_segments($1, $2::bytea, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_line_segments(tin, geometry, int) IS
+'The line cut at every triangle edge of a level (NULL = finest): one LINESTRING Z on the surface per triangle crossed, in travel order, with its planar length, surface length and rise (end height minus start height). Stretches outside the domain are skipped.';
+
+CREATE FUNCTION tin_line_profile(t tin, line geometry, level int DEFAULT NULL)
+RETURNS TABLE(distance float8, z float8) AS
+$$ SELECT * FROM _tin_line_profile($1, $2::bytea, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_line_profile(tin, geometry, int) IS
+'Height profile along a line: every vertex of the draped line (the line''s vertices and its triangle-edge crossings) with its planar distance from the start (parts of a MULTILINESTRING follow each other). Stretches outside the domain give no points.';
+
+CREATE FUNCTION tin_line_climb(t tin, line geometry, level int DEFAULT NULL)
+RETURNS float8 AS $$ SELECT _tin_line_climb($1, $2::bytea, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_line_climb(tin, geometry, int) IS
+'Total ascent along the direction of the line on the surface of a level (NULL = finest): the sum of the positive height differences along the draped line (0 for a line running only downhill; NULL when no part is in the domain).';
+
 CREATE FUNCTION tin_drape(t tin, geom geometry, level int DEFAULT NULL)
 RETURNS geometry AS $$ SELECT _tin_drape($1, $2::bytea, $3)::geometry $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS
-'The geometry with Z taken from the surface of a level (NULL = finest). POINT and MULTIPOINT: points outside the domain are dropped (NULL when none is left).';
-
-COMMENT ON FUNCTION tin_footprint(tin, geometry, float8, float8, float8, int) IS
-'Ids of the triangles of a level (NULL = finest) meeting the closed rectangle centred on a POINT, width across and length along angle (degrees clockwise from north), in increasing id order. Width and length >= 0 (0 gives a segment or a point).';
+'The geometry with Z from the surface of a level (NULL = finest) and a vertex added wherever a line or ring crosses a triangle edge (as ArcGIS Interpolate Shape or H2GIS ST_Drape). Any type, multi* and collections included. Points outside the domain are dropped; lines keep their stretches inside (a line leaving and coming back becomes a MULTILINESTRING); a polygon with a vertex outside is an error. NULL when nothing is left.';
 
 COMMENT ON FUNCTION tin_srid(tin) IS 'SRID of the tin (header only).';
 COMMENT ON FUNCTION tin_num_levels(tin) IS 'Number of levels of detail (header only).';
@@ -73,6 +101,10 @@ COMMENT ON FUNCTION _tin_envelope(tin) IS 'Internal: use tin_envelope(tin).';
 COMMENT ON FUNCTION _tin_triangles(tin, int) IS 'Internal: use tin_triangles(tin, int).';
 COMMENT ON FUNCTION _tin_as_geometry(tin, int) IS 'Internal: use tin_as_geometry(tin, int).';
 COMMENT ON FUNCTION _tin_drape(tin, bytea, int) IS 'Internal: use tin_drape(tin, geometry, int).';
+COMMENT ON FUNCTION _tin_line_triangles(tin, bytea, int, float8) IS 'Internal: use tin_line_triangles(tin, geometry, int, float8).';
+COMMENT ON FUNCTION _tin_line_segments(tin, bytea, int) IS 'Internal: use tin_line_segments(tin, geometry, int).';
+COMMENT ON FUNCTION _tin_line_profile(tin, bytea, int) IS 'Internal: use tin_line_profile(tin, geometry, int).';
+COMMENT ON FUNCTION _tin_line_climb(tin, bytea, int) IS 'Internal: use tin_line_climb(tin, geometry, int).';
 COMMENT ON FUNCTION tin_in(cstring) IS 'Text input of tin: hex of the binary form, fully validated.';
 COMMENT ON FUNCTION tin_out(tin) IS 'Text output of tin: hex of the binary form.';
 COMMENT ON FUNCTION tin_recv(internal) IS 'Binary input of tin, fully validated.';

@@ -472,3 +472,194 @@ fn random_lines_on_a_grid_terrain_snap_to_vertices_and_edges() {
         );
     }
 }
+
+/// A fractal "river" by midpoint displacement: 2^depth + 1 vertices
+/// between a and b, wandering about `rough` of each stretch's length.
+fn fractal(a: [f64; 2], b: [f64; 2], depth: u32, rough: f64, seed: u64) -> Vec<[f64; 2]> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut pts = vec![a, b];
+    for _ in 0..depth {
+        let mut next = Vec::with_capacity(pts.len() * 2);
+        for w in pts.windows(2) {
+            let (p, q) = (w[0], w[1]);
+            let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+            let s = rng.random_range(-rough..rough);
+            next.push(p);
+            next.push([(p[0] + q[0]) / 2.0 - dy * s, (p[1] + q[1]) / 2.0 + dx * s]);
+        }
+        next.push(*pts.last().unwrap());
+        pts = next;
+    }
+    pts
+}
+
+fn tree_of(parts: &[Vec<[f64; 2]>]) -> Vec<u8> {
+    tinmerge::merge::linetree::encode(0, parts).unwrap()
+}
+
+/// The line tree gives exactly what the plain walk gives: pieces, triangle
+/// sequences and widened-line triangles.
+fn same_through_tree(tin: &Tin, level: usize, parts: &[Vec<[f64; 2]>], width: f64) {
+    use tinmerge::merge::line::{walk_parts, PieceSink, TriangleSink};
+    use tinmerge::merge::linetree::{near_tree, walk_tree, View};
+    use tinmerge::merge::widened::near_line;
+    let bytes = tree_of(parts);
+    let view = View::new(&bytes).unwrap();
+    view.validate().unwrap();
+    let plain: Vec<Part> = parts.iter().map(|p| Part::new(p.clone())).collect();
+    let mut a = PieceSink::new(tin, level);
+    walk_parts(
+        tin,
+        level,
+        &plain,
+        &mut a,
+        &mut |s, i| s.part = i,
+        &mut || Ok(()),
+    )
+    .unwrap();
+    let mut b = PieceSink::new(tin, level);
+    walk_tree(
+        tin,
+        level,
+        &view,
+        &mut b,
+        &mut |s, i| s.part = i,
+        &mut || Ok(()),
+    )
+    .unwrap();
+    assert_eq!(a.pieces, b.pieces, "pieces differ");
+    let mut a = TriangleSink::default();
+    walk_parts(tin, level, &plain, &mut a, &mut |_, _| {}, &mut || Ok(())).unwrap();
+    let mut b = TriangleSink::default();
+    walk_tree(tin, level, &view, &mut b, &mut |_, _| {}, &mut || Ok(())).unwrap();
+    assert_eq!(a.tris, b.tris, "triangle sequences differ");
+    if width > 0.0 {
+        let a = near_line(tin, level, &plain, width / 2.0, &mut || Ok(())).unwrap();
+        let b = near_tree(tin, level, &view, width / 2.0, &mut || Ok(())).unwrap();
+        assert_eq!(a, b, "widened triangles differ");
+    }
+}
+
+#[test]
+fn line_tree_merges_equal_the_plain_walk() {
+    let tin = dem_tin();
+    let b = tin.bbox;
+    let (cx, cy) = ((b.min_x + b.max_x) / 2.0, (b.min_y + b.max_y) / 2.0);
+    // a detailed river (2^14 + 1 vertices) crossing the domain and leaving it
+    let river = fractal(
+        [cx - 9000.0, cy - 4000.0],
+        [cx + 30000.0, cy + 6000.0],
+        14,
+        0.3,
+        1,
+    );
+    for level in [0, 2, 4] {
+        same_through_tree(&tin, level, std::slice::from_ref(&river), 0.0);
+    }
+    same_through_tree(&tin, 1, std::slice::from_ref(&river), 300.0);
+    // random short lines, several parts, repeated points, a ring
+    let mut rng = StdRng::seed_from_u64(7);
+    for case in 0..20 {
+        let n = rng.random_range(2..300);
+        let mut p = [
+            rng.random_range(b.min_x..b.max_x),
+            rng.random_range(b.min_y..b.max_y),
+        ];
+        let mut line = vec![p];
+        for _ in 0..n {
+            if rng.random_range(0..10) > 0 {
+                p = [
+                    p[0] + rng.random_range(-400.0..400.0),
+                    p[1] + rng.random_range(-400.0..400.0),
+                ];
+            }
+            line.push(p);
+        }
+        let mut parts = vec![line.clone()];
+        if case % 3 == 0 {
+            parts.push(fractal(line[0], line[n / 2], 6, 0.4, case));
+            parts.push(vec![line[0]; 3]);
+        }
+        if case % 4 == 0 {
+            let mut ring = line.clone();
+            ring.push(line[0]);
+            parts.push(ring);
+        }
+        same_through_tree(
+            &tin,
+            case as usize % 5,
+            &parts,
+            if case % 2 == 0 { 150.0 } else { 0.0 },
+        );
+    }
+}
+
+#[test]
+fn line_tree_error_bounds_hold_and_damage_is_caught() {
+    use tinmerge::merge::linetree::View;
+    let river = fractal([0.0, 0.0], [1000.0, 50.0], 10, 0.35, 3);
+    let bytes = tree_of(&[river.clone(), vec![[5.0, 5.0], [6.0, 7.0]]]);
+    let v = View::new(&bytes).unwrap();
+    // validate() recomputes every bound; check a few by brute force here too
+    v.validate().unwrap();
+    let part = v.part_line(0).unwrap();
+    let (_, n, root) = v.part(0).unwrap();
+    let nd = v.node(root, n).unwrap();
+    assert_eq!((nd.first, nd.last as usize), (0, river.len() - 1));
+    let (a, b) = (river[0], *river.last().unwrap());
+    for p in &river {
+        // distance to the root segment
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let s = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+        let d = (p[0] - a[0] - s * dx).hypot(p[1] - a[1] - s * dy);
+        assert!(d <= nd.err);
+    }
+    use tinmerge::merge::line::Polyline;
+    assert_eq!(part.len(), river.len());
+    // every single-byte change is refused (hash) or, if the hash is
+    // recomputed, refused by validate() or harmless; nothing panics
+    let mut rng = StdRng::seed_from_u64(11);
+    for _ in 0..3000 {
+        let mut m = bytes.clone();
+        let i = rng.random_range(0..m.len());
+        m[i] ^= 1 << rng.random_range(0..8);
+        assert!(View::new(&m).is_err() || i >= 40 && i < 48);
+    }
+    // with the hash recomputed, damaged values are refused by validate()
+    // or merge without panicking (every read is checked)
+    let tin = grid_tin(6);
+    let bytes = tree_of(&[
+        fractal([0.5, 0.5], [5.5, 4.5], 8, 0.3, 5),
+        vec![[1.0, 1.0], [3.0, 2.0], [3.0, 2.0]],
+    ]);
+    let mut refused = 0;
+    for _ in 0..3000 {
+        let mut m = bytes.clone();
+        for _ in 0..rng.random_range(1..4) {
+            let i = rng.random_range(0..m.len());
+            m[i] ^= 1 << rng.random_range(0..8);
+        }
+        tinmerge::merge::linetree::rehash(&mut m);
+        let Ok(v) = View::new(&m) else {
+            refused += 1;
+            continue;
+        };
+        if v.validate().is_err() {
+            refused += 1;
+        }
+        let mut sink = tinmerge::merge::line::PieceSink::new(&tin, 0);
+        let _ = tinmerge::merge::linetree::walk_tree(
+            &tin,
+            0,
+            &v,
+            &mut sink,
+            &mut |_, _| {},
+            &mut || Ok(()),
+        );
+        let _ = tinmerge::merge::linetree::near_tree(&tin, 0, &v, 0.3, &mut || Ok(()));
+    }
+    assert!(refused > 1000, "{refused}");
+    // truncated and empty
+    assert!(View::new(&bytes[..bytes.len() - 1]).is_err());
+    assert!(View::new(&[]).is_err());
+}

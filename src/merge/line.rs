@@ -730,3 +730,30 @@ pub fn triangles(tin: &Tin, level: usize, parts: &[Part]) -> Result<Vec<u32>, Ti
     walk_parts(tin, level, parts, &mut sink, &mut |_, _| {}, &mut || Ok(()))?;
     Ok(sink.tris)
 }
+
+/// The pieces joined into continuous runs (a run ends where the line leaves
+/// the domain or a part ends): the draped line, with a vertex at every
+/// triangle-edge crossing. Returns (part, points, distance along the part
+/// of each point).
+pub fn runs(pieces: &[Piece]) -> Vec<(usize, Vec<[f64; 3]>, Vec<f64>)> {
+    let mut out: Vec<(usize, Vec<[f64; 3]>, Vec<f64>)> = Vec::new();
+    let mut prev_end: Option<(usize, [f64; 2])> = None;
+    for p in pieces {
+        let Some(first) = p.points.first() else {
+            continue;
+        };
+        let joins = prev_end == Some((p.part, [first[0], first[1]]));
+        match out.last_mut() {
+            Some(run) if joins => {
+                // the crossing point is already there (end of the last piece)
+                run.1.extend_from_slice(&p.points[1..]);
+                run.2.extend_from_slice(&p.along[1..]);
+            }
+            _ => out.push((p.part, p.points.clone(), p.along.clone())),
+        }
+        if let Some(l) = p.points.last() {
+            prev_end = Some((p.part, [l[0], l[1]]));
+        }
+    }
+    out
+}

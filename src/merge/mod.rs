@@ -3,5 +3,8 @@
 //! pgrx. Each function takes the level to work at as an index already
 //! resolved with [`crate::tin::Tin::level_index`].
 
+pub mod drape;
 pub mod line;
+pub mod linetree;
 pub mod point;
+pub mod widened;

@@ -44,6 +44,7 @@ macro_rules! raw_datum_arg {
 mod args;
 mod cache;
 mod functions;
+mod line;
 mod point;
 mod types;
 

@@ -1,14 +1,13 @@
-//! SQL functions of the point merge: `tin_locate`, `tin_height`,
-//! `tin_drape` and `tin_footprint`. A NULL tin or geometry gives NULL (the
+//! SQL functions of the point merge: `tin_locate`, `tin_height` and
+//! `tin_footprint` (`tin_drape` is in [`super::line`]). A NULL tin or geometry gives NULL (the
 //! functions are not STRICT because the level argument may be NULL =
 //! finest); an empty geometry gives NULL.
 
 use pgrx::prelude::*;
 
-use super::args::{check_srid, GeomArg};
+use super::args::GeomArg;
 use super::types::TinArg;
-use super::{raise, OrRaise};
-use crate::io::ewkb::{self, Geom};
+use super::OrRaise;
 use crate::merge::point::{self, Rect};
 use crate::tin::{Tin, TinError};
 use std::sync::Arc;
@@ -47,40 +46,6 @@ fn tin_height(
     let (tin, l) = tin_level(&t, level);
     let [x, y] = pt.point_xy(tin.srid, "tin_height")?;
     point::height(&tin, l, x, y)
-}
-
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
-fn _tin_drape(
-    t: Option<TinArg>,
-    geom: Option<&[u8]>,
-    level: default!(Option<i32>, "NULL"),
-) -> Option<Vec<u8>> {
-    let (t, geom) = (t?, geom?);
-    let (tin, l) = tin_level(&t, level);
-    let g = ewkb::read(geom).or_raise();
-    check_srid(g.srid, tin.srid, "tin_drape");
-    if g.geom.is_empty() {
-        return None;
-    }
-    let z = |p: &[f64; 3]| point::height(&tin, l, p[0], p[1]).map(|z| [p[0], p[1], z]);
-    let out = match &g.geom {
-        Geom::Point(Some(p)) => Geom::Point(Some(z(p)?)),
-        Geom::MultiPoint(ps) => {
-            let v: Vec<[f64; 3]> = ps.iter().filter_map(z).collect();
-            if v.is_empty() {
-                return None;
-            }
-            Geom::MultiPoint(v)
-        }
-        other => raise(
-            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-            format!(
-                "tin_drape of a {} is not supported yet: only POINT and MULTIPOINT",
-                other.type_name()
-            ),
-        ),
-    };
-    Some(ewkb::Writer::write(g.srid, true, &out))
 }
 
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]

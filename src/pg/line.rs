@@ -1,0 +1,282 @@
+//! SQL functions of the line merge: `tin_line_triangles`,
+//! `tin_line_segments`, `tin_line_profile`, `tin_line_climb`, and
+//! `tin_drape` for every geometry type. Lines arrive as EWKB (the SQL
+//! wrappers cast `geometry` to `bytea`). Not STRICT (a NULL level means
+//! finest): a NULL tin or line gives no rows / NULL.
+
+use pgrx::prelude::*;
+
+use super::args::check_srid;
+use super::types::TinArg;
+use super::{raise, OrRaise};
+use crate::io::ewkb::{self, Geom};
+use crate::merge::drape::drape;
+use crate::merge::line::{runs, walk_parts, Part, PieceSink, TriangleSink};
+use crate::merge::widened::near_line;
+use crate::tin::{Tin, TinError};
+use std::sync::Arc;
+
+fn interrupt() -> Result<(), TinError> {
+    pg_sys::check_for_interrupts!();
+    Ok(())
+}
+
+fn tin_level(t: &TinArg, level: Option<i32>) -> (Arc<Tin>, usize) {
+    let tin = t.tin();
+    let l = tin.level_index(level).or_raise();
+    (tin, l)
+}
+
+/// The parts of a LINESTRING or MULTILINESTRING argument (SRID checked,
+/// coordinates finite); an ERROR naming the type for anything else.
+pub(crate) fn line_parts(bytes: &[u8], tin_srid: i32, func: &str) -> Vec<Part> {
+    let g = ewkb::read(bytes).or_raise();
+    check_srid(g.srid, tin_srid, func);
+    let lines: Vec<&Vec<[f64; 3]>> = match &g.geom {
+        Geom::LineString(l) => vec![l],
+        Geom::MultiLineString(ls) => ls.iter().collect(),
+        other => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func} takes a LINESTRING or MULTILINESTRING, got a {}{}",
+                other.type_name(),
+                match other {
+                    Geom::Polygon(_) | Geom::MultiPolygon(_) =>
+                        " (use ST_Boundary for its rings, or tin_drape)",
+                    _ => "",
+                }
+            ),
+        ),
+    };
+    lines
+        .into_iter()
+        .map(|l| {
+            if let Some(c) = l.iter().find(|c| !(c[0].is_finite() && c[1].is_finite())) {
+                raise(
+                    PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                    format!(
+                        "{func}: the line has a non-finite coordinate ({} {})",
+                        c[0], c[1]
+                    ),
+                );
+            }
+            Part::new(l.iter().map(|c| [c[0], c[1]]).collect())
+        })
+        .collect()
+}
+
+pub(crate) fn check_width(width: f64) -> f64 {
+    if !(width.is_finite() && width >= 0.0) {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("line width must be a finite number >= 0, got {width}"),
+        );
+    }
+    width
+}
+
+/// Triangles of the line: travel order (width 0) or first approach.
+pub(crate) fn line_triangles<L: crate::merge::line::Polyline>(
+    tin: &Tin,
+    l: usize,
+    parts: &[L],
+    width: f64,
+) -> Vec<u32> {
+    if width > 0.0 {
+        near_line(tin, l, parts, width / 2.0, &mut interrupt).or_raise()
+    } else {
+        let mut sink = TriangleSink::default();
+        walk_parts(tin, l, parts, &mut sink, &mut |_, _| {}, &mut interrupt).or_raise();
+        sink.tris
+    }
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_line_triangles(
+    t: Option<TinArg>,
+    line: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+    width: default!(Option<f64>, "0"),
+) -> TableIterator<'static, (name!(seq, i32), name!(triangle, i32))> {
+    let (Some(t), Some(line)) = (t, line) else {
+        return TableIterator::new(Vec::new());
+    };
+    let width = check_width(width.unwrap_or(0.0));
+    let (tin, l) = tin_level(&t, level);
+    let parts = line_parts(line, tin.srid, "tin_line_triangles");
+    let tris = line_triangles(&tin, l, &parts, width);
+    TableIterator::new(
+        tris.into_iter()
+            .enumerate()
+            .map(|(i, t)| (i as i32 + 1, t as i32))
+            .collect::<Vec<_>>(),
+    )
+}
+
+type SegmentRow = (i32, i32, Vec<u8>, f64, f64, f64);
+
+pub(crate) fn segment_rows<L: crate::merge::line::Polyline>(
+    tin: &Tin,
+    l: usize,
+    parts: &[L],
+    drive: impl FnOnce(&mut PieceSink) -> Result<(), TinError>,
+) -> Vec<SegmentRow> {
+    let _ = parts;
+    let mut sink = PieceSink::new(tin, l);
+    drive(&mut sink).or_raise();
+    sink.pieces
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut pts = p.points.clone();
+            if pts.len() == 1 {
+                pts.push(pts[0]);
+            }
+            (
+                i as i32 + 1,
+                p.triangle as i32,
+                ewkb::Writer::write(tin.srid, true, &Geom::LineString(pts)),
+                p.length2d(),
+                p.length3d(),
+                p.rise(),
+            )
+        })
+        .collect()
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_line_segments(
+    t: Option<TinArg>,
+    line: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+) -> TableIterator<
+    'static,
+    (
+        name!(seq, i32),
+        name!(triangle, i32),
+        name!(geom, Vec<u8>),
+        name!(length2d, f64),
+        name!(length3d, f64),
+        name!(rise, f64),
+    ),
+> {
+    let (Some(t), Some(line)) = (t, line) else {
+        return TableIterator::new(Vec::new());
+    };
+    let (tin, l) = tin_level(&t, level);
+    let parts = line_parts(line, tin.srid, "tin_line_segments");
+    let rows = segment_rows(&tin, l, &parts, |sink| {
+        walk_parts(
+            &tin,
+            l,
+            &parts,
+            sink,
+            &mut |s, i| s.part = i,
+            &mut interrupt,
+        )
+    });
+    TableIterator::new(rows)
+}
+
+/// Profile points (distance along the whole line, z) and the climb.
+pub(crate) fn profile(sink: PieceSink, part_offsets: &[f64]) -> (Vec<(f64, f64)>, Option<f64>) {
+    let mut pts = Vec::new();
+    let mut climb: Option<f64> = None;
+    for (part, p, along) in runs(&sink.pieces) {
+        let off = part_offsets.get(part).copied().unwrap_or(0.0);
+        for (i, (q, a)) in p.iter().zip(along.iter()).enumerate() {
+            pts.push((off + a, q[2]));
+            if i > 0 {
+                let c = climb.get_or_insert(0.0);
+                *c += (q[2] - p[i - 1][2]).max(0.0);
+            } else {
+                climb.get_or_insert(0.0);
+            }
+        }
+    }
+    (pts, climb)
+}
+
+/// Distance along the whole line at which each part starts (parts follow
+/// each other; the gaps between them are not counted).
+pub(crate) fn part_offsets(lengths: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut offs = Vec::new();
+    let mut d = 0.0;
+    for l in lengths {
+        offs.push(d);
+        d += l;
+    }
+    offs
+}
+
+fn profile_of(
+    t: &TinArg,
+    line: &[u8],
+    level: Option<i32>,
+    func: &str,
+) -> (Vec<(f64, f64)>, Option<f64>) {
+    let (tin, l) = tin_level(t, level);
+    let parts = line_parts(line, tin.srid, func);
+    let mut sink = PieceSink::new(&tin, l);
+    walk_parts(
+        &tin,
+        l,
+        &parts,
+        &mut sink,
+        &mut |s, i| s.part = i,
+        &mut interrupt,
+    )
+    .or_raise();
+    profile(sink, &part_offsets(parts.iter().map(|p| p.length())))
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_line_profile(
+    t: Option<TinArg>,
+    line: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+) -> TableIterator<'static, (name!(distance, f64), name!(z, f64))> {
+    let (Some(t), Some(line)) = (t, line) else {
+        return TableIterator::new(Vec::new());
+    };
+    TableIterator::new(profile_of(&t, line, level, "tin_line_profile").0)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_line_climb(
+    t: Option<TinArg>,
+    line: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<f64> {
+    let (t, line) = (t?, line?);
+    profile_of(&t, line, level, "tin_line_climb").1
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_drape(
+    t: Option<TinArg>,
+    geom: Option<&[u8]>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<Vec<u8>> {
+    let (t, geom) = (t?, geom?);
+    let (tin, l) = tin_level(&t, level);
+    let g = ewkb::read(geom).or_raise();
+    check_srid(g.srid, tin.srid, "tin_drape");
+    let mut bad = None;
+    g.geom.for_each_coord(&mut |c| {
+        if bad.is_none() && !(c[0].is_finite() && c[1].is_finite()) {
+            bad = Some(*c);
+        }
+    });
+    if let Some(c) = bad {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "tin_drape: the geometry has a non-finite coordinate ({} {})",
+                c[0], c[1]
+            ),
+        );
+    }
+    let out = drape(&tin, l, &g.geom).or_raise()?;
+    Some(ewkb::Writer::write(g.srid, true, &out))
+}

@@ -1,0 +1,189 @@
+-- Line merge against an independent oracle in PostGIS: the real contour lines
+-- of the DEM (gdal_contour, every 50 m; loaded by the runner as table
+-- contours) intersected with every triangle of tin_triangles in a
+-- GiST-indexed table (ST_Intersection), at a coarse and the finest level.
+SET extra_float_digits = 0;
+SELECT count(*) AS contours, sum(ST_NPoints(geom)) AS vertices, min(elev), max(elev) FROM contours;
+CREATE TABLE line_tris AS
+  SELECT l AS level, tr.id, tr.geom FROM terrain, unnest(ARRAY[1, 4]) l, tin_triangles(t, l) tr;
+CREATE INDEX ON line_tris USING gist (geom);
+ANALYZE line_tris;
+-- ours: planar length per (contour, level, triangle)
+-- (every third contour: 208 lines, 22,000 vertices, ~65,000 line/triangle pairs)
+CREATE TABLE line_ours AS
+SELECT c.id, l AS level, s.triangle, sum(s.length2d) AS len, count(*) AS pieces
+FROM contours c, terrain, unnest(ARRAY[1, 4]) l, tin_line_segments(t, c.geom, l) s
+WHERE c.id % 3 = 0
+GROUP BY 1, 2, 3;
+-- oracle: length of the intersection with each triangle polygon
+CREATE TABLE line_oracle AS
+SELECT c.id, tr.level, tr.id AS triangle, ST_Length(ST_Intersection(c.geom, tr.geom)) AS len
+FROM contours c JOIN line_tris tr ON ST_Intersects(c.geom, tr.geom)
+WHERE c.id % 3 = 0;
+-- same triangle sets: every triangle the oracle finds a stretch of the line
+-- in (longer than 1 micrometre, below GEOS's rounding of crossing points) is
+-- ours, and every triangle of ours is the oracle's
+SELECT o.level, count(*) AS oracle_triangles,
+       count(*) FILTER (WHERE o.len > 1e-6 AND u.triangle IS NULL) AS missed
+FROM line_oracle o LEFT JOIN line_ours u USING (id, level, triangle)
+GROUP BY 1 ORDER BY 1;
+SELECT u.level, count(*) AS our_triangles,
+       count(*) FILTER (WHERE o.triangle IS NULL OR o.len = 0) AS not_in_oracle,
+       count(*) FILTER (WHERE abs(u.len - o.len) > 1e-6) AS length_differs
+FROM line_ours u LEFT JOIN line_oracle o USING (id, level, triangle)
+GROUP BY 1 ORDER BY 1;
+-- sum of length2d = the length of the line inside the domain (the convex
+-- hull of the tin's vertices); to 1e-9 relative
+CREATE TABLE line_hull AS SELECT ST_ConvexHull(tin_as_geometry(t, 0)) AS h FROM terrain;
+SELECT level,
+       count(*) FILTER (WHERE ST_Within(c.geom, h)) AS contours_inside,
+       count(*) FILTER (WHERE ST_Within(c.geom, h)
+                          AND abs(s.len - ST_Length(c.geom)) > 1e-9 * ST_Length(c.geom)) AS inside_length_wrong,
+       count(*) FILTER (WHERE NOT ST_Within(c.geom, h)
+                          AND abs(s.len - ST_Length(ST_Intersection(c.geom, h))) > 1e-6 * ST_Length(c.geom)) AS partly_outside_length_wrong
+FROM contours c, line_hull,
+     (SELECT id, level, sum(len) AS len FROM line_ours GROUP BY 1, 2) s
+WHERE s.id = c.id
+GROUP BY 1 ORDER BY 1;
+-- draped vertices lie on the surface (tin_height), and the contour drapes to
+-- its own height within the level's tolerance (measured at the contour's
+-- own vertices, which gdal_contour interpolates between pixel centres)
+CREATE TABLE line_draped AS
+SELECT c.id, c.elev, l AS level, (ST_DumpPoints(tin_drape(t, c.geom, l))).geom AS p
+FROM contours c, terrain, unnest(ARRAY[1, 4]) l WHERE c.id % 3 = 0;
+-- (crossing points computed on a hull edge may round to just outside it:
+-- tin_height is NULL there)
+SELECT level, count(*) AS draped_vertices,
+       count(*) FILTER (WHERE abs(ST_Z(p) - tin_height(t, p, level)) > 1e-6) AS off_surface,
+       count(*) FILTER (WHERE tin_height(t, p, level) IS NULL
+                          AND ST_DWithin(p, ST_Boundary((SELECT h FROM line_hull)), 1e-6)) AS rounded_off_the_hull,
+       count(*) FILTER (WHERE tin_height(t, p, level) IS NULL
+                          AND NOT ST_DWithin(p, ST_Boundary((SELECT h FROM line_hull)), 1e-6)) AS outside
+FROM line_draped, terrain GROUP BY 1 ORDER BY 1;
+-- gdal_contour places each contour vertex on the segment between two
+-- neighbouring pixel centres A and B, at the height interpolated linearly
+-- between them. A level is within its tolerance of every sample, so where A,
+-- B and the vertex lie in one triangle (the surface is linear along AB) the
+-- draped vertex is within tolerance of the contour's value: checked at every
+-- such vertex. Elsewhere the surface may bend between samples; the spread is
+-- shown, not bounded (the tolerance holds at samples, not between them).
+CREATE TABLE line_cv AS
+SELECT c.id, c.elev, l AS level, v.geom AS v,
+       (ST_X(v.geom) - ST_X(o)) / 90 AS cx, (ST_Y(o) - ST_Y(v.geom)) / 90 AS cy, o
+FROM contours c, unnest(ARRAY[1, 4]) l, ST_DumpPoints(c.geom) v,
+     (SELECT ST_PixelAsCentroid(rast, 1, 1) o FROM dem) d
+WHERE c.id % 3 = 0;
+CREATE TABLE line_ab AS
+SELECT id, elev, level, v,
+       ST_MakeLine(ST_Translate(o, 90 * a1, -90 * b1), ST_Translate(o, 90 * a2, -90 * b2)) AS ab
+FROM (SELECT *, CASE WHEN abs(cx - round(cx)) < 1e-6 THEN round(cx) ELSE floor(cx) END a1,
+                CASE WHEN abs(cx - round(cx)) < 1e-6 THEN round(cx) ELSE ceil(cx) END a2,
+                CASE WHEN abs(cx - round(cx)) < 1e-6 THEN floor(cy) ELSE round(cy) END b1,
+                CASE WHEN abs(cx - round(cx)) < 1e-6 THEN ceil(cy) ELSE round(cy) END b2
+      FROM line_cv) s;
+SELECT l.level, tin_tolerance(t, l.level) AS tolerance, count(*) AS vertices_with_ab_in_one_triangle,
+       count(*) FILTER (WHERE abs(tin_height(t, l.v, l.level) - l.elev) > tin_tolerance(t, l.level) + 1e-9) AS beyond_tolerance
+FROM line_ab l, terrain, line_tris tr
+WHERE tr.level = l.level AND tr.id = tin_locate(t, l.v, l.level) AND ST_Covers(tr.geom, l.ab)
+GROUP BY 1, 2 ORDER BY 1;
+SELECT level, round(percentile_cont(0.5) WITHIN GROUP (ORDER BY abs(tin_height(t, v, level) - elev))::numeric, 1) AS median_dev,
+       round(percentile_cont(0.9) WITHIN GROUP (ORDER BY abs(tin_height(t, v, level) - elev))::numeric, 1) AS p90_dev
+FROM line_ab, terrain WHERE tin_height(t, v, level) IS NOT NULL GROUP BY 1 ORDER BY 1;
+-- tin_line_triangles is the sequence of tin_line_segments' triangles
+SELECT count(*) AS sequences_differ FROM contours c, terrain
+WHERE ARRAY(SELECT triangle FROM tin_line_triangles(t, c.geom, 4) ORDER BY seq)
+   IS DISTINCT FROM ARRAY(SELECT triangle FROM tin_line_segments(t, c.geom, 4) ORDER BY seq);
+-- profile: distances increase, heights are the draped line's; climb = the
+-- sum of the positive steps
+SELECT count(*) AS profiles_wrong FROM contours c, terrain
+WHERE ARRAY(SELECT z FROM tin_line_profile(t, c.geom) ORDER BY distance)
+   IS DISTINCT FROM ARRAY(SELECT ST_Z((ST_DumpPoints(tin_drape(t, c.geom))).geom));
+SELECT count(*) AS climb_wrong FROM contours c, terrain,
+  LATERAL (SELECT sum(greatest(0, z - lag)) AS climb
+           FROM (SELECT z, lag(z) OVER (ORDER BY distance) FROM tin_line_profile(t, c.geom)) s) s
+WHERE abs(coalesce(s.climb, 0) - coalesce(tin_line_climb(t, c.geom), 0)) > 1e-6;
+-- river running uphill? a line drawn downhill along the steepest contour
+-- crossing climbs less than it falls
+SELECT tin_line_climb(t, ST_MakeLine(a, b)) < tin_line_climb(t, ST_MakeLine(b, a)) AS downhill_climbs_less
+FROM terrain,
+     (SELECT ST_SetSRID(ST_MakePoint(745000, 4045000), 32616) a, ST_SetSRID(ST_MakePoint(750000, 4050000), 32616) b) p
+WHERE tin_height(t, a) > tin_height(t, b);
+
+-- Edge cases, each against PostGIS on the triangles of level 1 ('along an
+-- edge' has one miss by design: of the two triangles holding it, the larger id)
+CREATE TABLE edge_cases(name text, geom geometry);
+INSERT INTO edge_cases
+SELECT 'along an edge', ST_MakeLine(ST_PointN(ST_ExteriorRing(geom), 1), ST_PointN(ST_ExteriorRing(geom), 2))
+FROM line_tris WHERE level = 1 AND id = 1234
+UNION ALL
+SELECT 'through a vertex', ST_MakeLine(ARRAY[
+  ST_Translate(ST_PointN(ST_ExteriorRing(geom), 1), -300, -170), ST_PointN(ST_ExteriorRing(geom), 1),
+  ST_Translate(ST_PointN(ST_ExteriorRing(geom), 1), 300, 170)])
+FROM line_tris WHERE level = 1 AND id = 2345
+UNION ALL
+SELECT 'starts and ends on edges', ST_MakeLine(
+  ST_LineInterpolatePoint(ST_MakeLine(ST_PointN(ST_ExteriorRing(geom), 1), ST_PointN(ST_ExteriorRing(geom), 2)), 0.5),
+  ST_LineInterpolatePoint(ST_MakeLine(ST_PointN(ST_ExteriorRing(geom), 2), ST_PointN(ST_ExteriorRing(geom), 3)), 0.25))
+FROM line_tris WHERE level = 1 AND id = 3456
+UNION ALL
+SELECT 'zero-length segments and repeated points',
+  'SRID=32616;LINESTRING(745000 4050000, 745000 4050000, 746000 4051500, 746000 4051500, 746000 4051500, 747500 4050500)'::geometry
+UNION ALL
+SELECT 'closed ring', ST_ExteriorRing(ST_Buffer('SRID=32616;POINT(747000 4052000)'::geometry, 900, 8))
+UNION ALL
+SELECT 'partly outside', ST_MakeLine(ST_Centroid(tin_envelope(t)), ST_Translate(ST_Centroid(tin_envelope(t)), 40000, 3000))
+FROM terrain
+UNION ALL
+SELECT 'entirely outside', 'SRID=32616;LINESTRING(0 0, 10 10)'::geometry
+UNION ALL
+SELECT 'multilinestring', 'SRID=32616;MULTILINESTRING((745000 4050000, 746000 4051000), (747000 4052000, 748000 4051000))'::geometry;
+SELECT e.name,
+       (SELECT count(*) FROM tin_line_segments(t, e.geom, 1)) AS pieces,
+       round(coalesce((SELECT sum(length2d) FROM tin_line_segments(t, e.geom, 1)), 0)::numeric, 6) AS length_inside,
+       round(ST_Length(ST_Intersection(e.geom, h))::numeric, 6) AS postgis_length_inside,
+       (SELECT count(*) FROM line_tris tr WHERE tr.level = 1 AND ST_Length(ST_Intersection(e.geom, tr.geom)) > 1e-6
+          AND tr.id NOT IN (SELECT triangle FROM tin_line_segments(t, e.geom, 1))) AS missed,
+       (SELECT count(*) FROM tin_line_segments(t, e.geom, 1) u
+          WHERE NOT EXISTS (SELECT FROM line_tris tr WHERE tr.level = 1 AND tr.id = u.triangle
+                              AND ST_Length(ST_Intersection(e.geom, tr.geom)) > 1e-6)) AS extra
+FROM edge_cases e, terrain, line_hull ORDER BY e.name;
+-- along an edge: two triangles hold it, the smaller id gets it, once
+SELECT array_agg(triangle) AS along_edge_triangles,
+       (SELECT min(id) FROM line_tris tr, edge_cases e WHERE e.name = 'along an edge' AND tr.level = 1
+          AND ST_Length(ST_Intersection(e.geom, tr.geom)) > 0) AS smallest_holder
+FROM edge_cases e, terrain, tin_line_segments(t, e.geom, 1) WHERE e.name = 'along an edge';
+-- repeated points change nothing
+SELECT ARRAY(SELECT triangle FROM tin_line_triangles(t, geom, 1)) =
+       ARRAY(SELECT triangle FROM tin_line_triangles(t, ST_RemoveRepeatedPoints(geom), 1)) AS repeated_points_ignored
+FROM edge_cases, terrain WHERE name = 'zero-length segments and repeated points';
+-- a closed ring ends in the triangle it started in
+SELECT (SELECT triangle FROM tin_line_segments(t, geom) ORDER BY seq LIMIT 1) =
+       (SELECT triangle FROM tin_line_segments(t, geom) ORDER BY seq DESC LIMIT 1) AS ring_closes
+FROM edge_cases, terrain WHERE name = 'closed ring';
+-- tin_drape of lines: a vertex at every crossing, the line's own vertices
+-- kept; parts outside dropped; polygons and collections
+SELECT ST_NPoints(tin_drape(t, geom, 1)) = (SELECT count(*) + 1 FROM tin_line_segments(t, geom, 1)) +
+         (SELECT sum(ST_NPoints(geom) - 2) FROM tin_line_segments(t, geom, 1)) AS drape_vertex_count,
+       ST_Length(tin_drape(t, geom, 1)) AS draped_length2d_is_line_length
+FROM edge_cases, terrain WHERE name = 'through a vertex';
+SELECT name, GeometryType(tin_drape(t, geom)), ST_NumGeometries(tin_drape(t, geom)), ST_Zmflag(tin_drape(t, geom)) AS zm
+FROM edge_cases, terrain ORDER BY name;
+SELECT GeometryType(d), ST_NPoints(d) > 5 AS densified, ST_IsClosed(ST_ExteriorRing(d)) AS closed,
+       abs(ST_Area(d) - ST_Area(g)) < 1e-6 AS same_area
+FROM (SELECT tin_drape(t, g) d, g FROM terrain,
+      (SELECT ST_Buffer('SRID=32616;POINT(747000 4052000)'::geometry, 900, 2) g) s) s;
+SELECT ST_AsText(tin_drape(t, 'SRID=32616;GEOMETRYCOLLECTION(POINT(747000 4052000), POINT(0 0), LINESTRING(0 0, 1 1))'::geometry), 3)
+FROM terrain;
+-- widened lines: every triangle within width/2 (oracle: ST_DWithin), once each
+SELECT e.name,
+       (SELECT count(*) FROM tin_line_triangles(t, e.geom, 1, 500)) AS near_triangles,
+       (SELECT count(DISTINCT triangle) = count(*) FROM tin_line_triangles(t, e.geom, 1, 500)) AS each_once,
+       (SELECT count(*) FROM line_tris tr WHERE tr.level = 1 AND ST_DWithin(tr.geom, e.geom, 250)
+          AND tr.id NOT IN (SELECT triangle FROM tin_line_triangles(t, e.geom, 1, 500))) AS missed,
+       (SELECT count(*) FROM tin_line_triangles(t, e.geom, 1, 500) w JOIN line_tris tr ON tr.level = 1 AND tr.id = w.triangle
+          WHERE NOT ST_DWithin(tr.geom, e.geom, 250 + 1e-6)) AS too_far
+FROM edge_cases e, terrain ORDER BY e.name;
+-- first approach order: the first triangle is the one under the start
+SELECT (SELECT triangle FROM tin_line_triangles(t, geom, 4, 100) ORDER BY seq LIMIT 1) =
+       tin_locate(t, ST_StartPoint(geom), 4) AS starts_under_the_start
+FROM contours, terrain WHERE id = 100;
