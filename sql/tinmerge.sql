@@ -80,6 +80,28 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_line_climb(tin, geometry, int) IS
 'Total ascent along the direction of the line on the surface of a level (NULL = finest): the sum of the positive height differences along the draped line (0 for a line running only downhill; NULL when no part is in the domain).';
 
+-- The multi-scale line tree: build once (e.g. in a generated column), merge
+-- many times. The linetree overloads give the same rows as the geometry ones.
+CREATE FUNCTION tin_linetree(line geometry)
+RETURNS linetree AS $$ SELECT _tin_linetree($1::bytea) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
+COMMENT ON FUNCTION tin_linetree(geometry) IS
+'Multi-scale line tree of a LINESTRING or MULTILINESTRING (Douglas-Peucker generalisations, each child level within a quarter of its parent''s error, an error bound per segment): merges with a tin through it skip the stretches that cannot leave a triangle. NULL for an empty line.';
+COMMENT ON FUNCTION tin_linetree_info(linetree) IS
+'SRID, parts, points, tree nodes, planar length and size in bytes of a linetree.';
+COMMENT ON FUNCTION tin_line_triangles(tin, linetree, int, float8) IS
+'tin_line_triangles through a stored line tree: the same rows as for its geometry, visiting only the stretches near triangle edges.';
+CREATE FUNCTION tin_line_segments(t tin, line linetree, level int DEFAULT NULL)
+RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
+$$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM _tin_line_segments_tree($1, $2, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
+'tin_line_segments through a stored line tree: the same rows as for its geometry.';
+COMMENT ON FUNCTION tin_line_profile(tin, linetree, int) IS
+'tin_line_profile through a stored line tree: the same rows as for its geometry.';
+COMMENT ON FUNCTION tin_line_climb(tin, linetree, int) IS
+'tin_line_climb through a stored line tree: the same value as for its geometry.';
+
 CREATE FUNCTION tin_drape(t tin, geom geometry, level int DEFAULT NULL)
 RETURNS geometry AS $$ SELECT _tin_drape($1, $2::bytea, $3)::geometry $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
@@ -105,6 +127,12 @@ COMMENT ON FUNCTION _tin_line_triangles(tin, bytea, int, float8) IS 'Internal: u
 COMMENT ON FUNCTION _tin_line_segments(tin, bytea, int) IS 'Internal: use tin_line_segments(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_line_profile(tin, bytea, int) IS 'Internal: use tin_line_profile(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_line_climb(tin, bytea, int) IS 'Internal: use tin_line_climb(tin, geometry, int).';
+COMMENT ON FUNCTION _tin_linetree(bytea) IS 'Internal: use tin_linetree(geometry).';
+COMMENT ON FUNCTION _tin_line_segments_tree(tin, linetree, int) IS 'Internal: use tin_line_segments(tin, linetree, int).';
+COMMENT ON FUNCTION linetree_in(cstring) IS 'Text input of linetree: hex of the binary form, fully validated (every error bound recomputed).';
+COMMENT ON FUNCTION linetree_out(linetree) IS 'Text output of linetree: hex of the binary form.';
+COMMENT ON FUNCTION linetree_recv(internal) IS 'Binary input of linetree, fully validated.';
+COMMENT ON FUNCTION linetree_send(linetree) IS 'Binary output of linetree.';
 COMMENT ON FUNCTION tin_in(cstring) IS 'Text input of tin: hex of the binary form, fully validated.';
 COMMENT ON FUNCTION tin_out(tin) IS 'Text output of tin: hex of the binary form.';
 COMMENT ON FUNCTION tin_recv(internal) IS 'Binary input of tin, fully validated.';

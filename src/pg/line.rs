@@ -115,13 +115,11 @@ fn _tin_line_triangles(
 
 type SegmentRow = (i32, i32, Vec<u8>, f64, f64, f64);
 
-pub(crate) fn segment_rows<L: crate::merge::line::Polyline>(
+pub(crate) fn segment_rows(
     tin: &Tin,
     l: usize,
-    parts: &[L],
     drive: impl FnOnce(&mut PieceSink) -> Result<(), TinError>,
 ) -> Vec<SegmentRow> {
-    let _ = parts;
     let mut sink = PieceSink::new(tin, l);
     drive(&mut sink).or_raise();
     sink.pieces
@@ -165,7 +163,7 @@ fn _tin_line_segments(
     };
     let (tin, l) = tin_level(&t, level);
     let parts = line_parts(line, tin.srid, "tin_line_segments");
-    let rows = segment_rows(&tin, l, &parts, |sink| {
+    let rows = segment_rows(&tin, l, |sink| {
         walk_parts(
             &tin,
             l,

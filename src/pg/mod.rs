@@ -45,6 +45,7 @@ mod args;
 mod cache;
 mod functions;
 mod line;
+mod linetree;
 mod point;
 mod types;
 

@@ -172,7 +172,11 @@ impl TinOut {
     }
 }
 
-extension_sql!("CREATE TYPE tin;", name = "tin_shell", bootstrap);
+extension_sql!(
+    "CREATE TYPE tin;\nCREATE TYPE linetree;",
+    name = "tin_shell",
+    bootstrap
+);
 
 /// Input bytes as a result value, once they decode and validate in full;
 /// otherwise an ERROR with `code`.

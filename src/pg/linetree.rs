@@ -1,0 +1,300 @@
+//! The `linetree` SQL type (a multi-scale line tree stored flat, see
+//! [`crate::merge::linetree`]) and the line-merge functions taking it.
+//! Values are read in place: a merge detoasts the value, checks its header,
+//! size and hash, and reads only the nodes and points it visits.
+
+use pgrx::callconv::{BoxRet, FcInfo};
+use pgrx::datum::Datum as RetDatum;
+use pgrx::pg_sys;
+use pgrx::prelude::*;
+use pgrx::IntoDatum;
+use std::ffi::{CStr, CString};
+
+use super::args::check_srid;
+use super::line::{check_width, part_offsets, profile};
+use super::types::TinArg;
+use super::{raise, OrRaise};
+use crate::io::ewkb::{self, Geom};
+use crate::merge::line::{PieceSink, TriangleSink};
+use crate::merge::linetree::{self, near_tree, walk_tree, View};
+use crate::tin::{Tin, TinError};
+use std::sync::Arc;
+
+const MAX_VALUE_BYTES: usize = (1 << 30) - 1024;
+
+raw_datum_arg!(
+    /// A `linetree` argument as the raw Datum.
+    LineTreeArg,
+    "linetree"
+);
+
+impl LineTreeArg {
+    fn bytes(&self) -> &[u8] {
+        unsafe {
+            let v = pg_sys::pg_detoast_datum_packed(self.0.cast_mut_ptr());
+            pgrx::varlena::varlena_to_byte_slice(v)
+        }
+    }
+    /// The value, header, size and hash checked.
+    fn view(&self) -> View<'_> {
+        View::new(self.bytes()).or_raise()
+    }
+}
+
+/// A `linetree` result.
+pub struct LineTreeOut(pub Vec<u8>);
+
+impl IntoDatum for LineTreeOut {
+    fn into_datum(self) -> Option<pg_sys::Datum> {
+        if self.0.len() > MAX_VALUE_BYTES {
+            raise(
+                PgSqlErrorCode::ERRCODE_PROGRAM_LIMIT_EXCEEDED,
+                format!(
+                    "linetree value of {} bytes exceeds the 1 GB limit of one value",
+                    self.0.len()
+                ),
+            );
+        }
+        unsafe {
+            let total = self.0.len() + pg_sys::VARHDRSZ;
+            let p = pg_sys::palloc(total) as *mut u8;
+            std::ptr::copy_nonoverlapping(self.0.as_ptr(), p.add(pg_sys::VARHDRSZ), self.0.len());
+            pgrx::set_varsize_4b(p as *mut pg_sys::varlena, total as i32);
+            Some(pg_sys::Datum::from(p))
+        }
+    }
+    fn type_oid() -> pg_sys::Oid {
+        pg_sys::InvalidOid
+    }
+}
+
+unsafe impl BoxRet for LineTreeOut {
+    unsafe fn box_into<'fcx>(self, fcinfo: &mut FcInfo<'fcx>) -> RetDatum<'fcx> {
+        match self.into_datum() {
+            Some(d) => unsafe { fcinfo.return_raw_datum(d) },
+            None => fcinfo.return_null(),
+        }
+    }
+}
+
+pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(LineTreeOut, "linetree");
+
+fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> LineTreeOut {
+    if let Err(e) = View::new(&bytes).and_then(|v| v.validate()) {
+        raise(code, e.to_string());
+    }
+    LineTreeOut(bytes)
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn linetree_in(input: &CStr) -> LineTreeOut {
+    let code = PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION;
+    let text = input
+        .to_str()
+        .unwrap_or_else(|_| raise(code, "linetree text is not valid UTF-8"));
+    let bytes = crate::tin::layout::from_hex(text).unwrap_or_else(|e| raise(code, e.to_string()));
+    validated(bytes, code)
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn linetree_out(t: LineTreeArg) -> CString {
+    CString::new(crate::tin::layout::to_hex(t.bytes())).unwrap_or_default()
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn linetree_recv(mut buf: pgrx::datum::Internal) -> LineTreeOut {
+    let code = PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION;
+    let si = unsafe { buf.get_mut::<pg_sys::StringInfoData>() }
+        .unwrap_or_else(|| raise(code, "no linetree data"));
+    let (start, len) = (si.cursor.max(0) as usize, si.len.max(0) as usize);
+    let bytes: Vec<u8> = if len > start {
+        unsafe { std::slice::from_raw_parts((si.data as *const u8).add(start), len - start) }
+            .to_vec()
+    } else {
+        Vec::new()
+    };
+    si.cursor = si.len;
+    validated(bytes, code)
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn linetree_send(t: LineTreeArg) -> Vec<u8> {
+    t.bytes().to_vec()
+}
+
+extension_sql!(
+    r#"
+CREATE TYPE linetree (
+    INPUT = linetree_in,
+    OUTPUT = linetree_out,
+    RECEIVE = linetree_recv,
+    SEND = linetree_send,
+    INTERNALLENGTH = VARIABLE,
+    ALIGNMENT = double,
+    STORAGE = external
+);
+COMMENT ON TYPE linetree IS 'A line (LINESTRING or MULTILINESTRING) with its multi-scale line tree: generalisations with an error bound per segment, so merges with a tin skip the stretches that cannot leave a triangle. Build with tin_linetree(geometry). Text form: hex of the binary form.';
+"#,
+    name = "linetree_type",
+    requires = [linetree_in, linetree_out, linetree_recv, linetree_send]
+);
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["linetree_type"])]
+fn _tin_linetree(geom: &[u8]) -> Option<LineTreeOut> {
+    let g = ewkb::read(geom).or_raise();
+    let lines: Vec<&Vec<[f64; 3]>> = match &g.geom {
+        Geom::LineString(l) => vec![l],
+        Geom::MultiLineString(ls) => ls.iter().collect(),
+        other => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "tin_linetree takes a LINESTRING or MULTILINESTRING, got a {}",
+                other.type_name()
+            ),
+        ),
+    };
+    let parts: Vec<Vec<[f64; 2]>> = lines
+        .into_iter()
+        .filter(|l| !l.is_empty())
+        .map(|l| l.iter().map(|c| [c[0], c[1]]).collect())
+        .collect();
+    if parts.is_empty() {
+        return None;
+    }
+    Some(LineTreeOut(linetree::encode(g.srid, &parts).or_raise()))
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["linetree_type"])]
+fn tin_linetree_info(t: LineTreeArg) -> pgrx::JsonB {
+    let v = t.view();
+    let h = v.header;
+    pgrx::JsonB(serde_json::json!({
+        "srid": h.srid,
+        "parts": h.num_parts,
+        "points": h.num_points,
+        "nodes": h.num_nodes,
+        "length": h.length,
+        "bytes": t.bytes().len(),
+    }))
+}
+
+fn interrupt() -> Result<(), TinError> {
+    pg_sys::check_for_interrupts!();
+    Ok(())
+}
+
+fn tin_level_tree<'a>(
+    t: &TinArg,
+    lt: &'a LineTreeArg,
+    level: Option<i32>,
+    func: &str,
+) -> (Arc<Tin>, usize, View<'a>) {
+    let tin = t.tin();
+    let l = tin.level_index(level).or_raise();
+    let v = lt.view();
+    check_srid(v.header.srid, tin.srid, func);
+    (tin, l, v)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+fn tin_line_triangles(
+    t: Option<TinArg>,
+    line: Option<LineTreeArg>,
+    level: default!(Option<i32>, "NULL"),
+    width: default!(Option<f64>, "0"),
+) -> TableIterator<'static, (name!(seq, i32), name!(triangle, i32))> {
+    let (Some(t), Some(line)) = (t, line) else {
+        return TableIterator::new(Vec::new());
+    };
+    let width = check_width(width.unwrap_or(0.0));
+    let (tin, l, v) = tin_level_tree(&t, &line, level, "tin_line_triangles");
+    let tris = if width > 0.0 {
+        near_tree(&tin, l, &v, width / 2.0, &mut interrupt).or_raise()
+    } else {
+        let mut sink = TriangleSink::default();
+        walk_tree(&tin, l, &v, &mut sink, &mut |_, _| {}, &mut interrupt).or_raise();
+        sink.tris
+    };
+    TableIterator::new(
+        tris.into_iter()
+            .enumerate()
+            .map(|(i, t)| (i as i32 + 1, t as i32))
+            .collect::<Vec<_>>(),
+    )
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+fn _tin_line_segments_tree(
+    t: Option<TinArg>,
+    line: Option<LineTreeArg>,
+    level: default!(Option<i32>, "NULL"),
+) -> TableIterator<
+    'static,
+    (
+        name!(seq, i32),
+        name!(triangle, i32),
+        name!(geom, Vec<u8>),
+        name!(length2d, f64),
+        name!(length3d, f64),
+        name!(rise, f64),
+    ),
+> {
+    let (Some(t), Some(line)) = (t, line) else {
+        return TableIterator::new(Vec::new());
+    };
+    let (tin, l, v) = tin_level_tree(&t, &line, level, "tin_line_segments");
+    let rows = super::line::segment_rows(&tin, l, |sink| {
+        walk_tree(&tin, l, &v, sink, &mut |s, i| s.part = i, &mut interrupt)
+    });
+    TableIterator::new(rows)
+}
+
+fn tree_profile(
+    t: &TinArg,
+    lt: &LineTreeArg,
+    level: Option<i32>,
+    func: &str,
+) -> (Vec<(f64, f64)>, Option<f64>) {
+    use crate::merge::line::Polyline;
+    let (tin, l, v) = tin_level_tree(t, lt, level, func);
+    let mut sink = PieceSink::new(&tin, l);
+    walk_tree(
+        &tin,
+        l,
+        &v,
+        &mut sink,
+        &mut |s, i| s.part = i,
+        &mut interrupt,
+    )
+    .or_raise();
+    let lengths: Vec<f64> = (0..v.header.num_parts)
+        .map(|i| {
+            let p = v.part_line(i)?;
+            p.cum(p.len() - 1)
+        })
+        .collect::<Result<_, _>>()
+        .or_raise();
+    profile(sink, &part_offsets(lengths.into_iter()))
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+fn tin_line_profile(
+    t: Option<TinArg>,
+    line: Option<LineTreeArg>,
+    level: default!(Option<i32>, "NULL"),
+) -> TableIterator<'static, (name!(distance, f64), name!(z, f64))> {
+    let (Some(t), Some(line)) = (t, line) else {
+        return TableIterator::new(Vec::new());
+    };
+    TableIterator::new(tree_profile(&t, &line, level, "tin_line_profile").0)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+fn tin_line_climb(
+    t: Option<TinArg>,
+    line: Option<LineTreeArg>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<f64> {
+    let (t, line) = (t?, line?);
+    tree_profile(&t, &line, level, "tin_line_climb").1
+}
