@@ -92,5 +92,36 @@ CREATE TABLE rects AS SELECT id, geom, random() * 360 AS angle FROM rpts WHERE i
 SELECT * FROM bench('tinmerge: tin_footprint(t, geom, 200, 500, angle)', 'SELECT count(*) FROM rects r, terrain, tin_footprint(t, r.geom, 200, 500, r.angle)', 3)
 UNION ALL SELECT * FROM bench('PostGIS: ST_Intersects(tri, ST_Rotate(ST_MakeEnvelope(...))) + GiST', 'SELECT count(*) FROM rects r JOIN tri_rows t ON ST_Intersects(t.geom, ST_Rotate(ST_MakeEnvelope(ST_X(r.geom) - 100, ST_Y(r.geom) - 250, ST_X(r.geom) + 100, ST_Y(r.geom) + 250, 32616), -radians(r.angle), r.geom))', 3);
 SQL
+echo "== line merge: a fractal river of 100,000 vertices, real contours (gdal_contour, 50 m)"
+scripts/fractal-river.py 744000 4050000 752000 4055000 17 0.3 100000 7 > target/river.wkt
+q <<'SQL'
+CREATE TABLE river_raw(wkt text);
+\copy river_raw FROM 'target/river.wkt'
+CREATE TABLE river AS SELECT ST_GeomFromText(wkt, 32616) AS geom FROM river_raw;
+ALTER TABLE river ADD COLUMN lt linetree GENERATED ALWAYS AS (tin_linetree(geom)) STORED;
+CREATE TABLE contour_trees AS SELECT id, geom, tin_linetree(geom) AS lt FROM contours;
+SQL
+q -F ' | ' -c "SELECT ST_NPoints(geom) AS river_vertices, round(ST_Length(geom)) AS river_length_m, (SELECT count(*) FROM tin_line_triangles(t, geom, 0)) AS level0_triangles_crossed, (SELECT count(*) FROM tin_line_triangles(t, geom)) AS finest_triangles_crossed, (tin_linetree_info(lt)->>'nodes') AS tree_nodes, pg_column_size(lt) AS tree_bytes FROM river, terrain"
+q -F ' | ' -c "SELECT count(*) AS contours, sum(ST_NPoints(geom)) AS contour_vertices FROM contours"
+q -F ' | ' -c "SELECT (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(t, geom, 0)) = (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(t, lt, 0)) AS river_same_level0, (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(t, geom)) = (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(t, lt)) AS river_same_finest FROM river, terrain"
+q -F ' | ' <<'SQL'
+SET max_parallel_workers_per_gather = 0;
+SELECT 'warm-up', count(*) FROM terrain, river, tin_line_triangles(t, lt, 0);
+SELECT * FROM bench('river, level 0: plain walk (geometry)', 'SELECT count(*) FROM terrain, river, tin_line_triangles(t, geom, 0)', 15)
+UNION ALL SELECT * FROM bench('river, level 0: through the stored linetree', 'SELECT count(*) FROM terrain, river, tin_line_triangles(t, lt, 0)', 15)
+UNION ALL SELECT * FROM bench('river, finest: plain walk (geometry)', 'SELECT count(*) FROM terrain, river, tin_line_triangles(t, geom)', 15)
+UNION ALL SELECT * FROM bench('river, finest: through the stored linetree', 'SELECT count(*) FROM terrain, river, tin_line_triangles(t, lt)', 15)
+UNION ALL SELECT * FROM bench('river, level 0, width 200 m: plain', 'SELECT count(*) FROM terrain, river, tin_line_triangles(t, geom, 0, 200)', 5)
+UNION ALL SELECT * FROM bench('river, level 0, width 200 m: linetree', 'SELECT count(*) FROM terrain, river, tin_line_triangles(t, lt, 0, 200)', 5)
+UNION ALL SELECT * FROM bench('river, finest: tin_line_segments plain', 'SELECT count(*) FROM terrain, river, tin_line_segments(t, geom)', 5)
+UNION ALL SELECT * FROM bench('river, finest: tin_line_segments linetree', 'SELECT count(*) FROM terrain, river, tin_line_segments(t, lt)', 5)
+UNION ALL SELECT * FROM bench('624 contours, finest: tin_line_triangles plain', 'SELECT count(*) FROM terrain, contour_trees c, tin_line_triangles(t, c.geom)', 5)
+UNION ALL SELECT * FROM bench('624 contours, finest: tin_line_triangles linetree', 'SELECT count(*) FROM terrain, contour_trees c, tin_line_triangles(t, c.lt)', 5)
+UNION ALL SELECT * FROM bench('624 contours, level 0: tin_line_triangles plain', 'SELECT count(*) FROM terrain, contour_trees c, tin_line_triangles(t, c.geom, 0)', 5)
+UNION ALL SELECT * FROM bench('624 contours, level 0: tin_line_triangles linetree', 'SELECT count(*) FROM terrain, contour_trees c, tin_line_triangles(t, c.lt, 0)', 5)
+UNION ALL SELECT * FROM bench('624 contours, finest: tin_drape', 'SELECT count(tin_drape(t, geom)) FROM terrain, contours', 5)
+UNION ALL SELECT * FROM bench('PostGIS: ST_Intersection of 624 contours with GiST-indexed finest triangles (pieces, no heights)', 'SELECT count(ST_Intersection(c.geom, r.geom)) FROM contours c JOIN tri_rows r ON ST_Intersects(c.geom, r.geom)', 3);
+SQL
+
 echo "== core locate (cargo bench --bench locate): ns per point"
 cargo bench --bench locate 2>/dev/null

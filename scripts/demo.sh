@@ -29,6 +29,14 @@ SELECT l AS level, tin_locate(t, p, l) AS triangle, round(tin_height(t, p, l)::n
        (SELECT count(*) FROM tin_footprint(t, p, 30, 80, 45, l)) AS footprint_triangles
 FROM terrain, generate_series(0, tin_num_levels(t) - 1) l,
      (SELECT ST_Centroid(tin_envelope(t)) AS p FROM terrain) c ORDER BY l;
+\echo == line merge: a 3 km line across the terrain cut at every triangle edge, per level
+SELECT l AS level, s.pieces, s.length2d_m, s.length3d_m, round(tin_line_climb(t, g, l)::numeric, 1) AS climb_m
+FROM terrain, generate_series(0, tin_num_levels(t) - 1) l,
+     (SELECT ST_MakeLine(ST_Translate(c, -1500, -500), ST_Translate(c, 1500, 500)) AS g
+      FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) c) g,
+     LATERAL (SELECT count(*) AS pieces, round(sum(length2d)::numeric, 1) AS length2d_m,
+                     round(sum(length3d)::numeric, 1) AS length3d_m FROM tin_line_segments(t, g, l)) s
+ORDER BY l;
 SQL
 echo
 echo "The cluster is still running. Explore with: make psql   (database tinmerge_demo; table terrain)"

@@ -17,6 +17,13 @@ q -d tinmerge_regress -c "\\copy copy_bin FROM '$work/terrain.bin' WITH (FORMAT 
 same=$(q -d tinmerge_regress -c "SELECT (SELECT t::text FROM copy_txt) = (SELECT t::text FROM terrain) AND (SELECT t::text FROM copy_bin) = (SELECT t::text FROM terrain)")
 [ "$same" = "t" ] || { echo "COPY round trip changed the value"; exit 1; }
 
+# linetree values: COPY binary round trip (line_trees from pg_regress)
+q -d tinmerge_regress -c "DROP TABLE IF EXISTS copy_lt; CREATE TABLE copy_lt (id int, lt linetree)"
+q -d tinmerge_regress -c "\\copy (SELECT id, lt FROM line_trees) TO '$work/lt.bin' WITH (FORMAT binary)"
+q -d tinmerge_regress -c "\\copy copy_lt FROM '$work/lt.bin' WITH (FORMAT binary)"
+bad=$(q -d tinmerge_regress -c "SELECT count(*) FROM line_trees a LEFT JOIN copy_lt b USING (id) WHERE b.lt IS NULL OR a.lt::text <> b.lt::text")
+[ "$bad" = "0" ] || { echo "COPY binary changed $bad linetree values"; exit 1; }
+
 # pg_dump -Fc / pg_restore into a fresh database
 pg_dump -h "$DIR" -p "$PORT" -U postgres -Fc -t terrain -f "$work/terrain.dump" tinmerge_regress
 q -d postgres -c "DROP DATABASE IF EXISTS tinmerge_restore" -c "CREATE DATABASE tinmerge_restore"

@@ -205,7 +205,7 @@ impl<'a, S: Sink> Walker<'a, S> {
 
     fn tick(&mut self) -> Result<(), TinError> {
         self.ticks = self.ticks.wrapping_add(1);
-        if self.ticks % 4096 == 0 {
+        if self.ticks.is_multiple_of(4096) {
             (self.interrupt)()?;
         }
         Ok(())

@@ -543,7 +543,7 @@ enum Mode<'n, 't> {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn descend<S: Sink>(
+fn descend<S: Sink + VisitedAccess>(
     tin: &Tin,
     level: usize,
     part: &PartView,
@@ -552,10 +552,7 @@ fn descend<S: Sink>(
     mode: &mut Mode,
     r: f64,
     depth: usize,
-) -> Result<(), TinError>
-where
-    S: VisitedAccess,
-{
+) -> Result<(), TinError> {
     if depth > 64 {
         return Err(bad("the tree is too deep"));
     }

@@ -60,6 +60,20 @@ SELECT try($$SELECT tin_drape(t, 'SRID=32616;POLYGON((740000 4060000, 900000 406
 SELECT try($$SELECT tin_footprint(t, 'SRID=32616;POINT(740000 4060000)'::geometry, -1, 10, 0) FROM terrain$$);
 SELECT try($$SELECT tin_footprint(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 10, 'NaN', 0) FROM terrain$$);
 SELECT try($$SELECT tin_footprint(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 10, 10, 'Infinity') FROM terrain$$);
+-- line merge: wrong type, SRID, width; linetree values
+SELECT try($$SELECT * FROM terrain, tin_line_triangles(t, 'SRID=32616;POINT(740000 4060000)'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_line_segments(t, 'SRID=32616;POLYGON((740000 4060000, 741000 4060000, 740000 4061000, 740000 4060000))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_line_profile(t, 'SRID=4326;LINESTRING(-84 36, -84.1 36.1)'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_line_triangles(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)'::geometry, NULL, -5)$$);
+SELECT try($$SELECT * FROM terrain, tin_line_triangles(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)'::geometry, NULL, 'NaN')$$);
+SELECT try($$SELECT * FROM terrain, tin_line_triangles(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)'::geometry, 9)$$);
+SELECT try($$SELECT tin_line_climb(t, 'SRID=32616;LINESTRING M (740000 4060000 1, 741000 4061000 2)'::geometry) FROM terrain$$);
+SELECT try($$SELECT tin_linetree('SRID=32616;POINT(740000 4060000)'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_line_triangles(t, tin_linetree('SRID=4326;LINESTRING(-84 36, -84.1 36.1)'::geometry))$$);
+SELECT try($$SELECT 'zz'::linetree$$);
+SELECT try($$SELECT '00'::linetree$$);
+SELECT try($$SELECT overlay(tin_linetree('LINESTRING(0 0, 1 1, 2 0)'::geometry)::text placing 'FF' from 200 for 2)::linetree$$);
+SELECT try($$SELECT left(tin_linetree('LINESTRING(0 0, 1 1, 2 0)'::geometry)::text, 150)::linetree$$);
 SELECT try($$SELECT tin_footprint(t, 'SRID=32616;LINESTRING(0 0, 1 1)'::geometry, 10, 10, 0) FROM terrain$$);
 SELECT try($$SELECT tin_footprint(t, 'SRID=4326;POINT(-84 36)'::geometry, 10, 10, 0) FROM terrain$$);
 -- NULL and empty inputs give NULL (or no rows), never an error

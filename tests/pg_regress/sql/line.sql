@@ -187,3 +187,30 @@ FROM edge_cases e, terrain ORDER BY e.name;
 SELECT (SELECT triangle FROM tin_line_triangles(t, geom, 4, 100) ORDER BY seq LIMIT 1) =
        tin_locate(t, ST_StartPoint(geom), 4) AS starts_under_the_start
 FROM contours, terrain WHERE id = 100;
+
+-- The stored line tree gives the same rows as the geometry, for every
+-- contour and every function (the tree only skips work)
+CREATE TABLE line_trees AS SELECT id, geom, tin_linetree(geom) AS lt FROM contours;
+SELECT count(*) AS trees, sum((tin_linetree_info(lt)->>'points')::int) = (SELECT sum(ST_NPoints(geom)) FROM contours) AS all_points,
+       count(*) FILTER (WHERE abs((tin_linetree_info(lt)->>'length')::float8 - ST_Length(geom)) > 1e-9 * ST_Length(geom)) AS length_wrong
+FROM line_trees;
+SELECT l AS level,
+       count(*) FILTER (WHERE ARRAY(SELECT row(s.*)::text FROM tin_line_segments(t, c.geom, l) s)
+                IS DISTINCT FROM ARRAY(SELECT row(s.*)::text FROM tin_line_segments(t, c.lt, l) s)) AS segments_differ,
+       count(*) FILTER (WHERE ARRAY(SELECT row(s.*)::text FROM tin_line_triangles(t, c.geom, l) s)
+                IS DISTINCT FROM ARRAY(SELECT row(s.*)::text FROM tin_line_triangles(t, c.lt, l) s)) AS triangles_differ,
+       count(*) FILTER (WHERE ARRAY(SELECT row(s.*)::text FROM tin_line_profile(t, c.geom, l) s)
+                IS DISTINCT FROM ARRAY(SELECT row(s.*)::text FROM tin_line_profile(t, c.lt, l) s)) AS profiles_differ,
+       count(*) FILTER (WHERE tin_line_climb(t, c.geom, l) IS DISTINCT FROM tin_line_climb(t, c.lt, l)) AS climbs_differ
+FROM line_trees c, terrain, unnest(ARRAY[0, 2, 4]) l GROUP BY 1 ORDER BY 1;
+SELECT count(*) FILTER (WHERE ARRAY(SELECT row(s.*)::text FROM tin_line_triangles(t, c.geom, 2, 120) s)
+                IS DISTINCT FROM ARRAY(SELECT row(s.*)::text FROM tin_line_triangles(t, c.lt, 2, 120) s)) AS widened_differ
+FROM line_trees c, terrain WHERE id % 5 = 0;
+-- edge cases through the tree as well
+SELECT count(*) FILTER (WHERE ARRAY(SELECT row(s.*)::text FROM tin_line_segments(t, e.geom, 1) s)
+                IS DISTINCT FROM ARRAY(SELECT row(s.*)::text FROM tin_line_segments(t, tin_linetree(e.geom), 1) s)) AS edge_cases_differ
+FROM edge_cases e, terrain;
+-- the text form round-trips exactly (binary: tests/dump_restore.sh)
+SELECT count(*) FILTER (WHERE (lt::text::linetree)::text <> lt::text) AS text_roundtrip_wrong FROM line_trees;
+SELECT tin_linetree('SRID=32616;LINESTRING EMPTY'::geometry) IS NULL AS empty_is_null,
+       (SELECT count(*) FROM tin_line_triangles((SELECT t FROM terrain), NULL::linetree)) AS null_no_rows;
