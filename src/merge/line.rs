@@ -253,6 +253,21 @@ impl<'a, S: Sink> Walker<'a, S> {
         self.cur
     }
 
+    /// Move to p without reporting anything (the widened-line merge skipping
+    /// a stretch whose triangles are all known): the current triangle
+    /// becomes one holding p, found by a walk from the current one.
+    pub fn jump_to(&mut self, p: P2) {
+        let start = match self.cur {
+            Some(t) => t,
+            None => locate::start_triangle(self.tin, self.level, p[0], p[1]),
+        };
+        self.cur = match locate::walk(self.tin, self.level, start, p[0], p[1]) {
+            locate::Walk::Inside(t) => Some(t),
+            locate::Walk::Outside(_) => None,
+        };
+        self.open = false;
+    }
+
     /// Report original vertices known to lie strictly inside the current
     /// triangle (the line tree's skip): `first` is the current point.
     pub fn run_inside<L: Polyline + ?Sized>(

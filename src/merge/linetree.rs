@@ -27,7 +27,7 @@ use crate::tin::{Tin, TinError};
 use robust::{orient2d, Coord};
 
 /// Longest stretch (in original segments) a node may have without children.
-pub const BUCKET: usize = 8;
+pub const BUCKET: usize = 32;
 /// Each level of children is generalised to this fraction of the parent's error.
 pub const RATIO: f64 = 0.25;
 
@@ -565,6 +565,14 @@ fn descend<S: Sink + VisitedAccess>(
                 near.touch(t, *base + f as u64);
             }
             return w.run_inside(part, f, l);
+        }
+        // widened: a stretch whose every possible triangle (those within
+        // e + r of its segment) is already found adds nothing; move on
+        if let Mode::Near(near, _) = mode {
+            if l > f + 1 && near.all_found_near(t, p, q, nd.err + r, 64) {
+                w.jump_to(q);
+                return Ok(());
+            }
         }
     }
     if nd.child_count > 0 {

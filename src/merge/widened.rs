@@ -113,7 +113,8 @@ pub struct Near<'a> {
     pub found: HashMap<u32, (u64, f64)>,
     hull: Option<Vec<u32>>,
     queue: Vec<u32>,
-    seen: HashMap<u32, ()>,
+    /// Triangles looked at for the current segment (few: a linear scan).
+    seen: Vec<u32>,
 }
 
 impl<'a> Near<'a> {
@@ -125,7 +126,7 @@ impl<'a> Near<'a> {
             found: HashMap::new(),
             hull: None,
             queue: Vec::new(),
-            seen: HashMap::new(),
+            seen: Vec::new(),
         }
     }
 
@@ -168,14 +169,15 @@ impl<'a> Near<'a> {
             let hull = self.hull.take().unwrap_or_default();
             for &t in &hull {
                 if triangle_segment_distance(&self.tri(t), p, q) <= r {
-                    self.seen.insert(t, ());
+                    self.seen.push(t);
                     self.queue.push(t);
                 }
             }
             self.hull = Some(hull);
         } else {
             for &t in seeds {
-                if self.seen.insert(t, ()).is_none() {
+                if !self.seen.contains(&t) {
+                    self.seen.push(t);
                     self.queue.push(t);
                 }
             }
@@ -195,11 +197,11 @@ impl<'a> Near<'a> {
                 e.insert((seg, first_approach(&tc, p, q, self.r)));
             }
             for &n in &lv.nbrs[t as usize] {
-                if n != NONE
-                    && self.seen.insert(n, ()).is_none()
-                    && triangle_segment_distance(&self.tri(n), p, q) <= self.r
-                {
-                    self.queue.push(n);
+                if n != NONE && !self.seen.contains(&n) {
+                    self.seen.push(n);
+                    if triangle_segment_distance(&self.tri(n), p, q) <= self.r {
+                        self.queue.push(n);
+                    }
                 }
             }
         }
@@ -210,6 +212,34 @@ impl<'a> Near<'a> {
     /// `key`, unless already found.
     pub fn touch(&mut self, t: u32, key: u64) {
         self.found.entry(t).or_insert((key, 0.0));
+    }
+
+    /// Whether every triangle within `r` of segment pq, searched from `t`
+    /// (which must meet the segment), is already found; false also when
+    /// more than `budget` triangles would have to be looked at.
+    pub fn all_found_near(&mut self, t: u32, p: P2, q: P2, r: f64, budget: usize) -> bool {
+        let lv = &self.tin.levels[self.level];
+        self.queue.clear();
+        self.seen.clear();
+        self.seen.push(t);
+        self.queue.push(t);
+        let mut head = 0;
+        while head < self.queue.len() {
+            let u = self.queue[head];
+            head += 1;
+            if !self.found.contains_key(&u) || self.seen.len() > budget {
+                return false;
+            }
+            for &n in &lv.nbrs[u as usize] {
+                if n != NONE && !self.seen.contains(&n) {
+                    self.seen.push(n);
+                    if triangle_segment_distance(&self.tri(n), p, q) <= r {
+                        self.queue.push(n);
+                    }
+                }
+            }
+        }
+        true
     }
 
     /// Triangles in order of first approach.
