@@ -39,7 +39,7 @@ const NODE_LEN: usize = 24;
 
 /// Errors of line-tree values.
 fn bad(msg: impl Into<String>) -> TinError {
-    TinError::Corrupt(format!("linetree: {}", msg.into()))
+    TinError::CorruptLineTree(msg.into())
 }
 
 /// A node: the segment from vertex `first` to vertex `last` of its part

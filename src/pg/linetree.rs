@@ -92,7 +92,13 @@ fn linetree_in(input: &CStr) -> LineTreeOut {
     let text = input
         .to_str()
         .unwrap_or_else(|_| raise(code, "linetree text is not valid UTF-8"));
-    let bytes = crate::tin::layout::from_hex(text).unwrap_or_else(|e| raise(code, e.to_string()));
+    let bytes = crate::tin::layout::from_hex(text).unwrap_or_else(|e| {
+        let msg = match e {
+            TinError::Corrupt(m) => m,
+            other => other.to_string(),
+        };
+        raise(code, format!("invalid linetree value: {msg}"))
+    });
     validated(bytes, code)
 }
 

@@ -81,7 +81,7 @@ pub(crate) fn raise_tin(e: TinError) -> ! {
         TinError::InvalidParameter(_)
         | TinError::LevelOutOfRange { .. }
         | TinError::Degenerate(_) => ERRCODE_INVALID_PARAMETER_VALUE,
-        TinError::Corrupt(_) => ERRCODE_DATA_CORRUPTED,
+        TinError::Corrupt(_) | TinError::CorruptLineTree(_) => ERRCODE_DATA_CORRUPTED,
         TinError::TooLarge(_) => ERRCODE_PROGRAM_LIMIT_EXCEEDED,
         TinError::Interrupted => ERRCODE_QUERY_CANCELED,
     };

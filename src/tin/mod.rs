@@ -169,6 +169,10 @@ pub enum TinError {
     /// Stored or transmitted bytes that are not a valid value (SQLSTATE 22P03 / XX001).
     #[error("invalid tin value: {0}")]
     Corrupt(String),
+    /// Stored or transmitted bytes that are not a valid `linetree`
+    /// (SQLSTATE 22P03 / XX001).
+    #[error("invalid linetree value: {0}")]
+    CorruptLineTree(String),
     /// Would exceed a size limit (SQLSTATE 54000).
     #[error("{0}")]
     TooLarge(String),
