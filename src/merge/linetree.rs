@@ -22,7 +22,7 @@
 //! decoded, so a merge costs what it visits, not the size of the line.
 
 use super::line::{Polyline, Sink, Walker, P2};
-use super::widened::{Near, Visited};
+use super::widened::{point_segment_distance as seg_dist, Near, Visited};
 use crate::tin::{Tin, TinError};
 use robust::{orient2d, Coord};
 
@@ -54,17 +54,6 @@ pub struct Node {
     pub child_count: u32,
     /// Every original vertex of the stretch is within `err` of the segment.
     pub err: f64,
-}
-
-fn seg_dist(p: P2, a: P2, b: P2) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let l2 = dx * dx + dy * dy;
-    let s = if l2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - s * dx).hypot(p[1] - a[1] - s * dy)
 }
 
 /// Largest distance of the vertices strictly between i and j from segment

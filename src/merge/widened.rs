@@ -15,7 +15,8 @@ use crate::tin::{Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 use std::collections::HashMap;
 
-fn pd(p: P2, a: P2, b: P2) -> f64 {
+/// Distance from p to the closed segment ab.
+pub fn point_segment_distance(p: P2, a: P2, b: P2) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
     let s = if l2 > 0.0 {
@@ -45,7 +46,10 @@ pub fn triangle_segment_distance(t: &[P2; 3], p: P2, q: P2) -> f64 {
     let mut d = f64::INFINITY;
     for j in 0..3 {
         let (a, b) = (t[j], t[(j + 1) % 3]);
-        d = d.min(pd(p, a, b)).min(pd(q, a, b)).min(pd(a, p, q));
+        d = d
+            .min(point_segment_distance(p, a, b))
+            .min(point_segment_distance(q, a, b))
+            .min(point_segment_distance(a, p, q));
     }
     d
 }

@@ -8,15 +8,10 @@ use pgrx::JsonB;
 use serde_json::json;
 
 use super::types::{TinArg, TinOut};
-use super::{cache, raise, OrRaise};
+use super::{cache, interrupt, raise, OrRaise};
 use crate::io::{ewkb, raster};
 use crate::tin::build::{build, check_tolerances, default_tolerances};
-use crate::tin::{resolve_level, TinError, NONE};
-
-fn interrupt() -> Result<(), TinError> {
-    pg_sys::check_for_interrupts!();
-    Ok(())
-}
+use crate::tin::{resolve_level, NONE};
 
 /// Valid pixel centres of one band as samples, and the raster's SRID.
 fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {

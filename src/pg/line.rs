@@ -8,24 +8,12 @@ use pgrx::prelude::*;
 
 use super::args::check_srid;
 use super::types::TinArg;
-use super::{raise, OrRaise};
+use super::{interrupt, raise, tin_level, OrRaise};
 use crate::io::ewkb::{self, Geom};
 use crate::merge::drape::drape;
 use crate::merge::line::{runs, walk_parts, Part, PieceSink, TriangleSink};
 use crate::merge::widened::near_line;
 use crate::tin::{Tin, TinError};
-use std::sync::Arc;
-
-fn interrupt() -> Result<(), TinError> {
-    pg_sys::check_for_interrupts!();
-    Ok(())
-}
-
-fn tin_level(t: &TinArg, level: Option<i32>) -> (Arc<Tin>, usize) {
-    let tin = t.tin();
-    let l = tin.level_index(level).or_raise();
-    (tin, l)
-}
 
 /// The parts of a LINESTRING or MULTILINESTRING argument (SRID checked,
 /// coordinates finite); an ERROR naming the type for anything else.

@@ -13,14 +13,12 @@ use std::ffi::{CStr, CString};
 use super::args::check_srid;
 use super::line::{check_width, part_offsets, profile};
 use super::types::TinArg;
-use super::{raise, OrRaise};
+use super::{interrupt, raise, OrRaise};
 use crate::io::ewkb::{self, Geom};
 use crate::merge::line::{PieceSink, TriangleSink};
 use crate::merge::linetree::{self, near_tree, walk_tree, View};
 use crate::tin::{Tin, TinError};
 use std::sync::Arc;
-
-const MAX_VALUE_BYTES: usize = (1 << 30) - 1024;
 
 raw_datum_arg!(
     /// A `linetree` argument as the raw Datum.
@@ -46,22 +44,7 @@ pub struct LineTreeOut(pub Vec<u8>);
 
 impl IntoDatum for LineTreeOut {
     fn into_datum(self) -> Option<pg_sys::Datum> {
-        if self.0.len() > MAX_VALUE_BYTES {
-            raise(
-                PgSqlErrorCode::ERRCODE_PROGRAM_LIMIT_EXCEEDED,
-                format!(
-                    "linetree value of {} bytes exceeds the 1 GB limit of one value",
-                    self.0.len()
-                ),
-            );
-        }
-        unsafe {
-            let total = self.0.len() + pg_sys::VARHDRSZ;
-            let p = pg_sys::palloc(total) as *mut u8;
-            std::ptr::copy_nonoverlapping(self.0.as_ptr(), p.add(pg_sys::VARHDRSZ), self.0.len());
-            pgrx::set_varsize_4b(p as *mut pg_sys::varlena, total as i32);
-            Some(pg_sys::Datum::from(p))
-        }
+        Some(super::types::varlena_datum(&self.0, "linetree"))
     }
     fn type_oid() -> pg_sys::Oid {
         pg_sys::InvalidOid
@@ -109,18 +92,8 @@ fn linetree_out(t: LineTreeArg) -> CString {
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_recv(mut buf: pgrx::datum::Internal) -> LineTreeOut {
-    let code = PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION;
-    let si = unsafe { buf.get_mut::<pg_sys::StringInfoData>() }
-        .unwrap_or_else(|| raise(code, "no linetree data"));
-    let (start, len) = (si.cursor.max(0) as usize, si.len.max(0) as usize);
-    let bytes: Vec<u8> = if len > start {
-        unsafe { std::slice::from_raw_parts((si.data as *const u8).add(start), len - start) }
-            .to_vec()
-    } else {
-        Vec::new()
-    };
-    si.cursor = si.len;
-    validated(bytes, code)
+    let bytes = super::types::recv_bytes(&mut buf, "linetree");
+    validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
@@ -182,11 +155,6 @@ fn tin_linetree_info(t: LineTreeArg) -> pgrx::JsonB {
         "length": h.length,
         "bytes": t.bytes().len(),
     }))
-}
-
-fn interrupt() -> Result<(), TinError> {
-    pg_sys::check_for_interrupts!();
-    Ok(())
 }
 
 fn tin_level_tree<'a>(

@@ -74,6 +74,23 @@ pub(crate) fn raise(code: PgSqlErrorCode, msg: impl Into<String>) -> ! {
     ereport!(ERROR, code, msg);
 }
 
+/// The core's interrupt callback: PostgreSQL's CHECK_FOR_INTERRUPTS.
+pub(crate) fn interrupt() -> Result<(), TinError> {
+    pg_sys::check_for_interrupts!();
+    Ok(())
+}
+
+/// The decoded tin of an argument and a level resolved against it (one
+/// cache look-up per row).
+pub(crate) fn tin_level(
+    t: &types::TinArg,
+    level: Option<i32>,
+) -> (std::sync::Arc<crate::tin::Tin>, usize) {
+    let tin = t.tin();
+    let l = tin.level_index(level).or_raise();
+    (tin, l)
+}
+
 /// Map a core error to its SQLSTATE and raise it.
 pub(crate) fn raise_tin(e: TinError) -> ! {
     use PgSqlErrorCode::*;

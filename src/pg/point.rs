@@ -7,22 +7,8 @@ use pgrx::prelude::*;
 
 use super::args::GeomArg;
 use super::types::TinArg;
-use super::OrRaise;
+use super::{interrupt, tin_level, OrRaise};
 use crate::merge::point::{self, Rect};
-use crate::tin::{Tin, TinError};
-use std::sync::Arc;
-
-fn interrupt() -> Result<(), TinError> {
-    pg_sys::check_for_interrupts!();
-    Ok(())
-}
-
-/// The decoded tin and the level index (one cache look-up per row).
-fn tin_level(t: &TinArg, level: Option<i32>) -> (Arc<Tin>, usize) {
-    let tin = t.tin();
-    let l = tin.level_index(level).or_raise();
-    (tin, l)
-}
 
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_locate(

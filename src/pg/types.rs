@@ -131,24 +131,48 @@ impl TinArg {
 /// A `tin` result: storage bytes, copied into a palloc'd varlena on return.
 pub struct TinOut(pub Vec<u8>);
 
+/// Copy storage bytes into a palloc'd varlena Datum (ERROR beyond 1 GB).
+pub(crate) fn varlena_datum(bytes: &[u8], what: &str) -> pg_sys::Datum {
+    if bytes.len() > MAX_VALUE_BYTES {
+        raise(
+            PgSqlErrorCode::ERRCODE_PROGRAM_LIMIT_EXCEEDED,
+            format!(
+                "{what} value of {} bytes exceeds the 1 GB limit of one value; use a larger tolerance or tiles",
+                bytes.len()
+            ),
+        );
+    }
+    unsafe {
+        let total = bytes.len() + pg_sys::VARHDRSZ;
+        let p = pg_sys::palloc(total) as *mut u8;
+        std::ptr::copy_nonoverlapping(bytes.as_ptr(), p.add(pg_sys::VARHDRSZ), bytes.len());
+        pgrx::set_varsize_4b(p as *mut pg_sys::varlena, total as i32);
+        pg_sys::Datum::from(p)
+    }
+}
+
+/// The bytes of a binary-input buffer (`*_recv`), consumed.
+pub(crate) fn recv_bytes(buf: &mut pgrx::datum::Internal, what: &str) -> Vec<u8> {
+    let si = unsafe { buf.get_mut::<pg_sys::StringInfoData>() }.unwrap_or_else(|| {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION,
+            format!("no {what} data"),
+        )
+    });
+    let (start, len) = (si.cursor.max(0) as usize, si.len.max(0) as usize);
+    let bytes: Vec<u8> = if len > start {
+        unsafe { std::slice::from_raw_parts((si.data as *const u8).add(start), len - start) }
+            .to_vec()
+    } else {
+        Vec::new()
+    };
+    si.cursor = si.len;
+    bytes
+}
+
 impl IntoDatum for TinOut {
     fn into_datum(self) -> Option<pg_sys::Datum> {
-        if self.0.len() > MAX_VALUE_BYTES {
-            raise(
-                PgSqlErrorCode::ERRCODE_PROGRAM_LIMIT_EXCEEDED,
-                format!(
-                    "tin value of {} bytes exceeds the 1 GB limit of one value; use a larger tolerance or tiles",
-                    self.0.len()
-                ),
-            );
-        }
-        unsafe {
-            let total = self.0.len() + pg_sys::VARHDRSZ;
-            let p = pg_sys::palloc(total) as *mut u8;
-            std::ptr::copy_nonoverlapping(self.0.as_ptr(), p.add(pg_sys::VARHDRSZ), self.0.len());
-            pgrx::set_varsize_4b(p as *mut pg_sys::varlena, total as i32);
-            Some(pg_sys::Datum::from(p))
-        }
+        Some(varlena_datum(&self.0, "tin"))
     }
     fn type_oid() -> pg_sys::Oid {
         pg_sys::InvalidOid
@@ -214,20 +238,7 @@ fn tin_out(t: TinArg) -> CString {
 /// Binary input: the storage bytes, fully validated.
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn tin_recv(mut buf: pgrx::datum::Internal) -> TinOut {
-    let si = unsafe { buf.get_mut::<pg_sys::StringInfoData>() }.unwrap_or_else(|| {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION,
-            "no tin data",
-        )
-    });
-    let (start, len) = (si.cursor.max(0) as usize, si.len.max(0) as usize);
-    let bytes: Vec<u8> = if len > start {
-        unsafe { std::slice::from_raw_parts((si.data as *const u8).add(start), len - start) }
-            .to_vec()
-    } else {
-        Vec::new()
-    };
-    si.cursor = si.len;
+    let bytes = recv_bytes(&mut buf, "tin");
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION)
 }
 
