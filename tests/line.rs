@@ -10,19 +10,10 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
 use tinmerge::merge::line::{pieces, triangles, Part, Piece};
-use tinmerge::tin::build::{build, default_tolerances};
+use tinmerge::tin::build::build;
 use tinmerge::tin::{interpolate, Tin, NONE};
 
-fn dem_tin() -> Tin {
-    let dem = common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    build(
-        dem.samples(),
-        &default_tolerances(2.0, 5).unwrap(),
-        32616,
-        &mut || Ok(()),
-    )
-    .unwrap()
-}
+use common::dem_tin;
 
 /// A paraboloid on an n x n grid of unit cells, one level at tolerance 0:
 /// strictly convex, so no vertex lies on the plane of a triangle and every

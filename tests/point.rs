@@ -9,19 +9,9 @@ use geo::{Coord, Intersects, Line, Point, Polygon, Triangle};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use tinmerge::merge::point::{footprint, height, locate, locate_descend, Rect};
-use tinmerge::tin::build::{build, default_tolerances};
 use tinmerge::tin::Tin;
 
-fn dem_tin() -> Tin {
-    let dem = common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    build(
-        dem.samples(),
-        &default_tolerances(2.0, 5).unwrap(),
-        32616,
-        &mut || Ok(()),
-    )
-    .unwrap()
-}
+use common::dem_tin;
 
 /// Triangles bucketed by every grid bin their bounding box overlaps: the
 /// oracle then tests every triangle whose box could contain the point.

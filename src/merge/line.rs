@@ -50,7 +50,7 @@
 //! ```
 
 use crate::tin::locate;
-use crate::tin::{interpolate, Tin, TinError, NONE};
+use crate::tin::{interpolate, Level, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 
 /// A point in the plane.
@@ -177,8 +177,6 @@ pub struct Walker<'a, S: Sink> {
     open: bool,
     /// Hull edges as (triangle, edge), found on first need.
     hull: Option<Vec<(u32, usize)>>,
-    /// Walk steps left before the walk is declared broken.
-    budget: usize,
     interrupt: &'a mut dyn FnMut() -> Result<(), TinError>,
     ticks: u32,
 }
@@ -197,10 +195,14 @@ impl<'a, S: Sink> Walker<'a, S> {
             cur: None,
             open: false,
             hull: None,
-            budget: 0,
             interrupt,
             ticks: 0,
         }
+    }
+
+    /// Call the interrupt check now.
+    pub fn interrupt_now(&mut self) -> Result<(), TinError> {
+        (self.interrupt)()
     }
 
     fn tick(&mut self) -> Result<(), TinError> {
@@ -326,12 +328,13 @@ impl<'a, S: Sink> Walker<'a, S> {
             },
         };
         let (cp, cq) = (c(p), c(q));
-        self.budget = 2 * self.tin.levels[self.level].tris.len() + 64;
+        // steps left before the walk is declared broken
+        let mut budget = 2 * self.tin.levels[self.level].tris.len() + 64;
         loop {
-            if self.budget == 0 {
+            if budget == 0 {
                 return Err(corrupt("the walk did not end"));
             }
-            self.budget -= 1;
+            budget -= 1;
             let tc = self.corners(t);
             if (0..3).all(|j| orient2d(tc[(j + 1) % 3], tc[(j + 2) % 3], cq) >= 0.0) {
                 self.emit(t, q, along + dist(p, q));
@@ -467,22 +470,6 @@ impl<'a, S: Sink> Walker<'a, S> {
         Ok(None)
     }
 
-    fn hull_edges(&mut self) -> &[(u32, usize)] {
-        if self.hull.is_none() {
-            let lv = &self.tin.levels[self.level];
-            let mut h = Vec::new();
-            for (t, n) in lv.nbrs.iter().enumerate() {
-                for (j, &x) in n.iter().enumerate() {
-                    if x == NONE {
-                        h.push((t as u32, j));
-                    }
-                }
-            }
-            self.hull = Some(h);
-        }
-        self.hull.as_deref().unwrap_or(&[])
-    }
-
     /// For p outside the domain: where p -> q enters it (triangle holding
     /// the first stretch inside, and the entry point), or None if it
     /// does not (touching the hull at a single point does not count).
@@ -496,8 +483,10 @@ impl<'a, S: Sink> Walker<'a, S> {
             return Ok(None);
         }
         let (cp, cq) = (c(p), c(q));
-        let hull: Vec<(u32, usize)> = self.hull_edges().to_vec();
-        for (t, j) in hull {
+        if self.hull.is_none() {
+            self.hull = Some(hull_edges(&self.tin.levels[self.level]));
+        }
+        for &(t, j) in self.hull.as_deref().unwrap_or(&[]) {
             let tc = self.corners(t);
             let (a, bb) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
             // p strictly outside this edge's half-plane, q on or inside it
@@ -539,6 +528,20 @@ impl<'a, S: Sink> Walker<'a, S> {
         }
         Ok(None)
     }
+}
+
+/// The hull edges of a level, as (triangle, edge opposite corner j), by
+/// increasing triangle id.
+pub fn hull_edges(lv: &Level) -> Vec<(u32, usize)> {
+    let mut h = Vec::new();
+    for (t, n) in lv.nbrs.iter().enumerate() {
+        for (j, &x) in n.iter().enumerate() {
+            if x == NONE {
+                h.push((t as u32, j));
+            }
+        }
+    }
+    h
 }
 
 /// Where the closed triangle holds p (None: outside it).

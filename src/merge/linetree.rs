@@ -22,7 +22,7 @@
 //! decoded, so a merge costs what it visits, not the size of the line.
 
 use super::line::{Polyline, Sink, Walker, P2};
-use super::widened::{point_segment_distance as seg_dist, Near, Visited};
+use super::widened::{point_segment_distance as seg_dist, walk_near, Near, Visited};
 use crate::tin::{Tin, TinError};
 use robust::{orient2d, Coord};
 
@@ -523,45 +523,85 @@ fn capsule_inside(tin: &Tin, level: usize, t: u32, p: P2, q: P2, r: f64) -> bool
     })
 }
 
-/// What to do with each node during the descent.
-enum Mode<'n, 't> {
-    /// Cut the line (any sink).
-    Walk,
-    /// Widened line: triangles within `r`, recorded in `near`.
-    Near(&'n mut Near<'t>, u64),
+/// What the descent does besides walking: the plain cut, or the widened
+/// line.
+trait Visit<S: Sink> {
+    /// Added to every node's error for the containment test.
+    fn radius(&self) -> f64 {
+        0.0
+    }
+    /// The stretch from vertex `first` lies strictly inside triangle `t`.
+    fn inside(&mut self, _t: u32, _first: usize) {}
+    /// Whether the stretch p..q (error `e`), which starts in `t`, may be
+    /// passed over without walking it.
+    fn pass_over(&mut self, _t: u32, _p: P2, _q: P2, _e: f64) -> bool {
+        false
+    }
+    /// Walk original segment `k`.
+    fn leaf(&mut self, w: &mut Walker<'_, S>, part: &PartView, k: usize) -> Result<(), TinError>;
 }
 
-#[allow(clippy::too_many_arguments)]
-fn descend<S: Sink + VisitedAccess>(
+/// The plain cut: every sink.
+struct Cut;
+
+impl<S: Sink> Visit<S> for Cut {
+    fn leaf(&mut self, w: &mut Walker<'_, S>, part: &PartView, k: usize) -> Result<(), TinError> {
+        w.segment(part, k)
+    }
+}
+
+/// The widened line: triangles within `r`, recorded in `near`; a segment's
+/// key is `base` plus its index in the part.
+struct Widen<'n, 't> {
+    near: &'n mut Near<'t>,
+    base: u64,
+    r: f64,
+}
+
+impl Visit<Visited> for Widen<'_, '_> {
+    fn radius(&self) -> f64 {
+        self.r
+    }
+    fn inside(&mut self, t: u32, first: usize) {
+        self.near.touch(t, self.base + first as u64);
+    }
+    fn pass_over(&mut self, t: u32, p: P2, q: P2, e: f64) -> bool {
+        // every triangle the stretch could come near (within e + r of its
+        // segment) is already found: it adds nothing
+        self.near.all_found_near(t, p, q, e + self.r, 64)
+    }
+    fn leaf(
+        &mut self,
+        w: &mut Walker<'_, Visited>,
+        part: &PartView,
+        k: usize,
+    ) -> Result<(), TinError> {
+        walk_near(self.near, w, part, k, self.base + k as u64)
+    }
+}
+
+fn descend<S: Sink, V: Visit<S>>(
     tin: &Tin,
     level: usize,
     part: &PartView,
     w: &mut Walker<'_, S>,
-    node: u32,
-    mode: &mut Mode,
-    r: f64,
+    (index, nd): (u32, Node),
+    visit: &mut V,
     depth: usize,
 ) -> Result<(), TinError> {
     if depth > 64 {
         return Err(bad("the tree is too deep"));
     }
-    let nd = part.v.node(node, part.n)?;
     let (f, l) = (nd.first as usize, nd.last as usize);
     if let Some(t) = w.current() {
         let (p, q) = (part.pt(f)?, part.pt(l)?);
-        if capsule_inside(tin, level, t, p, q, nd.err + r) {
-            if let Mode::Near(near, base) = mode {
-                near.touch(t, *base + f as u64);
-            }
+        if capsule_inside(tin, level, t, p, q, nd.err + visit.radius()) {
+            visit.inside(t, f);
             return w.run_inside(part, f, l);
         }
-        // widened: a stretch whose every possible triangle (those within
-        // e + r of its segment) is already found adds nothing; move on
-        if let Mode::Near(near, _) = mode {
-            if l > f + 1 && near.all_found_near(t, p, q, nd.err + r, 64) {
-                w.jump_to(q);
-                return Ok(());
-            }
+        if l > f + 1 && visit.pass_over(t, p, q, nd.err) {
+            w.jump_to(q);
+            return Ok(());
         }
     }
     if nd.child_count > 0 {
@@ -569,57 +609,32 @@ fn descend<S: Sink + VisitedAccess>(
         for c in nd.child_first..nd.child_first + nd.child_count {
             let cn = part.v.node(c, part.n)?;
             if cn.first != at || cn.last <= cn.first || cn.last > nd.last {
-                return Err(bad(format!("children of node {node} do not tile it")));
+                return Err(bad(format!("children of node {index} do not tile it")));
             }
             at = cn.last;
-            descend(tin, level, part, w, c, mode, r, depth + 1)?;
+            descend(tin, level, part, w, (c, cn), visit, depth + 1)?;
         }
         if at != nd.last {
-            return Err(bad(format!("children of node {node} do not tile it")));
+            return Err(bad(format!("children of node {index} do not tile it")));
         }
         return Ok(());
     }
     for k in f..l {
-        match mode {
-            Mode::Walk => w.segment(part, k)?,
-            Mode::Near(near, base) => {
-                let (p, q) = (part.pt(k)?, part.pt(k + 1)?);
-                if p == q {
-                    continue;
-                }
-                w.sink.visited_clear();
-                w.segment(part, k)?;
-                let seeds = w.sink.visited_take();
-                near.segment(*base + k as u64, p, q, &seeds, &mut || Ok(()))?;
-            }
-        }
+        visit.leaf(w, part, k)?;
     }
     Ok(())
 }
 
-/// Lets the widened descent read the triangles a walk visited (only the
-/// [`Visited`] sink has any).
-pub trait VisitedAccess {
-    fn visited_clear(&mut self) {}
-    fn visited_take(&mut self) -> Vec<u32> {
-        Vec::new()
+impl PartView<'_, '_> {
+    /// The root node, with its index.
+    fn root(&self) -> Result<(u32, Node), TinError> {
+        Ok((self.root, self.v.node(self.root, self.n)?))
     }
 }
-
-impl VisitedAccess for Visited {
-    fn visited_clear(&mut self) {
-        self.tris.clear();
-    }
-    fn visited_take(&mut self) -> Vec<u32> {
-        std::mem::take(&mut self.tris)
-    }
-}
-impl VisitedAccess for super::line::PieceSink<'_> {}
-impl VisitedAccess for super::line::TriangleSink {}
 
 /// The line merge through a stored tree: the same reports to `sink` as
 /// [`super::line::walk_parts`] on the same line.
-pub fn walk_tree<S: Sink + VisitedAccess>(
+pub fn walk_tree<S: Sink>(
     tin: &Tin,
     level: usize,
     tree: &View,
@@ -634,19 +649,17 @@ pub fn walk_tree<S: Sink + VisitedAccess>(
         let mut w = Walker::new(tin, level, sink, interrupt);
         let p0 = part.pt(0)?;
         w.start_part(p0);
-        let mut mode = Mode::Walk;
-        descend(tin, level, &part, &mut w, part.root, &mut mode, 0.0, 0)?;
-        let moved = tree_moves(&part)?;
-        w.end_part(p0, moved);
+        let root = part.root()?;
+        descend(tin, level, &part, &mut w, root, &mut Cut, 0)?;
+        w.end_part(p0, moves(&part, root.1)?);
     }
     Ok(())
 }
 
 /// Whether a part has two distinct points (its root segment has length or
 /// its error is positive).
-fn tree_moves(part: &PartView) -> Result<bool, TinError> {
-    let nd = part.v.node(part.root, part.n)?;
-    Ok(part.pt(nd.first as usize)? != part.pt(nd.last as usize)? || nd.err > 0.0)
+fn moves(part: &PartView, root: Node) -> Result<bool, TinError> {
+    Ok(part.pt(root.first as usize)? != part.pt(root.last as usize)? || root.err > 0.0)
 }
 
 /// Widened line through a stored tree: the same triangles, in the same
@@ -660,22 +673,23 @@ pub fn near_tree(
 ) -> Result<Vec<u32>, TinError> {
     let mut near = Near::new(tin, level, half_width);
     let mut base: u64 = 0;
-    let mut noop = || Ok(());
     for pi in 0..tree.header.num_parts {
-        interrupt()?;
         let part = tree.part_line(pi)?;
         let mut vis = Visited::default();
-        let mut w = Walker::new(tin, level, &mut vis, &mut noop);
+        let mut w = Walker::new(tin, level, &mut vis, interrupt);
+        w.interrupt_now()?;
         let p0 = part.pt(0)?;
         w.start_part(p0);
         let start = w.current();
-        let mut mode = Mode::Near(&mut near, base);
-        descend(
-            tin, level, &part, &mut w, part.root, &mut mode, half_width, 0,
-        )?;
-        if !tree_moves(&part)? {
-            let seeds: Vec<u32> = start.into_iter().collect();
-            near.segment(base, p0, p0, &seeds, interrupt)?;
+        let root = part.root()?;
+        let mut visit = Widen {
+            near: &mut near,
+            base,
+            r: half_width,
+        };
+        descend(tin, level, &part, &mut w, root, &mut visit, 0)?;
+        if !moves(&part, root.1)? {
+            near.still_part(base, p0, start, &mut || w.interrupt_now())?;
         }
         base += part.len() as u64;
     }

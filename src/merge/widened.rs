@@ -10,7 +10,7 @@
 //! tolerance, not a topological decision); a triangle touched exactly at
 //! the distance counts.
 
-use super::line::{Polyline, Sink, Walker, P2};
+use super::line::{hull_edges, Polyline, Sink, Walker, P2};
 use crate::tin::{Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 use std::collections::HashMap;
@@ -164,20 +164,16 @@ impl<'a> Near<'a> {
                 return Ok(());
             }
             if self.hull.is_none() {
-                self.hull = Some(
-                    (0..lv.tris.len() as u32)
-                        .filter(|&t| lv.nbrs[t as usize].contains(&NONE))
-                        .collect(),
-                );
+                let mut h: Vec<u32> = hull_edges(lv).into_iter().map(|(t, _)| t).collect();
+                h.dedup();
+                self.hull = Some(h);
             }
-            let hull = self.hull.take().unwrap_or_default();
-            for &t in &hull {
+            for &t in self.hull.as_deref().unwrap_or(&[]) {
                 if triangle_segment_distance(&self.tri(t), p, q) <= r {
                     self.seen.push(t);
                     self.queue.push(t);
                 }
             }
-            self.hull = Some(hull);
         } else {
             for &t in seeds {
                 if !self.seen.contains(&t) {
@@ -193,12 +189,9 @@ impl<'a> Near<'a> {
             if head % 4096 == 0 {
                 interrupt()?;
             }
-            if let std::collections::hash_map::Entry::Vacant(e) = self.found.entry(t) {
-                let tc = {
-                    let c = self.tin.corners(self.level, t);
-                    [[c[0][0], c[0][1]], [c[1][0], c[1][1]], [c[2][0], c[2][1]]]
-                };
-                e.insert((seg, first_approach(&tc, p, q, self.r)));
+            if !self.found.contains_key(&t) {
+                let s = first_approach(&self.tri(t), p, q, self.r);
+                self.found.insert(t, (seg, s));
             }
             for &n in &lv.nbrs[t as usize] {
                 if n != NONE && !self.seen.contains(&n) {
@@ -246,6 +239,19 @@ impl<'a> Near<'a> {
         true
     }
 
+    /// A part that never moves, at p0 in triangle `start` (if inside):
+    /// the triangles within r of the point.
+    pub fn still_part(
+        &mut self,
+        key: u64,
+        p0: P2,
+        start: Option<u32>,
+        interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    ) -> Result<(), TinError> {
+        let seeds: Vec<u32> = start.into_iter().collect();
+        self.segment(key, p0, p0, &seeds, interrupt)
+    }
+
     /// Triangles in order of first approach.
     pub fn ordered(&self) -> Vec<u32> {
         let mut v: Vec<(u64, f64, u32)> =
@@ -253,6 +259,25 @@ impl<'a> Near<'a> {
         v.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
         v.into_iter().map(|x| x.2).collect()
     }
+}
+
+/// Walk segment `k` of `part` and add the triangles within r of it, keyed
+/// by `key` (a zero-length segment adds nothing).
+pub fn walk_near<L: Polyline + ?Sized>(
+    near: &mut Near,
+    w: &mut Walker<'_, Visited>,
+    part: &L,
+    k: usize,
+    key: u64,
+) -> Result<(), TinError> {
+    let (p, q) = (part.pt(k)?, part.pt(k + 1)?);
+    if p == q {
+        return Ok(());
+    }
+    w.sink.tris.clear();
+    w.segment(part, k)?;
+    let seeds = std::mem::take(&mut w.sink.tris);
+    near.segment(key, p, q, &seeds, &mut || w.interrupt_now())
 }
 
 /// Every triangle of `level` within `half_width` of the line, each once, in
@@ -267,31 +292,22 @@ pub fn near_line<L: Polyline>(
     let mut near = Near::new(tin, level, half_width);
     // a segment's key is the global index of its first vertex
     let mut base: u64 = 0;
-    let mut noop = || Ok(());
     for part in parts {
         if part.is_empty() {
             continue;
         }
         let mut vis = Visited::default();
-        let mut w = Walker::new(tin, level, &mut vis, &mut noop);
+        let mut w = Walker::new(tin, level, &mut vis, interrupt);
         let p0 = part.pt(0)?;
         w.start_part(p0);
         let start = w.current();
         let mut moved = false;
         for k in 0..part.len() - 1 {
-            let (p, q) = (part.pt(k)?, part.pt(k + 1)?);
-            if p == q {
-                continue;
-            }
-            moved = true;
-            w.sink.tris.clear();
-            w.segment(part, k)?;
-            let seeds = std::mem::take(&mut w.sink.tris);
-            near.segment(base + k as u64, p, q, &seeds, interrupt)?;
+            moved |= part.pt(k)? != part.pt(k + 1)?;
+            walk_near(&mut near, &mut w, part, k, base + k as u64)?;
         }
         if !moved {
-            let seeds: Vec<u32> = start.into_iter().collect();
-            near.segment(base, p0, p0, &seeds, interrupt)?;
+            near.still_part(base, p0, start, &mut || w.interrupt_now())?;
         }
         base += part.len() as u64;
     }

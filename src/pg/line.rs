@@ -93,12 +93,15 @@ fn _tin_line_triangles(
     let (tin, l) = tin_level(&t, level);
     let parts = line_parts(line, tin.srid, "tin_line_triangles");
     let tris = line_triangles(&tin, l, &parts, width);
-    TableIterator::new(
-        tris.into_iter()
-            .enumerate()
-            .map(|(i, t)| (i as i32 + 1, t as i32))
-            .collect::<Vec<_>>(),
-    )
+    TableIterator::new(seq_rows(tris))
+}
+
+/// Triangle ids as (seq from 1, triangle) rows.
+pub(crate) fn seq_rows(tris: Vec<u32>) -> Vec<(i32, i32)> {
+    tris.into_iter()
+        .enumerate()
+        .map(|(i, t)| (i as i32 + 1, t as i32))
+        .collect()
 }
 
 type SegmentRow = (i32, i32, Vec<u8>, f64, f64, f64);

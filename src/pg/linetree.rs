@@ -11,13 +11,13 @@ use pgrx::IntoDatum;
 use std::ffi::{CStr, CString};
 
 use super::args::check_srid;
-use super::line::{check_width, part_offsets, profile};
+use super::line::{check_width, part_offsets, profile, seq_rows};
 use super::types::TinArg;
 use super::{interrupt, raise, OrRaise};
 use crate::io::ewkb::{self, Geom};
 use crate::merge::line::{PieceSink, TriangleSink};
 use crate::merge::linetree::{self, near_tree, walk_tree, View};
-use crate::tin::{Tin, TinError};
+use crate::tin::Tin;
 use std::sync::Arc;
 
 raw_datum_arg!(
@@ -71,18 +71,8 @@ fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> LineTreeOut {
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_in(input: &CStr) -> LineTreeOut {
-    let code = PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION;
-    let text = input
-        .to_str()
-        .unwrap_or_else(|_| raise(code, "linetree text is not valid UTF-8"));
-    let bytes = crate::tin::layout::from_hex(text).unwrap_or_else(|e| {
-        let msg = match e {
-            TinError::Corrupt(m) => m,
-            other => other.to_string(),
-        };
-        raise(code, format!("invalid linetree value: {msg}"))
-    });
-    validated(bytes, code)
+    let bytes = super::types::hex_input(input, "linetree");
+    validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
@@ -189,12 +179,7 @@ fn tin_line_triangles(
         walk_tree(&tin, l, &v, &mut sink, &mut |_, _| {}, &mut interrupt).or_raise();
         sink.tris
     };
-    TableIterator::new(
-        tris.into_iter()
-            .enumerate()
-            .map(|(i, t)| (i as i32 + 1, t as i32))
-            .collect::<Vec<_>>(),
-    )
+    TableIterator::new(seq_rows(tris))
 }
 
 #[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]

@@ -214,19 +214,24 @@ fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> TinOut {
 /// Text input: hex of the storage bytes, fully validated.
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn tin_in(input: &CStr) -> TinOut {
-    let text = input.to_str().unwrap_or_else(|_| {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION,
-            "tin text is not valid UTF-8",
-        )
-    });
-    let bytes = layout::from_hex(text).unwrap_or_else(|e| {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION,
-            e.to_string(),
-        )
-    });
+    let bytes = hex_input(input, "tin");
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION)
+}
+
+/// The bytes of a text input (`*_in`: hex of the binary form); an ERROR
+/// naming the type for anything else.
+pub(crate) fn hex_input(input: &CStr, what: &str) -> Vec<u8> {
+    let code = PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION;
+    let text = input
+        .to_str()
+        .unwrap_or_else(|_| raise(code, format!("{what} text is not valid UTF-8")));
+    layout::from_hex(text).unwrap_or_else(|e| {
+        let msg = match e {
+            crate::tin::TinError::Corrupt(m) => m,
+            other => other.to_string(),
+        };
+        raise(code, format!("invalid {what} value: {msg}"))
+    })
 }
 
 /// Text output: upper-case hex of the storage bytes.

@@ -74,3 +74,17 @@ pub fn read_dem(name: &str) -> Dem {
         values,
     }
 }
+
+/// The UTM DEM as a tin: tolerance 2 m at the finest of 5 levels (the
+/// extension's own build: tests of the merges start from it).
+pub fn dem_tin() -> tinmerge::tin::Tin {
+    use tinmerge::tin::build::{build, default_tolerances};
+    let dem = read_dem("jacksboro_fault_dem_utm16n.tif");
+    build(
+        dem.samples(),
+        &default_tolerances(2.0, 5).unwrap(),
+        32616,
+        &mut || Ok(()),
+    )
+    .unwrap()
+}
