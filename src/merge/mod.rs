@@ -3,8 +3,12 @@
 //! pgrx. Each function takes the level to work at as an index already
 //! resolved with [`crate::tin::Tin::level_index`].
 
+pub mod area;
+pub mod clip;
 pub mod drape;
 pub mod line;
 pub mod linetree;
 pub mod point;
+pub mod polygon;
+pub mod surface;
 pub mod widened;
