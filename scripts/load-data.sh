@@ -19,4 +19,16 @@ CREATE TABLE contours AS
   SELECT id, elev, ST_GeomFromText(wkt, 32616)::geometry(LineString, 32616) AS geom FROM contours_raw;
 DROP TABLE contours_raw;
 SQL
+# Areas between contours every 50 m (gdal_contour -p: multipolygons with
+# holes), as table contour_bands.
+gdal_contour -q -p -f CSV -lco GEOMETRY=AS_WKT -amin lo -amax hi -i 50 \
+  tests/data/jacksboro_fault_dem_utm16n.tif "$tmp/bands.csv"
+chmod -R a+rX "$tmp"
+scripts/cluster.sh psql -q -d "$db" >/dev/null <<SQL
+CREATE TABLE bands_raw(wkt text, id int, lo float8, hi float8);
+\copy bands_raw FROM '$tmp/bands.csv' CSV HEADER
+CREATE TABLE contour_bands AS
+  SELECT id, lo, hi, ST_GeomFromText(wkt, 32616)::geometry(MultiPolygon, 32616) AS geom FROM bands_raw;
+DROP TABLE bands_raw;
+SQL
 rm -rf "$tmp"

@@ -108,6 +108,35 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS
 'The geometry with Z from the surface of a level (NULL = finest) and a vertex added wherever a line or ring crosses a triangle edge (as ArcGIS Interpolate Shape or H2GIS ST_Drape). Any type, multi* and collections included. Points outside the domain are dropped; lines keep their stretches inside (a line leaving and coming back becomes a MULTILINESTRING); a polygon with a vertex outside is an error. NULL when nothing is left.';
 
+-- Area merge. PostGIS decides validity (ST_IsValidReason); the functions
+-- that measure in the SRID's units are told whether it is geographic.
+CREATE FUNCTION _tin_srid_is_geographic(srid int) RETURNS boolean AS
+$$ SELECT EXISTS (SELECT 1 FROM spatial_ref_sys s WHERE s.srid = $1
+     AND (s.proj4text LIKE '%+proj=longlat%' OR s.srtext LIKE 'GEOGCS%' OR s.srtext LIKE 'GEOGCRS%')) $$
+LANGUAGE sql STABLE STRICT PARALLEL SAFE;
+COMMENT ON FUNCTION _tin_srid_is_geographic(int) IS 'Internal: whether spatial_ref_sys describes the SRID as geographic (longitude/latitude).';
+
+CREATE FUNCTION tin_area_triangles(t tin, area geometry, level int DEFAULT NULL, compact boolean DEFAULT false)
+RETURNS TABLE(triangle int, level int, relation text, coverage float8) AS
+$$ SELECT * FROM _tin_area_triangles($1, $2::bytea, $3, $4, ST_IsValidReason($2)) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_area_triangles(tin, geometry, int, boolean) IS
+'Triangles of a level (NULL = finest) on and inside a POLYGON or MULTIPOLYGON, by the hierarchical polygonal sweep: relation ''inside'' (wholly inside, touching the boundary allowed; coverage 1) or ''boundary'' (the polygon''s boundary crosses the triangle; coverage = fraction of the triangle''s area inside). With compact => true, inside triangles are reported at the coarsest level whose triangle is wholly inside (the level column says which), covering the same region. Parts outside the domain are ignored; an invalid polygon is an error (repair it with ST_MakeValid).';
+
+CREATE FUNCTION tin_area_stats(t tin, area geometry, level int DEFAULT NULL)
+RETURNS TABLE(area2d float8, area3d float8, min_z float8, max_z float8, mean_z float8, mean_slope float8, max_slope float8) AS
+$$ SELECT * FROM _tin_area_stats($1, $2::bytea, $3, ST_IsValidReason($2), _tin_srid_is_geographic(tin_srid($1))) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
+'Statistics of the surface of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: planar area, surface area, min/max height, area-weighted mean height and slope (degrees), steepest slope. Heights are NULL when the polygon misses the domain. Planar SRIDs only: a geographic tin is an error.';
+
+CREATE FUNCTION tin_volume(t tin, area geometry, base_z float8, level int DEFAULT NULL)
+RETURNS TABLE(cut float8, fill float8) AS
+$$ SELECT * FROM _tin_volume($1, $2::bytea, $3, $4, ST_IsValidReason($2), _tin_srid_is_geographic(tin_srid($1))) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_volume(tin, geometry, float8, int) IS
+'Volumes inside a POLYGON or MULTIPOLYGON between the surface of a level (NULL = finest) and the height base_z: cut = volume of surface above base_z, fill = volume of the space below base_z down to the surface (as a cut-and-fill or ArcGIS Surface Volume), exact for the linear surface. Planar SRIDs only.';
+
 COMMENT ON FUNCTION tin_srid(tin) IS 'SRID of the tin (header only).';
 COMMENT ON FUNCTION tin_num_levels(tin) IS 'Number of levels of detail (header only).';
 COMMENT ON FUNCTION tin_num_triangles(tin, int) IS 'Triangles at a level (NULL = finest; header only).';
@@ -127,6 +156,10 @@ COMMENT ON FUNCTION _tin_line_triangles(tin, bytea, int, float8) IS 'Internal: u
 COMMENT ON FUNCTION _tin_line_segments(tin, bytea, int) IS 'Internal: use tin_line_segments(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_line_profile(tin, bytea, int) IS 'Internal: use tin_line_profile(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_line_climb(tin, bytea, int) IS 'Internal: use tin_line_climb(tin, geometry, int).';
+COMMENT ON FUNCTION _tin_area_triangles(tin, bytea, int, boolean, text) IS 'Internal: use tin_area_triangles(tin, geometry, int, boolean).';
+COMMENT ON FUNCTION _tin_area_stats(tin, bytea, int, text, boolean) IS 'Internal: use tin_area_stats(tin, geometry, int).';
+COMMENT ON FUNCTION _tin_volume(tin, bytea, float8, int, text, boolean) IS 'Internal: use tin_volume(tin, geometry, float8, int).';
+COMMENT ON FUNCTION _tin_area_examined(tin, bytea, int, text) IS 'Internal (benchmark): triangles examined and rows given by the area sweep with method hierarchy, flat or scan.';
 COMMENT ON FUNCTION _tin_linetree(bytea) IS 'Internal: use tin_linetree(geometry).';
 COMMENT ON FUNCTION _tin_line_segments_tree(tin, linetree, int) IS 'Internal: use tin_line_segments(tin, linetree, int).';
 COMMENT ON FUNCTION linetree_in(cstring) IS 'Text input of linetree: hex of the binary form, fully validated (every error bound recomputed).';

@@ -41,6 +41,7 @@ macro_rules! raw_datum_arg {
     };
 }
 
+mod area;
 mod args;
 mod cache;
 mod functions;

@@ -76,6 +76,23 @@ SELECT try($$SELECT overlay(tin_linetree('LINESTRING(0 0, 1 1, 2 0)'::geometry):
 SELECT try($$SELECT left(tin_linetree('LINESTRING(0 0, 1 1, 2 0)'::geometry)::text, 150)::linetree$$);
 SELECT try($$SELECT tin_footprint(t, 'SRID=32616;LINESTRING(0 0, 1 1)'::geometry, 10, 10, 0) FROM terrain$$);
 SELECT try($$SELECT tin_footprint(t, 'SRID=4326;POINT(-84 36)'::geometry, 10, 10, 0) FROM terrain$$);
+-- area merge
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;POINT(740000 4060000)'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;GEOMETRYCOLLECTION(POLYGON((740000 4060000, 741000 4060000, 741000 4061000, 740000 4060000)))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=4326;POLYGON((-84 36, -84.1 36, -84.1 36.1, -84 36))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;POLYGON((740000 4060000, 741000 4061000, 741000 4060000, 740000 4061000, 740000 4060000))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;POLYGON((740000 4060000, 741000 4060000, 742000 4060000, 740000 4060000))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;MULTIPOLYGON(((740000 4060000, 742000 4060000, 742000 4062000, 740000 4060000)), ((741000 4060000, 743000 4060000, 743000 4062000, 741000 4060000)))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;POLYGON((740000 4060000, 741000 4060000, 741000 4061000, 740000 4060000), (745000 4060000, 746000 4060000, 746000 4061000, 745000 4060000))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, ST_MakePolygon(ST_MakeLine(ARRAY[ST_MakePoint(740000, 4060000), ST_MakePoint('NaN', 4061000), ST_MakePoint(741000, 4060000), ST_MakePoint(740000, 4060000)])))$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, 'SRID=32616;POLYGON M ((740000 4060000 1, 741000 4060000 1, 741000 4061000 1, 740000 4060000 1))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, ST_Expand(tin_envelope(t), -10), 5)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_triangles(t, ST_Expand(tin_envelope(t), -10), -1)$$);
+SELECT try($$SELECT * FROM terrain, tin_area_stats(t, 'SRID=32616;POLYGON((740000 4060000, 741000 4061000, 741000 4060000, 740000 4061000, 740000 4060000))'::geometry)$$);
+SELECT try($$SELECT * FROM terrain, tin_volume(t, ST_Expand(tin_envelope(t), -10), 'NaN')$$);
+SELECT try($$SELECT * FROM terrain, tin_volume(t, ST_Expand(tin_envelope(t), -10), 'Infinity')$$);
+SELECT try($$SELECT * FROM terrain, tin_volume(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 0)$$);
 -- NULL and empty inputs give NULL (or no rows), never an error
 SELECT tin_height(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin,
        tin_height(t, NULL::geometry) IS NULL AS null_geom,

@@ -1,0 +1,213 @@
+//! SQL functions of the area merge: `tin_area_triangles`, `tin_area_stats`,
+//! `tin_volume`. Polygons arrive as EWKB with PostGIS's validity verdict
+//! (`ST_IsValidReason`, computed by the SQL wrapper) and, for the functions
+//! that measure in the SRID's units, whether that SRID is geographic. Not
+//! STRICT (a NULL level means finest): a NULL tin, polygon or base height
+//! gives no rows.
+
+use pgrx::prelude::*;
+
+use super::args::check_srid;
+use super::types::TinArg;
+use super::{interrupt, raise, tin_level, OrRaise};
+use crate::io::ewkb::{self, Geom};
+use crate::merge::area::{area_rows, sweep, Method};
+use crate::merge::polygon::Area;
+use crate::merge::surface::{stats, volume};
+
+/// The area of a POLYGON or MULTIPOLYGON argument: SRID checked, validity
+/// (PostGIS's verdict) checked, coordinates finite.
+fn area_arg(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> Area {
+    let g = ewkb::read(bytes).or_raise();
+    check_srid(g.srid, tin_srid, func);
+    let polys = match g.geom {
+        Geom::Polygon(p) => vec![p],
+        Geom::MultiPolygon(ps) => ps,
+        other => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func} takes a POLYGON or MULTIPOLYGON, got a {}{}",
+                other.type_name(),
+                match other {
+                    Geom::Collection(_) => " (use ST_CollectionExtract(geom, 3) for its polygons)",
+                    Geom::LineString(_) | Geom::MultiLineString(_) =>
+                        " (use ST_MakePolygon for a closed line, or tin_line_triangles)",
+                    _ => "",
+                }
+            ),
+        ),
+    };
+    if let Some(reason) = validity {
+        if reason != "Valid Geometry" {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!("{func}: the polygon is not valid ({reason}); repair it with ST_MakeValid"),
+            );
+        }
+    }
+    for c in polys.iter().flatten().flatten() {
+        if !(c[0].is_finite() && c[1].is_finite()) {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!(
+                    "{func}: the polygon has a non-finite coordinate ({} {})",
+                    c[0], c[1]
+                ),
+            );
+        }
+    }
+    Area::new(
+        polys
+            .into_iter()
+            .map(|p| {
+                p.into_iter()
+                    .map(|r| r.into_iter().map(|c| [c[0], c[1]]).collect())
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
+fn refuse_geographic(geographic: Option<bool>, srid: i32, func: &str) {
+    if geographic == Some(true) {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func}: the tin's SRID {srid} is geographic (degrees): areas, slopes and volumes would mix degrees with height units; build the tin in a projected SRID (ST_Transform the raster before tin_from_raster)"
+            ),
+        );
+    }
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_area_triangles(
+    t: Option<TinArg>,
+    area: Option<&[u8]>,
+    level: Option<i32>,
+    compact: Option<bool>,
+    validity: Option<&str>,
+) -> TableIterator<
+    'static,
+    (
+        name!(triangle, i32),
+        name!(level, i32),
+        name!(relation, String),
+        name!(coverage, f64),
+    ),
+> {
+    let (Some(t), Some(area)) = (t, area) else {
+        return TableIterator::new(Vec::new());
+    };
+    let (tin, l) = tin_level(&t, level);
+    let area = area_arg(area, validity, tin.srid, "tin_area_triangles");
+    let s = sweep(&tin, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+    let rows = area_rows(&tin, &area, &s, compact.unwrap_or(false), &mut interrupt).or_raise();
+    TableIterator::new(rows.into_iter().map(|r| {
+        (
+            r.triangle as i32,
+            r.level as i32,
+            r.relation.as_str().to_string(),
+            r.coverage,
+        )
+    }))
+}
+
+type StatsRow = (
+    f64,
+    f64,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+);
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_area_stats(
+    t: Option<TinArg>,
+    area: Option<&[u8]>,
+    level: Option<i32>,
+    validity: Option<&str>,
+    geographic: Option<bool>,
+) -> TableIterator<
+    'static,
+    (
+        name!(area2d, f64),
+        name!(area3d, f64),
+        name!(min_z, Option<f64>),
+        name!(max_z, Option<f64>),
+        name!(mean_z, Option<f64>),
+        name!(mean_slope, Option<f64>),
+        name!(max_slope, Option<f64>),
+    ),
+> {
+    let (Some(t), Some(area)) = (t, area) else {
+        return TableIterator::new(Vec::<StatsRow>::new());
+    };
+    let (tin, l) = tin_level(&t, level);
+    refuse_geographic(geographic, tin.srid, "tin_area_stats");
+    let area = area_arg(area, validity, tin.srid, "tin_area_stats");
+    let s = sweep(&tin, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+    let st = stats(&tin, &area, &s, &mut interrupt).or_raise();
+    let some = |v: f64| (st.area2d > 0.0).then_some(v);
+    TableIterator::new(vec![(
+        st.area2d,
+        st.area3d,
+        some(st.min_z),
+        some(st.max_z),
+        some(st.mean_z()),
+        some(st.mean_slope()),
+        some(st.max_slope),
+    )])
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_volume(
+    t: Option<TinArg>,
+    area: Option<&[u8]>,
+    base_z: Option<f64>,
+    level: Option<i32>,
+    validity: Option<&str>,
+    geographic: Option<bool>,
+) -> TableIterator<'static, (name!(cut, f64), name!(fill, f64))> {
+    let (Some(t), Some(area), Some(base)) = (t, area, base_z) else {
+        return TableIterator::new(Vec::new());
+    };
+    if !base.is_finite() {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("tin_volume: base_z must be a finite height, got {base}"),
+        );
+    }
+    let (tin, l) = tin_level(&t, level);
+    refuse_geographic(geographic, tin.srid, "tin_volume");
+    let area = area_arg(area, validity, tin.srid, "tin_volume");
+    let s = sweep(&tin, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+    let (cut, fill) = volume(&tin, &area, &s, base, &mut interrupt).or_raise();
+    TableIterator::new(vec![(cut, fill)])
+}
+
+/// The sweep's work for the benchmark: triangles examined by a method
+/// ('hierarchy', 'flat' or 'scan') and the rows it gives.
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_area_examined(
+    t: TinArg,
+    area: &[u8],
+    level: Option<i32>,
+    method: &str,
+) -> TableIterator<'static, (name!(examined, i64), name!(rows, i64))> {
+    let (tin, l) = tin_level(&t, level);
+    let area = area_arg(area, None, tin.srid, "_tin_area_examined");
+    let m = match method {
+        "hierarchy" => Method::Hierarchy,
+        "flat" => Method::Flat,
+        "scan" => Method::Scan,
+        other => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("method must be 'hierarchy', 'flat' or 'scan', got '{other}'"),
+        ),
+    };
+    let s = sweep(&tin, l, &area, m, &mut interrupt).or_raise();
+    let rows = area_rows(&tin, &area, &s, m == Method::Hierarchy, &mut interrupt).or_raise();
+    TableIterator::new(vec![(s.examined as i64, rows.len() as i64)])
+}
