@@ -114,6 +114,7 @@ pub struct Sweep {
 const WALKED: u8 = 1;
 const BOUNDARY: u8 = 2;
 const SEEN: u8 = 4;
+const SEED: u8 = 8;
 
 /// The walker's output for the rings: (triangle, ring, segment) pairs and,
 /// if wanted, the pieces of each ring per triangle.
@@ -168,9 +169,11 @@ fn walk_rings(
         pieces: Vec::new(),
         open: false,
     };
+    // one walker for all rings: the hull (for rings entering from outside
+    // the domain) is found once per level
+    let mut w = Walker::new(tin, level, &mut sink, interrupt);
     for (ri, ring) in area.rings.iter().enumerate() {
-        sink.ring = ri as u32;
-        let mut w = Walker::new(tin, level, &mut sink, interrupt);
+        w.sink.ring = ri as u32;
         w.start_part(ring[0]);
         for k in 0..ring.len() - 1 {
             w.sink.seg = k as u32;
@@ -178,6 +181,7 @@ fn walk_rings(
         }
         w.end_part(ring[0], true);
     }
+    drop(w);
     Ok(sink)
 }
 
@@ -349,79 +353,171 @@ pub fn sweep(
         level
     };
     let mut status = Status::new(tin, area);
-    let mut prev_boundary: Vec<u32> = Vec::new();
-    for l in first..=level {
-        let walk = walk_rings(tin, l, area, l == level, interrupt)?;
-        let mut tk = Ticker { n: 0, f: interrupt };
-        let lv = &tin.levels[l];
-        let n = lv.tris.len();
-        let mut flags = vec![0u8; n];
-        let mut walked = Vec::new();
-        let mut boundary = Vec::new();
-        for &(t, r, s) in &walk.pairs {
-            tk.tick()?;
-            let f = flags
-                .get_mut(t as usize)
-                .ok_or_else(|| corrupt("triangle id"))?;
-            if *f & WALKED == 0 {
-                *f |= WALKED;
-                walked.push(t);
+    // The boundary, found once at the target level with the line walk; at
+    // coarser levels it is the ancestors' (a triangle's inside holds its
+    // children's), found by following parent links (seed 6.5).
+    let walk = walk_rings(tin, level, area, true, interrupt)?;
+    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut flags: Vec<Vec<u8>> = (0..=level)
+        .map(|l| {
+            if l >= first {
+                vec![0u8; tin.levels[l].tris.len()]
+            } else {
+                Vec::new()
             }
-            if *f & BOUNDARY == 0 {
-                let ring = &area.rings[r as usize];
-                let (a, b) = (ring[s as usize], ring[s as usize + 1]);
-                if segment_meets_open_triangle(&corners2(tin, l, t), a, b) {
-                    *f |= BOUNDARY;
-                    boundary.push(t);
+        })
+        .collect();
+    let mut walked_at: Vec<Vec<u32>> = vec![Vec::new(); level + 1];
+    let mut boundary_at: Vec<Vec<u32>> = vec![Vec::new(); level + 1];
+    for &(t, r, s) in &walk.pairs {
+        tk.tick()?;
+        let f = flags[level]
+            .get_mut(t as usize)
+            .ok_or_else(|| corrupt("triangle id"))?;
+        if *f & WALKED == 0 {
+            *f |= WALKED;
+            walked_at[level].push(t);
+        }
+        if *f & BOUNDARY == 0 {
+            let ring = &area.rings[r as usize];
+            let (a, b) = (ring[s as usize], ring[s as usize + 1]);
+            if segment_meets_open_triangle(&corners2(tin, level, t), a, b) {
+                *f |= BOUNDARY;
+                boundary_at[level].push(t);
+            }
+        }
+    }
+    // Segments that touch a triangle of the target level without crossing
+    // its inside (running along its edges) may still cross the inside of an
+    // ancestor: those are tested again going up.
+    let mut pending: Vec<(u32, u32, u32)> = walk
+        .pairs
+        .iter()
+        .filter(|&&(t, _, _)| flags[level][t as usize] & BOUNDARY == 0)
+        .copied()
+        .collect();
+    for l in (first..level).rev() {
+        let parent = &tin.levels[l + 1].parent;
+        let up = |c: u32| -> Result<u32, TinError> {
+            let p = *parent.get(c as usize).ok_or_else(|| corrupt("parent"))?;
+            if (p as usize) < tin.levels[l].tris.len() {
+                Ok(p)
+            } else {
+                Err(corrupt("parent id"))
+            }
+        };
+        for (lists, bit) in [(&mut walked_at, WALKED), (&mut boundary_at, BOUNDARY)] {
+            let (coarse, fine) = lists.split_at_mut(l + 1);
+            for &c in &fine[0] {
+                tk.tick()?;
+                let p = up(c)?;
+                if flags[l][p as usize] & bit == 0 {
+                    flags[l][p as usize] |= bit;
+                    coarse[l].push(p);
                 }
             }
         }
+        let mut next = Vec::new();
+        for &(c, r, s) in &pending {
+            tk.tick()?;
+            let p = up(c)?;
+            if flags[l][p as usize] & BOUNDARY != 0 {
+                continue;
+            }
+            let ring = &area.rings[r as usize];
+            let (a, b) = (ring[s as usize], ring[s as usize + 1]);
+            if segment_meets_open_triangle(&corners2(tin, l, p), a, b) {
+                flags[l][p as usize] |= BOUNDARY;
+                boundary_at[l].push(p);
+            } else {
+                next.push((p, r, s));
+            }
+        }
+        next.sort_unstable();
+        next.dedup();
+        pending = next;
+    }
+    let mut chains_at_level = Some(walk.pieces);
+    let mut prev_boundary: Vec<u32> = Vec::new();
+    for l in first..=level {
+        let lv = &tin.levels[l];
+        let n = lv.tris.len();
+        let walked = std::mem::take(&mut walked_at[l]);
+        let mut boundary = std::mem::take(&mut boundary_at[l]);
+        let mut flags = std::mem::take(&mut flags[l]);
         out.examined += walked.len();
         let inside = &mut out.inside[l];
-        if l == first {
-            if method == Method::Scan {
-                for t in 0..n as u32 {
-                    tk.tick()?;
-                    if flags[t as usize] & BOUNDARY == 0 {
-                        out.examined += 1;
-                        if status.inside(l, t) {
-                            inside.push(t);
-                        }
+        let open_sweep = l == first;
+        if open_sweep && method == Method::Scan {
+            for t in 0..n as u32 {
+                tk.tick()?;
+                if flags[t as usize] & BOUNDARY == 0 {
+                    out.examined += 1;
+                    if status.inside(l, t) {
+                        inside.push(t);
                     }
                 }
-            } else if walked.is_empty() {
-                // no ring enters the domain: all in or all out
-                if n > 0 && status.inside(l, 0) {
-                    inside.extend(0..n as u32);
-                    out.examined += n;
+            }
+        } else if open_sweep && walked.is_empty() {
+            // no ring enters the domain: all in or all out
+            if n > 0 && status.inside(l, 0) {
+                inside.extend(0..n as u32);
+                out.examined += n;
+            }
+        } else {
+            // The seeds: at the first level, the triangles the rings touch
+            // and their neighbours; below, the children of boundary
+            // triangles. Every one that is not a boundary triangle is wholly
+            // in or out.
+            let mut seeds: Vec<u32> = Vec::new();
+            let mut mark = |t: u32, flags: &mut [u8]| -> Result<(), TinError> {
+                let f = flags
+                    .get_mut(t as usize)
+                    .ok_or_else(|| corrupt("triangle id"))?;
+                if *f & (BOUNDARY | SEED) == 0 {
+                    *f |= SEED;
+                    seeds.push(t);
+                }
+                Ok(())
+            };
+            if open_sweep {
+                for &t in &walked {
+                    mark(t, &mut flags)?;
+                    for nb in lv.nbrs[t as usize] {
+                        if nb != NONE {
+                            mark(nb, &mut flags)?;
+                        }
+                    }
                 }
             } else {
-                // the polygonal sweep from the boundary inward
-                let mut queue: Vec<u32> = Vec::new();
-                for &t in &walked {
-                    let seeds = std::iter::once(t).chain(lv.nbrs[t as usize]);
-                    for s in seeds {
-                        if s == NONE {
-                            continue;
-                        }
-                        let fs = flags
-                            .get_mut(s as usize)
-                            .ok_or_else(|| corrupt("neighbour"))?;
-                        if *fs & (BOUNDARY | SEEN) != 0 {
-                            continue;
-                        }
-                        *fs |= SEEN;
-                        out.examined += 1;
-                        tk.tick()?;
-                        if status.inside(l, s) {
-                            inside.push(s);
-                            queue.push(s);
-                        }
+                for &p in &prev_boundary {
+                    for ch in children(tin, l - 1, p)? {
+                        mark(ch, &mut flags)?;
                     }
                 }
-                while let Some(t) = queue.pop() {
-                    let tw = flags[t as usize] & WALKED != 0;
-                    for nb in lv.nbrs[t as usize] {
+            }
+            // The sweep: a seed's status comes from an exact
+            // point-in-polygon test, then spreads over triangle adjacency:
+            // two neighbours no ring touches have the same status (a ring
+            // running along their shared edge would touch one of them).
+            // Inside, the sweep runs on to the whole inside at the first
+            // level; otherwise it stays among the seeds.
+            let mut stack: Vec<(u32, bool)> = Vec::new();
+            for &s0 in &seeds {
+                if flags[s0 as usize] & SEEN != 0 {
+                    continue;
+                }
+                flags[s0 as usize] |= SEEN;
+                out.examined += 1;
+                tk.tick()?;
+                let st = status.inside(l, s0);
+                if st {
+                    inside.push(s0);
+                }
+                stack.push((s0, st));
+                while let Some((u, su)) = stack.pop() {
+                    let uw = flags[u as usize] & WALKED != 0;
+                    for nb in lv.nbrs[u as usize] {
                         if nb == NONE {
                             continue;
                         }
@@ -431,29 +527,18 @@ pub fn sweep(
                         if *fnb & (BOUNDARY | SEEN) != 0 {
                             continue;
                         }
+                        if *fnb & SEED == 0 && !(open_sweep && su) {
+                            continue;
+                        }
                         *fnb |= SEEN;
                         let nw = *fnb & WALKED != 0;
                         out.examined += 1;
                         tk.tick()?;
-                        // a ring may run along the shared edge only if one of
-                        // the two was walked
-                        if (!tw && !nw) || status.inside(l, nb) {
+                        let sn = if !uw && !nw { su } else { status.inside(l, nb) };
+                        if sn {
                             inside.push(nb);
-                            queue.push(nb);
                         }
-                    }
-                }
-            }
-        } else {
-            for &p in &prev_boundary {
-                for ch in children(tin, l - 1, p)? {
-                    tk.tick()?;
-                    let f = *flags.get(ch as usize).ok_or_else(|| corrupt("child id"))?;
-                    if f & WALKED == 0 {
-                        out.examined += 1;
-                    }
-                    if f & BOUNDARY == 0 && status.inside(l, ch) {
-                        inside.push(ch);
+                        stack.push((nb, sn));
                     }
                 }
             }
@@ -461,7 +546,9 @@ pub fn sweep(
         inside.sort_unstable();
         boundary.sort_unstable();
         if l == level {
-            out.chains = chains(walk.pieces, &flags, area);
+            if let Some(pieces) = chains_at_level.take() {
+                out.chains = chains(pieces, &flags, area);
+            }
         }
         prev_boundary = boundary;
     }
