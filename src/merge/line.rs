@@ -710,12 +710,14 @@ pub fn walk_parts<S: Sink, L: Polyline>(
     on_part: &mut dyn FnMut(&mut S, usize),
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
 ) -> Result<(), TinError> {
+    // one walker for all parts: the hull (for parts entering from outside
+    // the domain) is found once
+    let mut w = Walker::new(tin, level, sink, interrupt);
     for (i, part) in parts.iter().enumerate() {
-        on_part(sink, i);
+        on_part(&mut *w.sink, i);
         if part.is_empty() {
             continue;
         }
-        let mut w = Walker::new(tin, level, sink, interrupt);
         let p0 = part.pt(0)?;
         w.start_part(p0);
         let mut moved = false;

@@ -122,6 +122,7 @@ type StatsRow = (
     Option<f64>,
 );
 
+#[allow(clippy::type_complexity)]
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
 fn _tin_area_stats(
     t: Option<TinArg>,
