@@ -126,5 +126,54 @@ UNION ALL SELECT * FROM bench('624 contours, finest: tin_drape', 'SELECT count(t
 UNION ALL SELECT * FROM bench('PostGIS: ST_Intersection of 624 contours with GiST-indexed finest triangles (pieces, no heights)', 'SELECT count(ST_Intersection(c.geom, r.geom)) FROM contours c JOIN tri_rows r ON ST_Intersects(c.geom, r.geom)', 3);
 SQL
 
+echo "== area merge: polygons from a small lake to nearly the whole domain, finest level"
+# examined = triangles whose relation to the polygon was decided (sweep) or
+# tested (scan-fill over every triangle at the level); PostGIS = the finest
+# triangles as GiST-indexed POLYGON Z rows, ST_Intersects + ST_Within /
+# ST_Intersection areas (same answer as tin_area_triangles' coverage)
+med=$(q -c "SELECT round(percentile_cont(0.5) WITHIN GROUP (ORDER BY val)::numeric, 1) FROM dem, ST_PixelAsPoints(rast, 1, true)")
+tmp=$(mktemp -d)
+gdal_contour -q -p -f CSV -lco GEOMETRY=AS_WKT -amin lo -amax hi -fl "$med" \
+  tests/data/jacksboro_fault_dem_utm16n.tif "$tmp/half.csv"
+chmod -R a+rX "$tmp"
+q <<SQL
+CREATE TABLE half_raw(wkt text, id int, lo float8, hi float8);
+\copy half_raw FROM '$tmp/half.csv' CSV HEADER
+CREATE TABLE area_bench AS
+WITH d AS (SELECT tin_envelope(t) AS e, ST_Area(tin_as_geometry(t, 0)) AS a FROM terrain)
+SELECT 'circle ' || f || ' of the domain' AS name, ST_Buffer(ST_Centroid(e), sqrt(f * a / pi()), 32) AS geom, f AS ord
+FROM d, unnest(ARRAY[0.001, 0.01, 0.1, 0.5]) f
+UNION ALL
+SELECT 'box 0.9 of the bounding box', ST_Expand(e, -(ST_XMax(e) - ST_XMin(e)) * (1 - sqrt(0.9)) / 2), 0.9 FROM d
+UNION ALL
+SELECT 'land below the median height $med m (gdal_contour -p)', ST_GeomFromText(wkt, 32616), 0.51 FROM half_raw WHERE hi <= $med;
+DROP TABLE half_raw;
+SQL
+rm -rf "$tmp"
+q -F ' | ' <<'SQL'
+SET max_parallel_workers_per_gather = 0;
+SELECT 'polygon', 'vertices', 'share of domain', 'rows full', 'rows compact',
+       'examined: sweep', 'flat sweep', 'scan-fill', 'scan / sweep',
+       'ms: compact', 'full', 'flat', 'scan-fill', 'stats', 'PostGIS', 'PostGIS / compact';
+SELECT a.name, ST_NPoints(a.geom),
+       round(((SELECT area2d FROM tin_area_stats(t, a.geom)) / ST_Area(tin_as_geometry(t, 0)))::numeric, 3),
+       (SELECT count(*) FROM tin_area_triangles(t, a.geom)),
+       (SELECT count(*) FROM tin_area_triangles(t, a.geom, compact => true)),
+       h.examined, f.examined, s.examined, round(s.examined::numeric / h.examined, 1),
+       mc, (SELECT median_ms FROM bench('', format('SELECT count(*) FROM terrain, tin_area_triangles(t, %L::geometry)', a.geom), 5)),
+       (SELECT median_ms FROM bench('', format('SELECT _tin_area_examined(t, %L::geometry::bytea, NULL, ''flat'') FROM terrain', a.geom), 5)),
+       (SELECT median_ms FROM bench('', format('SELECT _tin_area_examined(t, %L::geometry::bytea, NULL, ''scan'') FROM terrain', a.geom), 5)),
+       (SELECT median_ms FROM bench('', format('SELECT * FROM terrain, tin_area_stats(t, %L::geometry)', a.geom), 5)),
+       pg, round(pg / mc, 1)
+FROM area_bench a, terrain,
+LATERAL _tin_area_examined(t, a.geom::bytea, NULL, 'hierarchy') h,
+LATERAL _tin_area_examined(t, a.geom::bytea, NULL, 'flat') f,
+LATERAL _tin_area_examined(t, a.geom::bytea, NULL, 'scan') s,
+LATERAL (SELECT (SELECT median_ms FROM bench('', format('SELECT count(*) FROM terrain, tin_area_triangles(t, %L::geometry, compact => true)', a.geom), 5)) AS mc) m,
+LATERAL (SELECT (SELECT median_ms FROM bench('', format($q$SELECT count(*), sum(CASE WHEN ST_Within(r.geom, a.geom) THEN 1 ELSE ST_Area(ST_Intersection(r.geom, a.geom)) / ST_Area(r.geom) END)
+                              FROM tri_rows r JOIN (SELECT %L::geometry AS geom) a ON ST_Intersects(r.geom, a.geom)$q$, a.geom), 3)) AS pg) p
+ORDER BY a.ord;
+SQL
+
 echo "== core locate (cargo bench --bench locate): ns per point"
 cargo bench --bench locate 2>/dev/null

@@ -37,6 +37,17 @@ FROM terrain, generate_series(0, tin_num_levels(t) - 1) l,
      LATERAL (SELECT count(*) AS pieces, round(sum(length2d)::numeric, 1) AS length2d_m,
                      round(sum(length3d)::numeric, 1) AS length3d_m FROM tin_line_segments(t, g, l)) s
 ORDER BY l;
+\echo == area merge: a 1 km circle (a lake), per level: triangles full vs compact, surface statistics, cut/fill at 500 m
+SELECT l AS level, a.inside, a.boundary, a.compact_rows, round(s.area2d) AS area2d_m2, round(s.area3d) AS area3d_m2,
+       round(s.mean_z::numeric, 1) AS mean_z, round(s.mean_slope::numeric, 1) AS mean_slope_deg,
+       round(v.cut) AS cut_m3, round(v.fill) AS fill_m3
+FROM terrain, generate_series(0, tin_num_levels(t) - 1) l,
+     (SELECT ST_Buffer(ST_Centroid(tin_envelope(t)), 500, 32) AS g FROM terrain) g,
+     LATERAL (SELECT count(*) FILTER (WHERE relation = 'inside') AS inside, count(*) FILTER (WHERE relation = 'boundary') AS boundary,
+                     (SELECT count(*) FROM tin_area_triangles(t, g, l, true)) AS compact_rows
+              FROM tin_area_triangles(t, g, l)) a,
+     LATERAL tin_area_stats(t, g, l) s, LATERAL tin_volume(t, g, 500, l) v
+ORDER BY l;
 SQL
 echo
 echo "The cluster is still running. Explore with: make psql   (database tinmerge_demo; table terrain)"

@@ -1,12 +1,16 @@
 //! Area merge (seed 6.5): the triangles of a level on and inside a polygon,
 //! found by the hierarchical polygonal sweep.
 //!
-//! 1. The boundary: the rings are walked through each level with the line
-//!    merge's walker ([`crate::merge::line::Walker`]). A walked triangle is
-//!    a *boundary* triangle when a ring segment meets its open inside (exact
-//!    separating-axis test, [`segment_meets_open_triangle`]): then the
-//!    polygon covers part of it, not all. Every other triangle lies wholly
-//!    inside or wholly outside.
+//! 1. The boundary: the rings are walked once, at the target level, with
+//!    the line merge's walker ([`crate::merge::line::Walker`]). A walked
+//!    triangle is a *boundary* triangle when a ring segment meets its open
+//!    inside (exact separating-axis test, [`segment_meets_open_triangle`]):
+//!    then the polygon covers part of it, not all. The parent of a boundary
+//!    triangle is a boundary triangle, so the coarser levels' boundary comes
+//!    from parent links; a segment that only runs along the edges of the
+//!    fine triangles it touches is tested again against their ancestors
+//!    (it may cross a coarse triangle's inside). Every other triangle lies
+//!    wholly inside or wholly outside.
 //! 2. The sweep at the coarsest level: from the boundary inward, over
 //!    triangle adjacency. A triangle that no ring touches has the status of
 //!    its neighbour; next to the boundary the status is decided by an exact
@@ -267,22 +271,13 @@ pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
         for j in 0..3 {
             let (a, b) = (t[j], t[(j + 1) % 3]);
             let h = |p: P2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-            let mut out = Vec::with_capacity(poly.len());
-            for i in 0..poly.len() {
-                let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
-                let (hp, hq) = (h(p), h(q));
-                if hp >= 0.0 {
-                    out.push(p);
-                }
-                if (hp >= 0.0) != (hq >= 0.0) {
-                    let s = hp / (hp - hq);
-                    out.push([p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])]);
-                }
-            }
-            poly = out;
-            if poly.is_empty() {
+            poly = crate::merge::clip::clip_convex(&poly, &h);
+            if poly.len() < 3 {
                 break;
             }
+        }
+        if poly.len() < 3 {
+            continue;
         }
         sum += crate::merge::clip::Moments::of_polygon(o, &poly).a;
     }

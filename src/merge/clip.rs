@@ -258,8 +258,9 @@ pub fn clipped_moments(
     m
 }
 
-/// The convex polygon `conv` cut to where `h >= 0` (Sutherland-Hodgman
-/// against one half-plane; h linear).
+/// The polygon `conv` cut to where `h >= 0` (Sutherland-Hodgman against
+/// one half-plane; h linear). A non-convex polygon may come out with
+/// zero-width bridges along the line, which add no area.
 pub fn clip_convex(conv: &[P2], h: &dyn Fn(P2) -> f64) -> Vec<P2> {
     let n = conv.len();
     let mut out = Vec::with_capacity(n + 1);
