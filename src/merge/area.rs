@@ -54,6 +54,7 @@
 use crate::merge::clip::{clipped_moments, Chain};
 use crate::merge::line::{Sink, Walker, P2};
 use crate::merge::polygon::{c, segment_meets_open_triangle, Area, Where};
+use crate::merge::Ticker;
 use crate::tin::{Tin, TinError, NONE};
 use robust::orient2d;
 
@@ -288,22 +289,6 @@ pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
 #[inline]
 pub fn tri_area(t: &[P2; 3]) -> f64 {
     ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1])) / 2.0
-}
-
-struct Ticker<'a> {
-    n: u32,
-    f: &'a mut dyn FnMut() -> Result<(), TinError>,
-}
-
-impl Ticker<'_> {
-    #[inline]
-    fn tick(&mut self) -> Result<(), TinError> {
-        self.n = self.n.wrapping_add(1);
-        if self.n.is_multiple_of(4096) {
-            (self.f)()?;
-        }
-        Ok(())
-    }
 }
 
 fn corrupt(what: &str) -> TinError {
