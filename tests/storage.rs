@@ -44,7 +44,7 @@ fn crafted_values_with_valid_hash_are_rejected() {
     let body = HEADER_LEN;
     let nv = u32::from_le_bytes(b[20..24].try_into().unwrap()) as usize;
     let tris = body + nv * 24; // first triangle of level 0
-    type Damage = Box<dyn Fn(&mut Vec<u8>)>;
+    type Damage<'a> = Box<dyn Fn(&mut Vec<u8>) + 'a>;
     let cases: Vec<(&str, Damage)> = vec![
         (
             "vertex index out of range",
