@@ -28,8 +28,9 @@ if ! grep -qs "pg15" "${PGRX_HOME:-$HOME/.pgrx}/config.toml"; then
   cargo pgrx init --pg15 "$PG_CONFIG"
 fi
 
-# Python libraries used by the independent property test
-if ! python3 -c "import numpy, matplotlib, shapely" 2>/dev/null; then
+# Python libraries used by the independent property tests and the
+# benchmark (exactextract: the coverage-weighted oracle for raster stats)
+if ! python3 -c "import numpy, matplotlib, shapely, exactextract" 2>/dev/null; then
   echo "== installing Python test libraries"
-  python3 -m pip install -q numpy matplotlib shapely
+  python3 -m pip install -q numpy matplotlib shapely exactextract
 fi

@@ -44,4 +44,6 @@ tests/dump_restore.sh
 
 echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 python3 tests/properties/check_hierarchy.py
+echo "== coverage-weighted raster statistics against exactextract"
+python3 tests/properties/check_raster_exactextract.py
 echo "== all tests passed"

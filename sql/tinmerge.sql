@@ -160,6 +160,9 @@ COMMENT ON FUNCTION _tin_area_triangles(tin, bytea, int, boolean, text) IS 'Inte
 COMMENT ON FUNCTION _tin_area_stats(tin, bytea, int, text, boolean) IS 'Internal: use tin_area_stats(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_volume(tin, bytea, float8, int, text, boolean) IS 'Internal: use tin_volume(tin, geometry, float8, int).';
 COMMENT ON FUNCTION _tin_area_examined(tin, bytea, int, text) IS 'Internal (benchmark): triangles examined and rows given by the area sweep with method hierarchy, flat or scan.';
+COMMENT ON FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean) IS 'Internal: use tin_raster_stats(tin, raster, int, int, boolean).';
+COMMENT ON FUNCTION _tin_paint(tin, bytea, int) IS 'Internal: use tin_paint(tin, raster, int).';
+COMMENT ON FUNCTION _tin_raster_pixels(tin, bytea, int, int) IS 'Internal: use tin_raster_pixels(tin, raster, int, int).';
 COMMENT ON FUNCTION _tin_linetree(bytea) IS 'Internal: use tin_linetree(geometry).';
 COMMENT ON FUNCTION _tin_line_segments_tree(tin, linetree, int) IS 'Internal: use tin_line_segments(tin, linetree, int).';
 COMMENT ON FUNCTION linetree_in(cstring) IS 'Text input of linetree: hex of the binary form, fully validated (every error bound recomputed).';
@@ -170,3 +173,25 @@ COMMENT ON FUNCTION tin_in(cstring) IS 'Text input of tin: hex of the binary for
 COMMENT ON FUNCTION tin_out(tin) IS 'Text output of tin: hex of the binary form.';
 COMMENT ON FUNCTION tin_recv(internal) IS 'Binary input of tin, fully validated.';
 COMMENT ON FUNCTION tin_send(tin) IS 'Binary output of tin.';
+
+-- raster merge
+CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false)
+RETURNS TABLE(triangle int, count bigint, sum float8, mean float8, min float8, max float8, mode float8) AS
+$$ SELECT * FROM _tin_raster_stats($1, $2::bytea, $3, $4, $5) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_raster_stats(tin, raster, int, int, boolean) IS
+'Zonal statistics of a raster band per triangle of a level (NULL = finest). By default (scanline sweep) a pixel belongs to the triangle containing its centre (a centre on a shared edge goes to the triangle east of it, north of an east-west edge; on a vertex to the triangle just east-north-east of it; on the outer boundary to the triangle it lies on). With weighted => true every pixel a triangle overlaps counts by the exact fraction of its area inside the triangle, as exactextract does: count = pixels overlapped, sum = sum of value x fraction, mean = sum / sum of fractions, mode = value of greatest total coverage. Nodata pixels are skipped; triangles receiving no pixel are not returned; mode ties go to the smallest value. The raster must be north-up, in-db, with the tin''s SRID.';
+
+CREATE FUNCTION tin_raster_pixels(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1)
+RETURNS TABLE(triangle int, col int, "row" int, value float8) AS
+$$ SELECT * FROM _tin_raster_pixels($1, $2::bytea, $3, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_raster_pixels(tin, raster, int, int) IS
+'Every valid pixel of a raster band with the triangle of a level (NULL = finest) containing its centre (the rule of tin_raster_stats), in raster order; col and row numbered from 1 as in ST_Value. Nodata pixels and pixels outside the tin are left out.';
+
+CREATE FUNCTION tin_paint(t tin, rast raster, level int DEFAULT NULL)
+RETURNS TABLE(triangle int, r float8, g float8, b float8) AS
+$$ SELECT * FROM _tin_paint($1, $2::bytea, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_paint(tin, raster, int) IS
+'An image painted on the surface: the mean colour (bands 1, 2, 3 as red, green, blue) of the pixels whose centres each triangle of a level (NULL = finest) contains (the rule of tin_raster_stats); a pixel counts when all three bands are valid. Triangles receiving no pixel are not returned.';

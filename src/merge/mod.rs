@@ -5,6 +5,7 @@
 
 pub mod area;
 pub mod clip;
+pub mod coverage;
 pub mod drape;
 pub mod line;
 pub mod linetree;

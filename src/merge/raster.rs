@@ -40,6 +40,7 @@
 //! ```
 
 use crate::io::raster::GeoTransform;
+use crate::merge::coverage::{check_grid, coverage};
 use crate::merge::Ticker;
 use crate::tin::{Tin, TinError, NONE};
 use robust::{orient2d, Coord};
@@ -109,18 +110,7 @@ impl PixelGrid {
     /// The centres of a `width` x `height` raster; rotated or skewed rasters
     /// are refused.
     pub fn new(gt: &GeoTransform, width: usize, height: usize) -> Result<PixelGrid, TinError> {
-        if gt.skew_x != 0.0 || gt.skew_y != 0.0 {
-            return Err(TinError::InvalidParameter(format!(
-                "rotated or skewed rasters are not supported (skew {} {}); resample it north-up first, e.g. with gdalwarp or ST_Transform(rast, ST_SRID(rast), scale_x, scale_y)",
-                gt.skew_x, gt.skew_y
-            )));
-        }
-        if gt.scale_x == 0.0 || gt.scale_y == 0.0 {
-            return Err(TinError::InvalidParameter(format!(
-                "raster pixel size is zero (scale {} {})",
-                gt.scale_x, gt.scale_y
-            )));
-        }
+        check_grid(gt)?;
         let xs = (0..width).map(|c| gt.centre(c, 0).0).collect();
         let ys = (0..height).map(|r| gt.centre(0, r).1).collect();
         Ok(PixelGrid {
@@ -424,11 +414,17 @@ pub fn sweep(
     Ok(())
 }
 
-/// Statistics of the valid pixels handed to one triangle.
+/// Statistics of the valid pixels handed to one triangle (or, weighted,
+/// of the valid pixels it overlaps, each counting by its coverage).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ZoneStats {
     pub triangle: u32,
+    /// Pixels handed over (weighted: pixels overlapped).
     pub count: u64,
+    /// Sum of the pixels' weights: `count` unweighted, the pixel area of
+    /// the triangle's valid cover when weighted.
+    pub weight: f64,
+    /// Sum of values (weighted: of value times coverage).
     pub sum: f64,
     pub min: f64,
     pub max: f64,
@@ -438,7 +434,19 @@ pub struct ZoneStats {
 
 impl ZoneStats {
     pub fn mean(&self) -> f64 {
-        self.sum / self.count as f64
+        self.sum / self.weight
+    }
+
+    fn empty(triangle: u32) -> ZoneStats {
+        ZoneStats {
+            triangle,
+            count: 0,
+            weight: 0.0,
+            sum: 0.0,
+            min: f64::INFINITY,
+            max: f64::NEG_INFINITY,
+            mode: None,
+        }
     }
 }
 
@@ -469,16 +477,7 @@ pub fn zonal_stats(
         )));
     }
     let n = tin.levels.get(level).map_or(0, |l| l.tris.len());
-    let mut st: Vec<ZoneStats> = (0..n as u32)
-        .map(|t| ZoneStats {
-            triangle: t,
-            count: 0,
-            sum: 0.0,
-            min: f64::INFINITY,
-            max: f64::NEG_INFINITY,
-            mode: None,
-        })
-        .collect();
+    let mut st: Vec<ZoneStats> = (0..n as u32).map(ZoneStats::empty).collect();
     let mut spans: Vec<(u32, u32, u32, u32)> = Vec::new();
     let w = g.width;
     sweep(tin, level, g, false, interrupt, &mut |t, r, c0, c1| {
@@ -523,7 +522,137 @@ pub fn zonal_stats(
         }
     }
     st.retain(|z| z.count > 0);
+    for z in &mut st {
+        z.weight = z.count as f64;
+    }
     Ok(st)
+}
+
+/// Coverage-weighted per-triangle statistics of a band: every valid pixel
+/// a triangle overlaps counts by the exact fraction `f` of its area inside
+/// the triangle (as exactextract does for polygons): `weight` = sum of `f`,
+/// `sum` = sum of `f * value`, `mean` their ratio, `min`/`max` over the
+/// overlapped pixels, `mode` the value of greatest total coverage
+/// (smallest on ties). Triangles overlapping no valid pixel are left out.
+#[allow(clippy::too_many_arguments)]
+pub fn weighted_stats(
+    tin: &Tin,
+    level: usize,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    values: &[f64],
+    nodata: Option<f64>,
+    want_mode: bool,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Vec<ZoneStats>, TinError> {
+    if values.len() != width * height {
+        return Err(TinError::InvalidParameter(format!(
+            "raster band has {} values for {width} x {height} pixels",
+            values.len()
+        )));
+    }
+    let mut out: Vec<ZoneStats> = Vec::new();
+    let mut cur = ZoneStats::empty(u32::MAX);
+    let mut pairs: Vec<(f64, f64)> = Vec::new();
+    let mut finish = |z: &mut ZoneStats, pairs: &mut Vec<(f64, f64)>| {
+        if z.count > 0 {
+            if want_mode {
+                z.mode = weighted_mode(pairs);
+            }
+            out.push(z.clone());
+        }
+        pairs.clear();
+    };
+    coverage(
+        tin,
+        level,
+        gt,
+        width,
+        height,
+        interrupt,
+        &mut |t, r, c, f| {
+            let v = values[r * width + c];
+            if !is_data(v, nodata) {
+                return;
+            }
+            if t != cur.triangle {
+                finish(&mut cur, &mut pairs);
+                cur = ZoneStats::empty(t);
+            }
+            cur.count += 1;
+            cur.weight += f;
+            cur.sum += f * v;
+            cur.min = cur.min.min(v);
+            cur.max = cur.max.max(v);
+            if want_mode {
+                pairs.push((v, f));
+            }
+        },
+    )?;
+    finish(&mut cur, &mut pairs);
+    Ok(out)
+}
+
+/// The value of greatest total weight, smallest on ties.
+fn weighted_mode(pairs: &mut [(f64, f64)]) -> Option<f64> {
+    pairs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<(f64, f64)> = None;
+    let mut i = 0;
+    while i < pairs.len() {
+        let mut j = i;
+        let mut wsum = 0.0;
+        while j < pairs.len() && pairs[j].0 == pairs[i].0 {
+            wsum += pairs[j].1;
+            j += 1;
+        }
+        if best.is_none_or(|(bw, _)| wsum > bw) {
+            best = Some((wsum, pairs[i].0));
+        }
+        i = j;
+    }
+    best.map(|(_, v)| v)
+}
+
+/// The mean colour of each triangle: every pixel whose centre a triangle
+/// owns (the rule of [`sweep`]) and whose three bands are all valid adds
+/// its (r, g, b). Returns `(triangle, pixels, [r, g, b] means)` for the
+/// triangles receiving a pixel, in triangle order.
+pub fn paint(
+    tin: &Tin,
+    level: usize,
+    g: &PixelGrid,
+    bands: [&[f64]; 3],
+    nodata: [Option<f64>; 3],
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Vec<(u32, u64, [f64; 3])>, TinError> {
+    if bands.iter().any(|b| b.len() != g.width * g.height) {
+        return Err(TinError::InvalidParameter(format!(
+            "raster bands do not hold {} x {} pixels",
+            g.width, g.height
+        )));
+    }
+    let n = tin.levels.get(level).map_or(0, |l| l.tris.len());
+    let mut acc = vec![(0u64, [0.0f64; 3]); n];
+    let w = g.width;
+    sweep(tin, level, g, false, interrupt, &mut |t, r, c0, c1| {
+        let a = &mut acc[t as usize];
+        for i in r * w + c0..r * w + c1 {
+            let px = [bands[0][i], bands[1][i], bands[2][i]];
+            if (0..3).all(|k| is_data(px[k], nodata[k])) {
+                a.0 += 1;
+                for k in 0..3 {
+                    a.1[k] += px[k];
+                }
+            }
+        }
+    })?;
+    Ok(acc
+        .into_iter()
+        .enumerate()
+        .filter(|(_, a)| a.0 > 0)
+        .map(|(t, (cnt, s))| (t as u32, cnt, s.map(|v| v / cnt as f64)))
+        .collect())
 }
 
 /// Most frequent value, smallest on ties.

@@ -48,6 +48,7 @@ mod functions;
 mod line;
 mod linetree;
 mod point;
+mod raster;
 mod types;
 
 ::pgrx::pg_module_magic!(name, version);

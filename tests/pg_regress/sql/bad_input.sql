@@ -93,6 +93,19 @@ SELECT try($$SELECT * FROM terrain, tin_area_stats(t, 'SRID=32616;POLYGON((74000
 SELECT try($$SELECT * FROM terrain, tin_volume(t, ST_Expand(tin_envelope(t), -10), 'NaN')$$);
 SELECT try($$SELECT * FROM terrain, tin_volume(t, ST_Expand(tin_envelope(t), -10), 'Infinity')$$);
 SELECT try($$SELECT * FROM terrain, tin_volume(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 0)$$);
+-- raster merge
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_stats(t, ST_SetSRID(rast, 4326))$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_stats(t, ST_SetSRID(rast, 0))$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_pixels(t, ST_SetSkew(rast, 0.5, 0))$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_stats(t, ST_SetScale(rast, 0, -90), weighted => true)$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_stats(t, rast, 0, 2)$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_stats(t, rast, 0, 0)$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_pixels(t, rast, 0, -1)$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_raster_stats(t, rast, 9)$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_paint(t, rast)$$);
+SELECT try($$SELECT * FROM terrain, dem, tin_paint(t, ST_SetSRID(ST_ColorMap(rast, 'bluered'), 4326))$$);
+SELECT try($$SELECT * FROM terrain, tin_raster_stats(t, '0100000100000000000080564000000000008056c0000000004095264100000000b0f94e4100000000000000000000000000000000687f00000a000a008a003c1cc6002f746d702f616273656e742e74696600'::raster)$$);
+SELECT try($$SELECT * FROM terrain, tin_paint(t, '0100000100000000000080564000000000008056c0000000004095264100000000b0f94e4100000000000000000000000000000000687f00000a000a008a003c1cc6002f746d702f616273656e742e74696600'::raster)$$);
 -- NULL and empty inputs give NULL (or no rows), never an error
 SELECT tin_height(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin,
        tin_height(t, NULL::geometry) IS NULL AS null_geom,
@@ -101,5 +114,8 @@ SELECT tin_height(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin,
        tin_drape(t, 'SRID=32616;MULTIPOINT EMPTY'::geometry) IS NULL AS empty_drape,
        tin_height(t, 'POINT(740000 4060000)'::geometry) IS NOT NULL AS srid_0_accepted,
        (SELECT count(*) FROM tin_footprint(t, NULL, 1, 1, 0)) AS null_footprint,
-       (SELECT count(*) FROM tin_footprint(t, 'SRID=32616;POINT EMPTY'::geometry, 1, 1, 0)) AS empty_footprint
+       (SELECT count(*) FROM tin_footprint(t, 'SRID=32616;POINT EMPTY'::geometry, 1, 1, 0)) AS empty_footprint,
+       (SELECT count(*) FROM tin_raster_stats(NULL, NULL)) AS null_raster_stats,
+       (SELECT count(*) FROM dem, tin_raster_stats(t, rast, 0, 1, NULL)) AS null_weighted,
+       (SELECT count(*) FROM dem, tin_paint(NULL, rast)) AS null_paint
 FROM terrain;
