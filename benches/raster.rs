@@ -9,7 +9,7 @@ mod common;
 use std::hint::black_box;
 use std::time::Instant;
 use tinmerge::io::raster::GeoTransform;
-use tinmerge::merge::raster::{sweep, zonal_stats, PixelGrid};
+use tinmerge::merge::raster::{sweep, weighted_stats, zonal_stats, PixelGrid};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -19,8 +19,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn main() {
     let tin = common::dem_tin();
     let d = common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    println!("| raster | pixels | level | triangles | sweep only ms | Mpx/s | mean per triangle ms | Mpx/s | + mode ms |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| raster | pixels | level | triangles | sweep only ms | Mpx/s | mean per triangle ms | Mpx/s | + mode ms | weighted mean ms | Mpx/s |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for f in [1usize, 4, 8] {
         let (w, h) = (d.width * f, d.height * f);
         let mut values = vec![0.0; w * h];
@@ -39,7 +39,8 @@ fn main() {
         };
         let g = PixelGrid::new(&gt, w, h).unwrap();
         for level in [0, 2, 4] {
-            let (mut ts, mut tm, mut tmode) = (Vec::new(), Vec::new(), Vec::new());
+            let (mut ts, mut tm, mut tmode, mut tw) =
+                (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             for _ in 0..5 {
                 let t0 = Instant::now();
                 let mut n = 0usize;
@@ -64,11 +65,27 @@ fn main() {
                     zonal_stats(&tin, level, &g, &values, d.nodata, true, &mut || Ok(())).unwrap(),
                 );
                 tmode.push(t0.elapsed().as_secs_f64());
+                let t0 = Instant::now();
+                black_box(
+                    weighted_stats(
+                        &tin,
+                        level,
+                        &gt,
+                        w,
+                        h,
+                        &values,
+                        d.nodata,
+                        false,
+                        &mut || Ok(()),
+                    )
+                    .unwrap(),
+                );
+                tw.push(t0.elapsed().as_secs_f64());
             }
-            let (s, m, mo) = (median(ts), median(tm), median(tmode));
+            let (s, m, mo, wt) = (median(ts), median(tm), median(tmode), median(tw));
             let px = (w * h) as f64;
             println!(
-                "| DEM{} | {} | {} | {} | {:.2} | {:.0} | {:.2} | {:.0} | {:.2} |",
+                "| DEM{} | {} | {} | {} | {:.2} | {:.0} | {:.2} | {:.0} | {:.2} | {:.2} | {:.0} |",
                 if f == 1 {
                     String::new()
                 } else {
@@ -81,7 +98,9 @@ fn main() {
                 px / s / 1e6,
                 m * 1e3,
                 px / m / 1e6,
-                mo * 1e3
+                mo * 1e3,
+                wt * 1e3,
+                px / wt / 1e6
             );
         }
     }

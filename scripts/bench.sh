@@ -175,5 +175,10 @@ LATERAL (SELECT (SELECT median_ms FROM bench('', format($q$SELECT count(*), sum(
 ORDER BY a.ord;
 SQL
 
+echo "== raster merge: per-triangle mean of the DEM and a 4x finer copy, every level (tinmerge, exactextract, PostGIS)"
+TINMERGE_DB=tinmerge_bench python3 scripts/bench-raster.py
+echo "== core raster sweep (cargo bench --bench raster)"
+cargo bench --bench raster 2>/dev/null
+
 echo "== core locate (cargo bench --bench locate): ns per point"
 cargo bench --bench locate 2>/dev/null

@@ -637,13 +637,14 @@ pub fn paint(
     let w = g.width;
     sweep(tin, level, g, false, interrupt, &mut |t, r, c0, c1| {
         let a = &mut acc[t as usize];
-        for i in r * w + c0..r * w + c1 {
-            let px = [bands[0][i], bands[1][i], bands[2][i]];
-            if (0..3).all(|k| is_data(px[k], nodata[k])) {
+        let (lo, hi) = (r * w + c0, r * w + c1);
+        let (rs, gs, bs) = (&bands[0][lo..hi], &bands[1][lo..hi], &bands[2][lo..hi]);
+        for ((&rv, &gv), &bv) in rs.iter().zip(gs).zip(bs) {
+            if is_data(rv, nodata[0]) && is_data(gv, nodata[1]) && is_data(bv, nodata[2]) {
                 a.0 += 1;
-                for k in 0..3 {
-                    a.1[k] += px[k];
-                }
+                a.1[0] += rv;
+                a.1[1] += gv;
+                a.1[2] += bv;
             }
         }
     })?;

@@ -102,16 +102,25 @@ SELECT level, count(*) AS triangles,
 FROM r_wours o FULL JOIN r_wsql w USING (level, triangle)
 GROUP BY 1 ORDER BY 1;
 -- a small triangle owning no pixel centre still gets a weighted value:
--- with pixels 4x the DEM's, triangles of level 4 without a centre
-SELECT count(*) FILTER (WHERE c.triangle IS NULL) > 0 AS some_only_weighted,
-       count(*) FILTER (WHERE c.triangle IS NULL AND w.mean IS NULL) AS missing
-FROM terrain, dem d, tin_raster_stats(t, ST_Rescale(d.rast, 4 * ST_ScaleX(d.rast), 4 * ST_ScaleY(d.rast)), 4, weighted => true) w
-LEFT JOIN (SELECT s.triangle FROM terrain, dem d, tin_raster_stats(t, ST_Rescale(d.rast, 4 * ST_ScaleX(d.rast), 4 * ST_ScaleY(d.rast)), 4) s) c USING (triangle);
--- weighted over a whole raster: the fractions of the pixels inside the
--- domain add up to the domain's area in pixels
-SELECT round((sum(s.sum / s.mean) * 90 * 90 / ST_Area(d.geom))::numeric, 9) AS weight_over_area
+-- with pixels 4x the DEM's, triangles of level 4 without a centre; the
+-- triangles without a weighted value overlap no valid pixel polygon
+CREATE TABLE r_coarse AS SELECT ST_Rescale(rast, 4 * ST_ScaleX(rast), 4 * ST_ScaleY(rast)) AS rast FROM dem;
+CREATE TABLE r_coarse_cells AS SELECT p.geom FROM r_coarse, ST_PixelAsPolygons(rast, 1, true) p;
+CREATE INDEX ON r_coarse_cells USING gist (geom);
+CREATE TABLE r_coarse_w AS SELECT s.triangle FROM terrain, r_coarse, tin_raster_stats(t, rast, 4, weighted => true) s;
+SELECT count(*) FILTER (WHERE c.triangle IS NULL) > 0 AS some_only_weighted
+FROM r_coarse_w w
+LEFT JOIN (SELECT s.triangle FROM terrain, r_coarse, tin_raster_stats(t, rast, 4) s) c USING (triangle);
+SELECT count(*) > 0 AS some_without_value,
+       count(*) FILTER (WHERE EXISTS (SELECT 1 FROM r_coarse_cells c WHERE ST_Intersects(c.geom, tr.geom)
+                                      AND ST_Area(ST_Intersection(c.geom, tr.geom)) > 1e-9 * ST_Area(c.geom))) AS but_overlapped
+FROM terrain, tin_triangles(t, 4) tr WHERE tr.id NOT IN (SELECT triangle FROM r_coarse_w);
+-- weighted over a band of ones without nodata: the fractions add up to the
+-- domain's area in pixels, and every mean is 1
+SELECT round((sum(s.sum) * 90 * 90 / ST_Area(d.geom))::numeric, 9) AS weight_over_area,
+       count(*) FILTER (WHERE abs(s.mean - 1) > 1e-12) AS mean_not_1
 FROM terrain, dem, r_domain d,
-     tin_raster_stats(t, ST_MapAlgebra(rast, 1, '32BF', '1', -9999), 2, weighted => true) s
+     tin_raster_stats(t, ST_AddBand(ST_MakeEmptyRaster(rast), '32BF'::text, 1, NULL), 2, weighted => true) s
 GROUP BY d.geom;
 -- tin_paint: the mean of each band over the pixels tin_raster_pixels hands
 -- to the triangle with all three bands valid (colour map of the DEM: bands
