@@ -163,6 +163,9 @@ COMMENT ON FUNCTION _tin_area_examined(tin, bytea, int, text) IS 'Internal (benc
 COMMENT ON FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean) IS 'Internal: use tin_raster_stats(tin, raster, int, int, boolean).';
 COMMENT ON FUNCTION _tin_paint(tin, bytea, int) IS 'Internal: use tin_paint(tin, raster, int).';
 COMMENT ON FUNCTION _tin_raster_pixels(tin, bytea, int, int) IS 'Internal: use tin_raster_pixels(tin, raster, int, int).';
+COMMENT ON FUNCTION _tin_overlay(tin, tin, int, int) IS 'Internal: use tin_overlay(tin, tin, int, int).';
+COMMENT ON FUNCTION _tin_overlay_tin(tin, tin, int, int) IS 'Internal: use tin_overlay_tin(tin, tin, int, int).';
+COMMENT ON FUNCTION _tin_difference(tin, tin, int, int) IS 'Internal: use tin_difference(tin, tin, int, int).';
 COMMENT ON FUNCTION _tin_linetree(bytea) IS 'Internal: use tin_linetree(geometry).';
 COMMENT ON FUNCTION _tin_line_segments_tree(tin, linetree, int) IS 'Internal: use tin_line_segments(tin, linetree, int).';
 COMMENT ON FUNCTION linetree_in(cstring) IS 'Text input of linetree: hex of the binary form, fully validated (every error bound recomputed).';
@@ -195,3 +198,25 @@ $$ SELECT * FROM _tin_paint($1, $2::bytea, $3) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_paint(tin, raster, int) IS
 'An image painted on the surface: the mean colour (bands 1, 2, 3 as red, green, blue) of the pixels whose centres each triangle of a level (NULL = finest) contains (the rule of tin_raster_stats); a pixel counts when all three bands are valid. Triangles receiving no pixel are not returned.';
+
+-- TIN/TIN overlay
+CREATE FUNCTION tin_overlay(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
+RETURNS TABLE(id int, triangle_a int, triangle_b int, geom_a geometry, geom_b geometry) AS
+$$ SELECT id, triangle_a, triangle_b, geom_a::geometry, geom_b::geometry FROM _tin_overlay($1, $2, $3, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_overlay(tin, tin, int, int) IS
+'Overlay of two tins at their levels (NULL = finest): a triangulation of the common domain holding every vertex and every edge of both (edges cut where they cross). Each output triangle with the triangle of a and of b containing it (ids as in tin_triangles) and twice as POLYGON Z: heights from surface a, then from surface b. Both tins must have the same SRID; disjoint domains give no rows.';
+
+CREATE FUNCTION tin_overlay_tin(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
+RETURNS tin AS
+$$ SELECT _tin_overlay_tin($1, $2, $3, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_overlay_tin(tin, tin, int, int) IS
+'The overlay of tin_overlay as a single-level tin with heights from a (tolerance 0), so every other merge works on it. NULL when the domains do not overlap.';
+
+CREATE FUNCTION tin_difference(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
+RETURNS TABLE(cut float8, fill float8, area_changed float8) AS
+$$ SELECT * FROM _tin_difference($1, $2, $3, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE;
+COMMENT ON FUNCTION tin_difference(tin, tin, int, int) IS
+'Surface difference of a against b over their common domain (as ArcGIS Surface Difference): cut = volume where a is above b, fill = volume where a is below b, area_changed = planar area where they differ. Exact for the linear surfaces: computed on the overlay, each triangle split at the line where a = b. No row when the domains do not overlap.';

@@ -9,6 +9,7 @@ pub mod coverage;
 pub mod drape;
 pub mod line;
 pub mod linetree;
+pub mod overlay;
 pub mod point;
 pub mod polygon;
 pub mod raster;

@@ -47,6 +47,7 @@ mod cache;
 mod functions;
 mod line;
 mod linetree;
+mod overlay;
 mod point;
 mod raster;
 mod types;

@@ -590,3 +590,24 @@ pub fn child_starts(parent: &[u32], num_parents: usize) -> Vec<u32> {
     }
     cs
 }
+
+/// A single-level tin from a triangulation given as vertices and
+/// counter-clockwise triangles (an overlay, for instance). Tolerance and
+/// maximum error of the level are 0: the triangles are the surface.
+pub fn from_triangles(
+    verts: Vec<[f64; 3]>,
+    tris: Vec<[u32; 3]>,
+    srid: i32,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Tin, TinError> {
+    if tris.is_empty() {
+        return Err(TinError::Degenerate("no triangles to make a tin of".into()));
+    }
+    let n = verts.len();
+    if tris.iter().flatten().any(|&v| v as usize >= n) {
+        return Err(TinError::InvalidParameter(
+            "a triangle refers to a vertex that does not exist".into(),
+        ));
+    }
+    assemble(verts, vec![(0.0, 0.0, n as u32, tris)], srid, interrupt)
+}

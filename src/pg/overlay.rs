@@ -1,0 +1,110 @@
+//! SQL functions of the TIN/TIN overlay: `tin_overlay`, `tin_overlay_tin`,
+//! `tin_difference`. Not STRICT (a NULL level means finest): a NULL tin
+//! gives no rows (NULL from `tin_overlay_tin`).
+
+use pgrx::prelude::*;
+
+use super::types::{TinArg, TinOut};
+use super::{interrupt, raise, tin_level, OrRaise};
+use crate::io::ewkb;
+use crate::merge::overlay::{difference, overlay, Overlay};
+use crate::tin::build::from_triangles;
+
+/// The overlay of two tin arguments at their levels, SRIDs checked, with
+/// the SRID of the result.
+fn overlay_args(
+    a: &TinArg,
+    level_a: Option<i32>,
+    b: &TinArg,
+    level_b: Option<i32>,
+    func: &str,
+) -> (Overlay, i32) {
+    let (ta, la) = tin_level(a, level_a);
+    let (tb, lb) = tin_level(b, level_b);
+    if ta.srid != tb.srid {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func}: tin a has SRID {} but tin b has SRID {}; build both in the same spatial reference system",
+                ta.srid, tb.srid
+            ),
+        );
+    }
+    (
+        overlay(&ta, la, &tb, lb, &mut interrupt).or_raise(),
+        ta.srid,
+    )
+}
+
+type OverlayRow = (i32, i32, i32, Vec<u8>, Vec<u8>);
+
+#[allow(clippy::type_complexity)]
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_overlay(
+    a: Option<TinArg>,
+    b: Option<TinArg>,
+    level_a: Option<i32>,
+    level_b: Option<i32>,
+) -> TableIterator<
+    'static,
+    (
+        name!(id, i32),
+        name!(triangle_a, i32),
+        name!(triangle_b, i32),
+        name!(geom_a, Vec<u8>),
+        name!(geom_b, Vec<u8>),
+    ),
+> {
+    let (Some(a), Some(b)) = (a, b) else {
+        return TableIterator::new(Vec::<OverlayRow>::new());
+    };
+    let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay");
+    TableIterator::new((0..o.tris.len()).map(move |t| {
+        (
+            t as i32,
+            o.tri_a[t] as i32,
+            o.tri_b[t] as i32,
+            ewkb::Writer::triangle_polygon(srid, &o.corners(t, false)),
+            ewkb::Writer::triangle_polygon(srid, &o.corners(t, true)),
+        )
+    }))
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_overlay_tin(
+    a: Option<TinArg>,
+    b: Option<TinArg>,
+    level_a: Option<i32>,
+    level_b: Option<i32>,
+) -> Option<TinOut> {
+    let (a, b) = (a?, b?);
+    let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay_tin");
+    if o.tris.is_empty() {
+        return None;
+    }
+    let verts: Vec<[f64; 3]> = o
+        .pts
+        .iter()
+        .zip(&o.za)
+        .map(|(p, &z)| [p[0], p[1], z])
+        .collect();
+    let tin = from_triangles(verts, o.tris, srid, &mut interrupt).or_raise();
+    Some(TinOut::from_tin(&tin))
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_difference(
+    a: Option<TinArg>,
+    b: Option<TinArg>,
+    level_a: Option<i32>,
+    level_b: Option<i32>,
+) -> TableIterator<'static, (name!(cut, f64), name!(fill, f64), name!(area_changed, f64))> {
+    let (Some(a), Some(b)) = (a, b) else {
+        return TableIterator::new(Vec::new());
+    };
+    let (o, _) = overlay_args(&a, level_a, &b, level_b, "tin_difference");
+    if o.tris.is_empty() {
+        return TableIterator::new(Vec::new());
+    }
+    TableIterator::new(vec![difference(&o)])
+}
