@@ -1,0 +1,124 @@
+-- TIN/TIN overlay against PostGIS: the common domain from ST_ConvexHull and
+-- ST_Intersection, overlap by ST_Union, containment by ST_Covers, input
+-- vertices and edges from tin_triangles with ST_DumpPoints/ST_DumpSegments,
+-- heights from tin_height on the inputs.
+SET extra_float_digits = 0;
+-- two epochs of a 60 x 60 pixel window: b shifted by a fraction of a pixel
+-- and built at other tolerances, c the same samples as a at other
+-- tolerances (shared vertices, overlapping edges), raised = a + 1 m, and
+-- far = a window that does not meet a
+CREATE TABLE o_win AS
+  SELECT ST_Clip(rast, ST_MakeEnvelope(ST_UpperLeftX(rast) + 100 * ST_ScaleX(rast), ST_UpperLeftY(rast) + 160 * ST_ScaleY(rast),
+                                       ST_UpperLeftX(rast) + 160 * ST_ScaleX(rast), ST_UpperLeftY(rast) + 100 * ST_ScaleY(rast), 32616)) AS rast
+  FROM dem;
+CREATE TABLE o_tins AS
+  SELECT 'a' AS name, tin_from_raster(rast, 4.0, 2) AS t FROM o_win
+  UNION ALL SELECT 'b', tin_from_raster(ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + 0.37 * ST_ScaleX(rast), ST_UpperLeftY(rast) + 0.61 * ST_ScaleY(rast)), 2.5, 2) FROM o_win
+  UNION ALL SELECT 'c', tin_from_raster(rast, 1.5, 2) FROM o_win
+  UNION ALL SELECT 'raised', tin_from_raster(ST_MapAlgebra(rast, 1, NULL, '[rast] + 1'), 4.0, 2) FROM o_win
+  UNION ALL SELECT 'far', tin_from_raster(ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + 1e5, ST_UpperLeftY(rast)), 4.0, 2) FROM o_win;
+CREATE TABLE o_pairs AS
+  SELECT a.name || '/' || b.name || '@' || la AS pair, a.t AS ta, b.t AS tb, la AS level
+  FROM o_tins a, o_tins b, unnest(ARRAY[0, 1]) la
+  WHERE a.name = 'a' AND b.name IN ('a', 'b', 'c');
+CREATE TABLE o_out AS
+  SELECT pair, o.* FROM o_pairs, tin_overlay(ta, tb, level, level) o;
+CREATE INDEX ON o_out USING gist (geom_a);
+CREATE TABLE o_dom AS
+  SELECT pair, ST_Intersection(ST_ConvexHull(tin_as_geometry(ta, level)), ST_ConvexHull(tin_as_geometry(tb, level))) AS geom
+  FROM o_pairs;
+-- area of the common domain, no overlaps (area of the union), every
+-- triangle non-degenerate
+SELECT p.pair, count(*) > 0 AS some,
+       abs(sum(ST_Area(o.geom_a)) - ST_Area(d.geom)) <= 1e-9 * ST_Area(d.geom) AS area_is_domain,
+       abs(ST_Area(ST_Union(o.geom_a)) - sum(ST_Area(o.geom_a))) <= 1e-9 * ST_Area(d.geom) AS no_overlap,
+       count(*) FILTER (WHERE ST_Area(o.geom_a) <= 0) AS degenerate,
+       count(*) FILTER (WHERE NOT ST_Equals(ST_Force2D(o.geom_a), ST_Force2D(o.geom_b))) AS geoms_differ
+FROM o_pairs p JOIN o_out o USING (pair) JOIN o_dom d USING (pair)
+GROUP BY p.pair, d.geom ORDER BY 1;
+-- each output triangle inside its triangle of a and of b
+CREATE TABLE o_tri AS
+  SELECT p.pair, 'a' AS side, tr.id, tr.geom FROM o_pairs p, tin_triangles(p.ta, p.level) tr
+  UNION ALL SELECT p.pair, 'b', tr.id, tr.geom FROM o_pairs p, tin_triangles(p.tb, p.level) tr;
+CREATE INDEX ON o_tri (pair, side, id);
+ANALYZE o_tri;
+SELECT o.pair,
+       count(*) FILTER (WHERE NOT ST_Covers(ST_Buffer(ta.geom, 1e-6), o.geom_a)) AS outside_a,
+       count(*) FILTER (WHERE NOT ST_Covers(ST_Buffer(tb.geom, 1e-6), o.geom_a)) AS outside_b
+FROM o_out o
+JOIN o_tri ta ON ta.pair = o.pair AND ta.side = 'a' AND ta.id = o.triangle_a
+JOIN o_tri tb ON tb.pair = o.pair AND tb.side = 'b' AND tb.id = o.triangle_b
+GROUP BY 1 ORDER BY 1;
+-- every input vertex in the common domain is an output vertex
+CREATE TABLE o_outpts AS
+  SELECT DISTINCT pair, ST_AsBinary(ST_Force2D((ST_DumpPoints(geom_a)).geom)) AS k FROM o_out;
+CREATE TABLE o_inpts AS
+  SELECT p.pair, (ST_DumpPoints(tr.geom)).geom AS g FROM o_pairs p, tin_triangles(p.ta, p.level) tr
+  UNION SELECT p.pair, (ST_DumpPoints(tr.geom)).geom FROM o_pairs p, tin_triangles(p.tb, p.level) tr;
+ALTER TABLE o_inpts ADD COLUMN k bytea;
+UPDATE o_inpts SET k = ST_AsBinary(ST_Force2D(g));
+ANALYZE o_inpts;
+ANALYZE o_outpts;
+SELECT v.pair, count(*) AS input_vertices, count(*) FILTER (WHERE op.k IS NULL) AS missing
+FROM o_inpts v JOIN o_dom d USING (pair)
+LEFT JOIN o_outpts op ON op.pair = v.pair AND op.k = v.k
+WHERE ST_Covers(d.geom, v.g)
+GROUP BY 1 ORDER BY 1;
+-- every input edge, clipped to the common domain, is covered by output
+-- edges: their lengths along it add up to its length
+CREATE TABLE o_outsegs AS
+  SELECT DISTINCT pair, ST_Normalize(ST_Force2D((ST_DumpSegments(geom_a)).geom)) AS geom FROM o_out;
+CREATE INDEX ON o_outsegs USING gist (geom);
+CREATE TABLE o_insegs AS
+  SELECT DISTINCT p.pair, ST_Intersection(ST_Normalize(ST_Force2D(s.geom)), d.geom) AS geom
+  FROM o_pairs p JOIN o_dom d USING (pair),
+       LATERAL (SELECT (ST_DumpSegments(tr.geom)).geom FROM tin_triangles(p.ta, p.level) tr
+                UNION ALL SELECT (ST_DumpSegments(tr.geom)).geom FROM tin_triangles(p.tb, p.level) tr) s;
+SELECT i.pair, count(*) AS input_edges,
+       count(*) FILTER (WHERE abs(coalesce(c.len, 0) - ST_Length(i.geom)) > 1e-6 * ST_Length(i.geom)) AS not_covered
+FROM o_insegs i
+LEFT JOIN LATERAL (SELECT sum(ST_Length(s.geom)) AS len FROM o_outsegs s
+                   WHERE s.pair = i.pair AND ST_Covers(ST_Buffer(i.geom, 1e-6), s.geom)) c ON true
+WHERE ST_Length(i.geom) > 1e-3
+GROUP BY 1 ORDER BY 1;
+-- heights: the corners of geom_a on surface a, of geom_b on surface b
+SELECT o.pair,
+       max(abs(ST_Z(v.g) - tin_height(p.ta, ST_Force2D(v.g), p.level))) < 1e-6 AS a_heights,
+       max(abs(ST_Z(w.g) - tin_height(p.tb, ST_Force2D(w.g), p.level))) < 1e-6 AS b_heights
+FROM o_out o JOIN o_pairs p USING (pair),
+     LATERAL (SELECT (ST_DumpPoints(o.geom_a)).geom AS g) v,
+     LATERAL (SELECT (ST_DumpPoints(o.geom_b)).geom AS g) w
+GROUP BY 1 ORDER BY 1;
+-- surface difference: with itself nothing; a + 1 m against a: the
+-- domain's area in cut; b against a: cut and fill against PostGIS's areas
+-- of the parts of the overlay where a is above or below (sampled at
+-- triangle centroids), to 1%
+SELECT d.cut, d.fill, d.area_changed FROM o_tins a, tin_difference(a.t, a.t) d WHERE a.name = 'a';
+SELECT abs(d.cut - ST_Area(ST_ConvexHull(tin_as_geometry(a.t)))) <= 1e-9 * ST_Area(ST_ConvexHull(tin_as_geometry(a.t))) AS cut_is_area,
+       d.fill = 0 AS no_fill,
+       abs(d.area_changed - ST_Area(ST_ConvexHull(tin_as_geometry(a.t)))) <= 1e-9 * ST_Area(ST_ConvexHull(tin_as_geometry(a.t))) AS all_changed
+FROM o_tins r, o_tins a, tin_difference(r.t, a.t) d WHERE r.name = 'raised' AND a.name = 'a';
+SELECT abs(d.cut - s.cut) <= 0.01 * s.cut AS cut_close, abs(d.fill - s.fill) <= 0.01 * s.fill AS fill_close
+FROM o_pairs p, tin_difference(p.ta, p.tb, 1, 1) d,
+     LATERAL (SELECT sum(greatest(dz, 0) * ST_Area(geom_a)) AS cut, sum(greatest(-dz, 0) * ST_Area(geom_a)) AS fill
+              FROM (SELECT geom_a, tin_height(p.ta, ST_Centroid(geom_a), 1) - tin_height(p.tb, ST_Centroid(geom_a), 1) AS dz
+                    FROM tin_overlay(p.ta, p.tb, 1, 1)) x) s
+WHERE p.pair = 'a/b@1';
+-- the overlay as a tin: one level, its triangles, heights from a
+SELECT tin_num_levels(o) AS levels,
+       (SELECT count(*) FROM tin_triangles(o)) = (SELECT count(*) FROM o_out WHERE pair = 'a/b@1') AS same_triangles,
+       (SELECT max(abs(tin_height(o, g) - tin_height(a.t, g))) < 1e-6
+        FROM (SELECT ST_Centroid(geom_a) AS g FROM o_out WHERE pair = 'a/b@1' LIMIT 500) x) AS heights_of_a
+FROM o_tins a, o_tins b, LATERAL (SELECT tin_overlay_tin(a.t, b.t, 1, 1) AS o) x
+WHERE a.name = 'a' AND b.name = 'b';
+-- disjoint domains, NULLs, SRIDs
+SELECT (SELECT count(*) FROM tin_overlay(a.t, f.t)) AS disjoint_rows,
+       tin_overlay_tin(a.t, f.t) IS NULL AS disjoint_tin,
+       (SELECT count(*) FROM tin_difference(a.t, f.t)) AS disjoint_difference,
+       (SELECT count(*) FROM tin_overlay(NULL, a.t)) AS null_rows,
+       tin_overlay_tin(a.t, NULL) IS NULL AS null_tin,
+       (SELECT count(*) FROM tin_overlay(a.t, a.t, NULL, 0)) = (SELECT count(*) FROM tin_triangles(a.t, 1)) AS null_level_is_finest_a
+FROM o_tins a, o_tins f WHERE a.name = 'a' AND f.name = 'far';
+SELECT try($$SELECT count(*) FROM o_win w, o_tins a, tin_overlay(a.t, tin_from_raster(ST_SetSRID(w.rast, 32617), 4.0, 2)) WHERE a.name = 'a'$$);
+SELECT try($$SELECT count(*) FROM o_tins a, tin_overlay(a.t, a.t, 2) WHERE a.name = 'a'$$);
+SELECT try($$SELECT count(*) FROM o_tins a, tin_difference(a.t, a.t, 0, -1) WHERE a.name = 'a'$$);
