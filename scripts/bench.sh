@@ -182,3 +182,5 @@ cargo bench --bench raster 2>/dev/null
 
 echo "== core locate (cargo bench --bench locate): ns per point"
 cargo bench --bench locate 2>/dev/null
+echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shifted copy, every level, vs the naive CDT (cargo bench --bench overlay)"
+cargo bench --bench overlay 2>/dev/null

@@ -412,3 +412,16 @@ fn difference_against_sampled_heights() {
         "fill {fill} vs sampled {ef}"
     );
 }
+
+#[test]
+fn interrupt_stops_the_overlay_and_its_panic_is_not_swallowed() {
+    let a = tin(window(100, 100, 60, 0.0, 0.0, 0.0), &[2.0]);
+    let b = tin(window(100, 100, 60, 0.37, 0.61, 0.0), &[2.0]);
+    // an interrupt check that reports cancellation: the error comes back
+    let r = overlay(&a, 0, &b, 0, &mut || Err(tinmerge::tin::TinError::Interrupted));
+    assert!(matches!(r, Err(tinmerge::tin::TinError::Interrupted)));
+    // one that unwinds (as the host's error handling does): it keeps
+    // unwinding, it is not turned into an overlay error
+    let r = std::panic::catch_unwind(|| overlay(&a, 0, &b, 0, &mut || panic!("cancelled")));
+    assert!(r.is_err());
+}

@@ -177,7 +177,40 @@ impl Points {
 }
 
 /// Overlay of A at `level_a` and B at `level_b`.
+///
+/// A panic inside spade (its internal assertions) is reported as an error.
 pub fn overlay(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, TinError> {
+    // a panic raised by the caller's interrupt check (a cancel, through
+    // the host's error handling) goes on unwinding untouched
+    let in_check = std::cell::Cell::new(false);
+    let mut check = || {
+        in_check.set(true);
+        let r = interrupt();
+        in_check.set(false);
+        r
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        overlay_inner(a, level_a, b, level_b, &mut check)
+    }))
+    .map_err(|payload| {
+        if in_check.get() {
+            std::panic::resume_unwind(payload);
+        }
+        TinError::Degenerate(
+            "overlay: the triangulation library failed on these inputs (edges crossing too near \
+             each other for double precision)"
+                .into(),
+        )
+    })?
+}
+
+fn overlay_inner(
     a: &Tin,
     level_a: usize,
     b: &Tin,
@@ -343,22 +376,11 @@ pub fn overlay(
     let resplit = conflicts.len();
     for [u, v] in conflicts {
         tk.tick()?;
-        // spade asserts its own invariants while splitting; a failed
-        // assertion is reported as an error, not a crash
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            cdt.add_constraint_and_split(
-                FixedVertexHandle::from_index(u),
-                FixedVertexHandle::from_index(v),
-                |p| p,
-            );
-        }))
-        .map_err(|_| {
-            TinError::Degenerate(
-                "overlay: edges of the two tins cross too near each other to be split \
-                 in double precision"
-                    .into(),
-            )
-        })?;
+        cdt.add_constraint_and_split(
+            FixedVertexHandle::from_index(u),
+            FixedVertexHandle::from_index(v),
+            |p| p,
+        );
     }
 
     let mut o = Overlay {
@@ -432,6 +454,17 @@ fn owner(tin: &Tin, level: usize, x: f64, y: f64, c: &[[f64; 2]; 3]) -> Result<u
 /// crosses. Returns (vertices, triangles) of the triangulation of the union
 /// of the convex hulls.
 pub fn naive(a: &Tin, level_a: usize, b: &Tin, level_b: usize) -> Result<(usize, usize), TinError> {
+    std::panic::catch_unwind(|| naive_inner(a, level_a, b, level_b)).map_err(|_| {
+        TinError::Degenerate("naive overlay: spade failed (one of its assertions)".into())
+    })?
+}
+
+fn naive_inner(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+) -> Result<(usize, usize), TinError> {
     let (nva, nvb) = (
         a.levels[level_a].num_vertices as usize,
         b.levels[level_b].num_vertices as usize,
@@ -452,12 +485,7 @@ pub fn naive(a: &Tin, level_a: usize, b: &Tin, level_b: usize) -> Result<(usize,
                 handle(&cdt, &tin.verts[v as usize]),
             );
             if let (Some(hu), Some(hv)) = (hu, hv) {
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    cdt.add_constraint_and_split(hu, hv, |p| p);
-                }))
-                .map_err(|_| {
-                    TinError::Degenerate("naive overlay: spade failed to split an edge".into())
-                })?;
+                cdt.add_constraint_and_split(hu, hv, |p| p);
             }
         }
     }
