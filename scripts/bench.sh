@@ -182,5 +182,24 @@ cargo bench --bench raster 2>/dev/null
 
 echo "== core locate (cargo bench --bench locate): ns per point"
 cargo bench --bench locate 2>/dev/null
+echo "== TIN/TIN overlay from SQL: the DEM tin against one built at 1.5 m, levels 0-1 (tinmerge tin_overlay / tin_difference vs PostGIS ST_Intersection over a GiST join of tin_triangles)"
+q <<'SQL'
+CREATE TABLE epoch2 AS SELECT tin_from_raster(rast, 1.5, 5) AS t FROM dem;
+CREATE TABLE ov_a AS SELECT l AS level, tr.id, tr.geom FROM terrain, generate_series(0, 1) l, tin_triangles(t, l) tr;
+CREATE TABLE ov_b AS SELECT l AS level, tr.id, tr.geom FROM epoch2, generate_series(0, 1) l, tin_triangles(t, l) tr;
+CREATE INDEX ON ov_b USING gist (geom);
+ANALYZE ov_a; ANALYZE ov_b;
+SQL
+q -F ' | ' <<'SQL'
+SELECT l AS level,
+       (SELECT count(*) FROM terrain, epoch2, tin_overlay(terrain.t, epoch2.t, l, l)) AS output_triangles,
+       b1.median_ms AS tin_overlay_ms, b2.median_ms AS tin_difference_ms, b3.median_ms AS postgis_intersection_ms,
+       round(b3.median_ms / b1.median_ms, 1) AS ratio
+FROM generate_series(0, 1) l,
+     LATERAL bench('overlay', format('SELECT count(*), sum(ST_Area(geom_a)) FROM terrain, epoch2, tin_overlay(terrain.t, epoch2.t, %s, %s)', l, l), 3) b1,
+     LATERAL bench('difference', format('SELECT * FROM terrain, epoch2, tin_difference(terrain.t, epoch2.t, %s, %s)', l, l), 3) b2,
+     LATERAL bench('postgis', format('SELECT count(*), sum(ST_Area(ST_Intersection(a.geom, b.geom))) FROM ov_a a JOIN ov_b b ON b.level = %s AND ST_Intersects(a.geom, b.geom) WHERE a.level = %s', l, l), 1) b3
+ORDER BY 1;
+SQL
 echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shifted copy, every level, vs the naive CDT (cargo bench --bench overlay)"
 cargo bench --bench overlay 2>/dev/null
