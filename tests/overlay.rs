@@ -70,20 +70,7 @@ fn hull(mut p: Vec<P>) -> Vec<P> {
 fn clip(poly: &[P], by: &[P]) -> Vec<P> {
     let mut out = poly.to_vec();
     for i in 0..by.len() {
-        let (a, b) = (by[i], by[(i + 1) % by.len()]);
-        let side = |p: P| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-        let inp = std::mem::take(&mut out);
-        for j in 0..inp.len() {
-            let (p, q) = (inp[j], inp[(j + 1) % inp.len()]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                out.push(p);
-            }
-            if (sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0) {
-                let t = sp / (sp - sq);
-                out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
-            }
-        }
+        out = common::clip_half(&out, by[i], by[(i + 1) % by.len()]);
     }
     out
 }
@@ -418,7 +405,9 @@ fn interrupt_stops_the_overlay_and_its_panic_is_not_swallowed() {
     let a = tin(window(100, 100, 60, 0.0, 0.0, 0.0), &[2.0]);
     let b = tin(window(100, 100, 60, 0.37, 0.61, 0.0), &[2.0]);
     // an interrupt check that reports cancellation: the error comes back
-    let r = overlay(&a, 0, &b, 0, &mut || Err(tinmerge::tin::TinError::Interrupted));
+    let r = overlay(&a, 0, &b, 0, &mut || {
+        Err(tinmerge::tin::TinError::Interrupted)
+    });
     assert!(matches!(r, Err(tinmerge::tin::TinError::Interrupted)));
     // one that unwinds (as the host's error handling does): it keeps
     // unwinding, it is not turned into an overlay error

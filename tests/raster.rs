@@ -387,27 +387,10 @@ fn skewed_raster_refused() {
 // clipping agreed to 1e-14; geo's BooleanOps was tried as the oracle but
 // rounds to a fixed-point grid (errors ~2e-7 of a pixel).
 
+use common::clip_half;
 use std::collections::BTreeMap;
 use tinmerge::merge::coverage::coverage;
 use tinmerge::merge::raster::weighted_stats;
-
-fn clip_half(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
-    // keep the side left of a->b
-    let side = |p: [f64; 2]| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-    let mut out = Vec::with_capacity(poly.len() + 1);
-    for i in 0..poly.len() {
-        let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
-        let (sp, sq) = (side(p), side(q));
-        if sp >= 0.0 {
-            out.push(p);
-        }
-        if (sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0) {
-            let t = sp / (sp - sq);
-            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
-        }
-    }
-    out
-}
 
 fn shoelace(p: &[[f64; 2]]) -> f64 {
     let mut s = 0.0;
