@@ -9,7 +9,7 @@ mod common;
 
 use std::hint::black_box;
 use std::time::Instant;
-use tinmerge::merge::overlay::{difference, naive, overlay};
+use tinmerge::merge::overlay::{difference, naive, overlay, overlay_constrained};
 use tinmerge::tin::build::{build, default_tolerances};
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -39,8 +39,8 @@ fn main() {
         &mut || Ok(()),
     )
     .unwrap();
-    println!("| B | level | triangles A | triangles B | crossings K | output triangles | overlay ms | M input triangles/s | + difference ms | naive CDT ms | naive / overlay |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| B | level | triangles A | triangles B | crossings K | output triangles | overlay ms | path | M input triangles/s | + difference ms | constrained path ms | naive CDT ms | naive / overlay |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|");
     for (name, b) in [
         ("other tolerances (1.5 m)", &other),
         ("shifted copy (0.37, 0.61 px)", &shifted),
@@ -58,6 +58,12 @@ fn main() {
                 last = Some(o);
             }
             let o = last.unwrap();
+            let mut tc = Vec::new();
+            for _ in 0..3 {
+                let t0 = Instant::now();
+                black_box(overlay_constrained(&a, level, b, level, &mut || Ok(())).unwrap());
+                tc.push(t0.elapsed().as_secs_f64());
+            }
             // the naive method can hit one of spade's assertions when two
             // crossings fall very near each other: reported as "failed"
             let t0 = Instant::now();
@@ -70,12 +76,14 @@ fn main() {
             let (na, nb) = (a.levels[level].tris.len(), b.levels[level].tris.len());
             let mo = median(to);
             println!(
-                "| {name} | {level} | {na} | {nb} | {} | {} | {:.1} | {:.2} | {:.1} | {} | {} |",
+                "| {name} | {level} | {na} | {nb} | {} | {} | {:.1} | {} | {:.2} | {:.1} | {:.1} | {} | {} |",
                 o.crossings,
                 o.tris.len(),
                 mo * 1e3,
+                o.fallback.as_deref().unwrap_or("faces"),
                 (na + nb) as f64 / mo / 1e6,
                 median(td) * 1e3,
+                median(tc) * 1e3,
                 if ok {
                     format!("{:.1}", tn * 1e3)
                 } else {

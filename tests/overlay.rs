@@ -8,7 +8,7 @@ mod common;
 use common::read_dem;
 use robust::{orient2d, Coord};
 use std::collections::{HashMap, HashSet};
-use tinmerge::merge::overlay::{difference, overlay, Overlay};
+use tinmerge::merge::overlay::{difference, overlay, overlay_constrained, Overlay};
 use tinmerge::tin::build::build;
 use tinmerge::tin::{interpolate, locate, Tin, NONE};
 
@@ -210,8 +210,18 @@ impl<'a> Index<'a> {
     }
 }
 
+/// Both paths (faces, and the constrained triangulation) checked against
+/// the oracles; the faces path must not have fallen back on these inputs.
 fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
+    let c = overlay_constrained(a, la, b, lb, &mut || Ok(())).unwrap();
+    check_one(a, la, b, lb, &c);
     let o = overlay(a, la, b, lb, &mut || Ok(())).unwrap();
+    assert_eq!(o.fallback, None, "the faces path fell back");
+    check_one(a, la, b, lb, &o);
+    o
+}
+
+fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
     let dom = clip(&hull(level_pts(a, la)), &hull(level_pts(b, lb)));
     let dom_area = area(&dom);
 
@@ -255,7 +265,7 @@ fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
     }
 
     // every input edge, clipped, is a chain of output edges
-    let idx = Index::new(&o);
+    let idx = Index::new(o);
     for (t, l) in [(a, la), (b, lb)] {
         for (p, q) in edges(t, l) {
             if let Some((s, e)) = clip_segment(&dom, p, q) {
@@ -305,7 +315,6 @@ fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
             assert!((zz - z).abs() < 1e-6, "height {z} vs {zz}");
         }
     }
-    o
 }
 
 #[test]

@@ -7,6 +7,7 @@ pub mod area;
 pub mod clip;
 pub mod coverage;
 pub mod drape;
+pub mod faces;
 pub mod line;
 pub mod linetree;
 pub mod overlay;

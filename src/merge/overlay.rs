@@ -41,7 +41,7 @@
 //! assert!((area - 7.5).abs() < 1e-9);
 //! ```
 
-use crate::merge::Ticker;
+use crate::merge::{faces, Ticker};
 use crate::tin::{interpolate, locate, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 use spade::handles::FixedVertexHandle;
@@ -68,8 +68,12 @@ pub struct Overlay {
     /// Proper crossings of an edge of A with an edge of B.
     pub crossings: usize,
     /// Pieces that had to be inserted with splitting (rounding of crossing
-    /// points made them cross another piece).
+    /// points made them cross another piece; constrained-triangulation path
+    /// only).
     pub resplit: usize,
+    /// Why the face-by-face path ([`crate::merge::faces`]) was not used and
+    /// the constrained triangulation built instead (None: faces path).
+    pub fallback: Option<String>,
 }
 
 impl Overlay {
@@ -176,7 +180,10 @@ impl Points {
     }
 }
 
-/// Overlay of A at `level_a` and B at `level_b`.
+/// Overlay of A at `level_a` and B at `level_b`: face by face
+/// ([`crate::merge::faces`]) when B's domain is convex and rounding never
+/// gets in the way, else the constrained triangulation
+/// ([`overlay_constrained`]); [`Overlay::fallback`] says which.
 ///
 /// A panic inside spade (its internal assertions) is reported as an error.
 pub fn overlay(
@@ -186,8 +193,30 @@ pub fn overlay(
     level_b: usize,
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
 ) -> Result<Overlay, TinError> {
-    // a panic raised by the caller's interrupt check (a cancel, through
-    // the host's error handling) goes on unwinding untouched
+    guarded(interrupt, |check| {
+        overlay_dispatch(a, level_a, b, level_b, check)
+    })
+}
+
+/// The overlay always built as one constrained triangulation (the robust
+/// path; for tests and benchmarks of the two paths).
+pub fn overlay_constrained(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, TinError> {
+    guarded(interrupt, |check| overlay_cdt(a, level_a, b, level_b, check))
+}
+
+/// Runs `f`, turning a panic inside spade into an error; a panic raised by
+/// the caller's interrupt check (a cancel, through the host's error
+/// handling) goes on unwinding untouched.
+fn guarded(
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    f: impl FnOnce(&mut dyn FnMut() -> Result<(), TinError>) -> Result<Overlay, TinError>,
+) -> Result<Overlay, TinError> {
     let in_check = std::cell::Cell::new(false);
     let mut check = || {
         in_check.set(true);
@@ -195,22 +224,51 @@ pub fn overlay(
         in_check.set(false);
         r
     };
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        overlay_inner(a, level_a, b, level_b, &mut check)
-    }))
-    .map_err(|payload| {
-        if in_check.get() {
-            std::panic::resume_unwind(payload);
-        }
-        TinError::Degenerate(
-            "overlay: the triangulation library failed on these inputs (edges crossing too near \
-             each other for double precision)"
-                .into(),
-        )
-    })?
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&mut check))).map_err(
+        |payload| {
+            if in_check.get() {
+                std::panic::resume_unwind(payload);
+            }
+            TinError::Degenerate(
+                "overlay: the triangulation library failed on these inputs (edges crossing too \
+                 near each other for double precision)"
+                    .into(),
+            )
+        },
+    )?
 }
 
-fn overlay_inner(
+/// The face-by-face overlay when B's domain is convex and rounding never
+/// gets in the way (checked exactly); otherwise the constrained
+/// triangulation.
+fn overlay_dispatch(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, TinError> {
+    let (ba, bb) = (&a.bbox, &b.bbox);
+    if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
+        return Ok(Overlay::default()); // disjoint domains
+    }
+    let why = if faces::convex_domain(b, &b.levels[level_b]) {
+        match faces::overlay_faces(a, level_a, b, level_b, interrupt) {
+            Ok(o) => return Ok(o),
+            Err(faces::Refused::Error(e)) => return Err(e),
+            Err(faces::Refused::Rounding(why)) => why,
+        }
+    } else {
+        "b's domain is not convex"
+    };
+    let mut o = overlay_cdt(a, level_a, b, level_b, interrupt)?;
+    o.fallback = Some(why.to_string());
+    Ok(o)
+}
+
+/// The overlay as one constrained Delaunay triangulation of all vertices
+/// and edge pieces (see the module comment).
+fn overlay_cdt(
     a: &Tin,
     level_a: usize,
     b: &Tin,

@@ -1,0 +1,578 @@
+//! TIN/TIN overlay by faces: every face of the overlay is `a ∩ b` for one
+//! triangle `a` of A and one `b` of B (both convex, so the face is a convex
+//! polygon), so the overlay is built triangle pair by triangle pair with no
+//! global triangulation and with labels for free.
+//!
+//! For each triangle `a` of A, the triangles of B meeting the closed `a`
+//! are found by a breadth-first search over B's neighbours, started from
+//! the triangle of B holding a corner of `a` (or, for a triangle of A
+//! sticking out of B, from B's hull triangles near it). For a pair (a, b)
+//! the 18 orientations of the corners of each against the edge lines of the
+//! other (`robust::orient2d`, exact) decide everything combinatorial:
+//! which corners of `a` lie in the closed `b` and the reverse, which edge
+//! pairs cross properly, which edges each vertex of the face lies on (the
+//! search goes on across the edges of `b` that meet `a`). Vertices have
+//! symbolic identities: a vertex of A, a vertex of B (a vertex of A at the
+//! same place as a vertex of B is that vertex), or the crossing of an edge
+//! of A with an edge of B, computed once from the two edges and shared by
+//! the four faces around it. Neighbouring faces therefore agree exactly on
+//! the vertices along their common boundary, whatever the rounding of the
+//! crossing points.
+//!
+//! Only two steps use rounded coordinates: ordering a face's vertices
+//! around their mean and cutting ears off the face. Both are checked
+//! exactly (strictly increasing angle, no right turn, every output triangle
+//! strictly counter-clockwise), and the whole result is checked for
+//! conformity (every face boundary edge shared by exactly two faces in
+//! opposite directions, or lying on the boundary of A or B). When a check
+//! fails (crossings so close that rounding reorders them), the result is
+//! refused with [`Refused`] and the caller falls back to the constrained
+//! triangulation of [`super::overlay`], which is slower but handles any
+//! rounding.
+//!
+//! Cost: O(N + M + K) for N, M input triangles and K crossings (each pair
+//! (a, b) that meets is visited once, in constant time), plus a sort of the
+//! face boundary edges for the conformity check.
+
+use crate::merge::overlay::Overlay;
+use crate::merge::Ticker;
+use crate::tin::{interpolate, locate, Level, Tin, TinError, NONE};
+use robust::{orient2d, Coord};
+use rustc_hash::FxHashMap;
+
+/// Why the fast path gave up (the caller then uses the robust path).
+#[derive(Debug)]
+pub enum Refused {
+    /// Rounded crossing points made a face non-convex or an output
+    /// triangle flat or clockwise, or two faces disagree on a boundary.
+    Rounding(&'static str),
+    /// An error to pass on (interrupt, corrupt value).
+    Error(TinError),
+}
+
+impl From<TinError> for Refused {
+    fn from(e: TinError) -> Self {
+        Refused::Error(e)
+    }
+}
+
+#[inline]
+fn co(p: [f64; 2]) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+#[inline]
+fn xy(v: &[f64; 3]) -> [f64; 2] {
+    [v[0], v[1]]
+}
+
+/// Undirected edge ids of a level: `ids[t][j]` for the edge of triangle `t`
+/// opposite its corner `j`, the same id from both sides.
+fn edge_ids(lv: &Level) -> Result<Vec<[u32; 3]>, TinError> {
+    let mut ids = vec![[NONE; 3]; lv.tris.len()];
+    let mut next = 0u32;
+    for t in 0..lv.tris.len() {
+        for j in 0..3 {
+            let n = lv.nbrs[t][j];
+            if n == NONE || (t as u32) < n {
+                ids[t][j] = next;
+                next += 1;
+            } else {
+                let back = lv
+                    .nbrs
+                    .get(n as usize)
+                    .and_then(|nb| nb.iter().position(|&x| x == t as u32))
+                    .ok_or_else(|| TinError::Corrupt("neighbour links are not mirrored".into()))?;
+                ids[t][j] = ids[n as usize][back];
+            }
+        }
+    }
+    Ok(ids)
+}
+
+/// Crossing point of edge (p, q) of A with edge (u, v) of B, known to cross
+/// properly; the ends are given in a canonical order (by vertex id) so the
+/// point does not depend on which face asks.
+fn crossing(p: [f64; 2], q: [f64; 2], u: [f64; 2], v: [f64; 2]) -> [f64; 2] {
+    let op = orient2d(co(u), co(v), co(p));
+    let oq = orient2d(co(u), co(v), co(q));
+    let t = (op / (op - oq)).clamp(0.0, 1.0);
+    [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
+}
+
+/// Hull triangles of B in a coarse bucket grid, to seed triangles of A whose
+/// corners all lie outside B.
+struct HullBuckets {
+    min: [f64; 2],
+    cell: [f64; 2],
+    n: usize,
+    cells: Vec<Vec<u32>>,
+}
+
+impl HullBuckets {
+    fn new(tin: &Tin, lv: &Level) -> HullBuckets {
+        let hull: Vec<u32> = (0..lv.tris.len() as u32)
+            .filter(|&t| lv.nbrs[t as usize].contains(&NONE))
+            .collect();
+        let n = ((hull.len() as f64).sqrt().ceil() as usize).clamp(1, 256);
+        let b = &tin.bbox;
+        let cell = [
+            ((b.max_x - b.min_x) / n as f64).max(f64::MIN_POSITIVE),
+            ((b.max_y - b.min_y) / n as f64).max(f64::MIN_POSITIVE),
+        ];
+        let mut hb = HullBuckets {
+            min: [b.min_x, b.min_y],
+            cell,
+            n,
+            cells: vec![Vec::new(); n * n],
+        };
+        for t in hull {
+            let c = lv.tris[t as usize].map(|v| xy(&tin.verts[v as usize]));
+            let (lo, hi) = bounds(&c);
+            let (x0, y0, x1, y1) = hb.range(lo, hi);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    hb.cells[y * n + x].push(t);
+                }
+            }
+        }
+        hb
+    }
+
+    fn range(&self, lo: [f64; 2], hi: [f64; 2]) -> (usize, usize, usize, usize) {
+        let f = |v: f64, k: usize| {
+            let c = ((v - self.min[k]) / self.cell[k]).floor();
+            if c.is_nan() || c < 0.0 {
+                0
+            } else {
+                (c as usize).min(self.n - 1)
+            }
+        };
+        (f(lo[0], 0), f(lo[1], 1), f(hi[0], 0), f(hi[1], 1))
+    }
+}
+
+fn bounds(c: &[[f64; 2]; 3]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = c[0];
+    let mut hi = c[0];
+    for p in &c[1..] {
+        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+    }
+    (lo, hi)
+}
+
+/// True when the level's domain is convex (one boundary loop, no right
+/// turn): the search for the triangles of B meeting a triangle of A relies
+/// on `a ∩ B` being connected.
+pub fn convex_domain(tin: &Tin, lv: &Level) -> bool {
+    let nv = lv.num_vertices as usize;
+    let mut next = vec![NONE; nv];
+    let mut count = 0usize;
+    for (tri, nb) in lv.tris.iter().zip(&lv.nbrs) {
+        for j in 0..3 {
+            if nb[j] == NONE {
+                let (u, v) = (tri[(j + 1) % 3] as usize, tri[(j + 2) % 3] as usize);
+                if u >= nv || v >= nv || next[u] != NONE {
+                    return false;
+                }
+                next[u] = v as u32;
+                count += 1;
+            }
+        }
+    }
+    let Some(start) = next.iter().position(|&n| n != NONE) else {
+        return false;
+    };
+    let (mut prev, mut cur, mut seen) = (start, next[start] as usize, 1usize);
+    let p = |i: usize| co(xy(&tin.verts[i]));
+    loop {
+        let nx = next[cur];
+        if nx == NONE || seen > count {
+            return false;
+        }
+        if orient2d(p(prev), p(cur), p(nx as usize)) < 0.0 {
+            return false;
+        }
+        if cur == start {
+            break;
+        }
+        prev = cur;
+        cur = nx as usize;
+        seen += 1;
+    }
+    seen == count
+}
+
+/// One vertex of a face: output id, position, and the edges of `a` and of
+/// `b` it lies on (bit j: the edge opposite corner j).
+#[derive(Clone, Copy, Debug)]
+struct FaceVertex {
+    id: u32,
+    p: [f64; 2],
+    on_a: u8,
+    on_b: u8,
+}
+
+/// Output being built, with the symbolic vertex identities.
+struct Builder<'t> {
+    a: &'t Tin,
+    b: &'t Tin,
+    la: &'t Level,
+    lb: &'t Level,
+    eid_a: Vec<[u32; 3]>,
+    eid_b: Vec<[u32; 3]>,
+    out_a: Vec<u32>,
+    out_b: Vec<u32>,
+    cross: FxHashMap<u64, u32>,
+    o: Overlay,
+    /// Face boundary edges: (smaller id, larger id), forward (smaller ->
+    /// larger in the face's direction), and whether it may be unmatched.
+    bnd: Vec<(u64, bool, bool)>,
+}
+
+impl Builder<'_> {
+    fn push(&mut self, p: [f64; 2], za: f64, zb: f64) -> u32 {
+        self.o.pts.push(p);
+        self.o.za.push(za);
+        self.o.zb.push(zb);
+        (self.o.pts.len() - 1) as u32
+    }
+
+    fn vertex_b(&mut self, vb: u32, ca: &[[f64; 3]; 3]) -> u32 {
+        let i = vb as usize;
+        if self.out_b[i] == NONE {
+            let v = self.b.verts[i];
+            self.out_b[i] = self.push([v[0], v[1]], interpolate(ca, v[0], v[1]), v[2]);
+        }
+        self.out_b[i]
+    }
+
+    fn vertex_a(&mut self, va: u32, cb: &[[f64; 3]; 3]) -> u32 {
+        let i = va as usize;
+        if self.out_a[i] == NONE {
+            let v = self.a.verts[i];
+            self.out_a[i] = self.push([v[0], v[1]], v[2], interpolate(cb, v[0], v[1]));
+        }
+        self.out_a[i]
+    }
+
+    /// The face `ta ∩ tb`: its vertices are pushed to `fv` (none: the
+    /// closed triangles do not meet); returns the edges of `tb` (bits) that
+    /// meet the closed `ta`.
+    fn face(&mut self, ta: u32, tb: u32, fv: &mut Vec<FaceVertex>) -> u8 {
+        fv.clear();
+        let (tra, trb) = (self.la.tris[ta as usize], self.lb.tris[tb as usize]);
+        let ca3 = tra.map(|v| self.a.verts[v as usize]);
+        let cb3 = trb.map(|v| self.b.verts[v as usize]);
+        let (ca, cb) = (ca3.map(|v| xy(&v)), cb3.map(|v| xy(&v)));
+        // sab[j][i]: corner i of a against the edge of b opposite corner j
+        let mut sab = [[0.0f64; 3]; 3];
+        let mut sba = [[0.0f64; 3]; 3];
+        for j in 0..3 {
+            let (u, v) = (co(cb[(j + 1) % 3]), co(cb[(j + 2) % 3]));
+            for i in 0..3 {
+                sab[j][i] = orient2d(u, v, co(ca[i]));
+            }
+            let (u, v) = (co(ca[(j + 1) % 3]), co(ca[(j + 2) % 3]));
+            for m in 0..3 {
+                sba[j][m] = orient2d(u, v, co(cb[m]));
+            }
+        }
+        // corners of a in the closed b
+        for i in 0..3 {
+            if (0..3).all(|j| sab[j][i] >= 0.0) {
+                let mut on_b = 0u8;
+                for j in 0..3 {
+                    if sab[j][i] == 0.0 {
+                        on_b |= 1 << j;
+                    }
+                }
+                let on_a = 0b111 & !(1u8 << i);
+                let id = match (0..3).find(|&m| cb[m] == ca[i]) {
+                    Some(m) => {
+                        let id = self.vertex_b(trb[m], &ca3);
+                        self.out_a[tra[i] as usize] = id;
+                        id
+                    }
+                    None => self.vertex_a(tra[i], &cb3),
+                };
+                fv.push(FaceVertex {
+                    id,
+                    p: ca[i],
+                    on_a,
+                    on_b,
+                });
+            }
+        }
+        // corners of b in the closed a
+        for m in 0..3 {
+            if (0..3).all(|k| sba[k][m] >= 0.0) {
+                let mut on_a = 0u8;
+                for k in 0..3 {
+                    if sba[k][m] == 0.0 {
+                        on_a |= 1 << k;
+                    }
+                }
+                let on_b = 0b111 & !(1u8 << m);
+                let id = self.vertex_b(trb[m], &ca3);
+                if let Some(f) = fv.iter_mut().find(|f| f.id == id) {
+                    f.on_a |= on_a;
+                    f.on_b |= on_b;
+                } else {
+                    fv.push(FaceVertex {
+                        id,
+                        p: cb[m],
+                        on_a,
+                        on_b,
+                    });
+                }
+            }
+        }
+        // proper crossings of edge k of a with edge j of b
+        for k in 0..3 {
+            let (i1, i2) = ((k + 1) % 3, (k + 2) % 3);
+            for j in 0..3 {
+                let (m1, m2) = ((j + 1) % 3, (j + 2) % 3);
+                let strict = |x: f64, y: f64| (x > 0.0 && y < 0.0) || (x < 0.0 && y > 0.0);
+                if !(strict(sab[j][i1], sab[j][i2]) && strict(sba[k][m1], sba[k][m2])) {
+                    continue;
+                }
+                let key = ((self.eid_a[ta as usize][k] as u64) << 32)
+                    | self.eid_b[tb as usize][j] as u64;
+                let id = match self.cross.get(&key) {
+                    Some(&id) => id,
+                    None => {
+                        let (mut p, mut q) = (ca[i1], ca[i2]);
+                        if tra[i1] > tra[i2] {
+                            std::mem::swap(&mut p, &mut q);
+                        }
+                        let (mut u, mut v) = (cb[m1], cb[m2]);
+                        if trb[m1] > trb[m2] {
+                            std::mem::swap(&mut u, &mut v);
+                        }
+                        let x = crossing(p, q, u, v);
+                        let id = self.push(
+                            x,
+                            interpolate(&ca3, x[0], x[1]),
+                            interpolate(&cb3, x[0], x[1]),
+                        );
+                        self.cross.insert(key, id);
+                        self.o.crossings += 1;
+                        id
+                    }
+                };
+                let p = self.o.pts[id as usize];
+                fv.push(FaceVertex {
+                    id,
+                    p,
+                    on_a: 1 << k,
+                    on_b: 1 << j,
+                });
+            }
+        }
+        fv.iter().fold(0u8, |acc, f| acc | f.on_b)
+    }
+
+    /// Triangulates the face in `fv` (convex; vertices in any order) and
+    /// records its boundary edges.
+    fn emit(&mut self, ta: u32, tb: u32, fv: &mut [FaceVertex]) -> Result<(), Refused> {
+        let n = fv.len();
+        if n < 3 {
+            return Ok(());
+        }
+        // all collinear: a touching segment, no face
+        let (p0, p1) = (co(fv[0].p), co(fv[1].p));
+        if fv[2..].iter().all(|f| orient2d(p0, p1, co(f.p)) == 0.0) {
+            return Ok(());
+        }
+        // order around the mean, checked exactly on the rounded points
+        let mut c = [0.0, 0.0];
+        for f in fv.iter() {
+            c[0] += f.p[0];
+            c[1] += f.p[1];
+        }
+        let c = [c[0] / n as f64, c[1] / n as f64];
+        let upper = |p: [f64; 2]| p[1] > c[1] || (p[1] == c[1] && p[0] > c[0]);
+        let cc = co(c);
+        let before = |p: [f64; 2], q: [f64; 2]| -> bool {
+            let (hp, hq) = (upper(p), upper(q));
+            if hp != hq {
+                return hp;
+            }
+            orient2d(cc, co(p), co(q)) > 0.0
+        };
+        for i in 1..n {
+            let mut k = i;
+            while k > 0 && before(fv[k].p, fv[k - 1].p) {
+                fv.swap(k, k - 1);
+                k -= 1;
+            }
+        }
+        for i in 0..n {
+            let (p, q) = (fv[i].p, fv[(i + 1) % n].p);
+            if p == c || (i + 1 < n && !before(p, q)) {
+                return Err(Refused::Rounding("face vertices not in strict angular order"));
+            }
+        }
+        for i in 0..n {
+            let (u, v, w) = (fv[(i + n - 1) % n].p, fv[i].p, fv[(i + 1) % n].p);
+            if orient2d(co(u), co(v), co(w)) < 0.0 {
+                return Err(Refused::Rounding("face not convex after rounding"));
+            }
+        }
+        // boundary edges, with whether they lie on the boundary of A or B
+        let (na, nb) = (self.la.nbrs[ta as usize], self.lb.nbrs[tb as usize]);
+        for i in 0..n {
+            let (f, g) = (fv[i], fv[(i + 1) % n]);
+            let (sa, sb) = (f.on_a & g.on_a, f.on_b & g.on_b);
+            let hull = (0..3).any(|k| (sa >> k) & 1 == 1 && na[k] == NONE)
+                || (0..3).any(|j| (sb >> j) & 1 == 1 && nb[j] == NONE);
+            let (lo, hi) = (f.id.min(g.id), f.id.max(g.id));
+            self.bnd.push((((lo as u64) << 32) | hi as u64, f.id < g.id, hull));
+        }
+        // ears: a strictly convex corner whose removal leaves a face that
+        // is not flat
+        let mut ring: Vec<usize> = (0..n).collect();
+        while ring.len() > 3 {
+            let r = ring.len();
+            let mut cut = None;
+            for i in 0..r {
+                let (u, v, w) = (fv[ring[(i + r - 1) % r]].p, fv[ring[i]].p, fv[ring[(i + 1) % r]].p);
+                if orient2d(co(u), co(v), co(w)) <= 0.0 {
+                    continue;
+                }
+                let flat = (0..r)
+                    .filter(|&x| x != i)
+                    .all(|x| orient2d(co(u), co(w), co(fv[ring[x]].p)) == 0.0);
+                if !flat {
+                    cut = Some(i);
+                    break;
+                }
+            }
+            let i = cut.ok_or(Refused::Rounding("no ear in a face"))?;
+            let t = [ring[(i + r - 1) % r], ring[i], ring[(i + 1) % r]];
+            self.triangle(ta, tb, t.map(|x| fv[x]))?;
+            ring.remove(i);
+        }
+        self.triangle(ta, tb, [fv[ring[0]], fv[ring[1]], fv[ring[2]]])
+    }
+
+    fn triangle(&mut self, ta: u32, tb: u32, t: [FaceVertex; 3]) -> Result<(), Refused> {
+        if orient2d(co(t[0].p), co(t[1].p), co(t[2].p)) <= 0.0 {
+            return Err(Refused::Rounding("a face triangle is flat or clockwise"));
+        }
+        self.o.tris.push(t.map(|f| f.id));
+        self.o.tri_a.push(ta);
+        self.o.tri_b.push(tb);
+        Ok(())
+    }
+}
+
+/// Overlay of A at `level_a` and B at `level_b` by faces `a ∩ b`. B's
+/// domain must be convex (checked by the caller with [`convex_domain`]).
+pub fn overlay_faces(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, Refused> {
+    let mut tk = Ticker { n: 0, f: interrupt };
+    let (la, lb) = (&a.levels[level_a], &b.levels[level_b]);
+    let mut bd = Builder {
+        a,
+        b,
+        la,
+        lb,
+        eid_a: edge_ids(la)?,
+        eid_b: edge_ids(lb)?,
+        out_a: vec![NONE; la.num_vertices as usize],
+        out_b: vec![NONE; lb.num_vertices as usize],
+        cross: FxHashMap::default(),
+        o: Overlay::default(),
+        bnd: Vec::new(),
+    };
+    let hull = HullBuckets::new(b, lb);
+    // the triangle of B holding each vertex of A (NONE: outside; UNSET: not
+    // looked up yet)
+    const UNSET: u32 = NONE - 1;
+    let mut loc = vec![UNSET; la.num_vertices as usize];
+    let bb = &b.bbox;
+    let mut fv: Vec<FaceVertex> = Vec::with_capacity(12);
+    let mut seen: Vec<u32> = Vec::with_capacity(32);
+    let mut queue: Vec<u32> = Vec::with_capacity(32);
+    for ta in 0..la.tris.len() as u32 {
+        tk.tick()?;
+        let tra = la.tris[ta as usize];
+        let c = tra.map(|v| xy(&a.verts[v as usize]));
+        let (lo, hi) = bounds(&c);
+        if hi[0] < bb.min_x || lo[0] > bb.max_x || hi[1] < bb.min_y || lo[1] > bb.max_y {
+            continue;
+        }
+        queue.clear();
+        seen.clear();
+        for (k, &v) in tra.iter().enumerate() {
+            let v = v as usize;
+            if loc[v] == UNSET {
+                loc[v] = locate::locate(b, level_b, c[k][0], c[k][1]).unwrap_or(NONE);
+            }
+            if loc[v] != NONE {
+                queue.push(loc[v]);
+                break;
+            }
+        }
+        if queue.is_empty() {
+            let (x0, y0, x1, y1) = hull.range(lo, hi);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    for &t in &hull.cells[y * hull.n + x] {
+                        if !queue.contains(&t) {
+                            queue.push(t);
+                        }
+                    }
+                }
+            }
+        }
+        seen.extend_from_slice(&queue);
+        let mut qi = 0;
+        while qi < queue.len() {
+            let tb = queue[qi];
+            qi += 1;
+            let meets = bd.face(ta, tb, &mut fv);
+            if fv.is_empty() {
+                continue;
+            }
+            bd.emit(ta, tb, &mut fv)?;
+            let nb = lb.nbrs[tb as usize];
+            for j in 0..3 {
+                if (meets >> j) & 1 == 1 && nb[j] != NONE && !seen.contains(&nb[j]) {
+                    seen.push(nb[j]);
+                    queue.push(nb[j]);
+                }
+            }
+        }
+    }
+    // conformity: every face boundary edge twice in opposite directions, or
+    // once on the boundary of A or B
+    let mut bnd = std::mem::take(&mut bd.bnd);
+    bnd.sort_unstable_by_key(|e| e.0);
+    let mut i = 0;
+    while i < bnd.len() {
+        tk.tick()?;
+        let mut k = i + 1;
+        while k < bnd.len() && bnd[k].0 == bnd[i].0 {
+            k += 1;
+        }
+        let ok = match k - i {
+            1 => bnd[i].2,
+            2 => bnd[i].1 != bnd[i + 1].1,
+            _ => false,
+        };
+        if !ok {
+            return Err(Refused::Rounding("two faces disagree on their common boundary"));
+        }
+        i = k;
+    }
+    Ok(bd.o)
+}
