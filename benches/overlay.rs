@@ -39,6 +39,21 @@ fn main() {
         &mut || Ok(()),
     )
     .unwrap();
+    if std::env::var_os("OVERLAY_PROFILE").is_some() {
+        // for a profiler: the faces path alone at level 3, other tolerances
+        // (OVERLAY_PROFILE=shifted: the shifted copy)
+        for _ in 0..5 {
+            let t0 = Instant::now();
+            let b = if std::env::var("OVERLAY_PROFILE").as_deref() == Ok("shifted") {
+                &shifted
+            } else {
+                &other
+            };
+            black_box(overlay(&a, 3, b, 3, &mut || Ok(())).unwrap());
+            eprintln!("{:?}", t0.elapsed());
+        }
+        return;
+    }
     println!("| B | level | triangles A | triangles B | crossings K | output triangles | overlay ms | path | M input triangles/s | + difference ms | constrained path ms | naive CDT ms | naive / overlay |");
     println!("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|");
     for (name, b) in [

@@ -34,6 +34,9 @@
 //! (a, b) that meets is visited once, in constant time), plus a sort of the
 //! face boundary edges for the conformity check.
 
+// corners and edges are indexed 0..3 in several arrays at once
+#![allow(clippy::needless_range_loop)]
+
 use crate::merge::overlay::Overlay;
 use crate::merge::Ticker;
 use crate::tin::{interpolate, locate, Level, Tin, TinError, NONE};
@@ -214,6 +217,23 @@ struct FaceVertex {
     on_b: u8,
 }
 
+/// The edges of b (bits) that pass through the interior of a: at least two
+/// face vertices on the edge, not all on one edge of a.
+fn through_interior(fv: &[FaceVertex]) -> u8 {
+    let mut out = 0u8;
+    for j in 0..3 {
+        let (mut n, mut common) = (0, 0b111u8);
+        for f in fv.iter().filter(|f| (f.on_b >> j) & 1 == 1) {
+            n += 1;
+            common &= f.on_a;
+        }
+        if n >= 2 && common == 0 {
+            out |= 1 << j;
+        }
+    }
+    out
+}
+
 /// Output being built, with the symbolic vertex identities.
 struct Builder<'t> {
     a: &'t Tin,
@@ -338,8 +358,8 @@ impl Builder<'_> {
                 if !(strict(sab[j][i1], sab[j][i2]) && strict(sba[k][m1], sba[k][m2])) {
                     continue;
                 }
-                let key = ((self.eid_a[ta as usize][k] as u64) << 32)
-                    | self.eid_b[tb as usize][j] as u64;
+                let key =
+                    ((self.eid_a[ta as usize][k] as u64) << 32) | self.eid_b[tb as usize][j] as u64;
                 let id = match self.cross.get(&key) {
                     Some(&id) => id,
                     None => {
@@ -383,7 +403,20 @@ impl Builder<'_> {
         }
         // all collinear: a touching segment, no face
         let (p0, p1) = (co(fv[0].p), co(fv[1].p));
-        if fv[2..].iter().all(|f| orient2d(p0, p1, co(f.p)) == 0.0) {
+        let o2 = orient2d(p0, p1, co(fv[2].p));
+        if o2 == 0.0 && fv[3..].iter().all(|f| orient2d(p0, p1, co(f.p)) == 0.0) {
+            return Ok(());
+        }
+        if n == 3 {
+            // a triangle: orient it
+            if o2 < 0.0 {
+                fv.swap(1, 2);
+            }
+            self.boundary(ta, tb, fv);
+            let t = [fv[0], fv[1], fv[2]];
+            self.o.tris.push(t.map(|f| f.id));
+            self.o.tri_a.push(ta);
+            self.o.tri_b.push(tb);
             return Ok(());
         }
         // order around the mean, checked exactly on the rounded points
@@ -412,7 +445,9 @@ impl Builder<'_> {
         for i in 0..n {
             let (p, q) = (fv[i].p, fv[(i + 1) % n].p);
             if p == c || (i + 1 < n && !before(p, q)) {
-                return Err(Refused::Rounding("face vertices not in strict angular order"));
+                return Err(Refused::Rounding(
+                    "face vertices not in strict angular order",
+                ));
             }
         }
         for i in 0..n {
@@ -421,16 +456,7 @@ impl Builder<'_> {
                 return Err(Refused::Rounding("face not convex after rounding"));
             }
         }
-        // boundary edges, with whether they lie on the boundary of A or B
-        let (na, nb) = (self.la.nbrs[ta as usize], self.lb.nbrs[tb as usize]);
-        for i in 0..n {
-            let (f, g) = (fv[i], fv[(i + 1) % n]);
-            let (sa, sb) = (f.on_a & g.on_a, f.on_b & g.on_b);
-            let hull = (0..3).any(|k| (sa >> k) & 1 == 1 && na[k] == NONE)
-                || (0..3).any(|j| (sb >> j) & 1 == 1 && nb[j] == NONE);
-            let (lo, hi) = (f.id.min(g.id), f.id.max(g.id));
-            self.bnd.push((((lo as u64) << 32) | hi as u64, f.id < g.id, hull));
-        }
+        self.boundary(ta, tb, fv);
         // ears: a strictly convex corner whose removal leaves a face that
         // is not flat
         let mut ring: Vec<usize> = (0..n).collect();
@@ -438,7 +464,11 @@ impl Builder<'_> {
             let r = ring.len();
             let mut cut = None;
             for i in 0..r {
-                let (u, v, w) = (fv[ring[(i + r - 1) % r]].p, fv[ring[i]].p, fv[ring[(i + 1) % r]].p);
+                let (u, v, w) = (
+                    fv[ring[(i + r - 1) % r]].p,
+                    fv[ring[i]].p,
+                    fv[ring[(i + 1) % r]].p,
+                );
                 if orient2d(co(u), co(v), co(w)) <= 0.0 {
                     continue;
                 }
@@ -456,6 +486,22 @@ impl Builder<'_> {
             ring.remove(i);
         }
         self.triangle(ta, tb, [fv[ring[0]], fv[ring[1]], fv[ring[2]]])
+    }
+
+    /// Records the face's boundary edges (vertices in counter-clockwise
+    /// order), with whether each lies on the boundary of A or B.
+    fn boundary(&mut self, ta: u32, tb: u32, fv: &[FaceVertex]) {
+        let n = fv.len();
+        let (na, nb) = (self.la.nbrs[ta as usize], self.lb.nbrs[tb as usize]);
+        for i in 0..n {
+            let (f, g) = (fv[i], fv[(i + 1) % n]);
+            let (sa, sb) = (f.on_a & g.on_a, f.on_b & g.on_b);
+            let hull = (0..3).any(|k| (sa >> k) & 1 == 1 && na[k] == NONE)
+                || (0..3).any(|j| (sb >> j) & 1 == 1 && nb[j] == NONE);
+            let (lo, hi) = (f.id.min(g.id), f.id.max(g.id));
+            self.bnd
+                .push((((lo as u64) << 32) | hi as u64, f.id < g.id, hull));
+        }
     }
 
     fn triangle(&mut self, ta: u32, tb: u32, t: [FaceVertex; 3]) -> Result<(), Refused> {
@@ -491,7 +537,7 @@ pub fn overlay_faces(
         out_b: vec![NONE; lb.num_vertices as usize],
         cross: FxHashMap::default(),
         o: Overlay::default(),
-        bnd: Vec::new(),
+        bnd: Vec::with_capacity(4 * (la.tris.len() + lb.tris.len())),
     };
     let hull = HullBuckets::new(b, lb);
     // the triangle of B holding each vertex of A (NONE: outside; UNSET: not
@@ -512,14 +558,40 @@ pub fn overlay_faces(
         }
         queue.clear();
         seen.clear();
-        for (k, &v) in tra.iter().enumerate() {
-            let v = v as usize;
-            if loc[v] == UNSET {
-                loc[v] = locate::locate(b, level_b, c[k][0], c[k][1]).unwrap_or(NONE);
+        // the triangle of B holding a's centroid overlaps a with positive
+        // area; from it, the search crosses only edges of b passing through
+        // the interior of a (the faces of positive area are connected that
+        // way: a ∩ B is convex). A centroid that rounding put outside a, or
+        // that is outside B (a sticks out of B), falls back to the search
+        // over every triangle of B meeting the closed a, seeded from a
+        // corner or from B's hull.
+        let g = [
+            (c[0][0] + c[1][0] + c[2][0]) / 3.0,
+            (c[0][1] + c[1][1] + c[2][1]) / 3.0,
+        ];
+        let inside_a = (0..3).all(|k| orient2d(co(c[k]), co(c[(k + 1) % 3]), co(g)) > 0.0);
+        let mut interior = false;
+        if inside_a {
+            let s = locate::start_triangle(b, level_b, g[0], g[1]);
+            if let locate::Walk::Inside(t) = locate::walk(b, level_b, s, g[0], g[1]) {
+                queue.push(t);
+                interior = true;
             }
-            if loc[v] != NONE {
-                queue.push(loc[v]);
-                break;
+        }
+        if !interior {
+            for (k, &v) in tra.iter().enumerate() {
+                let v = v as usize;
+                if loc[v] == UNSET {
+                    let s = locate::start_triangle(b, level_b, c[k][0], c[k][1]);
+                    loc[v] = match locate::walk(b, level_b, s, c[k][0], c[k][1]) {
+                        locate::Walk::Inside(t) => t,
+                        locate::Walk::Outside(_) => NONE,
+                    };
+                }
+                if loc[v] != NONE {
+                    queue.push(loc[v]);
+                    break;
+                }
             }
         }
         if queue.is_empty() {
@@ -543,10 +615,15 @@ pub fn overlay_faces(
             if fv.is_empty() {
                 continue;
             }
+            let next = if interior {
+                through_interior(&fv)
+            } else {
+                meets
+            };
             bd.emit(ta, tb, &mut fv)?;
             let nb = lb.nbrs[tb as usize];
             for j in 0..3 {
-                if (meets >> j) & 1 == 1 && nb[j] != NONE && !seen.contains(&nb[j]) {
+                if (next >> j) & 1 == 1 && nb[j] != NONE && !seen.contains(&nb[j]) {
                     seen.push(nb[j]);
                     queue.push(nb[j]);
                 }
@@ -570,9 +647,109 @@ pub fn overlay_faces(
             _ => false,
         };
         if !ok {
-            return Err(Refused::Rounding("two faces disagree on their common boundary"));
+            return Err(Refused::Rounding(
+                "two faces disagree on their common boundary",
+            ));
         }
         i = k;
     }
     Ok(bd.o)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tin::build::from_triangles;
+
+    /// A unit-square grid of n x n cells, two triangles per cell, with the
+    /// cells in `skip` left out.
+    fn grid(n: u32, skip: &[(u32, u32)]) -> Tin {
+        let mut verts = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                verts.push([i as f64, j as f64, (i + 2 * j) as f64]);
+            }
+        }
+        let id = |i: u32, j: u32| j * (n + 1) + i;
+        let mut tris = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                if !skip.contains(&(i, j)) {
+                    tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                    tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                }
+            }
+        }
+        from_triangles(verts, tris, 0, &mut || Ok(())).unwrap()
+    }
+
+    #[test]
+    fn convex_domains_are_recognised() {
+        let g = grid(3, &[]);
+        assert!(convex_domain(&g, &g.levels[0]));
+        // an L shape: a right turn at the missing corner cell
+        let l = grid(3, &[(2, 2)]);
+        assert!(!convex_domain(&l, &l.levels[0]));
+        // a hole: two boundary loops
+        let h = grid(3, &[(1, 1)]);
+        assert!(!convex_domain(&h, &h.levels[0]));
+    }
+
+    #[test]
+    fn edges_through_the_interior() {
+        let v = |id, on_a, on_b| FaceVertex {
+            id,
+            p: [0.0, 0.0],
+            on_a,
+            on_b,
+        };
+        // edge 0 of b crosses a (two crossings on different edges of a);
+        // edge 1 runs along edge 2 of a; edge 2 only touches at one point
+        let fv = [
+            v(1, 0b001, 0b001),
+            v(2, 0b010, 0b001),
+            v(3, 0b100, 0b110),
+            v(4, 0b100, 0b010),
+        ];
+        assert_eq!(through_interior(&fv), 0b001);
+    }
+
+    #[test]
+    fn faces_of_two_grids_tile_the_common_square() {
+        // B: the grid shifted by (0.5, 0.25): crossings everywhere
+        let a = grid(4, &[]);
+        let mut b = grid(4, &[]);
+        for v in &mut b.verts {
+            v[0] += 0.5;
+            v[1] += 0.25;
+        }
+        b.bbox = crate::tin::Bbox::of(&b.verts);
+        let o = overlay_faces(&a, 0, &b, 0, &mut || Ok(())).unwrap();
+        let area: f64 = (0..o.tris.len()).map(|t| o.area(t)).sum();
+        assert!((area - 3.5 * 3.75).abs() < 1e-12, "{area}");
+        assert!(o.tris.iter().enumerate().all(|(t, _)| o.area(t) > 0.0));
+        // every output triangle inside its labelled triangles (corners of
+        // the output triangle in the closed input triangles, exactly)
+        for (t, tri) in o.tris.iter().enumerate() {
+            for (tin, owner) in [(&a, o.tri_a[t]), (&b, o.tri_b[t])] {
+                let c = tin.corners(0, owner).map(|v| co([v[0], v[1]]));
+                for &v in tri {
+                    let p = co(o.pts[v as usize]);
+                    for j in 0..3 {
+                        // crossings are rounded: allow a few ulps
+                        assert!(orient2d(c[j], c[(j + 1) % 3], p) > -1e-12);
+                    }
+                }
+            }
+        }
+        // a disjoint B gives nothing
+        for v in &mut b.verts {
+            v[0] += 10.0;
+        }
+        b.bbox = crate::tin::Bbox::of(&b.verts);
+        assert!(overlay_faces(&a, 0, &b, 0, &mut || Ok(()))
+            .unwrap()
+            .tris
+            .is_empty());
+    }
 }

@@ -207,7 +207,9 @@ pub fn overlay_constrained(
     level_b: usize,
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
 ) -> Result<Overlay, TinError> {
-    guarded(interrupt, |check| overlay_cdt(a, level_a, b, level_b, check))
+    guarded(interrupt, |check| {
+        overlay_cdt(a, level_a, b, level_b, check)
+    })
 }
 
 /// Runs `f`, turning a panic inside spade into an error; a panic raised by
@@ -224,18 +226,16 @@ fn guarded(
         in_check.set(false);
         r
     };
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&mut check))).map_err(
-        |payload| {
-            if in_check.get() {
-                std::panic::resume_unwind(payload);
-            }
-            TinError::Degenerate(
-                "overlay: the triangulation library failed on these inputs (edges crossing too \
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&mut check))).map_err(|payload| {
+        if in_check.get() {
+            std::panic::resume_unwind(payload);
+        }
+        TinError::Degenerate(
+            "overlay: the triangulation library failed on these inputs (edges crossing too \
                  near each other for double precision)"
-                    .into(),
-            )
-        },
-    )?
+                .into(),
+        )
+    })?
 }
 
 /// The face-by-face overlay when B's domain is convex and rounding never

@@ -165,11 +165,23 @@ pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
         }
     }
     if ns == seen.len() {
-        // A vertex with more than 15 incident triangles: finish by scanning
-        // the fan exhaustively (rare; still exact).
-        for u in 0..lv.tris.len() as u32 {
-            if u < best && contains(tin, level, u, x, y) {
-                return u;
+        // A vertex with more than 15 incident triangles: the same search
+        // with unbounded lists (rare; still exact, and local to the fan).
+        let mut stack = vec![t];
+        let mut seen = vec![t];
+        while let Some(u) = stack.pop() {
+            best = best.min(u);
+            let tri = lv.tris[u as usize];
+            for j in 0..3 {
+                let a = xy(&tin.verts[tri[(j + 1) % 3] as usize]);
+                let b = xy(&tin.verts[tri[(j + 2) % 3] as usize]);
+                if orient2d(a, b, p) == 0.0 {
+                    let nb = lv.nbrs[u as usize][j];
+                    if nb != NONE && !seen.contains(&nb) {
+                        seen.push(nb);
+                        stack.push(nb);
+                    }
+                }
             }
         }
     }

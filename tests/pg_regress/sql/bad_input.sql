@@ -106,6 +106,12 @@ SELECT try($$SELECT * FROM terrain, dem, tin_paint(t, rast)$$);
 SELECT try($$SELECT * FROM terrain, dem, tin_paint(t, ST_SetSRID(ST_ColorMap(rast, 'bluered'), 4326))$$);
 SELECT try($$SELECT * FROM terrain, tin_raster_stats(t, '0100000100000000000080564000000000008056c0000000004095264100000000b0f94e4100000000000000000000000000000000687f00000a000a008a003c1cc6002f746d702f616273656e742e74696600'::raster)$$);
 SELECT try($$SELECT * FROM terrain, tin_paint(t, '0100000100000000000080564000000000008056c0000000004095264100000000b0f94e4100000000000000000000000000000000687f00000a000a008a003c1cc6002f746d702f616273656e742e74696600'::raster)$$);
+SELECT try($$SELECT count(*) FROM terrain a, tin_overlay(a.t, tin_from_points('SRID=4326;MULTIPOINT Z (0 0 1, 1 0 1, 0 1 1)'::geometry, 1))$$);
+SELECT try($$SELECT count(*) FROM terrain a, tin_overlay(a.t, a.t, -1, 0)$$);
+SELECT try($$SELECT count(*) FROM terrain a, tin_overlay(a.t, a.t, 0, 5)$$);
+SELECT try($$SELECT tin_overlay_tin(a.t, a.t, 5, 0) FROM terrain a$$);
+SELECT try($$SELECT * FROM terrain a, tin_difference(a.t, a.t, 0, -2)$$);
+SELECT try($$SELECT count(*) FROM terrain a, tin_overlay(a.t, overlay(a.t::text placing 'FF' from 900 for 2)::tin)$$);
 -- NULL and empty inputs give NULL (or no rows), never an error
 SELECT tin_height(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin,
        tin_height(t, NULL::geometry) IS NULL AS null_geom,
