@@ -201,5 +201,16 @@ FROM generate_series(0, 1) l,
      LATERAL bench('postgis', format('SELECT count(*), sum(ST_Area(ST_Intersection(a.geom, b.geom))) FROM ov_a a JOIN ov_b b ON b.level = %s AND ST_Intersects(a.geom, b.geom) WHERE a.level = %s', l, l), 1) b3
 ORDER BY 1;
 SQL
+echo "== TIN/TIN overlay from SQL at 100k+ triangles: levels 3-4 (PostGIS join not run: over a minute per level)"
+q -F ' | ' <<'SQL'
+SELECT l AS level, tin_num_triangles(terrain.t, l) AS triangles_a, tin_num_triangles(epoch2.t, l) AS triangles_b,
+       (SELECT count(*) FROM tin_overlay(terrain.t, epoch2.t, l, l)) AS output_triangles,
+       b1.median_ms AS tin_overlay_ms, b2.median_ms AS tin_overlay_tin_ms, b3.median_ms AS tin_difference_ms
+FROM terrain, epoch2, generate_series(3, 4) l,
+     LATERAL bench('overlay', format('SELECT count(*), sum(ST_Area(geom_a)) FROM terrain, epoch2, tin_overlay(terrain.t, epoch2.t, %s, %s)', l, l), 3) b1,
+     LATERAL bench('overlay_tin', format('SELECT tin_num_triangles(tin_overlay_tin(terrain.t, epoch2.t, %s, %s)) FROM terrain, epoch2', l, l), 3) b2,
+     LATERAL bench('difference', format('SELECT * FROM terrain, epoch2, tin_difference(terrain.t, epoch2.t, %s, %s)', l, l), 3) b3
+ORDER BY 1;
+SQL
 echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shifted copy, every level, vs the naive CDT (cargo bench --bench overlay)"
 cargo bench --bench overlay 2>/dev/null
