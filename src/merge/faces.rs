@@ -37,7 +37,7 @@
 // corners and edges are indexed 0..3 in several arrays at once
 #![allow(clippy::needless_range_loop)]
 
-use crate::merge::overlay::Overlay;
+use crate::merge::overlay::{crossing, Overlay};
 use crate::merge::Ticker;
 use crate::tin::{interpolate, locate, Level, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
@@ -91,16 +91,6 @@ fn edge_ids(lv: &Level) -> Result<Vec<[u32; 3]>, TinError> {
         }
     }
     Ok(ids)
-}
-
-/// Crossing point of edge (p, q) of A with edge (u, v) of B, known to cross
-/// properly; the ends are given in a canonical order (by vertex id) so the
-/// point does not depend on which face asks.
-fn crossing(p: [f64; 2], q: [f64; 2], u: [f64; 2], v: [f64; 2]) -> [f64; 2] {
-    let op = orient2d(co(u), co(v), co(p));
-    let oq = orient2d(co(u), co(v), co(q));
-    let t = (op / (op - oq)).clamp(0.0, 1.0);
-    [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
 }
 
 /// Hull triangles of B in a coarse bucket grid, to seed triangles of A whose

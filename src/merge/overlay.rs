@@ -155,8 +155,10 @@ fn load(tin: &Tin, level: usize, which: &str) -> Result<Cdt, TinError> {
 }
 
 /// Crossing point of edge (p, q) of A with edge (u, v) of B, known to cross
-/// properly (all four orientations non-zero).
-fn crossing(p: [f64; 2], q: [f64; 2], u: [f64; 2], v: [f64; 2]) -> [f64; 2] {
+/// properly (all four orientations non-zero). Give the ends of both edges
+/// in a canonical order (by vertex id) so the point does not depend on who
+/// asks.
+pub(crate) fn crossing(p: [f64; 2], q: [f64; 2], u: [f64; 2], v: [f64; 2]) -> [f64; 2] {
     let op = orient2d(co(u), co(v), co(p));
     let oq = orient2d(co(u), co(v), co(q));
     let t = (op / (op - oq)).clamp(0.0, 1.0);

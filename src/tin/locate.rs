@@ -134,12 +134,29 @@ fn brute_force(verts: &[[f64; 3]], lv: &Level, x: f64, y: f64) -> Option<u32> {
     (0..lv.tris.len() as u32).find(|&t| contains_raw(verts, lv, t, x, y))
 }
 
+/// The neighbours of triangle `u` across its edges passing through `p`
+/// (NONE for the others).
+#[inline]
+fn across_edges_through(tin: &Tin, lv: &Level, u: u32, p: Coord<f64>) -> [u32; 3] {
+    let tri = lv.tris[u as usize];
+    let mut out = [NONE; 3];
+    for j in 0..3 {
+        let a = xy(&tin.verts[tri[(j + 1) % 3] as usize]);
+        let b = xy(&tin.verts[tri[(j + 2) % 3] as usize]);
+        if orient2d(a, b, p) == 0.0 {
+            out[j] = lv.nbrs[u as usize][j];
+        }
+    }
+    out
+}
+
 /// Among the closed triangles containing (x, y), the smallest id, found by
 /// visiting the triangles across edges that pass through the point.
 pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
     let lv = &tin.levels[level];
     let p = Coord { x, y };
     let mut best = t;
+    // fixed lists first (no allocation on the common path)
     let mut stack = [NONE; 16];
     let mut seen = [NONE; 16];
     let (mut sp, mut ns) = (1usize, 1usize);
@@ -149,18 +166,12 @@ pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
         sp -= 1;
         let u = stack[sp];
         best = best.min(u);
-        let tri = lv.tris[u as usize];
-        for j in 0..3 {
-            let a = xy(&tin.verts[tri[(j + 1) % 3] as usize]);
-            let b = xy(&tin.verts[tri[(j + 2) % 3] as usize]);
-            if orient2d(a, b, p) == 0.0 {
-                let nb = lv.nbrs[u as usize][j];
-                if nb != NONE && !seen[..ns].contains(&nb) && ns < seen.len() && sp < stack.len() {
-                    seen[ns] = nb;
-                    ns += 1;
-                    stack[sp] = nb;
-                    sp += 1;
-                }
+        for nb in across_edges_through(tin, lv, u, p) {
+            if nb != NONE && !seen[..ns].contains(&nb) && ns < seen.len() && sp < stack.len() {
+                seen[ns] = nb;
+                ns += 1;
+                stack[sp] = nb;
+                sp += 1;
             }
         }
     }
@@ -171,16 +182,10 @@ pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
         let mut seen = vec![t];
         while let Some(u) = stack.pop() {
             best = best.min(u);
-            let tri = lv.tris[u as usize];
-            for j in 0..3 {
-                let a = xy(&tin.verts[tri[(j + 1) % 3] as usize]);
-                let b = xy(&tin.verts[tri[(j + 2) % 3] as usize]);
-                if orient2d(a, b, p) == 0.0 {
-                    let nb = lv.nbrs[u as usize][j];
-                    if nb != NONE && !seen.contains(&nb) {
-                        seen.push(nb);
-                        stack.push(nb);
-                    }
+            for nb in across_edges_through(tin, lv, u, p) {
+                if nb != NONE && !seen.contains(&nb) {
+                    seen.push(nb);
+                    stack.push(nb);
                 }
             }
         }
