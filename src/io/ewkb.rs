@@ -156,13 +156,23 @@ pub fn read(b: &[u8]) -> Result<Ewkb, IoError> {
             "geometries with M coordinates are not supported; use ST_Force3DZ or ST_Force2D".into(),
         ));
     }
-    let w = wkb::reader::read_wkb(b).map_err(|e| IoError::Geometry(e.to_string()))?;
-    let has_z = matches!(
-        w.dim(),
-        geo_traits::Dimensions::Xyz | geo_traits::Dimensions::Xyzm
-    );
-    let geom = convert(&w, has_z)?;
-    Ok(Ewkb { srid, has_z, geom })
+    // the wkb crate reads lazily and unwraps some length checks while
+    // iterating (a malformed MULTIPOINT panics in `point_unchecked`): a
+    // panic there is a malformed value, not a bug of ours
+    std::panic::catch_unwind(|| {
+        let w = wkb::reader::read_wkb(b).map_err(|e| IoError::Geometry(e.to_string()))?;
+        let has_z = matches!(
+            w.dim(),
+            geo_traits::Dimensions::Xyz | geo_traits::Dimensions::Xyzm
+        );
+        let geom = convert(&w, has_z)?;
+        Ok(Ewkb { srid, has_z, geom })
+    })
+    .unwrap_or_else(|_| {
+        Err(IoError::Geometry(
+            "malformed WKB (a count or length runs past the end of the value)".into(),
+        ))
+    })
 }
 
 /// Little-endian EWKB writer.
