@@ -3,38 +3,38 @@
 -- Levels are 0-based: 0 = coarsest; a NULL or omitted level = finest.
 
 CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1)
-RETURNS tin AS $$ SELECT _tin_from_raster($1::bytea, $2, $3, $4) $$
+RETURNS tin AS $$ SELECT @extschema@._tin_from_raster($1::bytea, $2, $3, $4) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
 COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int) IS
 'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16.';
 
 CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1)
-RETURNS tin AS $$ SELECT _tin_from_raster_tolerances($1::bytea, $2, $3) $$
+RETURNS tin AS $$ SELECT @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
 COMMENT ON FUNCTION tin_from_raster(raster, float8[], int) IS
 'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing).';
 
 CREATE FUNCTION tin_from_points(pts geometry, tolerance float8, levels int DEFAULT 5)
-RETURNS tin AS $$ SELECT _tin_from_points($1::bytea, $2, $3) $$
+RETURNS tin AS $$ SELECT @extschema@._tin_from_points($1::bytea, $2, $3) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
 COMMENT ON FUNCTION tin_from_points(geometry, float8, int) IS
 'Builds a tin from every vertex of a geometry with Z (typically MULTIPOINT Z); points with equal x,y are merged (mean z). Error is measured at the samples.';
 
 CREATE FUNCTION tin_envelope(t tin)
-RETURNS geometry AS $$ SELECT _tin_envelope($1)::geometry $$
+RETURNS geometry AS $$ SELECT @extschema@._tin_envelope($1)::geometry $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
 COMMENT ON FUNCTION tin_envelope(tin) IS
 'Bounding box of the tin as a POLYGON with its SRID (read from the header only).';
 
 CREATE FUNCTION tin_triangles(t tin, level int DEFAULT NULL)
 RETURNS TABLE(id int, parent int, geom geometry) AS
-$$ SELECT id, parent, geom::geometry FROM _tin_triangles($1, $2) $$
+$$ SELECT id, parent, geom::geometry FROM @extschema@._tin_triangles($1, $2) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_triangles(tin, int) IS
 'Triangles of one level (NULL = finest) as POLYGON Z with the tin''s SRID; parent is the containing triangle of the previous level (NULL at level 0).';
 
 CREATE FUNCTION tin_as_geometry(t tin, level int DEFAULT NULL)
-RETURNS geometry AS $$ SELECT _tin_as_geometry($1, $2)::geometry $$
+RETURNS geometry AS $$ SELECT @extschema@._tin_as_geometry($1, $2)::geometry $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_as_geometry(tin, int) IS
 'One level (NULL = finest) as a PostGIS TIN Z geometry.';
@@ -55,27 +55,27 @@ COMMENT ON FUNCTION tin_footprint(tin, geometry, float8, float8, float8, int) IS
 -- Line merge (seed 6.4). Lines travel as EWKB to the _tin_line_* functions.
 CREATE FUNCTION tin_line_triangles(t tin, line geometry, level int DEFAULT NULL, width float8 DEFAULT 0)
 RETURNS TABLE(seq int, triangle int) AS
-$$ SELECT * FROM _tin_line_triangles($1, $2::bytea, $3, $4) $$
+$$ SELECT * FROM @extschema@._tin_line_triangles($1, $2::bytea, $3, $4) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_line_triangles(tin, geometry, int, float8) IS
 'Triangles of a level (NULL = finest) a LINESTRING or MULTILINESTRING passes through, in travel order (seq from 1; a triangle entered again appears again). With width > 0: every triangle within width/2 of the line, each once, ordered by where the line first comes that close. Stretches outside the domain are skipped; along a shared edge the smaller triangle id holds the stretch.';
 
 CREATE FUNCTION tin_line_segments(t tin, line geometry, level int DEFAULT NULL)
 RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
-$$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM _tin_line_segments($1, $2::bytea, $3) $$
+$$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM @extschema@._tin_line_segments($1, $2::bytea, $3) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_line_segments(tin, geometry, int) IS
 'The line cut at every triangle edge of a level (NULL = finest): one LINESTRING Z on the surface per triangle crossed, in travel order, with its planar length, surface length and rise (end height minus start height). Stretches outside the domain are skipped.';
 
 CREATE FUNCTION tin_line_profile(t tin, line geometry, level int DEFAULT NULL)
 RETURNS TABLE(distance float8, z float8) AS
-$$ SELECT * FROM _tin_line_profile($1, $2::bytea, $3) $$
+$$ SELECT * FROM @extschema@._tin_line_profile($1, $2::bytea, $3) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_line_profile(tin, geometry, int) IS
 'Height profile along a line: every vertex of the draped line (the line''s vertices and its triangle-edge crossings) with its planar distance from the start (parts of a MULTILINESTRING follow each other). Stretches outside the domain give no points.';
 
 CREATE FUNCTION tin_line_climb(t tin, line geometry, level int DEFAULT NULL)
-RETURNS float8 AS $$ SELECT _tin_line_climb($1, $2::bytea, $3) $$
+RETURNS float8 AS $$ SELECT @extschema@._tin_line_climb($1, $2::bytea, $3) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_line_climb(tin, geometry, int) IS
 'Total ascent along the direction of the line on the surface of a level (NULL = finest): the sum of the positive height differences along the draped line (0 for a line running only downhill; NULL when no part is in the domain).';
@@ -83,7 +83,7 @@ COMMENT ON FUNCTION tin_line_climb(tin, geometry, int) IS
 -- The multi-scale line tree: build once (e.g. in a generated column), merge
 -- many times. The linetree overloads give the same rows as the geometry ones.
 CREATE FUNCTION tin_linetree(line geometry)
-RETURNS linetree AS $$ SELECT _tin_linetree($1::bytea) $$
+RETURNS linetree AS $$ SELECT @extschema@._tin_linetree($1::bytea) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
 COMMENT ON FUNCTION tin_linetree(geometry) IS
 'Multi-scale line tree of a LINESTRING or MULTILINESTRING (Douglas-Peucker generalisations, each child level within a quarter of its parent''s error, an error bound per segment): merges with a tin through it skip the stretches that cannot leave a triangle. NULL for an empty line.';
@@ -93,7 +93,7 @@ COMMENT ON FUNCTION tin_line_triangles(tin, linetree, int, float8) IS
 'tin_line_triangles through a stored line tree: the same rows as for its geometry, visiting only the stretches near triangle edges.';
 CREATE FUNCTION tin_line_segments(t tin, line linetree, level int DEFAULT NULL)
 RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
-$$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM _tin_line_segments_tree($1, $2, $3) $$
+$$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM @extschema@._tin_line_segments_tree($1, $2, $3) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
 'tin_line_segments through a stored line tree: the same rows as for its geometry.';
@@ -103,14 +103,14 @@ COMMENT ON FUNCTION tin_line_climb(tin, linetree, int) IS
 'tin_line_climb through a stored line tree: the same value as for its geometry.';
 
 CREATE FUNCTION tin_drape(t tin, geom geometry, level int DEFAULT NULL)
-RETURNS geometry AS $$ SELECT _tin_drape($1, $2::bytea, $3)::geometry $$
+RETURNS geometry AS $$ SELECT @extschema@._tin_drape($1, $2::bytea, $3)::geometry $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS
 'The geometry with Z from the surface of a level (NULL = finest) and a vertex added wherever a line or ring crosses a triangle edge (as ArcGIS Interpolate Shape or H2GIS ST_Drape). Any type, multi* and collections included. Points outside the domain are dropped; lines keep their stretches inside (a line leaving and coming back becomes a MULTILINESTRING); a polygon with a vertex outside is an error. NULL when nothing is left.';
 
 -- Area merge. PostGIS decides validity (ST_IsValidReason); the functions
 -- that measure in the SRID's units are told whether it is geographic.
-CREATE FUNCTION _tin_srid_is_geographic(srid int) RETURNS boolean AS
+CREATE FUNCTION @extschema@._tin_srid_is_geographic(srid int) RETURNS boolean AS
 $$ SELECT EXISTS (SELECT 1 FROM spatial_ref_sys s WHERE s.srid = $1
      AND (s.proj4text LIKE '%+proj=longlat%' OR s.srtext LIKE 'GEOGCS%' OR s.srtext LIKE 'GEOGCRS%')) $$
 LANGUAGE sql STABLE STRICT PARALLEL SAFE;
@@ -118,21 +118,21 @@ COMMENT ON FUNCTION _tin_srid_is_geographic(int) IS 'Internal: whether spatial_r
 
 CREATE FUNCTION tin_area_triangles(t tin, area geometry, level int DEFAULT NULL, compact boolean DEFAULT false)
 RETURNS TABLE(triangle int, level int, relation text, coverage float8) AS
-$$ SELECT * FROM _tin_area_triangles($1, $2::bytea, $3, $4, ST_IsValidReason($2)) $$
+$$ SELECT * FROM @extschema@._tin_area_triangles($1, $2::bytea, $3, $4, ST_IsValidReason($2)) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_area_triangles(tin, geometry, int, boolean) IS
 'Triangles of a level (NULL = finest) on and inside a POLYGON or MULTIPOLYGON, by the hierarchical polygonal sweep: relation ''inside'' (wholly inside, touching the boundary allowed; coverage 1) or ''boundary'' (the polygon''s boundary crosses the triangle; coverage = fraction of the triangle''s area inside). With compact => true, inside triangles are reported at the coarsest level whose triangle is wholly inside (the level column says which), covering the same region. Parts outside the domain are ignored; an invalid polygon is an error (repair it with ST_MakeValid).';
 
 CREATE FUNCTION tin_area_stats(t tin, area geometry, level int DEFAULT NULL)
 RETURNS TABLE(area2d float8, area3d float8, min_z float8, max_z float8, mean_z float8, mean_slope float8, max_slope float8) AS
-$$ SELECT * FROM _tin_area_stats($1, $2::bytea, $3, ST_IsValidReason($2), _tin_srid_is_geographic(tin_srid($1))) $$
+$$ SELECT * FROM @extschema@._tin_area_stats($1, $2::bytea, $3, ST_IsValidReason($2), @extschema@._tin_srid_is_geographic(@extschema@.tin_srid($1))) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
 'Statistics of the surface of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: planar area, surface area, min/max height, area-weighted mean height and slope (degrees), steepest slope. Heights are NULL when the polygon misses the domain. Planar SRIDs only: a geographic tin is an error.';
 
 CREATE FUNCTION tin_volume(t tin, area geometry, base_z float8, level int DEFAULT NULL)
 RETURNS TABLE(cut float8, fill float8) AS
-$$ SELECT * FROM _tin_volume($1, $2::bytea, $3, $4, ST_IsValidReason($2), _tin_srid_is_geographic(tin_srid($1))) $$
+$$ SELECT * FROM @extschema@._tin_volume($1, $2::bytea, $3, $4, ST_IsValidReason($2), @extschema@._tin_srid_is_geographic(@extschema@.tin_srid($1))) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_volume(tin, geometry, float8, int) IS
 'Volumes inside a POLYGON or MULTIPOLYGON between the surface of a level (NULL = finest) and the height base_z: cut = volume of surface above base_z, fill = volume of the space below base_z down to the surface (as a cut-and-fill or ArcGIS Surface Volume), exact for the linear surface. Planar SRIDs only.';
@@ -180,21 +180,21 @@ COMMENT ON FUNCTION tin_send(tin) IS 'Binary output of tin.';
 -- raster merge
 CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false)
 RETURNS TABLE(triangle int, count bigint, sum float8, mean float8, min float8, max float8, mode float8) AS
-$$ SELECT * FROM _tin_raster_stats($1, $2::bytea, $3, $4, $5) $$
+$$ SELECT * FROM @extschema@._tin_raster_stats($1, $2::bytea, $3, $4, $5) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_raster_stats(tin, raster, int, int, boolean) IS
 'Zonal statistics of a raster band per triangle of a level (NULL = finest). By default (scanline sweep) a pixel belongs to the triangle containing its centre (a centre on a shared edge goes to the triangle east of it, north of an east-west edge; on a vertex to the triangle just east-north-east of it; on the outer boundary to the triangle it lies on). With weighted => true every pixel a triangle overlaps counts by the exact fraction of its area inside the triangle, as exactextract does: count = pixels overlapped, sum = sum of value x fraction, mean = sum / sum of fractions, mode = value of greatest total coverage. Nodata pixels are skipped; triangles receiving no pixel are not returned; mode ties go to the smallest value. The raster must be north-up, in-db, with the tin''s SRID.';
 
 CREATE FUNCTION tin_raster_pixels(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1)
 RETURNS TABLE(triangle int, col int, "row" int, value float8) AS
-$$ SELECT * FROM _tin_raster_pixels($1, $2::bytea, $3, $4) $$
+$$ SELECT * FROM @extschema@._tin_raster_pixels($1, $2::bytea, $3, $4) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_raster_pixels(tin, raster, int, int) IS
 'Every valid pixel of a raster band with the triangle of a level (NULL = finest) containing its centre (the rule of tin_raster_stats), in raster order; col and row numbered from 1 as in ST_Value. Nodata pixels and pixels outside the tin are left out.';
 
 CREATE FUNCTION tin_paint(t tin, rast raster, level int DEFAULT NULL)
 RETURNS TABLE(triangle int, r float8, g float8, b float8) AS
-$$ SELECT * FROM _tin_paint($1, $2::bytea, $3) $$
+$$ SELECT * FROM @extschema@._tin_paint($1, $2::bytea, $3) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_paint(tin, raster, int) IS
 'An image painted on the surface: the mean colour (bands 1, 2, 3 as red, green, blue) of the pixels whose centres each triangle of a level (NULL = finest) contains (the rule of tin_raster_stats); a pixel counts when all three bands are valid. Triangles receiving no pixel are not returned.';
@@ -202,21 +202,21 @@ COMMENT ON FUNCTION tin_paint(tin, raster, int) IS
 -- TIN/TIN overlay
 CREATE FUNCTION tin_overlay(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
 RETURNS TABLE(id int, triangle_a int, triangle_b int, geom_a geometry, geom_b geometry) AS
-$$ SELECT id, triangle_a, triangle_b, geom_a::geometry, geom_b::geometry FROM _tin_overlay($1, $2, $3, $4) $$
+$$ SELECT id, triangle_a, triangle_b, geom_a::geometry, geom_b::geometry FROM @extschema@._tin_overlay($1, $2, $3, $4) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_overlay(tin, tin, int, int) IS
 'Overlay of two tins at their levels (NULL = finest): a triangulation of the common domain holding every vertex and every edge of both (edges cut where they cross). Each output triangle with the triangle of a and of b containing it (ids as in tin_triangles) and twice as POLYGON Z: heights from surface a, then from surface b. Both tins must have the same SRID; disjoint domains give no rows.';
 
 CREATE FUNCTION tin_overlay_tin(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
 RETURNS tin AS
-$$ SELECT _tin_overlay_tin($1, $2, $3, $4) $$
+$$ SELECT @extschema@._tin_overlay_tin($1, $2, $3, $4) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_overlay_tin(tin, tin, int, int) IS
 'The overlay of tin_overlay as a single-level tin with heights from a (tolerance 0), so every other merge works on it. NULL when the domains do not overlap.';
 
 CREATE FUNCTION tin_difference(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
 RETURNS TABLE(cut float8, fill float8, area_changed float8) AS
-$$ SELECT * FROM _tin_difference($1, $2, $3, $4) $$
+$$ SELECT * FROM @extschema@._tin_difference($1, $2, $3, $4) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_difference(tin, tin, int, int) IS
 'Surface difference of a against b over their common domain (as ArcGIS Surface Difference): cut = volume where a is above b, fill = volume where a is below b, area_changed = planar area where they differ. Exact for the linear surfaces: computed on the overlay, each triangle split at the line where a = b. No row when the domains do not overlap.';

@@ -183,6 +183,9 @@ pub fn coverage(
         let r0 = v0.floor().max(0.0) as usize;
         let r1 = (v1.ceil().min(h) as usize).max(r0);
         for r in r0..r1 {
+            // per row too: a coarse triangle over a fine raster is a lot of
+            // pixels
+            tk.tick()?;
             let (top, bot) = (r as f64, r as f64 + 1.0);
             let strip = tri.clip(1, top, 1.0).clip(1, bot, -1.0);
             if strip.n < 3 {

@@ -622,8 +622,33 @@ pub fn overlay_faces(
     }
     // conformity: every face boundary edge twice in opposite directions, or
     // once on the boundary of A or B
-    let mut bnd = std::mem::take(&mut bd.bnd);
-    bnd.sort_unstable_by_key(|e| e.0);
+    // sorted bucket by bucket (by the smaller vertex id, so equal keys
+    // share a bucket), with an interrupt check between buckets
+    let bnd = {
+        let src = std::mem::take(&mut bd.bnd);
+        let nb = 64usize;
+        let span = bd.o.pts.len() as u64 + 1;
+        let bucket = |k: u64| ((k >> 32) * nb as u64 / span) as usize;
+        let mut start = vec![0usize; nb + 1];
+        for e in &src {
+            start[bucket(e.0) + 1] += 1;
+        }
+        for i in 0..nb {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut out = vec![(0u64, false, false); src.len()];
+        for e in src {
+            let b = bucket(e.0);
+            out[fill[b]] = e;
+            fill[b] += 1;
+        }
+        for b in 0..nb {
+            (tk.f)()?;
+            out[start[b]..start[b + 1]].sort_unstable_by_key(|e| e.0);
+        }
+        out
+    };
     let mut i = 0;
     while i < bnd.len() {
         tk.tick()?;

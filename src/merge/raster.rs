@@ -501,10 +501,14 @@ pub fn zonal_stats(
         }
     })?;
     if want_mode {
+        interrupt()?;
         spans.sort_unstable();
+        interrupt()?;
+        let mut tk = Ticker { n: 0, f: interrupt };
         let mut buf: Vec<f64> = Vec::new();
         let mut i = 0;
         while i < spans.len() {
+            tk.tick()?;
             let t = spans[i].0;
             buf.clear();
             while i < spans.len() && spans[i].0 == t {

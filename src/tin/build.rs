@@ -510,7 +510,10 @@ fn assemble(
             ((a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0)
         };
         let mut keyed: Vec<(u32, u32, [u32; 3])> = Vec::with_capacity(tris.len());
-        for t in &tris {
+        for (k, t) in tris.iter().enumerate() {
+            if k % 4096 == 4095 {
+                interrupt()?;
+            }
             let (x, y) = centroid(t);
             let parent = if l == 0 {
                 NONE
@@ -524,7 +527,9 @@ fn assemble(
             };
             keyed.push((parent, morton(&tin.bbox, x, y), *t));
         }
+        interrupt()?;
         keyed.sort_unstable();
+        interrupt()?;
         let tris: Vec<[u32; 3]> = keyed.iter().map(|k| k.2).collect();
         let parent: Vec<u32> = keyed.iter().map(|k| k.0).collect();
         if l > 0 {
@@ -532,6 +537,7 @@ fn assemble(
             prev.child_start = child_starts(&parent, prev.tris.len());
         }
         let nbrs = compute_neighbours(&tris)?;
+        interrupt()?;
         let mut level = Level {
             tolerance,
             max_error,
