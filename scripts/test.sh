@@ -42,6 +42,9 @@ tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | 
 echo "== COPY, pg_dump, pg_restore"
 tests/dump_restore.sh
 
+echo "== concurrency: 8 clients, mixed merges, results against a single client"
+tests/concurrency.sh
+
 echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 python3 tests/properties/check_hierarchy.py
 echo "== coverage-weighted raster statistics against exactextract"
