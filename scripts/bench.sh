@@ -214,3 +214,5 @@ ORDER BY 1;
 SQL
 echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shifted copy, every level, vs the naive CDT (cargo bench --bench overlay)"
 cargo bench --bench overlay 2>/dev/null
+echo "== cancellation: time from statement_timeout to the error"
+scripts/cancel-latency.sh tinmerge_bench

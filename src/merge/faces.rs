@@ -668,7 +668,35 @@ pub fn overlay_faces(
         }
         i = k;
     }
-    Ok(bd.o)
+    // a vertex met only where two closed triangles touch (a point of the
+    // common domain's boundary with no face around it) is dropped
+    let mut o = bd.o;
+    let mut used = vec![false; o.pts.len()];
+    for t in &o.tris {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    if used.iter().any(|u| !u) {
+        let mut map = vec![NONE; used.len()];
+        let mut k = 0usize;
+        for i in 0..used.len() {
+            if used[i] {
+                map[i] = k as u32;
+                o.pts[k] = o.pts[i];
+                o.za[k] = o.za[i];
+                o.zb[k] = o.zb[i];
+                k += 1;
+            }
+        }
+        o.pts.truncate(k);
+        o.za.truncate(k);
+        o.zb.truncate(k);
+        for t in &mut o.tris {
+            *t = t.map(|v| map[v as usize]);
+        }
+    }
+    Ok(o)
 }
 
 #[cfg(test)]
@@ -757,6 +785,14 @@ mod tests {
                 }
             }
         }
+        // B touching A at one corner: no face, and no stray vertex
+        for v in &mut b.verts {
+            v[0] += 3.5;
+            v[1] += 3.75;
+        }
+        b.bbox = crate::tin::Bbox::of(&b.verts);
+        let o = overlay_faces(&a, 0, &b, 0, &mut || Ok(())).unwrap();
+        assert!(o.tris.is_empty() && o.pts.is_empty(), "{o:?}");
         // a disjoint B gives nothing
         for v in &mut b.verts {
             v[0] += 10.0;
