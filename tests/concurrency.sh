@@ -11,6 +11,7 @@ SECS="${TINMERGE_CONC_SECONDS:-60}"
 q() { scripts/cluster.sh psql -qAt -v ON_ERROR_STOP=1 -d tinmerge_regress "$@"; }
 
 q <<'SQL'
+SET client_min_messages = warning;
 DROP TABLE IF EXISTS conc_epoch, conc_pts, conc_feat, conc_ref, conc_out;
 CREATE TABLE conc_epoch AS SELECT tin_from_raster(rast, 3.0, 4) AS t FROM dem;
 -- 2,000 fixed points over the domain, one line, one polygon
@@ -41,6 +42,9 @@ CREATE TABLE conc_ref AS SELECT k, conc_case(k) AS v FROM generate_series(1, 7) 
 CREATE TABLE conc_out (k int, v text);
 SQL
 
+echo "single-client results (case|value):"; q -c "SELECT k, v FROM conc_ref ORDER BY k"
+nulls=$(q -c "SELECT count(*) FROM conc_ref WHERE v IS NULL OR v = ''")
+[ "$nulls" = "0" ] || { echo "$nulls cases give no value"; exit 1; }
 script="$PWD/target/conc.pgbench"
 cat > "$script" <<'EOF'
 \set k random(1, 7)
