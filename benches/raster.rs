@@ -8,7 +8,6 @@ mod common;
 
 use std::hint::black_box;
 use std::time::Instant;
-use tinmerge::io::raster::GeoTransform;
 use tinmerge::merge::raster::{sweep, weighted_stats, zonal_stats, PixelGrid};
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -22,21 +21,7 @@ fn main() {
     println!("| raster | pixels | level | triangles | sweep only ms | Mpx/s | mean per triangle ms | Mpx/s | + mode ms | weighted mean ms | Mpx/s |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for f in [1usize, 4, 8] {
-        let (w, h) = (d.width * f, d.height * f);
-        let mut values = vec![0.0; w * h];
-        for row in 0..h {
-            for col in 0..w {
-                values[row * w + col] = d.values[(row / f) * d.width + col / f];
-            }
-        }
-        let gt = GeoTransform {
-            scale_x: d.scale_x / f as f64,
-            scale_y: -d.scale_y / f as f64,
-            ip_x: d.origin_x,
-            ip_y: d.origin_y,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        };
+        let (gt, w, h, values) = d.upsampled(f);
         let g = PixelGrid::new(&gt, w, h).unwrap();
         for level in [0, 2, 4] {
             let (mut ts, mut tm, mut tmode, mut tw) =

@@ -12,7 +12,6 @@
 mod common;
 
 use std::time::Instant;
-use tinmerge::io::raster::GeoTransform;
 use tinmerge::merge::area::{sweep, Method};
 use tinmerge::merge::line::{walk_parts, Part, TriangleSink};
 use tinmerge::merge::overlay::{overlay, overlay_constrained};
@@ -63,26 +62,6 @@ fn check(name: &str, op: Op) {
     }
 }
 
-fn dem_grid(f: usize) -> (GeoTransform, usize, usize, Vec<f64>) {
-    let d = common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    let gt = GeoTransform {
-        scale_x: d.scale_x / f as f64,
-        scale_y: -d.scale_y / f as f64,
-        ip_x: d.origin_x,
-        ip_y: d.origin_y,
-        skew_x: 0.0,
-        skew_y: 0.0,
-    };
-    let (w, h) = (d.width * f, d.height * f);
-    let mut values = vec![0.0; w * h];
-    for r in 0..h {
-        for c in 0..w {
-            values[r * w + c] = d.values[(r / f) * d.width + c / f];
-        }
-    }
-    (gt, w, h, values)
-}
-
 /// A closed ring around the domain's centre with many vertices (a wavy
 /// circle) and the same as a line.
 fn wavy(t: &Tin, n: usize) -> Vec<[f64; 2]> {
@@ -113,7 +92,7 @@ fn long_operations_stop_at_the_interrupt_check() {
     )
     .unwrap();
     let fine = a.levels.len() - 1;
-    let (gt4, w4, h4, v4) = dem_grid(4);
+    let (gt4, w4, h4, v4) = d.upsampled(4);
     let g4 = PixelGrid::new(&gt4, w4, h4).unwrap();
     let ring = wavy(&a, 200_000);
     let area = Area::new(vec![vec![ring.clone()]]);

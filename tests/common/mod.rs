@@ -18,6 +18,30 @@ pub struct Dem {
 }
 
 impl Dem {
+    /// The DEM on an `f` times finer grid (each pixel `f x f` sub-pixels
+    /// with its value): geotransform, width, height, values (row-major).
+    pub fn upsampled(
+        &self,
+        f: usize,
+    ) -> (tinmerge::io::raster::GeoTransform, usize, usize, Vec<f64>) {
+        let (w, h) = (self.width * f, self.height * f);
+        let mut values = vec![0.0; w * h];
+        for row in 0..h {
+            for col in 0..w {
+                values[row * w + col] = self.values[(row / f) * self.width + col / f];
+            }
+        }
+        let gt = tinmerge::io::raster::GeoTransform {
+            scale_x: self.scale_x / f as f64,
+            scale_y: -self.scale_y / f as f64,
+            ip_x: self.origin_x,
+            ip_y: self.origin_y,
+            skew_x: 0.0,
+            skew_y: 0.0,
+        };
+        (gt, w, h, values)
+    }
+
     pub fn centre(&self, col: usize, row: usize) -> (f64, f64) {
         (
             self.origin_x + (col as f64 + 0.5) * self.scale_x,
