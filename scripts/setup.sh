@@ -15,7 +15,7 @@ done
 if [ -n "$missing" ]; then
   echo "== installing Debian packages:$missing"
   $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO -E apt-get install -y -qq $missing
+  $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $missing
 fi
 
 if ! cargo pgrx --version 2>/dev/null | grep -q "0.18.0"; then
