@@ -7,6 +7,11 @@ pub mod tin;
 
 pub mod pg;
 
+/// Every Rust allocation is counted (`tin::memory`): the SQL layer bounds a
+/// call's memory with it (`tinmerge.max_memory`), tests measure peaks.
+#[global_allocator]
+static ALLOCATOR: tin::memory::Counting = tin::memory::Counting;
+
 /// Required at the crate root by `cargo pgrx test`.
 #[cfg(test)]
 pub mod pg_test {

@@ -14,7 +14,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::{Arc, Weak};
 
-use super::{raise_tin, CACHE_SIZE_MB};
+use super::{memory, raise_tin, CACHE_SIZE_MB};
 use crate::tin::layout::Header;
 use crate::tin::{Tin, TinError};
 
@@ -144,6 +144,9 @@ pub fn get_or_decode(
     if let Some(t) = found {
         return t;
     }
+    memory::reserve(crate::tin::memory::decode_bytes(len as usize), || {
+        format!("decoding a stored tin of {} bytes", len)
+    });
     // decode outside the borrow: an ERROR here must not leave it borrowed
     let tin = Arc::new(decode().unwrap_or_else(|e| raise_tin(e)));
     let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;

@@ -8,10 +8,20 @@ use pgrx::JsonB;
 use serde_json::json;
 
 use super::types::{TinArg, TinOut};
-use super::{cache, interrupt, raise, OrRaise};
+use super::{cache, interrupt, memory, raise, OrRaise};
 use crate::io::{ewkb, raster};
 use crate::tin::build::{build, check_tolerances, default_tolerances};
+use crate::tin::memory as tmem;
 use crate::tin::{resolve_level, NONE};
+
+/// Refuse a build that would pass `tinmerge.max_memory` (the samples are
+/// already allocated).
+fn reserve_build(func: &str, samples: usize, levels: usize) {
+    memory::reserve(
+        tmem::build_bytes(samples, levels).saturating_sub(samples * 24),
+        || format!("{func}: building a tin from {samples} samples at {levels} levels"),
+    );
+}
 
 /// Valid pixel centres of one band as samples, and the raster's SRID.
 fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {
@@ -28,6 +38,9 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {
             format!("raster is empty ({} x {} pixels)", head.width, head.height),
         );
     }
+    memory::reserve(tmem::raster_bytes(head.width, head.height), || {
+        format!("reading a {} x {} raster", head.width, head.height)
+    });
     let r = raster::read(rast, Some(band as usize)).or_raise();
     let Some(b) = r.band else {
         raise(
@@ -58,6 +71,7 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {
 fn _tin_from_raster(rast: &[u8], tolerance: f64, levels: i32, band: i32) -> TinOut {
     let tols = default_tolerances(tolerance, levels).or_raise();
     let (pts, srid) = raster_samples(rast, band);
+    reserve_build("tin_from_raster", pts.len(), tols.len());
     TinOut::from_tin(&build(pts, &tols, srid, &mut interrupt).or_raise())
 }
 
@@ -76,6 +90,7 @@ fn _tin_from_raster_tolerances(rast: &[u8], tolerances: Vec<Option<f64>>, band: 
         .collect();
     check_tolerances(&tols).or_raise();
     let (pts, srid) = raster_samples(rast, band);
+    reserve_build("tin_from_raster", pts.len(), tols.len());
     TinOut::from_tin(&build(pts, &tols, srid, &mut interrupt).or_raise())
 }
 
@@ -100,6 +115,7 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     }
     let mut samples = Vec::new();
     g.geom.for_each_coord(&mut |c| samples.push(*c));
+    reserve_build("tin_from_points", samples.len(), tols.len());
     TinOut::from_tin(&build(samples, &tols, g.srid, &mut interrupt).or_raise())
 }
 

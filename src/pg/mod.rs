@@ -47,6 +47,7 @@ mod cache;
 mod functions;
 mod line;
 mod linetree;
+mod memory;
 mod overlay;
 mod point;
 mod raster;
@@ -69,6 +70,7 @@ pub extern "C-unwind" fn _PG_init() {
         GucContext::Userset,
         GucFlags::UNIT_MB,
     );
+    memory::define_guc();
 }
 
 /// Raise an ERROR with an SQLSTATE; never returns.
@@ -77,10 +79,11 @@ pub(crate) fn raise(code: PgSqlErrorCode, msg: impl Into<String>) -> ! {
     ereport!(ERROR, code, msg);
 }
 
-/// The core's interrupt callback: PostgreSQL's CHECK_FOR_INTERRUPTS.
+/// The core's interrupt callback: PostgreSQL's CHECK_FOR_INTERRUPTS, then
+/// the running `tinmerge.max_memory` check.
 pub(crate) fn interrupt() -> Result<(), TinError> {
     pg_sys::check_for_interrupts!();
-    Ok(())
+    memory::check()
 }
 
 /// The decoded tin of an argument and a level resolved against it (one
@@ -103,6 +106,7 @@ pub(crate) fn raise_tin(e: TinError) -> ! {
         | TinError::Degenerate(_) => ERRCODE_INVALID_PARAMETER_VALUE,
         TinError::Corrupt(_) | TinError::CorruptLineTree(_) => ERRCODE_DATA_CORRUPTED,
         TinError::TooLarge(_) => ERRCODE_PROGRAM_LIMIT_EXCEEDED,
+        TinError::MemoryLimit(_) => ERRCODE_CONFIGURATION_LIMIT_EXCEEDED,
         TinError::Interrupted => ERRCODE_QUERY_CANCELED,
     };
     raise(code, e.to_string())

@@ -5,10 +5,11 @@
 use pgrx::prelude::*;
 
 use super::types::{TinArg, TinOut};
-use super::{interrupt, raise, tin_level, OrRaise};
+use super::{interrupt, memory, raise, tin_level, OrRaise};
 use crate::io::ewkb;
 use crate::merge::overlay::{difference, overlay, Overlay};
 use crate::tin::build::from_triangles;
+use crate::tin::memory as tmem;
 
 /// The overlay of two tin arguments at their levels, SRIDs checked, with
 /// the SRID of the result.
@@ -30,6 +31,10 @@ fn overlay_args(
             ),
         );
     }
+    let (na, nb) = (ta.levels[la].tris.len(), tb.levels[lb].tris.len());
+    memory::reserve(tmem::overlay_bytes(na, nb), || {
+        format!("{func}: overlaying {na} and {nb} triangles")
+    });
     (
         overlay(&ta, la, &tb, lb, &mut interrupt).or_raise(),
         ta.srid,
@@ -88,6 +93,12 @@ fn _tin_overlay_tin(
         .zip(&o.za)
         .map(|(p, &z)| [p[0], p[1], z])
         .collect();
+    memory::reserve(tmem::build_bytes(verts.len(), 1), || {
+        format!(
+            "tin_overlay_tin: storing {} triangles as a tin",
+            o.tris.len()
+        )
+    });
     let tin = from_triangles(verts, o.tris, srid, &mut interrupt).or_raise();
     Some(TinOut::from_tin(&tin))
 }

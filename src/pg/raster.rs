@@ -6,7 +6,7 @@
 use pgrx::prelude::*;
 
 use super::types::TinArg;
-use super::{interrupt, raise, tin_level, OrRaise};
+use super::{interrupt, memory, raise, tin_level, OrRaise};
 use crate::io::raster::{self, Band, GeoTransform};
 use crate::merge::raster::{is_data, paint, sweep, weighted_stats, zonal_stats, PixelGrid};
 use crate::tin::Tin;
@@ -45,6 +45,10 @@ fn raster_arg(
     if head.width == 0 || head.height == 0 {
         return None;
     }
+    memory::reserve(
+        crate::tin::memory::raster_bytes(head.width, head.height),
+        || format!("{func}: reading a {} x {} raster", head.width, head.height),
+    );
     let r = raster::read(rast, Some(band as usize)).or_raise();
     let grid = PixelGrid::new(&r.gt, r.width, r.height).or_raise();
     let b = r.band?;

@@ -17,6 +17,7 @@ pub mod check;
 pub mod grid;
 pub mod layout;
 pub mod locate;
+pub mod memory;
 pub mod samples;
 
 use thiserror::Error;
@@ -176,6 +177,10 @@ pub enum TinError {
     /// Would exceed a size limit (SQLSTATE 54000).
     #[error("{0}")]
     TooLarge(String),
+    /// Would use more memory than the caller allows (`tinmerge.max_memory`,
+    /// SQLSTATE 53400).
+    #[error("{0}")]
+    MemoryLimit(String),
     /// Build was interrupted by the caller's interrupt check.
     #[error("interrupted")]
     Interrupted,

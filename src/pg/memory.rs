@@ -1,0 +1,82 @@
+//! `tinmerge.max_memory`: the most Rust heap one call may use, in MB
+//! (-1: no limit). Requests whose size is known up front (a build from N
+//! samples, decoding a stored value, reading a raster band, an overlay's
+//! least output) are refused before they allocate; the rest (output that
+//! grows with the data, such as an overlay's crossings) is checked at every
+//! interrupt check. Decoded values kept by the per-backend cache are bounded
+//! by `tinmerge.cache_size` instead and do not count.
+
+use pgrx::prelude::*;
+use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
+
+use super::{cache, raise};
+use crate::tin::{memory, TinError};
+
+/// `tinmerge.max_memory` in MB.
+pub static MAX_MEMORY_MB: GucSetting<i32> = GucSetting::<i32>::new(1024);
+
+pub fn define_guc() {
+    GucRegistry::define_int_guc(
+        c"tinmerge.max_memory",
+        c"Most memory (MB) one tinmerge call may use for its work; -1 means no limit.",
+        c"A build, merge or decode that would need more raises an ERROR (SQLSTATE 53400) before allocating, or as soon as its growing output passes the limit. Decoded values in the cache are bounded by tinmerge.cache_size instead.",
+        &MAX_MEMORY_MB,
+        -1,
+        i32::MAX,
+        GucContext::Userset,
+        GucFlags::UNIT_MB,
+    );
+}
+
+const MB: usize = 1024 * 1024;
+
+/// The limit in bytes, or None when unlimited.
+fn limit() -> Option<usize> {
+    let mb = MAX_MEMORY_MB.get();
+    (mb >= 0).then(|| (mb as usize).saturating_mul(MB))
+}
+
+/// Heap in use for work: everything counted minus the cached values.
+pub fn working() -> usize {
+    memory::live().saturating_sub(cache::stats().3)
+}
+
+fn mb(bytes: usize) -> usize {
+    bytes.div_ceil(MB)
+}
+
+/// Raise 53400 unless `bytes` more fit under `tinmerge.max_memory`.
+/// `what` names the request ("tin_from_raster: building 1,900,000 samples
+/// at 5 levels").
+pub fn reserve(bytes: usize, what: impl FnOnce() -> String) {
+    let Some(limit) = limit() else { return };
+    let need = working().saturating_add(bytes);
+    if need > limit {
+        raise(
+            PgSqlErrorCode::ERRCODE_CONFIGURATION_LIMIT_EXCEEDED,
+            format!(
+                "{} needs about {} MB, more than tinmerge.max_memory ({} MB) allows; raise it, e.g. SET tinmerge.max_memory = '{}MB'",
+                what(),
+                mb(need),
+                mb(limit),
+                mb(need).next_multiple_of(64)
+            ),
+        );
+    }
+}
+
+/// The running check (from every interrupt check): Err once the work of
+/// this call has passed the limit.
+pub fn check() -> Result<(), TinError> {
+    let Some(limit) = limit() else { return Ok(()) };
+    let used = working();
+    if used > limit {
+        return Err(TinError::MemoryLimit(format!(
+            "this call has used {} MB, more than tinmerge.max_memory ({} MB) allows; raise it (SET tinmerge.max_memory = '{}MB') or use a coarser level",
+            mb(used),
+            mb(limit),
+            mb(used.saturating_mul(2)).next_multiple_of(64)
+        )));
+    }
+    Ok(())
+}
