@@ -12,12 +12,12 @@ cargo fmt --check
 echo "== cargo test (pure Rust core, real DEM)"
 cargo test --release
 
-echo "== cargo pgrx test (#[pg_test])"
+echo "== cargo pgrx test (#[pg_test] only: the integration tests ran above in release)"
 if [ "$(id -u)" -eq 0 ]; then
   mkdir -p target/pgrx-test && chown postgres target/pgrx-test
-  cargo pgrx test pg15 --runas postgres --pgdata "$PWD/target/pgrx-test/data"
+  cargo pgrx test pg15 pg::tests:: --runas postgres --pgdata "$PWD/target/pgrx-test/data"
 else
-  cargo pgrx test pg15
+  cargo pgrx test pg15 pg::tests::
 fi
 
 echo "== install the extension"
@@ -41,6 +41,9 @@ tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | 
 
 echo "== COPY, pg_dump, pg_restore"
 tests/dump_restore.sh
+
+echo "== extension upgrade from the previous release"
+tests/upgrade.sh
 
 echo "== concurrency: 8 clients, mixed merges, results against a single client"
 tests/concurrency.sh

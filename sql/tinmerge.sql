@@ -220,3 +220,30 @@ $$ SELECT * FROM @extschema@._tin_difference($1, $2, $3, $4) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_difference(tin, tin, int, int) IS
 'Surface difference of a against b over their common domain (as ArcGIS Surface Difference): cut = volume where a is above b, fill = volume where a is below b, area_changed = planar area where they differ. Exact for the linear surfaces: computed on the overlay, each triangle split at the line where a = b. No row when the domains do not overlap.';
+
+-- Equality (0.2.0): the same stored bytes; hashable, so GROUP BY, DISTINCT
+-- and hash joins work on tin columns.
+COMMENT ON FUNCTION tin_eq(tin, tin) IS
+'True when two tins are the same value (the same bytes; header hashes and lengths compared first). The function behind the = operator.';
+COMMENT ON FUNCTION tin_ne(tin, tin) IS
+'True when two tins are different values. The function behind the <> operator.';
+COMMENT ON FUNCTION tin_hash(tin) IS
+'32-bit hash of a tin (its stored content hash): hash operator class support for =.';
+
+CREATE OPERATOR = (
+    LEFTARG = tin, RIGHTARG = tin, FUNCTION = tin_eq,
+    COMMUTATOR = =, NEGATOR = <>,
+    RESTRICT = eqsel, JOIN = eqjoinsel, HASHES
+);
+COMMENT ON OPERATOR =(tin, tin) IS 'same tin value (the same bytes)';
+
+CREATE OPERATOR <> (
+    LEFTARG = tin, RIGHTARG = tin, FUNCTION = tin_ne,
+    COMMUTATOR = <>, NEGATOR = =,
+    RESTRICT = neqsel, JOIN = neqjoinsel
+);
+COMMENT ON OPERATOR <>(tin, tin) IS 'different tin values';
+
+CREATE OPERATOR CLASS tin_hash_ops DEFAULT FOR TYPE tin USING hash AS
+    OPERATOR 1 = (tin, tin),
+    FUNCTION 1 tin_hash(tin);

@@ -19,7 +19,7 @@ use tinmerge::merge::linetree::{self, View};
 use tinmerge::merge::polygon::Area;
 use tinmerge::merge::{drape, overlay};
 use tinmerge::tin::build::build;
-use tinmerge::tin::{layout, locate, Tin};
+use tinmerge::tin::{check_xy, layout, locate, Tin};
 
 struct Rng(u64);
 
@@ -200,8 +200,9 @@ fn linetree_values() {
                 .map(|_| {
                     let mut l = random_line(&mut r, &t);
                     for p in &mut l {
-                        p[0] = if p[0].is_finite() { p[0] } else { t.bbox.min_x };
-                        p[1] = if p[1].is_finite() { p[1] } else { t.bbox.min_y };
+                        if check_xy("", p[0], p[1]).is_err() {
+                            *p = [t.bbox.min_x, t.bbox.min_y];
+                        }
                     }
                     if l.len() < 2 {
                         l.push([t.bbox.max_x, t.bbox.max_y]);

@@ -272,6 +272,30 @@ fn footprints_match_brute_force_polygon_intersection() {
         footprint(&tin, 0, &r, &mut || Ok(())).unwrap().len(),
         tin.levels[0].tris.len()
     );
+    // huge sizes (1e308 m, whose corners would overflow the exact tests)
+    // select what a strip just longer than the domain selects
+    let diag = w.hypot(h);
+    for (i, &(x, y)) in [
+        (b.min_x + 0.3 * w, b.min_y + 0.6 * h),
+        (b.max_x + 0.2 * w, b.min_y - 0.1 * h),
+    ]
+    .iter()
+    .enumerate()
+    {
+        for angle in [0.0, 33.0, 90.0, 151.0] {
+            let huge = Rect::within(x, y, 1e308, 400.0, angle, &b).unwrap();
+            let strip = Rect::new(x, y, 10.0 * diag, 400.0, angle).unwrap();
+            for level in [0, tin.levels.len() - 1] {
+                let got = footprint(&tin, level, &huge, &mut || Ok(())).unwrap();
+                assert_eq!(
+                    got,
+                    oracle_footprint(&tin, level, &strip),
+                    "centre {i} angle {angle}"
+                );
+                assert!(i == 1 || !got.is_empty());
+            }
+        }
+    }
     // bad sizes are errors, not panics
     assert!(Rect::new(0.0, 0.0, -1.0, 1.0, 0.0).is_err());
     assert!(Rect::new(0.0, 0.0, 1.0, f64::NAN, 0.0).is_err());

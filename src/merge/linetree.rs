@@ -157,14 +157,8 @@ pub fn encode(srid: i32, parts: &[Vec<P2>]) -> Result<Vec<u8>, TinError> {
     if parts.iter().any(|p| p.is_empty()) {
         return Err(TinError::InvalidParameter("linetree: an empty part".into()));
     }
-    if parts
-        .iter()
-        .flatten()
-        .any(|p| !(p[0].is_finite() && p[1].is_finite()))
-    {
-        return Err(TinError::InvalidParameter(
-            "linetree: the line has a non-finite coordinate".into(),
-        ));
+    for p in parts.iter().flatten() {
+        crate::tin::check_xy("linetree: the line", p[0], p[1])?;
     }
     if np > u32::MAX as usize / 2 {
         return Err(TinError::TooLarge("linetree: too many points".into()));
@@ -352,8 +346,8 @@ impl<'a> View<'a> {
         }
         let at = self.points_at + i as usize * 16;
         let p = [f64_at(self.b, at)?, f64_at(self.b, at + 8)?];
-        if !(p[0].is_finite() && p[1].is_finite()) {
-            return Err(bad("non-finite coordinate"));
+        if crate::tin::check_xy("", p[0], p[1]).is_err() {
+            return Err(bad("non-finite or out-of-range coordinate"));
         }
         Ok(p)
     }

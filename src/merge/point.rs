@@ -91,6 +91,37 @@ impl Rect {
         Ok(Rect { corners })
     }
 
+    /// [`Rect::new`] with the width and length cut to what can matter for a
+    /// tin with bounding box `bbox`: every point of the tin is within `d`
+    /// (the distance from the centre to the farthest bbox corner) of the
+    /// centre, so its projections on the rectangle's axes are within `d`
+    /// too, and half-sizes above `d` select the same triangles. Keeps the
+    /// exact predicates away from overflow for huge sizes (1e308 m).
+    pub fn within(
+        cx: f64,
+        cy: f64,
+        width: f64,
+        length: f64,
+        angle: f64,
+        bbox: &crate::tin::Bbox,
+    ) -> Result<Rect, TinError> {
+        let r = Rect::new(cx, cy, width, length, angle)?;
+        let d = [
+            (bbox.min_x, bbox.min_y),
+            (bbox.max_x, bbox.min_y),
+            (bbox.max_x, bbox.max_y),
+            (bbox.min_x, bbox.max_y),
+        ]
+        .iter()
+        .map(|&(x, y)| (x - cx).hypot(y - cy))
+        .fold(0.0f64, f64::max);
+        let cap = 2.0 * d * (1.0 + 1e-9) + 1.0;
+        if width <= cap && length <= cap {
+            return Ok(r);
+        }
+        Rect::new(cx, cy, width.min(cap), length.min(cap), angle)
+    }
+
     /// Centre of the rectangle.
     pub fn centre(&self) -> (f64, f64) {
         let c = &self.corners;

@@ -46,15 +46,7 @@ fn area_arg(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> 
         }
     }
     for c in polys.iter().flatten().flatten() {
-        if !(c[0].is_finite() && c[1].is_finite()) {
-            raise(
-                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                format!(
-                    "{func}: the polygon has a non-finite coordinate ({} {})",
-                    c[0], c[1]
-                ),
-            );
-        }
+        crate::tin::check_xy(&format!("{func}: the polygon"), c[0], c[1]).or_raise();
     }
     Area::new(
         polys

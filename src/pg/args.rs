@@ -36,7 +36,11 @@ impl GeomArg {
             );
         }
         match p.point {
-            Some(xy) => xy,
+            Some(Some(xy)) => {
+                crate::tin::check_xy(&format!("{func}: the point"), xy[0], xy[1]).or_raise();
+                Some(xy)
+            }
+            Some(None) => None,
             None => not_a_point(func, gserialized::type_name(p.type_code)),
         }
     }

@@ -103,6 +103,20 @@ struct Cache {
     misses: u64,
 }
 
+impl Cache {
+    /// Drop least recently used values until `extra` more bytes fit in
+    /// `limit`.
+    fn trim(&mut self, limit: usize, extra: usize) {
+        let mut used: usize = self.entries.iter().map(|e| e.bytes).sum();
+        while used + extra > limit && !self.entries.is_empty() {
+            let oldest = (0..self.entries.len())
+                .min_by_key(|&i| self.entries[i].last)
+                .unwrap_or(0);
+            used -= self.entries.swap_remove(oldest).bytes;
+        }
+    }
+}
+
 thread_local! {
     static CACHE: RefCell<Cache> = RefCell::new(Cache::default());
 }
@@ -122,8 +136,11 @@ pub fn get_or_decode(
     len: u64,
     decode: impl FnOnce() -> Result<Tin, TinError>,
 ) -> Arc<Tin> {
+    let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;
     let found = CACHE.with(|c| {
         let mut c = c.borrow_mut();
+        // the setting may have been lowered since values were kept
+        c.trim(limit, 0);
         c.clock += 1;
         let now = c.clock;
         let hit = c
@@ -149,18 +166,11 @@ pub fn get_or_decode(
     });
     // decode outside the borrow: an ERROR here must not leave it borrowed
     let tin = Arc::new(decode().unwrap_or_else(|e| raise_tin(e)));
-    let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;
     let bytes = size_of(&tin);
     if bytes <= limit {
         CACHE.with(|c| {
             let mut c = c.borrow_mut();
-            let mut used: usize = c.entries.iter().map(|e| e.bytes).sum();
-            while used + bytes > limit && !c.entries.is_empty() {
-                let oldest = (0..c.entries.len())
-                    .min_by_key(|&i| c.entries[i].last)
-                    .unwrap_or(0);
-                used -= c.entries.swap_remove(oldest).bytes;
-            }
+            c.trim(limit, bytes);
             let last = c.clock;
             c.entries.push(Entry {
                 hash,

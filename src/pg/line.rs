@@ -39,14 +39,8 @@ pub(crate) fn line_parts(bytes: &[u8], tin_srid: i32, func: &str) -> Vec<Part> {
     lines
         .into_iter()
         .map(|l| {
-            if let Some(c) = l.iter().find(|c| !(c[0].is_finite() && c[1].is_finite())) {
-                raise(
-                    PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                    format!(
-                        "{func}: the line has a non-finite coordinate ({} {})",
-                        c[0], c[1]
-                    ),
-                );
+            for c in l.iter() {
+                crate::tin::check_xy(&format!("{func}: the line"), c[0], c[1]).or_raise();
             }
             Part::new(l.iter().map(|c| [c[0], c[1]]).collect())
         })
@@ -253,18 +247,12 @@ fn _tin_drape(
     check_srid(g.srid, tin.srid, "tin_drape");
     let mut bad = None;
     g.geom.for_each_coord(&mut |c| {
-        if bad.is_none() && !(c[0].is_finite() && c[1].is_finite()) {
+        if bad.is_none() && crate::tin::check_xy("", c[0], c[1]).is_err() {
             bad = Some(*c);
         }
     });
     if let Some(c) = bad {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-            format!(
-                "tin_drape: the geometry has a non-finite coordinate ({} {})",
-                c[0], c[1]
-            ),
-        );
+        crate::tin::check_xy("tin_drape: the geometry", c[0], c[1]).or_raise();
     }
     let out = drape(&tin, l, &g.geom).or_raise()?;
     Some(ewkb::Writer::write(g.srid, true, &out))

@@ -52,7 +52,7 @@ fn tin_footprint(
     let Some([x, y]) = pt.point_xy(tin.srid, "tin_footprint") else {
         return none();
     };
-    let rect = Rect::new(x, y, width, length, angle).or_raise();
+    let rect = Rect::within(x, y, width, length, angle, &tin.bbox).or_raise();
     let ids = point::footprint(&tin, l, &rect, &mut interrupt).or_raise();
     SetOfIterator::new(ids.into_iter().map(|i| i as i32))
 }

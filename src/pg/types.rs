@@ -205,6 +205,9 @@ extension_sql!(
 /// Input bytes as a result value, once they decode and validate in full;
 /// otherwise an ERROR with `code`.
 fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> TinOut {
+    super::memory::reserve(crate::tin::memory::decode_bytes(bytes.len()), || {
+        format!("reading a tin value of {} bytes", bytes.len())
+    });
     if let Err(e) = layout::decode(&bytes) {
         raise(code, e.to_string());
     }
@@ -269,3 +272,26 @@ COMMENT ON TYPE tin IS 'A terrain surface as an adaptive hierarchical triangulat
     name = "tin_type",
     requires = [tin_in, tin_out, tin_recv, tin_send]
 );
+
+/// `=` on tin: the same stored bytes. The headers' content hashes and
+/// lengths are compared first (header-only reads), the bytes only when
+/// they agree.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_eq(a: TinArg, b: TinArg) -> bool {
+    let (ha, hb) = (a.header(), b.header());
+    ha.hash == hb.hash && ha.total_len == hb.total_len && a.bytes() == b.bytes()
+}
+
+/// `<>` on tin.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_ne(a: TinArg, b: TinArg) -> bool {
+    !tin_eq(a, b)
+}
+
+/// Hash support for `=` (GROUP BY, DISTINCT, hash joins): the header's
+/// content hash folded to 32 bits; equal values have equal headers.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_hash(t: TinArg) -> i32 {
+    let h = t.header().hash;
+    (h ^ (h >> 32)) as u32 as i32
+}

@@ -97,6 +97,9 @@ pub fn prepare_samples(mut pts: Vec<[f64; 3]>) -> Result<Vec<[f64; 3]>, TinError
             p[0], p[1], p[2]
         )));
     }
+    for p in &pts {
+        crate::tin::check_xy("a sample", p[0], p[1])?;
+    }
     pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     let mut out: Vec<[f64; 3]> = Vec::with_capacity(pts.len());
     let mut run = 1.0;

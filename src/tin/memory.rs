@@ -17,7 +17,7 @@
 //! ```
 //! use tinmerge::tin::memory;
 //! let before = memory::live();
-//! let v = vec![0u8; 1 << 20];
+//! let v = std::hint::black_box(vec![1u8; 1 << 20]);
 //! assert!(memory::live() >= before + (1 << 20));
 //! drop(v);
 //! ```

@@ -26,6 +26,33 @@ use thiserror::Error;
 pub const NONE: u32 = u32::MAX;
 /// Most levels a `tin` may have.
 pub const MAX_LEVELS: usize = 16;
+/// Largest coordinate magnitude accepted for x and y: the exact predicates
+/// multiply differences of coordinates, which must not overflow `f64`
+/// (real coordinates are below 1e8 in every projection).
+pub const MAX_COORD: f64 = 1e100;
+
+/// `Ok` for a usable x, y; otherwise an `InvalidParameter` error saying what
+/// (`what`: "the polygon", "sample") had which coordinate.
+///
+/// ```
+/// use tinmerge::tin::check_xy;
+/// assert!(check_xy("the line", 740000.0, 4060000.0).is_ok());
+/// assert!(check_xy("the line", f64::NAN, 0.0).is_err());
+/// assert!(check_xy("the line", 1e300, 0.0).is_err());
+/// ```
+pub fn check_xy(what: &str, x: f64, y: f64) -> Result<(), TinError> {
+    if !(x.is_finite() && y.is_finite()) {
+        return Err(TinError::InvalidParameter(format!(
+            "{what} has a non-finite coordinate ({x} {y})"
+        )));
+    }
+    if x.abs() > MAX_COORD || y.abs() > MAX_COORD {
+        return Err(TinError::InvalidParameter(format!(
+            "{what} has a coordinate beyond ±1e100 ({x:e} {y:e}): exact geometric predicates cannot use it"
+        )));
+    }
+    Ok(())
+}
 
 /// Axis-aligned bounding box of the vertices (x, y and z).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -112,6 +112,39 @@ SELECT try($$SELECT count(*) FROM terrain a, tin_overlay(a.t, a.t, 0, 5)$$);
 SELECT try($$SELECT tin_overlay_tin(a.t, a.t, 5, 0) FROM terrain a$$);
 SELECT try($$SELECT * FROM terrain a, tin_difference(a.t, a.t, 0, -2)$$);
 SELECT try($$SELECT count(*) FROM terrain a, tin_overlay(a.t, overlay(a.t::text placing 'FF' from 900 for 2)::tin)$$);
+-- more hostile coordinates and degenerate inputs (issue 8): coordinates
+-- beyond 1e100 are refused (exact predicates would overflow); huge sizes
+-- and degenerate lines work
+SELECT try($$SELECT tin_height(t, ST_SetSRID(ST_MakePoint('NaN', 4060000), 32616)) FROM terrain$$);
+SELECT try($$SELECT tin_height(t, ST_SetSRID(ST_MakePoint('Infinity', 4060000), 32616)) FROM terrain$$);
+SELECT try($$SELECT tin_locate(t, ST_SetSRID(ST_MakePoint(1e308, -1e308), 32616)) FROM terrain$$);
+SELECT try($$SELECT tin_drape(t, ST_SetSRID(ST_MakeLine(ST_MakePoint(740000, 4060000), ST_MakePoint('NaN', 4061000)), 32616)) FROM terrain$$);
+SELECT try($$SELECT count(*) FROM terrain, tin_line_segments(t, ST_SetSRID(ST_MakeLine(ST_MakePoint(740000, 4060000), ST_MakePoint(741000, 'Infinity')), 32616))$$);
+SELECT count(*) FROM terrain, tin_line_segments(t, 'SRID=32616;LINESTRING(740000 4060000, 740000 4060000)'::geometry);
+SELECT count(*) FROM terrain, tin_line_triangles(t, 'SRID=32616;LINESTRING(740000 4060000, 740000 4060000)'::geometry, 0, 1e308);
+SELECT try($$SELECT count(*) FROM terrain, tin_line_triangles(t, 'SRID=32616;GEOMETRYCOLLECTION EMPTY'::geometry)$$);
+SELECT try($$SELECT count(*) FROM terrain, tin_line_triangles(t, tin_linetree('SRID=32616;LINESTRING(1e300 1e300, -1e300 -1e300)'::geometry), 0)$$);
+SELECT try($$SELECT tin_linetree(ST_SetSRID(ST_MakeLine(ST_MakePoint(0, 0), ST_MakePoint('NaN', 1)), 32616))$$);
+SELECT count(*) FROM terrain, tin_footprint(t, 'SRID=32616;POINT(740000 4060000)'::geometry, 1e308, 1e308, 0, 0);
+SELECT try($$SELECT count(*) FROM terrain, tin_area_triangles(t, 'SRID=32616;POLYGON((740000 4060000, 740000 4060000, 740000 4060000, 740000 4060000))'::geometry)$$);
+SELECT try($$SELECT count(*) FROM terrain, tin_area_triangles(t, 'SRID=32616;POLYGON((-1e300 -1e300, 1e300 -1e300, 1e300 1e300, -1e300 -1e300))'::geometry, 0)$$);
+SELECT count(*) FROM terrain, tin_volume(t, 'SRID=32616;POLYGON((740000 4060000, 741000 4060000, 741000 4061000, 740000 4060000))'::geometry, 1e308);
+-- rasters for every raster function: empty and all-nodata give no rows, a
+-- single pixel works (its triangle gets it), a band of NaN has no valid pixels
+SELECT count(*) FROM terrain, tin_raster_stats(t, ST_MakeEmptyRaster(0, 0, 740000, 4060000, 30, -30, 0, 0, 32616));
+SELECT count(*) FROM terrain, tin_raster_pixels(t, ST_MakeEmptyRaster(0, 0, 740000, 4060000, 30, -30, 0, 0, 32616));
+SELECT count(*) FROM terrain, tin_paint(t, ST_MakeEmptyRaster(0, 0, 740000, 4060000, 30, -30, 0, 0, 32616));
+SELECT try($$SELECT count(*) FROM terrain, tin_raster_stats(t, ST_MakeEmptyRaster(10, 10, 740000, 4060000, 30, -30, 0, 0, 32616))$$);
+SELECT count(*) FROM terrain, tin_raster_stats(t, ST_AddBand(ST_MakeEmptyRaster(10, 10, 740000, 4060000, 30, -30, 0, 0, 32616), '32BF'::text, -9999, -9999));
+SELECT count(*) FROM terrain, tin_raster_stats(t, ST_AddBand(ST_MakeEmptyRaster(10, 10, 740000, 4060000, 30, -30, 0, 0, 32616), '32BF'::text, -9999, -9999), weighted => true);
+SELECT count(*) FROM terrain, tin_raster_pixels(t, ST_AddBand(ST_MakeEmptyRaster(10, 10, 740000, 4060000, 30, -30, 0, 0, 32616), '32BF'::text, -9999, -9999));
+SELECT string_agg(count::text || ':' || mean::text, ',') FROM terrain, tin_raster_stats(t, ST_AddBand(ST_MakeEmptyRaster(1, 1, 741000, 4061000, 30, -30, 0, 0, 32616), '32BF'::text, 7, -9999), 0);
+SELECT count(*) FROM terrain, tin_raster_stats(t, ST_AddBand(ST_MakeEmptyRaster(1, 1, 741000, 4061000, 30, -30, 0, 0, 32616), '32BF'::text, 7, -9999), 0, 1, true);
+SELECT try($$SELECT count(*) FROM terrain, tin_raster_pixels(t, ST_MakeEmptyRaster(10, 10, 740000, 4060000, 30, -30, 0, 0, 32616), 0, 3)$$);
+SELECT try($$SELECT count(*) FROM terrain, tin_paint(t, ST_AddBand(ST_MakeEmptyRaster(10, 10, 740000, 4060000, 30, -30, 0, 0, 32616), '8BUI'::text, 1, 0))$$);
+SELECT count(*) FROM terrain, tin_raster_stats(t, ST_AddBand(ST_MakeEmptyRaster(10, 10, 740000, 4060000, 30, -30, 0, 0, 32616), '32BF'::text, 'NaN'::float8, -9999));
+-- tin equality on damaged values never gets past the header check
+SELECT try($$SELECT t = overlay(t::text placing 'FF' from 900 for 2)::tin FROM terrain$$);
 -- NULL and empty inputs give NULL (or no rows), never an error
 SELECT tin_height(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin,
        tin_height(t, NULL::geometry) IS NULL AS null_geom,
