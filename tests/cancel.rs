@@ -111,6 +111,11 @@ fn long_operations_stop_at_the_interrupt_check() {
             .map(|_| ())
         }),
     );
+    let stored = tinmerge::tin::layout::encode(&a);
+    check(
+        "decode + validate the stored DEM tin (15.7 MB)",
+        Box::new(|i| tinmerge::tin::layout::decode_checked(&stored, i).map(|_| ())),
+    );
     check(
         "raster zonal stats, DEM x4 (1.9M px), finest level",
         Box::new(|i| zonal_stats(&a, fine, &g4, &v4, Some(-9999.0), true, i).map(|_| ())),

@@ -501,8 +501,24 @@ pub fn zonal_stats(
         }
     })?;
     if want_mode {
+        // spans grouped by triangle: a stable counting sort (rows stay in
+        // order within a triangle), linear and checked between passes
         interrupt()?;
-        spans.sort_unstable();
+        let mut start = vec![0u32; n + 1];
+        for sp in &spans {
+            start[sp.0 as usize + 1] += 1;
+        }
+        for t in 0..n {
+            start[t + 1] += start[t];
+        }
+        interrupt()?;
+        let mut grouped = vec![(0u32, 0u32, 0u32, 0u32); spans.len()];
+        for sp in &spans {
+            let at = &mut start[sp.0 as usize];
+            grouped[*at as usize] = *sp;
+            *at += 1;
+        }
+        let spans = grouped;
         interrupt()?;
         let mut tk = Ticker { n: 0, f: interrupt };
         let mut buf: Vec<f64> = Vec::new();

@@ -104,7 +104,9 @@ impl TinArg {
     pub fn tin(&self) -> Arc<Tin> {
         let Some((key, epoch, alias)) = self.remembered() else {
             let h = self.read_header();
-            return cache::get_or_decode(h.hash, h.total_len, || layout::decode(self.bytes()));
+            return cache::get_or_decode(h.hash, h.total_len, || {
+                layout::decode_checked(self.bytes(), &mut super::interrupt)
+            });
         };
         let header = match alias {
             Some(a) => {
@@ -117,7 +119,7 @@ impl TinArg {
             None => Arc::new(self.read_header()),
         };
         let tin = cache::get_or_decode(header.hash, header.total_len, || {
-            layout::decode(self.bytes())
+            layout::decode_checked(self.bytes(), &mut super::interrupt)
         });
         let alias = cache::Alias {
             header,

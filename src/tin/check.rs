@@ -24,6 +24,15 @@ fn bad(msg: String) -> TinError {
 
 /// Cheap structural validation (see module docs).
 pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
+    validate_structure_checked(tin, &mut || Ok(()))
+}
+
+/// [`validate_structure`] calling `interrupt` between levels and every
+/// 16384 triangles (a stored value of 15 MB takes about 20 ms).
+pub fn validate_structure_checked(
+    tin: &Tin,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<(), TinError> {
     let nl = tin.levels.len();
     if nl == 0 || nl > MAX_LEVELS {
         return Err(bad(format!(
@@ -35,10 +44,13 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
         return Err(bad(format!("{nv} vertices, at least 3 needed")));
     }
     for (i, v) in tin.verts.iter().enumerate() {
-        if !v.iter().all(|c| c.is_finite()) {
-            return Err(bad(format!("vertex {i} has a non-finite coordinate")));
+        if !v[2].is_finite() || super::check_xy("", v[0], v[1]).is_err() {
+            return Err(bad(format!(
+                "vertex {i} has a non-finite or out-of-range coordinate"
+            )));
         }
     }
+    interrupt()?;
     let b = super::Bbox::of(&tin.verts);
     if b != tin.bbox {
         return Err(bad("bounding box does not match the vertices".into()));
@@ -71,7 +83,11 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
         if nt == 0 || lv.nbrs.len() != nt || lv.parent.len() != nt {
             return Err(bad(format!("level {l}: inconsistent triangle arrays")));
         }
+        interrupt()?;
         for (t, tri) in lv.tris.iter().enumerate() {
+            if t % 16384 == 16383 {
+                interrupt()?;
+            }
             if tri.iter().any(|&v| v >= lv.num_vertices) {
                 return Err(bad(format!(
                     "level {l}: triangle {t} has a vertex index out of range"
@@ -118,7 +134,11 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
         } else {
             let pl = &tin.levels[l - 1];
             let mut last = 0u32;
+            interrupt()?;
             for (t, &p) in lv.parent.iter().enumerate() {
+                if t % 16384 == 16383 {
+                    interrupt()?;
+                }
                 if p as usize >= pl.tris.len() || p < last {
                     return Err(bad(format!(
                         "level {l}: triangle {t} has parent {p}, out of range or not sorted"

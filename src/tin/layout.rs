@@ -25,7 +25,7 @@
 //! then [`super::check::validate_structure`] before the value is used.
 
 use super::build::child_starts;
-use super::check::validate_structure;
+use super::check::validate_structure_checked;
 use super::{Bbox, Grid, Level, Tin, TinError, MAX_LEVELS, NONE};
 use xxhash_rust::xxh3::Xxh3;
 
@@ -280,6 +280,15 @@ pub fn encode(tin: &Tin) -> Vec<u8> {
 /// Parse and fully validate storage bytes. The length implied by the header's
 /// counts is checked against the actual length before anything is allocated.
 pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
+    decode_checked(b, &mut || Ok(()))
+}
+
+/// [`decode`] calling `interrupt` between its phases and regularly inside
+/// the validation (a cancel does not wait for a whole 15 MB value).
+pub fn decode_checked(
+    b: &[u8],
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Tin, TinError> {
     let h = read_header(b)?;
     let expect = body_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
     if h.total_len != b.len() as u64 || expect != b.len() as u64 {
@@ -293,6 +302,7 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
     if content_hash(b) != h.hash {
         return Err(corrupt("content hash mismatch (value is corrupted)"));
     }
+    interrupt()?;
     let mut r = Rd { b, pos: HEADER_LEN };
     let mut verts = Vec::with_capacity(h.num_vertices as usize);
     for _ in 0..h.num_vertices {
@@ -300,6 +310,7 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
     }
     let mut levels: Vec<Level> = Vec::with_capacity(h.levels.len());
     for li in &h.levels {
+        interrupt()?;
         let nt = li.num_triangles as usize;
         let mut tris = Vec::with_capacity(nt);
         for _ in 0..nt {
@@ -352,7 +363,8 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
         verts,
         levels,
     };
-    validate_structure(&tin)?;
+    interrupt()?;
+    validate_structure_checked(&tin, interrupt)?;
     Ok(tin)
 }
 
