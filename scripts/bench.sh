@@ -216,3 +216,5 @@ echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shif
 cargo bench --bench overlay 2>/dev/null
 echo "== cancellation: time from statement_timeout to the error"
 scripts/cancel-latency.sh tinmerge_bench
+echo "== parallel query: serial vs 2 workers (docs/scaling.md)"
+scripts/bench-parallel.sh

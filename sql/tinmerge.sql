@@ -249,41 +249,43 @@ CREATE OPERATOR CLASS tin_hash_ops DEFAULT FOR TYPE tin USING hash AS
     FUNCTION 1 tin_hash(tin);
 
 -- Planner costs (0.2.0; 0.1.0 had the defaults), in PostGIS's tiers (COST 1 default, 50 low, 500
--- medium, 10000 high), on the public functions and on the internal ones an
+-- medium, 10000 high; measured per call on the DEM: a height ~1.5 us, a
+-- footprint or a linetree well under 1 ms, a contour line or polygon merge
+-- 0.5-5 ms, builds and whole-raster merges 10 ms and up), on the public functions and on the internal ones an
 -- inlined SQL wrapper exposes to the planner; ROWS for set-returning
 -- functions. They let a join of a large feature table with a terrain use
 -- parallel workers (docs/scaling.md).
 ALTER FUNCTION tin_height(tin, geometry, integer) COST 50;
 ALTER FUNCTION tin_locate(tin, geometry, integer) COST 50;
 ALTER FUNCTION tin_footprint(tin, geometry, float8, float8, float8, integer) COST 500 ROWS 20;
-ALTER FUNCTION tin_drape(tin, geometry, integer) COST 500;
-ALTER FUNCTION _tin_drape(tin, bytea, integer) COST 500;
-ALTER FUNCTION tin_as_geometry(tin, integer) COST 500;
-ALTER FUNCTION _tin_as_geometry(tin, integer) COST 500;
-ALTER FUNCTION tin_triangles(tin, integer) COST 500 ROWS 10000;
-ALTER FUNCTION _tin_triangles(tin, integer) COST 500 ROWS 10000;
+ALTER FUNCTION tin_drape(tin, geometry, integer) COST 10000;
+ALTER FUNCTION _tin_drape(tin, bytea, integer) COST 10000;
+ALTER FUNCTION tin_as_geometry(tin, integer) COST 10000;
+ALTER FUNCTION _tin_as_geometry(tin, integer) COST 10000;
+ALTER FUNCTION tin_triangles(tin, integer) COST 10000 ROWS 10000;
+ALTER FUNCTION _tin_triangles(tin, integer) COST 10000 ROWS 10000;
 ALTER FUNCTION tin_linetree(geometry) COST 500;
 ALTER FUNCTION _tin_linetree(bytea) COST 500;
-ALTER FUNCTION tin_line_triangles(tin, geometry, integer, float8) COST 500 ROWS 100;
-ALTER FUNCTION tin_line_triangles(tin, linetree, integer, float8) COST 500 ROWS 100;
-ALTER FUNCTION _tin_line_triangles(tin, bytea, integer, float8) COST 500 ROWS 100;
-ALTER FUNCTION tin_line_segments(tin, geometry, integer) COST 500 ROWS 100;
-ALTER FUNCTION tin_line_segments(tin, linetree, integer) COST 500 ROWS 100;
-ALTER FUNCTION _tin_line_segments(tin, bytea, integer) COST 500 ROWS 100;
+ALTER FUNCTION tin_line_triangles(tin, geometry, integer, float8) COST 10000 ROWS 100;
+ALTER FUNCTION tin_line_triangles(tin, linetree, integer, float8) COST 10000 ROWS 100;
+ALTER FUNCTION _tin_line_triangles(tin, bytea, integer, float8) COST 10000 ROWS 100;
+ALTER FUNCTION tin_line_segments(tin, geometry, integer) COST 10000 ROWS 100;
+ALTER FUNCTION tin_line_segments(tin, linetree, integer) COST 10000 ROWS 100;
+ALTER FUNCTION _tin_line_segments(tin, bytea, integer) COST 10000 ROWS 100;
 ALTER FUNCTION _tin_line_segments_tree(tin, linetree, integer) COST 500 ROWS 100;
-ALTER FUNCTION tin_line_profile(tin, geometry, integer) COST 500 ROWS 100;
-ALTER FUNCTION tin_line_profile(tin, linetree, integer) COST 500 ROWS 100;
-ALTER FUNCTION _tin_line_profile(tin, bytea, integer) COST 500 ROWS 100;
-ALTER FUNCTION tin_line_climb(tin, geometry, integer) COST 500;
-ALTER FUNCTION tin_line_climb(tin, linetree, integer) COST 500;
-ALTER FUNCTION _tin_line_climb(tin, bytea, integer) COST 500;
-ALTER FUNCTION tin_area_triangles(tin, geometry, integer, boolean) COST 500 ROWS 1000;
-ALTER FUNCTION _tin_area_triangles(tin, bytea, integer, boolean, text) COST 500 ROWS 1000;
-ALTER FUNCTION tin_area_stats(tin, geometry, integer) COST 500 ROWS 1;
-ALTER FUNCTION _tin_area_stats(tin, bytea, integer, text, boolean) COST 500 ROWS 1;
-ALTER FUNCTION _tin_area_examined(tin, bytea, integer, text) COST 500 ROWS 1;
-ALTER FUNCTION tin_volume(tin, geometry, float8, integer) COST 500 ROWS 1;
-ALTER FUNCTION _tin_volume(tin, bytea, float8, integer, text, boolean) COST 500 ROWS 1;
+ALTER FUNCTION tin_line_profile(tin, geometry, integer) COST 10000 ROWS 100;
+ALTER FUNCTION tin_line_profile(tin, linetree, integer) COST 10000 ROWS 100;
+ALTER FUNCTION _tin_line_profile(tin, bytea, integer) COST 10000 ROWS 100;
+ALTER FUNCTION tin_line_climb(tin, geometry, integer) COST 10000;
+ALTER FUNCTION tin_line_climb(tin, linetree, integer) COST 10000;
+ALTER FUNCTION _tin_line_climb(tin, bytea, integer) COST 10000;
+ALTER FUNCTION tin_area_triangles(tin, geometry, integer, boolean) COST 10000 ROWS 1000;
+ALTER FUNCTION _tin_area_triangles(tin, bytea, integer, boolean, text) COST 10000 ROWS 1000;
+ALTER FUNCTION tin_area_stats(tin, geometry, integer) COST 10000 ROWS 1;
+ALTER FUNCTION _tin_area_stats(tin, bytea, integer, text, boolean) COST 10000 ROWS 1;
+ALTER FUNCTION _tin_area_examined(tin, bytea, integer, text) COST 10000 ROWS 1;
+ALTER FUNCTION tin_volume(tin, geometry, float8, integer) COST 10000 ROWS 1;
+ALTER FUNCTION _tin_volume(tin, bytea, float8, integer, text, boolean) COST 10000 ROWS 1;
 ALTER FUNCTION tin_from_raster(raster, float8, integer, integer) COST 10000;
 ALTER FUNCTION tin_from_raster(raster, float8[], integer) COST 10000;
 ALTER FUNCTION _tin_from_raster(bytea, float8, integer, integer) COST 10000;
