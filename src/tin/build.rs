@@ -153,6 +153,9 @@ struct FaceState {
     gen: u32,
     err: f64,
     cand: u32,
+    /// a corner of the face: where spade's point location starts when the
+    /// candidate is inserted (it lies in this face, so the walk is short)
+    corner: u32,
 }
 
 #[derive(PartialEq)]
@@ -222,6 +225,7 @@ impl Builder {
                     gen: 0,
                     err: 0.0,
                     cand: NONE,
+                    corner: 0,
                 },
             );
         }
@@ -229,6 +233,7 @@ impl Builder {
         st.gen = st.gen.wrapping_add(1);
         st.err = best;
         st.cand = cand;
+        st.corner = vs[0].fix().index() as u32;
         if cand != NONE {
             self.heap.push(Entry {
                 err: best,
@@ -238,13 +243,23 @@ impl Builder {
         }
     }
 
-    fn insert_sample(&mut self, i: usize) -> Result<FixedVertexHandle, TinError> {
+    /// Insert sample `i`; `hint` is a vertex near it (spade's point
+    /// location walks from there; without one it walks from the last
+    /// inserted vertex, which in greedy order is anywhere: that walk was
+    /// 58 % of the build).
+    fn insert_sample(
+        &mut self,
+        i: usize,
+        hint: Option<FixedVertexHandle>,
+    ) -> Result<FixedVertexHandle, TinError> {
         let p = self.grid.pts[i];
         let before = self.cdt.num_vertices();
-        let h = self
-            .cdt
-            .insert(Point2::new(p[0], p[1]))
-            .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
+        let pt = Point2::new(p[0], p[1]);
+        let h = match hint {
+            Some(v) if v.index() < before => self.cdt.insert_with_hint(pt, v),
+            _ => self.cdt.insert(pt),
+        }
+        .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
         self.inserted[i] = true;
         if self.cdt.num_vertices() > before {
             self.vz.push(p[2]);
@@ -292,7 +307,10 @@ impl Builder {
             if n.is_multiple_of(256) {
                 interrupt()?;
             }
-            let v = self.insert_sample(st.cand as usize)?;
+            let v = self.insert_sample(
+                st.cand as usize,
+                Some(FixedVertexHandle::from_index(st.corner as usize)),
+            )?;
             self.rescan_around(v);
             // A sample that did not become a new vertex (cannot happen for
             // distinct samples, but never loop on it) is marked inserted;
@@ -383,7 +401,7 @@ pub fn build(
         heap: BinaryHeap::new(),
     };
     for &i in &hull {
-        b.insert_sample(i)?;
+        b.insert_sample(i, None)?;
     }
     let mut raw_levels = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {
