@@ -216,5 +216,7 @@ echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shif
 cargo bench --bench overlay 2>/dev/null
 echo "== cancellation: time from statement_timeout to the error"
 scripts/cancel-latency.sh tinmerge_bench
+echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs/scaling.md)"
+cargo bench --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"
 scripts/bench-parallel.sh

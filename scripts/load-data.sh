@@ -3,16 +3,20 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 db="$1"
+# psql of another cluster (tests/sharding.sh): TINMERGE_PSQL="psql -h ... -p ..."
+psqlc() {
+  if [ -n "${TINMERGE_PSQL:-}" ]; then $TINMERGE_PSQL -v ON_ERROR_STOP=1 "$@"; else scripts/cluster.sh psql "$@"; fi
+}
 {
   raster2pgsql -s 32616 -N -9999 tests/data/jacksboro_fault_dem_utm16n.tif public.dem
   raster2pgsql -s 4326 tests/data/jacksboro_fault_dem.tif public.dem_geo
-} 2>/dev/null | scripts/cluster.sh psql -q -d "$db" >/dev/null
+} 2>/dev/null | psqlc -q -d "$db" >/dev/null
 # Contour lines of the UTM DEM every 50 m (gdal_contour), as table contours.
 tmp=$(mktemp -d)
 gdal_contour -q -f CSV -lco GEOMETRY=AS_WKT -a elev -i 50 \
   tests/data/jacksboro_fault_dem_utm16n.tif "$tmp/contours.csv"
 chmod -R a+rX "$tmp"
-scripts/cluster.sh psql -q -d "$db" >/dev/null <<SQL
+psqlc -q -d "$db" >/dev/null <<SQL
 CREATE TABLE contours_raw(wkt text, id int, elev float8);
 \copy contours_raw FROM '$tmp/contours.csv' CSV HEADER
 CREATE TABLE contours AS
@@ -24,7 +28,7 @@ SQL
 gdal_contour -q -p -f CSV -lco GEOMETRY=AS_WKT -amin lo -amax hi -i 50 \
   tests/data/jacksboro_fault_dem_utm16n.tif "$tmp/bands.csv"
 chmod -R a+rX "$tmp"
-scripts/cluster.sh psql -q -d "$db" >/dev/null <<SQL
+psqlc -q -d "$db" >/dev/null <<SQL
 CREATE TABLE bands_raw(wkt text, id int, lo float8, hi float8);
 \copy bands_raw FROM '$tmp/bands.csv' CSV HEADER
 CREATE TABLE contour_bands AS

@@ -48,6 +48,9 @@ tests/upgrade.sh
 echo "== concurrency: 8 clients, mixed merges, results against a single client"
 tests/concurrency.sh
 
+echo "== sharding: 3 clusters, postgres_fdw, merges pushed to the shards, answers against one node"
+tests/sharding.sh
+
 echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 python3 tests/properties/check_hierarchy.py
 echo "== coverage-weighted raster statistics against exactextract"

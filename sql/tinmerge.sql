@@ -130,6 +130,13 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
 'Statistics of the surface of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: planar area, surface area, min/max height, area-weighted mean height and slope (degrees), steepest slope. Heights are NULL when the polygon misses the domain. Planar SRIDs only: a geographic tin is an error.';
 
+CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
+RETURNS float8 AS
+$$ SELECT s.area3d FROM @extschema@.tin_area_stats($1, $2, $3) s $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
+'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. Planar SRIDs only.';
+
 CREATE FUNCTION tin_volume(t tin, area geometry, base_z float8, level int DEFAULT NULL)
 RETURNS TABLE(cut float8, fill float8) AS
 $$ SELECT * FROM @extschema@._tin_volume($1, $2::bytea, $3, $4, ST_IsValidReason($2), @extschema@._tin_srid_is_geographic(@extschema@.tin_srid($1))) $$
@@ -305,3 +312,23 @@ ALTER FUNCTION _tin_overlay_tin(tin, tin, integer, integer) COST 10000;
 ALTER FUNCTION tin_difference(tin, tin, integer, integer) COST 10000 ROWS 1;
 ALTER FUNCTION _tin_difference(tin, tin, integer, integer) COST 10000 ROWS 1;
 ALTER FUNCTION tin_cache_stats() ROWS 1;
+
+-- search_path safety (0.2.0): every SQL-language wrapper runs with the
+-- search_path of the install (this extension's schema, then PostGIS's), so
+-- it works from sessions whose search_path lacks them: postgres_fdw's remote
+-- sessions (pg_catalog only), pg_restore, SET search_path = ''. (PostgreSQL
+-- 15 has no @extschema:postgis@ to qualify PostGIS names with; the price is
+-- that the planner no longer inlines these wrappers.)
+DO $$
+DECLARE f regprocedure;
+BEGIN
+  FOR f IN
+    SELECT p.oid::regprocedure
+    FROM pg_proc p
+    JOIN pg_depend d ON d.classid = 'pg_proc'::regclass AND d.objid = p.oid AND d.deptype = 'e'
+    JOIN pg_extension e ON d.refclassid = 'pg_extension'::regclass AND d.refobjid = e.oid
+    WHERE e.extname = 'tinmerge' AND p.prolang = (SELECT oid FROM pg_language WHERE lanname = 'sql')
+  LOOP
+    EXECUTE format('ALTER FUNCTION %s SET search_path FROM CURRENT', f);
+  END LOOP;
+END $$;

@@ -1,5 +1,6 @@
 -- tinmerge 0.1.0 -> 0.2.0: equality on tin (=, <>, hash operator class) and
--- planner costs (COST, ROWS) on the merge functions.
+-- planner costs (COST, ROWS) on the merge functions; tin_surface_area;
+-- search_path set on the SQL-language wrappers.
 -- The stored value format is unchanged (format version 1), so stored
 -- values need no rewrite. tests/upgrade.sh checks that this script makes
 -- exactly the catalog of a fresh 0.2.0 install.
@@ -97,3 +98,32 @@ ALTER FUNCTION _tin_overlay_tin(tin, tin, integer, integer) COST 10000;
 ALTER FUNCTION tin_difference(tin, tin, integer, integer) COST 10000 ROWS 1;
 ALTER FUNCTION _tin_difference(tin, tin, integer, integer) COST 10000 ROWS 1;
 ALTER FUNCTION tin_cache_stats() ROWS 1;
+
+-- 0.2.0: the surface area as a scalar (postgres_fdw ships scalar calls, not
+-- set-returning ones)
+CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
+RETURNS float8 AS
+$$ SELECT s.area3d FROM @extschema@.tin_area_stats($1, $2, $3) s $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
+'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. Planar SRIDs only.';
+
+-- search_path safety (0.2.0): every SQL-language wrapper runs with the
+-- search_path of the install (this extension's schema, then PostGIS's), so
+-- it works from sessions whose search_path lacks them: postgres_fdw's remote
+-- sessions (pg_catalog only), pg_restore, SET search_path = ''. (PostgreSQL
+-- 15 has no @extschema:postgis@ to qualify PostGIS names with; the price is
+-- that the planner no longer inlines these wrappers.)
+DO $$
+DECLARE f regprocedure;
+BEGIN
+  FOR f IN
+    SELECT p.oid::regprocedure
+    FROM pg_proc p
+    JOIN pg_depend d ON d.classid = 'pg_proc'::regclass AND d.objid = p.oid AND d.deptype = 'e'
+    JOIN pg_extension e ON d.refclassid = 'pg_extension'::regclass AND d.refobjid = e.oid
+    WHERE e.extname = 'tinmerge' AND p.prolang = (SELECT oid FROM pg_language WHERE lanname = 'sql')
+  LOOP
+    EXECUTE format('ALTER FUNCTION %s SET search_path FROM CURRENT', f);
+  END LOOP;
+END $$;

@@ -162,16 +162,36 @@ pub fn coverage(
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
     on_cell: &mut dyn FnMut(u32, usize, usize, f64),
 ) -> Result<(), TinError> {
-    check_grid(gt)?;
-    let lv = tin
+    let n = tin
         .levels
         .get(level)
-        .ok_or_else(|| TinError::Corrupt("raster coverage: level".into()))?;
+        .ok_or_else(|| TinError::Corrupt("raster coverage: level".into()))?
+        .tris
+        .len() as u32;
     let mut tk = Ticker { n: 0, f: interrupt };
+    coverage_of(tin, level, gt, width, height, 0..n, &mut tk, on_cell)
+}
+
+/// [`coverage`] of the triangles `tris` only (in id order).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn coverage_of(
+    tin: &Tin,
+    level: usize,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    tris: std::ops::Range<u32>,
+    tk: &mut Ticker,
+    on_cell: &mut dyn FnMut(u32, usize, usize, f64),
+) -> Result<(), TinError> {
+    check_grid(gt)?;
+    if level >= tin.levels.len() {
+        return Err(TinError::Corrupt("raster coverage: level".into()));
+    }
     let (w, h) = (width as f64, height as f64);
     let to_px =
         |p: &[f64; 3]| -> P { [(p[0] - gt.ip_x) / gt.scale_x, (p[1] - gt.ip_y) / gt.scale_y] };
-    for t in 0..lv.tris.len() as u32 {
+    for t in tris {
         tk.tick()?;
         let cs = tin.corners(level, t);
         let tri = Poly::from(&[to_px(&cs[0]), to_px(&cs[1]), to_px(&cs[2])]);

@@ -40,7 +40,7 @@
 //! ```
 
 use crate::io::raster::GeoTransform;
-use crate::merge::coverage::{check_grid, coverage};
+use crate::merge::coverage::{check_grid, coverage_of};
 use crate::merge::Ticker;
 use crate::tin::{Tin, TinError, NONE};
 use robust::{orient2d, Coord};
@@ -304,114 +304,220 @@ pub fn sweep(
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
     on_span: &mut dyn FnMut(u32, usize, usize, usize),
 ) -> Result<(), TinError> {
-    let lv = tin
-        .levels
-        .get(level)
-        .ok_or_else(|| TinError::Corrupt("raster sweep: level".into()))?;
     let mut tk = Ticker { n: 0, f: interrupt };
-    let h = g.height;
-    // events: triangles bucketed by their first row (counting sort)
-    let mut first = vec![0u32; h + 1];
-    let mut span_of = Vec::with_capacity(lv.tris.len());
-    for t in 0..lv.tris.len() as u32 {
-        tk.tick()?;
-        let cs = tin.corners(level, t);
-        let ylo = cs[0][1].min(cs[1][1]).min(cs[2][1]);
-        let yhi = cs[0][1].max(cs[1][1]).max(cs[2][1]);
-        let (r0, r1) = g.ys.range(ylo, yhi);
-        if r0 < r1 {
-            first[r0] += 1;
-            span_of.push((t, r0 as u32, r1 as u32));
-        }
+    let ev = Events::new(tin, level, g, &mut tk)?;
+    ev.run(0..g.height, ordered, &mut tk, on_span)
+}
+
+/// Pixels per band of rows in [`sweep_par`] (a band is a few milliseconds
+/// of work).
+const BAND_PIXELS: usize = 1 << 18;
+
+/// [`sweep`] (unordered) on `tin::par`'s threads: the rows are cut into
+/// bands, each band is swept on its own (its starting cut rebuilt from the
+/// events, in the order the whole sweep would have it) and `span` maps each
+/// run to a value there; `consume` then gets the values on this thread in
+/// exactly the order [`sweep`] hands the runs, whatever the thread count.
+/// Interrupts are checked between batches of bands.
+pub fn sweep_par<S: Send>(
+    tin: &Tin,
+    level: usize,
+    g: &PixelGrid,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    span: &(dyn Fn(u32, usize, usize, usize) -> S + Sync),
+    consume: &mut dyn FnMut(S),
+) -> Result<(), TinError> {
+    let mut tk = Ticker { n: 0, f: interrupt };
+    let ev = Events::new(tin, level, g, &mut tk)?;
+    if crate::tin::par::threads() <= 1 {
+        return ev.run(0..g.height, false, &mut tk, &mut |t, r, c0, c1| {
+            consume(span(t, r, c0, c1))
+        });
     }
-    let mut start = vec![0u32; h + 1];
-    let mut acc = 0u32;
-    for r in 0..h {
-        start[r] = acc;
-        acc += first[r];
-    }
-    start[h] = acc;
-    let mut fill = start.clone();
-    let mut bucket = vec![(0u32, 0u32); span_of.len()];
-    for &(t, r0, r1) in &span_of {
-        let k = &mut fill[r0 as usize];
-        bucket[*k as usize] = (t, r1);
-        *k += 1;
-    }
-    drop(span_of);
-    let extras = hull_extras(tin, level, g)?;
-    let mut ex = 0;
-    // the cut: triangle, end row, corners
-    let mut cut: Vec<CutTri> = Vec::new();
-    let mut row_spans: Vec<(usize, usize, u32)> = Vec::new();
-    let (xs, w) = (&g.xs.v[..], g.width);
-    let (x0, sx) = (xs.first().copied().unwrap_or(0.0), g.xs.step);
-    let inv_sx = 1.0 / sx;
-    for r in 0..h {
-        for &(t, r1) in &bucket[start[r] as usize..start[r + 1] as usize] {
-            cut.push(CutTri::new(t, r1, tin.corners(level, t).map(|v| xy(&v))));
-        }
-        let y = g.ys.v[r];
-        row_spans.clear();
-        for ct in &cut {
+    let rows = (BAND_PIXELS / g.width.max(1)).max(1);
+    let bands: Vec<std::ops::Range<usize>> = (0..g.height)
+        .step_by(rows)
+        .map(|r| r..(r + rows).min(g.height))
+        .collect();
+    crate::tin::par::map_batched(
+        &bands,
+        |b| {
+            let mut out = Vec::new();
+            let mut none = || Ok(());
+            let mut quiet = Ticker { n: 0, f: &mut none };
+            ev.run(b.clone(), false, &mut quiet, &mut |t, r, c0, c1| {
+                out.push(span(t, r, c0, c1))
+            })
+            .map(|()| out)
+        },
+        &mut *tk.f,
+        &mut |band| {
+            for v in band? {
+                consume(v);
+            }
+            Ok(())
+        },
+    )
+}
+
+/// What the sweep needs before its first row: triangles bucketed by their
+/// first row, and the extra centres on the domain's boundary.
+struct Events<'a> {
+    tin: &'a Tin,
+    level: usize,
+    g: &'a PixelGrid,
+    /// `bucket[start[r]..start[r + 1]]`: (triangle, first row after it) of
+    /// the triangles whose first row is `r`
+    start: Vec<u32>,
+    bucket: Vec<(u32, u32)>,
+    extras: Vec<(u32, u32, u32)>,
+}
+
+impl<'a> Events<'a> {
+    fn new(
+        tin: &'a Tin,
+        level: usize,
+        g: &'a PixelGrid,
+        tk: &mut Ticker,
+    ) -> Result<Events<'a>, TinError> {
+        let lv = tin
+            .levels
+            .get(level)
+            .ok_or_else(|| TinError::Corrupt("raster sweep: level".into()))?;
+        let h = g.height;
+        // events: triangles bucketed by their first row (counting sort)
+        let mut first = vec![0u32; h + 1];
+        let mut span_of = Vec::with_capacity(lv.tris.len());
+        for t in 0..lv.tris.len() as u32 {
             tk.tick()?;
-            let (t, cs) = (&ct.t, &ct.cs);
-            let (xl, xr, err) = ct.row_interval(y);
-            if xl > xr {
-                continue;
-            }
-            // candidate columns from the index-space interval, with slack
-            // for rounding; a candidate is decided by comparing its centre
-            // with the rounded ends, and only within the error bound (or on
-            // a row through a vertex, where the row may run along an edge)
-            // by the exact rule
-            let (ul, ur) = if sx > 0.0 {
-                ((xl - x0) * inv_sx, (xr - x0) * inv_sx)
-            } else {
-                ((xr - x0) * inv_sx, (xl - x0) * inv_sx)
-            };
-            let d = err * inv_sx.abs() + 1e-9 * (1.0 + ul.abs().max(ur.abs()));
-            let a0 = ((ul - d).floor() as isize).clamp(0, w as isize) as usize;
-            let a1 = (((ur + d).ceil() as isize).saturating_add(1)).clamp(0, w as isize) as usize;
-            let on_vertex_row = cs.iter().any(|p| p[1] == y);
-            let own = |i: usize| {
-                let x = xs[i];
-                if x < xl - err || x > xr + err {
-                    false
-                } else if !on_vertex_row && x > xl + err && x < xr - err {
-                    true
-                } else {
-                    owns(cs, [x, y])
-                }
-            };
-            let Some(lo) = (a0..a1).find(|&i| own(i)) else {
-                continue;
-            };
-            let end = (lo..a1).rev().find(|&i| own(i)).map_or(lo + 1, |i| i + 1);
-            if ordered {
-                row_spans.push((lo, end, *t));
-            } else {
-                on_span(*t, r, lo, end);
+            let cs = tin.corners(level, t);
+            let ylo = cs[0][1].min(cs[1][1]).min(cs[2][1]);
+            let yhi = cs[0][1].max(cs[1][1]).max(cs[2][1]);
+            let (r0, r1) = g.ys.range(ylo, yhi);
+            if r0 < r1 {
+                first[r0] += 1;
+                span_of.push((t, r0 as u32, r1 as u32));
             }
         }
-        while ex < extras.len() && extras[ex].0 as usize == r {
-            let (_, col, t) = extras[ex];
-            if ordered {
-                row_spans.push((col as usize, col as usize + 1, t));
-            } else {
-                on_span(t, r, col as usize, col as usize + 1);
-            }
-            ex += 1;
+        let mut start = vec![0u32; h + 1];
+        let mut acc = 0u32;
+        for r in 0..h {
+            start[r] = acc;
+            acc += first[r];
         }
-        if ordered {
-            row_spans.sort_unstable();
-            for &(c0, c1, t) in &row_spans {
-                on_span(t, r, c0, c1);
-            }
+        start[h] = acc;
+        let mut fill = start.clone();
+        let mut bucket = vec![(0u32, 0u32); span_of.len()];
+        for &(t, r0, r1) in &span_of {
+            let k = &mut fill[r0 as usize];
+            bucket[*k as usize] = (t, r1);
+            *k += 1;
         }
-        cut.retain(|ct| ct.end_row as usize > r + 1);
+        drop(span_of);
+        let extras = hull_extras(tin, level, g)?;
+        Ok(Events {
+            tin,
+            level,
+            g,
+            start,
+            bucket,
+            extras,
+        })
     }
-    Ok(())
+
+    /// Sweep the rows `rows` (see [`sweep`]).
+    fn run(
+        &self,
+        rows: std::ops::Range<usize>,
+        ordered: bool,
+        tk: &mut Ticker,
+        on_span: &mut dyn FnMut(u32, usize, usize, usize),
+    ) -> Result<(), TinError> {
+        let (tin, level, g) = (self.tin, self.level, self.g);
+        let (start, bucket, extras) = (&self.start, &self.bucket, &self.extras);
+        // the cut: triangle, end row, corners; at the first row of the band
+        // it holds the triangles begun above that are still open, in the
+        // order a sweep from row 0 would have them
+        let mut cut: Vec<CutTri> = Vec::new();
+        for r in 0..rows.start {
+            for &(t, r1) in &bucket[start[r] as usize..start[r + 1] as usize] {
+                if r1 as usize > rows.start {
+                    cut.push(CutTri::new(t, r1, tin.corners(level, t).map(|v| xy(&v))));
+                }
+            }
+        }
+        let mut ex = extras.partition_point(|e| (e.0 as usize) < rows.start);
+        let mut row_spans: Vec<(usize, usize, u32)> = Vec::new();
+        let (xs, w) = (&g.xs.v[..], g.width);
+        let (x0, sx) = (xs.first().copied().unwrap_or(0.0), g.xs.step);
+        let inv_sx = 1.0 / sx;
+        for r in rows {
+            for &(t, r1) in &bucket[start[r] as usize..start[r + 1] as usize] {
+                cut.push(CutTri::new(t, r1, tin.corners(level, t).map(|v| xy(&v))));
+            }
+            let y = g.ys.v[r];
+            row_spans.clear();
+            for ct in &cut {
+                tk.tick()?;
+                let (t, cs) = (&ct.t, &ct.cs);
+                let (xl, xr, err) = ct.row_interval(y);
+                if xl > xr {
+                    continue;
+                }
+                // candidate columns from the index-space interval, with slack
+                // for rounding; a candidate is decided by comparing its centre
+                // with the rounded ends, and only within the error bound (or on
+                // a row through a vertex, where the row may run along an edge)
+                // by the exact rule
+                let (ul, ur) = if sx > 0.0 {
+                    ((xl - x0) * inv_sx, (xr - x0) * inv_sx)
+                } else {
+                    ((xr - x0) * inv_sx, (xl - x0) * inv_sx)
+                };
+                let d = err * inv_sx.abs() + 1e-9 * (1.0 + ul.abs().max(ur.abs()));
+                let a0 = ((ul - d).floor() as isize).clamp(0, w as isize) as usize;
+                let a1 =
+                    (((ur + d).ceil() as isize).saturating_add(1)).clamp(0, w as isize) as usize;
+                let on_vertex_row = cs.iter().any(|p| p[1] == y);
+                let own = |i: usize| {
+                    let x = xs[i];
+                    if x < xl - err || x > xr + err {
+                        false
+                    } else if !on_vertex_row && x > xl + err && x < xr - err {
+                        true
+                    } else {
+                        owns(cs, [x, y])
+                    }
+                };
+                let Some(lo) = (a0..a1).find(|&i| own(i)) else {
+                    continue;
+                };
+                let end = (lo..a1).rev().find(|&i| own(i)).map_or(lo + 1, |i| i + 1);
+                if ordered {
+                    row_spans.push((lo, end, *t));
+                } else {
+                    on_span(*t, r, lo, end);
+                }
+            }
+            while ex < extras.len() && extras[ex].0 as usize == r {
+                let (_, col, t) = extras[ex];
+                if ordered {
+                    row_spans.push((col as usize, col as usize + 1, t));
+                } else {
+                    on_span(t, r, col as usize, col as usize + 1);
+                }
+                ex += 1;
+            }
+            if ordered {
+                row_spans.sort_unstable();
+                for &(c0, c1, t) in &row_spans {
+                    on_span(t, r, c0, c1);
+                }
+            }
+            cut.retain(|ct| ct.end_row as usize > r + 1);
+        }
+        Ok(())
+    }
 }
 
 /// Statistics of the valid pixels handed to one triangle (or, weighted,
@@ -480,10 +586,11 @@ pub fn zonal_stats(
     let mut st: Vec<ZoneStats> = (0..n as u32).map(ZoneStats::empty).collect();
     let mut spans: Vec<(u32, u32, u32, u32)> = Vec::new();
     let w = g.width;
-    sweep(tin, level, g, false, interrupt, &mut |t, r, c0, c1| {
-        let z = &mut st[t as usize];
-        let (mut n, mut sum, mut lo, mut hi) = (0u64, 0.0, z.min, z.max);
-        let nd = nodata.unwrap_or(f64::NAN);
+    let nd = nodata.unwrap_or(f64::NAN);
+    // each run's count, sum, min and max (on the sweep's threads), added
+    // to its triangle in the sweep's order
+    let per_span = |t: u32, r: usize, c0: usize, c1: usize| {
+        let (mut n, mut sum, mut lo, mut hi) = (0u64, 0.0, f64::INFINITY, f64::NEG_INFINITY);
         for &v in &values[r * w + c0..r * w + c1] {
             if !v.is_nan() && v != nd {
                 n += 1;
@@ -492,12 +599,25 @@ pub fn zonal_stats(
                 hi = if v > hi { v } else { hi };
             }
         }
+        (t, r as u32, c0 as u32, c1 as u32, n, sum, lo, hi)
+    };
+    sweep_par(tin, level, g, interrupt, &per_span, &mut |(
+        t,
+        r,
+        c0,
+        c1,
+        n,
+        sum,
+        lo,
+        hi,
+    )| {
+        let z = &mut st[t as usize];
         z.count += n;
         z.sum += sum;
-        z.min = lo;
-        z.max = hi;
+        z.min = z.min.min(lo);
+        z.max = z.max.max(hi);
         if want_mode {
-            spans.push((t, r as u32, c0 as u32, c1 as u32));
+            spans.push((t, r, c0, c1));
         }
     })?;
     if want_mode {
@@ -513,33 +633,49 @@ pub fn zonal_stats(
         }
         interrupt()?;
         let mut grouped = vec![(0u32, 0u32, 0u32, 0u32); spans.len()];
+        let mut fill = start.clone();
         for sp in &spans {
-            let at = &mut start[sp.0 as usize];
+            let at = &mut fill[sp.0 as usize];
             grouped[*at as usize] = *sp;
             *at += 1;
         }
-        let spans = grouped;
-        interrupt()?;
-        let mut tk = Ticker { n: 0, f: interrupt };
-        let mut buf: Vec<f64> = Vec::new();
-        let mut i = 0;
-        while i < spans.len() {
-            tk.tick()?;
-            let t = spans[i].0;
-            buf.clear();
-            while i < spans.len() && spans[i].0 == t {
-                let (_, r, c0, c1) = spans[i];
-                let base = r as usize * w;
-                buf.extend(
-                    values[base + c0 as usize..base + c1 as usize]
-                        .iter()
-                        .copied()
-                        .filter(|&v| is_data(v, nodata)),
-                );
-                i += 1;
+        drop(spans);
+        // work items: runs of triangles holding about MODE_PIXELS pixels
+        const MODE_PIXELS: u64 = 1 << 16;
+        let mut items: Vec<(usize, usize)> = Vec::new();
+        let (mut t0, mut px) = (0usize, 0u64);
+        for (t, z) in st.iter().enumerate() {
+            px += z.count;
+            if px >= MODE_PIXELS || t + 1 == n {
+                items.push((t0, t + 1));
+                t0 = t + 1;
+                px = 0;
             }
-            st[t as usize].mode = mode(&mut buf);
         }
+        let modes = |&(ta, tb): &(usize, usize)| {
+            let mut buf: Vec<f64> = Vec::new();
+            let mut out = Vec::with_capacity(tb - ta);
+            for t in ta..tb {
+                buf.clear();
+                for &(_, r, c0, c1) in &grouped[start[t] as usize..start[t + 1] as usize] {
+                    let base = r as usize * w;
+                    buf.extend(
+                        values[base + c0 as usize..base + c1 as usize]
+                            .iter()
+                            .copied()
+                            .filter(|&v| is_data(v, nodata)),
+                    );
+                }
+                out.push(mode(&mut buf));
+            }
+            (ta, out)
+        };
+        crate::tin::par::map_batched(&items, modes, interrupt, &mut |(ta, out)| {
+            for (k, m) in out.into_iter().enumerate() {
+                st[ta + k].mode = m;
+            }
+            Ok(())
+        })?;
     }
     st.retain(|z| z.count > 0);
     for z in &mut st {
@@ -572,45 +708,90 @@ pub fn weighted_stats(
             values.len()
         )));
     }
-    let mut out: Vec<ZoneStats> = Vec::new();
-    let mut cur = ZoneStats::empty(u32::MAX);
-    let mut pairs: Vec<(f64, f64)> = Vec::new();
-    let mut finish = |z: &mut ZoneStats, pairs: &mut Vec<(f64, f64)>| {
-        if z.count > 0 {
-            if want_mode {
-                z.mode = weighted_mode(pairs);
+    let run = |tris: std::ops::Range<u32>, tk: &mut Ticker| -> Result<Vec<ZoneStats>, TinError> {
+        let mut out: Vec<ZoneStats> = Vec::new();
+        let mut cur = ZoneStats::empty(u32::MAX);
+        let mut pairs: Vec<(f64, f64)> = Vec::new();
+        let mut finish = |z: &mut ZoneStats, pairs: &mut Vec<(f64, f64)>| {
+            if z.count > 0 {
+                if want_mode {
+                    z.mode = weighted_mode(pairs);
+                }
+                out.push(z.clone());
             }
-            out.push(z.clone());
-        }
-        pairs.clear();
+            pairs.clear();
+        };
+        coverage_of(
+            tin,
+            level,
+            gt,
+            width,
+            height,
+            tris,
+            tk,
+            &mut |t, r, c, f| {
+                let v = values[r * width + c];
+                if !is_data(v, nodata) {
+                    return;
+                }
+                if t != cur.triangle {
+                    finish(&mut cur, &mut pairs);
+                    cur = ZoneStats::empty(t);
+                }
+                cur.count += 1;
+                cur.weight += f;
+                cur.sum += f * v;
+                cur.min = cur.min.min(v);
+                cur.max = cur.max.max(v);
+                if want_mode {
+                    pairs.push((v, f));
+                }
+            },
+        )?;
+        finish(&mut cur, &mut pairs);
+        Ok(out)
     };
-    coverage(
-        tin,
-        level,
-        gt,
-        width,
-        height,
+    let n = tin
+        .levels
+        .get(level)
+        .ok_or_else(|| TinError::Corrupt("raster coverage: level".into()))?
+        .tris
+        .len() as u32;
+    if crate::tin::par::threads() <= 1 {
+        return run(0..n, &mut Ticker { n: 0, f: interrupt });
+    }
+    check_grid(gt)?;
+    // on threads: runs of triangles covering about ITEM_PIXELS pixels
+    // (bounding boxes in pixel units), each triangle wholly in one run, so
+    // every triangle's statistics are computed as in the serial loop
+    const ITEM_PIXELS: f64 = 65536.0;
+    let (sx, sy) = (gt.scale_x.abs(), gt.scale_y.abs());
+    let mut items: Vec<std::ops::Range<u32>> = Vec::new();
+    let (mut t0, mut px) = (0u32, 0.0f64);
+    for t in 0..n {
+        let cs = tin.corners(level, t);
+        let bw = cs[0][0].max(cs[1][0]).max(cs[2][0]) - cs[0][0].min(cs[1][0]).min(cs[2][0]);
+        let bh = cs[0][1].max(cs[1][1]).max(cs[2][1]) - cs[0][1].min(cs[1][1]).min(cs[2][1]);
+        px += (bw / sx + 2.0) * (bh / sy + 2.0);
+        if px >= ITEM_PIXELS || t + 1 == n {
+            items.push(t0..t + 1);
+            t0 = t + 1;
+            px = 0.0;
+        }
+    }
+    let mut out: Vec<ZoneStats> = Vec::new();
+    crate::tin::par::map_batched(
+        &items,
+        |r| {
+            let mut none = || Ok(());
+            run(r.clone(), &mut Ticker { n: 0, f: &mut none })
+        },
         interrupt,
-        &mut |t, r, c, f| {
-            let v = values[r * width + c];
-            if !is_data(v, nodata) {
-                return;
-            }
-            if t != cur.triangle {
-                finish(&mut cur, &mut pairs);
-                cur = ZoneStats::empty(t);
-            }
-            cur.count += 1;
-            cur.weight += f;
-            cur.sum += f * v;
-            cur.min = cur.min.min(v);
-            cur.max = cur.max.max(v);
-            if want_mode {
-                pairs.push((v, f));
-            }
+        &mut |part| {
+            out.extend(part?);
+            Ok(())
         },
     )?;
-    finish(&mut cur, &mut pairs);
     Ok(out)
 }
 

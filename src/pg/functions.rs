@@ -15,8 +15,9 @@ use crate::tin::memory as tmem;
 use crate::tin::{resolve_level, NONE};
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
-/// already allocated).
+/// already allocated); otherwise hand `tinmerge.threads` to the core.
 fn reserve_build(func: &str, samples: usize, levels: usize) {
+    super::threads::apply();
     memory::reserve(
         tmem::build_bytes(samples, levels).saturating_sub(samples * 24),
         || format!("{func}: building a tin from {samples} samples at {levels} levels"),

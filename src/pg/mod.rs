@@ -51,6 +51,7 @@ mod memory;
 mod overlay;
 mod point;
 mod raster;
+mod threads;
 mod types;
 
 ::pgrx::pg_module_magic!(name, version);
@@ -71,6 +72,7 @@ pub extern "C-unwind" fn _PG_init() {
         GucFlags::UNIT_MB,
     );
     memory::define_guc();
+    threads::define_guc();
 }
 
 /// Raise an ERROR with an SQLSTATE; never returns.

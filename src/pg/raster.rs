@@ -87,6 +87,7 @@ fn _tin_raster_stats(
     let Some((gt, grid, b)) = raster_arg(&tin, rast, band, "tin_raster_stats") else {
         return TableIterator::new(Vec::<StatsRow>::new());
     };
+    super::threads::apply();
     let st = if weighted {
         weighted_stats(
             &tin,

@@ -35,6 +35,11 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+type FaceHandle = spade::handles::FixedFaceHandle<spade::handles::InnerTag>;
+
+/// Samples under the faces around a new vertex above which they are
+/// measured on threads.
+const PAR_SAMPLES: f64 = 32768.0;
 
 /// Most samples one build accepts (bounds memory: about 100 bytes a sample).
 pub const MAX_SAMPLES: usize = 50_000_000;
@@ -195,8 +200,9 @@ impl Builder {
         [p.x, p.y, self.vz[h.index()]]
     }
 
-    /// Re-measure one inner face and queue it.
-    fn scan_face(&mut self, face: spade::handles::FixedFaceHandle<spade::handles::InnerTag>) {
+    /// The worst sample of one inner face: (its error, the sample or NONE,
+    /// a corner of the face). Read-only: runs on `tin::par`'s threads.
+    fn measure(&self, face: FaceHandle) -> (f64, u32, u32) {
         let f = self.cdt.face(face);
         let vs = f.vertices();
         let c = [
@@ -217,7 +223,11 @@ impl Builder {
                 cand = i as u32;
             }
         });
-        let idx = face.index();
+        (best, cand, vs[0].fix().index() as u32)
+    }
+
+    /// Store a face's measure and queue the face if it has a candidate.
+    fn record(&mut self, idx: usize, (best, cand, corner): (f64, u32, u32)) {
         if idx >= self.faces.len() {
             self.faces.resize(
                 idx + 1,
@@ -233,7 +243,7 @@ impl Builder {
         st.gen = st.gen.wrapping_add(1);
         st.err = best;
         st.cand = cand;
-        st.corner = vs[0].fix().index() as u32;
+        st.corner = corner;
         if cand != NONE {
             self.heap.push(Entry {
                 err: best,
@@ -241,6 +251,20 @@ impl Builder {
                 gen: st.gen,
             });
         }
+    }
+
+    /// Re-measure one inner face and queue it.
+    fn scan_face(&mut self, face: FaceHandle) {
+        let m = self.measure(face);
+        self.record(face.index(), m);
+    }
+
+    /// Samples a face's area holds, about (for deciding what is worth
+    /// handing to threads).
+    fn face_samples(&self, face: FaceHandle) -> f64 {
+        let vs = self.cdt.face(face).vertices();
+        let [a, b, c] = vs.map(|v| self.cdt.vertex(v.fix()).position());
+        ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)).abs() / 2.0 / self.grid.cell_area()
     }
 
     /// Insert sample `i`; `hint` is a vertex near it (spade's point
@@ -267,6 +291,8 @@ impl Builder {
         Ok(h)
     }
 
+    /// Re-measure the faces around a new vertex: on threads when they are
+    /// large (the first insertions of a level), results recorded in order.
     fn rescan_around(&mut self, v: FixedVertexHandle) {
         let faces: Vec<_> = self
             .cdt
@@ -274,8 +300,17 @@ impl Builder {
             .out_edges()
             .filter_map(|e| e.face().as_inner().map(|f| f.fix()))
             .collect();
-        for f in faces {
-            self.scan_face(f);
+        if super::par::threads() > 1
+            && faces.iter().map(|&f| self.face_samples(f)).sum::<f64>() > PAR_SAMPLES
+        {
+            let ms = super::par::map(&faces, |&f| self.measure(f));
+            for (f, m) in faces.iter().zip(ms) {
+                self.record(f.index(), m);
+            }
+        } else {
+            for f in faces {
+                self.scan_face(f);
+            }
         }
     }
 
@@ -286,12 +321,22 @@ impl Builder {
         interrupt: &mut dyn FnMut() -> Result<(), TinError>,
     ) -> Result<f64, TinError> {
         self.heap.clear();
+        // every face measured (on threads, in chunks, interrupts between
+        // batches), then recorded in face order
         let all: Vec<_> = self.cdt.fixed_inner_faces().collect();
-        for (k, f) in all.into_iter().enumerate() {
-            if k % 4096 == 0 {
-                interrupt()?;
-            }
-            self.scan_face(f);
+        let chunks: Vec<&[FaceHandle]> = all.chunks(4096).collect();
+        let mut ms: Vec<Vec<(f64, u32, u32)>> = Vec::with_capacity(chunks.len());
+        super::par::map_batched(
+            &chunks,
+            |c| c.iter().map(|&f| self.measure(f)).collect(),
+            interrupt,
+            &mut |m| {
+                ms.push(m);
+                Ok(())
+            },
+        )?;
+        for (f, m) in all.iter().zip(ms.into_iter().flatten()) {
+            self.record(f.index(), m);
         }
         let mut n = 0usize;
         while let Some(top) = self.heap.pop() {
@@ -530,11 +575,8 @@ fn assemble(
             );
             ((a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0)
         };
-        let mut keyed: Vec<(u32, u32, [u32; 3])> = Vec::with_capacity(tris.len());
-        for (k, t) in tris.iter().enumerate() {
-            if k % 4096 == 4095 {
-                interrupt()?;
-            }
+        // parents found on threads, chunk by chunk, kept in triangle order
+        let key = |t: &[u32; 3]| -> Result<(u32, u32, [u32; 3]), TinError> {
             let (x, y) = centroid(t);
             let parent = if l == 0 {
                 NONE
@@ -546,8 +588,19 @@ fn assemble(
                     ))
                 })?
             };
-            keyed.push((parent, morton(&tin.bbox, x, y), *t));
-        }
+            Ok((parent, morton(&tin.bbox, x, y), *t))
+        };
+        let chunks: Vec<&[[u32; 3]]> = tris.chunks(4096).collect();
+        let mut keyed: Vec<(u32, u32, [u32; 3])> = Vec::with_capacity(tris.len());
+        super::par::map_batched(
+            &chunks,
+            |c| c.iter().map(key).collect::<Result<Vec<_>, TinError>>(),
+            interrupt,
+            &mut |part| {
+                keyed.extend(part?);
+                Ok(())
+            },
+        )?;
         interrupt()?;
         keyed.sort_unstable();
         interrupt()?;

@@ -18,6 +18,7 @@ pub mod grid;
 pub mod layout;
 pub mod locate;
 pub mod memory;
+pub mod par;
 pub mod samples;
 
 use thiserror::Error;

@@ -89,6 +89,11 @@ impl SampleGrid {
         self.row(y) * self.nx + self.col(x)
     }
 
+    /// Area of one bucket (about one sample each).
+    pub fn cell_area(&self) -> f64 {
+        self.cell * self.cell
+    }
+
     /// Calls `f(index, sample)` for every sample in the closed triangle
     /// `a, b, c` (counter-clockwise), decided with exact predicates.
     pub fn for_each_in_triangle(
