@@ -153,6 +153,35 @@ fn convex_hull(pts: &[[f64; 3]]) -> Vec<usize> {
     h
 }
 
+/// Samples exactly on the edges of the convex hull `hull` (corners
+/// excluded), edge by edge, in order along each edge.
+fn border_samples(
+    pts: &[[f64; 3]],
+    hull: &[usize],
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Vec<usize>, TinError> {
+    let mut out = Vec::new();
+    for k in 0..hull.len() {
+        interrupt()?;
+        let (a, b) = (&pts[hull[k]], &pts[hull[(k + 1) % hull.len()]]);
+        let (x0, x1) = (a[0].min(b[0]), a[0].max(b[0]));
+        let (y0, y1) = (a[1].min(b[1]), a[1].max(b[1]));
+        let mut on: Vec<(f64, usize)> = Vec::new();
+        for (i, p) in pts.iter().enumerate() {
+            if p[0] < x0 || p[0] > x1 || p[1] < y0 || p[1] > y1 {
+                continue;
+            }
+            if orient2d(c2(a), c2(b), c2(p)) == 0.0 && p[..2] != a[..2] && p[..2] != b[..2] {
+                let d = (p[0] - a[0]).abs() + (p[1] - a[1]).abs();
+                on.push((d, i));
+            }
+        }
+        on.sort_by(|u, v| u.0.total_cmp(&v.0));
+        out.extend(on.into_iter().map(|(_, i)| i));
+    }
+    Ok(out)
+}
+
 #[derive(Clone, Copy)]
 struct FaceState {
     gen: u32,
@@ -404,6 +433,16 @@ impl Builder {
     }
 }
 
+/// Choices of a build beyond samples and tolerances.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BuildOptions {
+    /// Make every sample on the convex hull's boundary a vertex of every
+    /// level (not only the hull's corners). Tiles of one raster that share
+    /// a border row or column of samples then have the very same surface
+    /// along that border: heights are continuous across tile seams.
+    pub keep_border: bool,
+}
+
 /// Build a hierarchy from samples (x, y, z) with one tolerance per level
 /// (coarsest first, strictly decreasing). `interrupt` is called regularly and
 /// may abort the build by returning an error.
@@ -411,6 +450,17 @@ pub fn build(
     samples: Vec<[f64; 3]>,
     tolerances: &[f64],
     srid: i32,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Tin, TinError> {
+    build_with(samples, tolerances, srid, BuildOptions::default(), interrupt)
+}
+
+/// [`build`] with [`BuildOptions`].
+pub fn build_with(
+    samples: Vec<[f64; 3]>,
+    tolerances: &[f64],
+    srid: i32,
+    opts: BuildOptions,
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
@@ -447,6 +497,13 @@ pub fn build(
     };
     for &i in &hull {
         b.insert_sample(i, None)?;
+    }
+    if opts.keep_border {
+        for i in border_samples(&b.grid.pts, &hull, interrupt)? {
+            if !b.inserted[i] {
+                b.insert_sample(i, None)?;
+            }
+        }
     }
     let mut raw_levels = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {
