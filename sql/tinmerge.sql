@@ -2,17 +2,17 @@
 -- internal bytea functions (_tin_*), plus a comment on every function.
 -- Levels are 0-based: 0 = coarsest; a NULL or omitted level = finest.
 
-CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1)
-RETURNS tin AS $$ SELECT @extschema@._tin_from_raster($1::bytea, $2, $3, $4) $$
+CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1, keep_border boolean DEFAULT false)
+RETURNS tin AS $$ SELECT @extschema@._tin_from_raster($1::bytea, $2, $3, $4, $5) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
-COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int) IS
-'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16.';
+COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean) IS
+'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true makes every sample on the edges of the convex hull a vertex of every level, so tiles that share a border row or column of pixels have the same surface along it (see docs/scaling.md, tiled terrains).';
 
-CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1)
-RETURNS tin AS $$ SELECT @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3) $$
+CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1, keep_border boolean DEFAULT false)
+RETURNS tin AS $$ SELECT @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3, $4) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE;
-COMMENT ON FUNCTION tin_from_raster(raster, float8[], int) IS
-'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing).';
+COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean) IS
+'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border as for tin_from_raster(raster, float8, int, int, boolean).';
 
 CREATE FUNCTION tin_from_points(pts geometry, tolerance float8, levels int DEFAULT 5)
 RETURNS tin AS $$ SELECT @extschema@._tin_from_points($1::bytea, $2, $3) $$
@@ -152,8 +152,8 @@ COMMENT ON FUNCTION tin_tolerance(tin, int) IS 'Vertical error bound a level was
 COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes and per level: tolerance, triangles, vertices and the max error measured at the source samples (header only).';
 COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes (see tinmerge.cache_size).';
 
-COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int) IS 'Internal: use tin_from_raster(raster, ...).';
-COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int) IS 'Internal: use tin_from_raster(raster, float8[], int).';
+COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Internal: use tin_from_raster(raster, ...).';
+COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int, boolean) IS 'Internal: use tin_from_raster(raster, float8[], ...).';
 COMMENT ON FUNCTION _tin_from_points(bytea, float8, int) IS 'Internal: use tin_from_points(geometry, ...).';
 COMMENT ON FUNCTION _tin_envelope(tin) IS 'Internal: use tin_envelope(tin).';
 COMMENT ON FUNCTION _tin_triangles(tin, int) IS 'Internal: use tin_triangles(tin, int).';
@@ -293,10 +293,10 @@ ALTER FUNCTION _tin_area_stats(tin, bytea, integer, text, boolean) COST 10000 RO
 ALTER FUNCTION _tin_area_examined(tin, bytea, integer, text) COST 10000 ROWS 1;
 ALTER FUNCTION tin_volume(tin, geometry, float8, integer) COST 10000 ROWS 1;
 ALTER FUNCTION _tin_volume(tin, bytea, float8, integer, text, boolean) COST 10000 ROWS 1;
-ALTER FUNCTION tin_from_raster(raster, float8, integer, integer) COST 10000;
-ALTER FUNCTION tin_from_raster(raster, float8[], integer) COST 10000;
-ALTER FUNCTION _tin_from_raster(bytea, float8, integer, integer) COST 10000;
-ALTER FUNCTION _tin_from_raster_tolerances(bytea, float8[], integer) COST 10000;
+ALTER FUNCTION tin_from_raster(raster, float8, integer, integer, boolean) COST 10000;
+ALTER FUNCTION tin_from_raster(raster, float8[], integer, boolean) COST 10000;
+ALTER FUNCTION _tin_from_raster(bytea, float8, integer, integer, boolean) COST 10000;
+ALTER FUNCTION _tin_from_raster_tolerances(bytea, float8[], integer, boolean) COST 10000;
 ALTER FUNCTION tin_from_points(geometry, float8, integer) COST 10000;
 ALTER FUNCTION _tin_from_points(bytea, float8, integer) COST 10000;
 ALTER FUNCTION tin_raster_stats(tin, raster, integer, integer, boolean) COST 10000 ROWS 10000;

@@ -42,12 +42,12 @@ fn seam(d: &common::Dem, col: usize, a: &Tin, b: &Tin) -> (Vec<f64>, usize, usiz
         let (x, y) = d.centre(col, r);
         let (_, y2) = d.centre(col, r + 1);
         for (py, exact) in [(y, Some(v)), ((y + y2) / 2.0, None)] {
-            for l in 0..a.levels.len() {
+            for (l, w) in worst.iter_mut().enumerate() {
                 let (Some(ha), Some(hb)) = (height(a, l, x, py), height(b, l, x, py)) else {
                     continue;
                 };
                 points += 1;
-                worst[l] = worst[l].max((ha - hb).abs());
+                *w = w.max((ha - hb).abs());
                 if let Some(v) = exact {
                     if ha != v || hb != v {
                         not_vertex += 1;
@@ -66,23 +66,44 @@ fn shared_border_column_gives_a_continuous_surface() {
     let tols = default_tolerances(2.0, 3).unwrap();
     let keep = BuildOptions { keep_border: true };
     let left = build_with(tile(&d, 0, col), &tols, 32616, keep, &mut || Ok(())).unwrap();
-    let right = build_with(tile(&d, col, d.width - 1), &tols, 32616, keep, &mut || Ok(())).unwrap();
+    let right = build_with(tile(&d, col, d.width - 1), &tols, 32616, keep, &mut || {
+        Ok(())
+    })
+    .unwrap();
     left.sanity_check().unwrap();
     right.sanity_check().unwrap();
     let (worst, points, not_vertex) = seam(&d, col, &left, &right);
     eprintln!("keep_border: {points} seam points, worst |left - right| per level {worst:?}");
     assert!(points > 500, "{points} seam points");
-    assert_eq!(not_vertex, 0, "seam samples that are not vertices of both tiles");
+    assert_eq!(
+        not_vertex, 0,
+        "seam samples that are not vertices of both tiles"
+    );
     for (l, w) in worst.iter().enumerate() {
-        assert!(*w <= 1e-9, "level {l}: heights differ by {w} across the seam");
+        assert!(
+            *w <= 1e-9,
+            "level {l}: heights differ by {w} across the seam"
+        );
     }
     // without the option the seam samples are not all vertices
     let free = BuildOptions::default();
     let l2 = build_with(tile(&d, 0, col), &tols, 32616, free, &mut || Ok(())).unwrap();
-    let r2 = build_with(tile(&d, col, d.width - 1), &tols, 32616, free, &mut || Ok(())).unwrap();
+    let r2 = build_with(tile(&d, col, d.width - 1), &tols, 32616, free, &mut || {
+        Ok(())
+    })
+    .unwrap();
     let (worst2, _, not_vertex2) = seam(&d, col, &l2, &r2);
     eprintln!("without keep_border: {not_vertex2} seam samples not vertices, worst {worst2:?}");
-    assert!(not_vertex2 > 0, "free builds keep every seam sample: the option shows nothing");
+    assert!(
+        not_vertex2 > 0,
+        "free builds keep every seam sample: the option shows nothing"
+    );
     let count = |t: &Tin| t.levels.iter().map(|l| l.num_vertices).collect::<Vec<_>>();
-    eprintln!("vertices per level: kept {:?}/{:?}, free {:?}/{:?}", count(&left), count(&right), count(&l2), count(&r2));
+    eprintln!(
+        "vertices per level: kept {:?}/{:?}, free {:?}/{:?}",
+        count(&left),
+        count(&right),
+        count(&l2),
+        count(&r2)
+    );
 }

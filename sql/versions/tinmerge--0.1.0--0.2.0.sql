@@ -1,5 +1,6 @@
 -- tinmerge 0.1.0 -> 0.2.0: equality on tin (=, <>, hash operator class) and
 -- planner costs (COST, ROWS) on the merge functions; tin_surface_area;
+-- tin_from_raster(..., keep_border);
 -- search_path set on the SQL-language wrappers.
 -- The stored value format is unchanged (format version 1), so stored
 -- values need no rewrite. tests/upgrade.sh checks that this script makes
@@ -79,10 +80,6 @@ ALTER FUNCTION _tin_area_stats(tin, bytea, integer, text, boolean) COST 10000 RO
 ALTER FUNCTION _tin_area_examined(tin, bytea, integer, text) COST 10000 ROWS 1;
 ALTER FUNCTION tin_volume(tin, geometry, float8, integer) COST 10000 ROWS 1;
 ALTER FUNCTION _tin_volume(tin, bytea, float8, integer, text, boolean) COST 10000 ROWS 1;
-ALTER FUNCTION tin_from_raster(raster, float8, integer, integer) COST 10000;
-ALTER FUNCTION tin_from_raster(raster, float8[], integer) COST 10000;
-ALTER FUNCTION _tin_from_raster(bytea, float8, integer, integer) COST 10000;
-ALTER FUNCTION _tin_from_raster_tolerances(bytea, float8[], integer) COST 10000;
 ALTER FUNCTION tin_from_points(geometry, float8, integer) COST 10000;
 ALTER FUNCTION _tin_from_points(bytea, float8, integer) COST 10000;
 ALTER FUNCTION tin_raster_stats(tin, raster, integer, integer, boolean) COST 10000 ROWS 10000;
@@ -107,6 +104,32 @@ $$ SELECT s.area3d FROM @extschema@.tin_area_stats($1, $2, $3) s $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000;
 COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
 'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. Planar SRIDs only.';
+
+-- 0.2.0: tin_from_raster takes keep_border (tiles with shared border
+-- samples); the old signatures are replaced, calls without it keep working
+DROP FUNCTION tin_from_raster(raster, float8, int, int);
+DROP FUNCTION tin_from_raster(raster, float8[], int);
+DROP FUNCTION _tin_from_raster(bytea, float8, int, int);
+DROP FUNCTION _tin_from_raster_tolerances(bytea, float8[], int);
+CREATE FUNCTION _tin_from_raster(rast bytea, tolerance float8, levels int, band int, keep_border boolean)
+RETURNS tin IMMUTABLE STRICT PARALLEL SAFE COST 10000 LANGUAGE c
+AS 'MODULE_PATHNAME', '_tin_from_raster_wrapper';
+CREATE FUNCTION _tin_from_raster_tolerances(rast bytea, tolerances float8[], band int, keep_border boolean)
+RETURNS tin IMMUTABLE STRICT PARALLEL SAFE COST 10000 LANGUAGE c
+AS 'MODULE_PATHNAME', '_tin_from_raster_tolerances_wrapper';
+CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1, keep_border boolean DEFAULT false)
+RETURNS tin AS $$ SELECT @extschema@._tin_from_raster($1::bytea, $2, $3, $4, $5) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean) IS
+'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true makes every sample on the edges of the convex hull a vertex of every level, so tiles that share a border row or column of pixels have the same surface along it (see docs/scaling.md, tiled terrains).';
+
+CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1, keep_border boolean DEFAULT false)
+RETURNS tin AS $$ SELECT @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3, $4) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean) IS
+'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border as for tin_from_raster(raster, float8, int, int, boolean).';
+COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Internal: use tin_from_raster(raster, ...).';
+COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int, boolean) IS 'Internal: use tin_from_raster(raster, float8[], ...).';
 
 -- search_path safety (0.2.0): every SQL-language wrapper runs with the
 -- search_path of the install (this extension's schema, then PostGIS's), so

@@ -10,7 +10,7 @@ use serde_json::json;
 use super::types::{TinArg, TinOut};
 use super::{cache, interrupt, memory, raise, OrRaise};
 use crate::io::{ewkb, raster};
-use crate::tin::build::{build, check_tolerances, default_tolerances};
+use crate::tin::build::{build, build_with, check_tolerances, default_tolerances, BuildOptions};
 use crate::tin::memory as tmem;
 use crate::tin::{resolve_level, NONE};
 
@@ -69,15 +69,24 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
-fn _tin_from_raster(rast: &[u8], tolerance: f64, levels: i32, band: i32) -> TinOut {
+fn _tin_from_raster(
+    rast: &[u8],
+    tolerance: f64,
+    levels: i32,
+    band: i32,
+    keep_border: bool,
+) -> TinOut {
     let tols = default_tolerances(tolerance, levels).or_raise();
-    let (pts, srid) = raster_samples(rast, band);
-    reserve_build("tin_from_raster", pts.len(), tols.len());
-    TinOut::from_tin(&build(pts, &tols, srid, &mut interrupt).or_raise())
+    build_raster(rast, &tols, band, keep_border)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
-fn _tin_from_raster_tolerances(rast: &[u8], tolerances: Vec<Option<f64>>, band: i32) -> TinOut {
+fn _tin_from_raster_tolerances(
+    rast: &[u8],
+    tolerances: Vec<Option<f64>>,
+    band: i32,
+    keep_border: bool,
+) -> TinOut {
     let tols: Vec<f64> = tolerances
         .into_iter()
         .map(|t| {
@@ -90,9 +99,15 @@ fn _tin_from_raster_tolerances(rast: &[u8], tolerances: Vec<Option<f64>>, band: 
         })
         .collect();
     check_tolerances(&tols).or_raise();
+    build_raster(rast, &tols, band, keep_border)
+}
+
+/// The build behind both `tin_from_raster` forms.
+fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
     let (pts, srid) = raster_samples(rast, band);
     reserve_build("tin_from_raster", pts.len(), tols.len());
-    TinOut::from_tin(&build(pts, &tols, srid, &mut interrupt).or_raise())
+    let opts = BuildOptions { keep_border };
+    TinOut::from_tin(&build_with(pts, tols, srid, opts, &mut interrupt).or_raise())
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]

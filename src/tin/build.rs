@@ -452,7 +452,13 @@ pub fn build(
     srid: i32,
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
 ) -> Result<Tin, TinError> {
-    build_with(samples, tolerances, srid, BuildOptions::default(), interrupt)
+    build_with(
+        samples,
+        tolerances,
+        srid,
+        BuildOptions::default(),
+        interrupt,
+    )
 }
 
 /// [`build`] with [`BuildOptions`].

@@ -1,0 +1,135 @@
+-- Tiled terrains (docs/scaling.md): a window of the DEM without nodata,
+-- loaded by the runner both whole (dem_window) and as raster2pgsql -t
+-- 100x100 tiles (dem_tiles, 16 tiles). Each tile's tin is built from its
+-- pixels plus the first column and row of its right and lower neighbours
+-- (one shared column/row of samples per seam) with keep_border => true.
+SET extra_float_digits = 0;
+SELECT count(*) AS tiles, sum(ST_Width(rast) * ST_Height(rast)) AS pixels FROM dem_tiles;
+
+-- the build pattern: tile extent grown by one pixel right and down, filled
+-- from the neighbours, one tin per tile
+CREATE TABLE tin_tiles AS
+SELECT a.rid AS id,
+       tin_from_raster(ST_Clip(ST_Union(b.rast), e.env), 2.0, 3, keep_border => true) AS t
+FROM dem_tiles a
+CROSS JOIN LATERAL (SELECT ST_MakeEnvelope(
+    ST_UpperLeftX(a.rast), ST_UpperLeftY(a.rast) + (ST_Height(a.rast) + 1) * ST_ScaleY(a.rast),
+    ST_UpperLeftX(a.rast) + (ST_Width(a.rast) + 1) * ST_ScaleX(a.rast), ST_UpperLeftY(a.rast),
+    ST_SRID(a.rast)) AS env) e
+JOIN dem_tiles b ON b.rast && e.env
+GROUP BY a.rid, e.env;
+CREATE INDEX tin_tiles_envelope ON tin_tiles USING gist (tin_envelope(t));
+ANALYZE tin_tiles;
+CREATE TABLE window_tin AS SELECT tin_from_raster(rast, 2.0, 3) AS t FROM dem_window;
+
+-- the tiles cover the window's pixel centres exactly, envelopes meeting on
+-- the seams (shared columns/rows of pixel centres)
+SELECT ST_Equals(ST_Union(tin_envelope(t)), (SELECT tin_envelope(t) FROM window_tin)) AS tiles_cover_window,
+       sum(ST_Area(tin_envelope(t))) = ST_Area((SELECT tin_envelope(t) FROM window_tin)) AS no_overlap
+FROM tin_tiles;
+
+-- the index answers the join predicate
+SET enable_seqscan = off;
+EXPLAIN (COSTS OFF)
+SELECT id FROM tin_tiles WHERE tin_envelope(t) && 'SRID=32616;POINT(745000 4055000)'::geometry;
+RESET enable_seqscan;
+
+-- seam samples: pixel centres of the window on the shared columns and rows
+-- (and midpoints between consecutive ones along the seam). Every tile
+-- covering one answers it, at every level, with the same height; at a
+-- sample that height is the pixel value itself (ST_Value is the oracle),
+-- at a midpoint the mean of the two pixel values.
+CREATE TABLE seam AS
+WITH c AS (
+  SELECT p.x, p.y, p.val, p.geom FROM dem_window, ST_PixelAsCentroids(rast) p
+  WHERE (p.x > 1 AND (p.x - 1) % 100 = 0) OR (p.y > 1 AND (p.y - 1) % 100 = 0)
+)
+SELECT c.geom, c.val AS expect FROM c
+UNION ALL
+SELECT ST_LineInterpolatePoint(ST_MakeLine(c.geom, n.geom), 0.5), (c.val + n.val) / 2
+FROM c JOIN c n ON (n.x = c.x AND n.y = c.y + 1 AND (c.x - 1) % 100 = 0)
+                OR (n.y = c.y AND n.x = c.x + 1 AND (c.y - 1) % 100 = 0);
+WITH h AS (
+  SELECT s.geom, s.expect, l, k.id, tin_height(k.t, s.geom, l) AS z
+  FROM seam s JOIN tin_tiles k ON tin_envelope(k.t) && s.geom, generate_series(0, 2) l
+), per AS (
+  SELECT geom, expect, l, count(*) AS tiles, count(z) AS answered, max(z) - min(z) AS spread, max(abs(z - expect)) AS off
+  FROM h GROUP BY geom, expect, l
+)
+SELECT l AS level, count(*) AS seam_points, min(tiles) AS min_tiles, max(tiles) AS max_tiles,
+       sum(tiles - answered) AS unanswered, count(*) FILTER (WHERE spread > 0) AS tiles_disagree,
+       count(*) FILTER (WHERE off > 1e-9) AS off_the_pixels
+FROM per GROUP BY l ORDER BY l;
+
+-- points against the tile table: the join through the index, one row per
+-- point kept by DISTINCT ON (on a seam either tile gives the same height). Every pixel centre of the
+-- window in a sample of ~1/7 gets a height from the tiles and from the
+-- single tin, each within the level's tolerance of the pixel value.
+CREATE TABLE pts AS
+SELECT row_number() OVER () AS id, p.geom, p.val
+FROM dem_window, ST_PixelAsCentroids(rast) p WHERE (p.x + 3 * p.y) % 7 = 0;
+WITH tiled AS (
+  SELECT DISTINCT ON (p.id, l) p.id, p.val, l, tin_height(k.t, p.geom, l) AS z
+  FROM pts p JOIN tin_tiles k ON tin_envelope(k.t) && p.geom, generate_series(0, 2) l
+  ORDER BY p.id, l, k.id
+), single AS (
+  SELECT p.id, l, tin_height(w.t, p.geom, l) AS z FROM pts p, window_tin w, generate_series(0, 2) l
+)
+SELECT tiled.l AS level, count(*) AS points, count(tiled.z) AS tiled_answers, count(single.z) AS single_answers,
+       count(*) FILTER (WHERE abs(tiled.z - tiled.val) > 2.0 * 2 ^ (2 - tiled.l) + 1e-9) AS tiled_beyond_tolerance,
+       count(*) FILTER (WHERE abs(single.z - tiled.val) > 2.0 * 2 ^ (2 - tiled.l) + 1e-9) AS single_beyond_tolerance
+FROM tiled JOIN single USING (id, l) GROUP BY tiled.l ORDER BY 1;
+
+-- lines against the tile table: each contour cut by the tile envelopes with
+-- PostGIS, each piece merged with its tile, then summed per contour. Planar
+-- lengths equal the single tin's (and ST_Length of the contour in the
+-- window); draped pieces meet on the seams at the same height.
+CREATE TABLE wcontours AS
+SELECT c.id, ST_Intersection(c.geom, w.env) AS geom
+FROM contours c, (SELECT tin_envelope(t) AS env FROM window_tin) w
+WHERE ST_Intersects(c.geom, w.env) AND ST_Length(ST_Intersection(c.geom, w.env)) > 0;
+CREATE TABLE pieces AS
+SELECT c.id AS contour, k.id AS tile, k.t,
+       ST_CollectionExtract(ST_Intersection(c.geom, tin_envelope(k.t)), 2) AS geom
+FROM wcontours c JOIN tin_tiles k ON tin_envelope(k.t) && c.geom;
+DELETE FROM pieces WHERE ST_IsEmpty(geom);
+WITH tiled AS (
+  SELECT p.contour AS id, sum(s.length2d) AS len2d, sum(s.length3d) AS len3d
+  FROM pieces p, tin_line_segments(p.t, p.geom, 1) s GROUP BY p.contour
+), single AS (
+  SELECT c.id, sum(s.length2d) AS len2d, sum(s.length3d) AS len3d
+  FROM wcontours c, window_tin w, tin_line_segments(w.t, c.geom, 1) s GROUP BY c.id
+)
+SELECT count(*) AS contours,
+       count(*) FILTER (WHERE abs(tiled.len2d - single.len2d) > 1e-9 * single.len2d) AS len2d_differ,
+       count(*) FILTER (WHERE abs(tiled.len2d - ST_Length(c.geom)) > 1e-9 * tiled.len2d) AS len2d_not_st_length,
+       count(*) FILTER (WHERE abs(tiled.len3d - single.len3d) > 0.01 * single.len3d) AS len3d_differ_over_1pct
+FROM tiled JOIN single USING (id) JOIN wcontours c USING (id);
+WITH ends AS (
+  SELECT p.contour, p.tile, e.geom
+  FROM pieces p, ST_Dump(tin_drape(p.t, p.geom, 1)) d,
+       LATERAL (VALUES (ST_StartPoint(d.geom)), (ST_EndPoint(d.geom))) e(geom)
+)
+SELECT count(*) AS seam_crossings,
+       count(*) FILTER (WHERE abs(ST_Z(a.geom) - ST_Z(b.geom)) > 1e-9) AS heights_differ
+FROM ends a JOIN ends b ON a.contour = b.contour AND a.tile < b.tile AND ST_DWithin(a.geom, b.geom, 1e-6);
+
+-- areas against the tile table: contour bands cut by the tile envelopes,
+-- merged per tile, summed per band. Planar areas equal the single tin's;
+-- surface areas within 1 % of it.
+WITH wbands AS (
+  SELECT b.id, ST_Intersection(b.geom, w.env) AS geom
+  FROM contour_bands b, (SELECT tin_envelope(t) AS env FROM window_tin) w
+  WHERE ST_Intersects(b.geom, w.env)
+), tiled AS (
+  SELECT b.id, sum(s.area2d) AS a2, sum(s.area3d) AS a3
+  FROM wbands b JOIN tin_tiles k ON tin_envelope(k.t) && b.geom,
+       tin_area_stats(k.t, ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), 1) s
+  GROUP BY b.id
+), single AS (
+  SELECT b.id, s.area2d AS a2, s.area3d AS a3 FROM wbands b, window_tin w, tin_area_stats(w.t, b.geom, 1) s
+)
+SELECT count(*) AS bands,
+       count(*) FILTER (WHERE abs(tiled.a2 - single.a2) > 1e-9 * single.a2) AS area2d_differ,
+       count(*) FILTER (WHERE abs(tiled.a3 - single.a3) > 0.01 * single.a3) AS area3d_differ_over_1pct
+FROM tiled JOIN single USING (id);
