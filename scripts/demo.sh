@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build and install tinmerge, start a
 # throw-away PostgreSQL cluster under target/pg, load the bundled real DEM,
-# build its TIN, print tin_info and per-level triangle counts.
+# build its TIN, print tin_info, per-level triangle counts and each merge,
+# and write the demo page with pictures of them into target/demo/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -49,6 +50,9 @@ FROM terrain, generate_series(0, tin_num_levels(t) - 1) l,
      LATERAL tin_area_stats(t, g, l) s, LATERAL tin_volume(t, g, 500, l) v
 ORDER BY l;
 SQL
+echo "== pictures: every level, each merge and the surface in 3D, into target/demo/"
+scripts/demo-pictures.sh target/demo
 echo
+echo "Open target/demo/index.html in a browser (works offline, from file://)."
 echo "The cluster is still running. Explore with: make psql   (database tinmerge_demo; table terrain)"
 echo "e.g. SELECT id, parent, geom FROM terrain, tin_triangles(t, 0);   Stop it with: make stop"

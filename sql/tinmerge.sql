@@ -33,6 +33,20 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE;
 COMMENT ON FUNCTION tin_triangles(tin, int) IS
 'Triangles of one level (NULL = finest) as POLYGON Z with the tin''s SRID; parent is the containing triangle of the previous level (NULL at level 0).';
 
+CREATE FUNCTION tin_as_svg(t tin, level int DEFAULT NULL, triangles int[] DEFAULT NULL,
+                           vals float8[] DEFAULT NULL, classes text[] DEFAULT NULL,
+                           features geometry DEFAULT NULL, legend text DEFAULT NULL, width int DEFAULT 800)
+RETURNS text AS $$ SELECT @extschema@._tin_as_svg($1, $2, $3, $4, $5, $6::bytea, $7, $8) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_as_svg(tin, int, int[], float8[], text[], geometry, text, int) IS
+'An SVG picture of one level (NULL = finest), width pixels wide, with a legend: triangles coloured by height; or, with triangles => ids and vals => values (e.g. array_agg of a merge''s output), by value (others grey); or with classes => labels, one colour per class (at most 20); triangles alone highlights them. features (a geometry in the tin''s SRID) is drawn on top. NULL when t is NULL.';
+
+CREATE FUNCTION tin_as_gltf(t tin, level int DEFAULT NULL, texture raster DEFAULT NULL, z_factor float8 DEFAULT 1.0)
+RETURNS bytea AS $$ SELECT @extschema@._tin_as_gltf($1, $2, $3::bytea, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_as_gltf(tin, int, raster, float8) IS
+'One level (NULL = finest) as a binary glTF 2.0 (.glb) mesh, y up, centred on the bounding box (the centre and SRID are in the node extras), heights times z_factor. With texture (a north-up raster in the tin''s SRID: 1 band grey, 3 RGB, 4 RGBA; at most 8192 pixels a side) the image is painted on the surface; without, vertices are coloured by height. NULL when t is NULL.';
+
 CREATE FUNCTION tin_as_geometry(t tin, level int DEFAULT NULL)
 RETURNS geometry AS $$ SELECT @extschema@._tin_as_geometry($1, $2)::geometry $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE;
@@ -158,6 +172,10 @@ COMMENT ON FUNCTION _tin_from_points(bytea, float8, int) IS 'Internal: use tin_f
 COMMENT ON FUNCTION _tin_envelope(tin) IS 'Internal: use tin_envelope(tin).';
 COMMENT ON FUNCTION _tin_triangles(tin, int) IS 'Internal: use tin_triangles(tin, int).';
 COMMENT ON FUNCTION _tin_as_geometry(tin, int) IS 'Internal: use tin_as_geometry(tin, int).';
+COMMENT ON FUNCTION _tin_as_svg(tin, int, int[], float8[], text[], bytea, text, int) IS 'Internal: use tin_as_svg(tin, ...).';
+COMMENT ON FUNCTION _tin_as_gltf(tin, int, bytea, float8) IS 'Internal: use tin_as_gltf(tin, ...).';
+ALTER FUNCTION _tin_as_svg(tin, int, int[], float8[], text[], bytea, text, int) COST 10000;
+ALTER FUNCTION _tin_as_gltf(tin, int, bytea, float8) COST 10000;
 COMMENT ON FUNCTION _tin_drape(tin, bytea, int) IS 'Internal: use tin_drape(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_line_triangles(tin, bytea, int, float8) IS 'Internal: use tin_line_triangles(tin, geometry, int, float8).';
 COMMENT ON FUNCTION _tin_line_segments(tin, bytea, int) IS 'Internal: use tin_line_segments(tin, geometry, int).';

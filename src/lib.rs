@@ -1,8 +1,9 @@
 //! tinmerge: adaptive hierarchical triangulations merged with PostGIS data.
 //!
-//! `tin`, `merge` and `io` are pure Rust (no pgrx); `pg` is the SQL layer.
+//! `tin`, `merge`, `render` and `io` are pure Rust (no pgrx); `pg` is the SQL layer.
 pub mod io;
 pub mod merge;
+pub mod render;
 pub mod tin;
 
 pub mod pg;

@@ -1,6 +1,6 @@
 -- tinmerge 0.1.0 -> 0.2.0: equality on tin (=, <>, hash operator class) and
 -- planner costs (COST, ROWS) on the merge functions; tin_surface_area;
--- tin_from_raster(..., keep_border);
+-- tin_from_raster(..., keep_border); tin_as_svg, tin_as_gltf;
 -- search_path set on the SQL-language wrappers.
 -- The stored value format is unchanged (format version 1), so stored
 -- values need no rewrite. tests/upgrade.sh checks that this script makes
@@ -130,6 +130,32 @@ COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean) IS
 'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border as for tin_from_raster(raster, float8, int, int, boolean).';
 COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Internal: use tin_from_raster(raster, ...).';
 COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int, boolean) IS 'Internal: use tin_from_raster(raster, float8[], ...).';
+
+-- 0.2.0: pictures (tin_as_svg, tin_as_gltf)
+CREATE FUNCTION _tin_as_svg(t tin, level int, triangles int[], vals float8[], classes text[], features bytea, legend text, width int)
+RETURNS text IMMUTABLE PARALLEL SAFE LANGUAGE c
+AS 'MODULE_PATHNAME', '_tin_as_svg_wrapper';
+CREATE FUNCTION _tin_as_gltf(t tin, level int, texture bytea, z_factor float8)
+RETURNS bytea IMMUTABLE PARALLEL SAFE LANGUAGE c
+AS 'MODULE_PATHNAME', '_tin_as_gltf_wrapper';
+COMMENT ON FUNCTION _tin_as_svg(tin, int, int[], float8[], text[], bytea, text, int) IS 'Internal: use tin_as_svg(tin, ...).';
+COMMENT ON FUNCTION _tin_as_gltf(tin, int, bytea, float8) IS 'Internal: use tin_as_gltf(tin, ...).';
+ALTER FUNCTION _tin_as_svg(tin, int, int[], float8[], text[], bytea, text, int) COST 10000;
+ALTER FUNCTION _tin_as_gltf(tin, int, bytea, float8) COST 10000;
+
+CREATE FUNCTION tin_as_svg(t tin, level int DEFAULT NULL, triangles int[] DEFAULT NULL,
+                           vals float8[] DEFAULT NULL, classes text[] DEFAULT NULL,
+                           features geometry DEFAULT NULL, legend text DEFAULT NULL, width int DEFAULT 800)
+RETURNS text AS $$ SELECT @extschema@._tin_as_svg($1, $2, $3, $4, $5, $6::bytea, $7, $8) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_as_svg(tin, int, int[], float8[], text[], geometry, text, int) IS
+'An SVG picture of one level (NULL = finest), width pixels wide, with a legend: triangles coloured by height; or, with triangles => ids and vals => values (e.g. array_agg of a merge''s output), by value (others grey); or with classes => labels, one colour per class (at most 20); triangles alone highlights them. features (a geometry in the tin''s SRID) is drawn on top. NULL when t is NULL.';
+
+CREATE FUNCTION tin_as_gltf(t tin, level int DEFAULT NULL, texture raster DEFAULT NULL, z_factor float8 DEFAULT 1.0)
+RETURNS bytea AS $$ SELECT @extschema@._tin_as_gltf($1, $2, $3::bytea, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000;
+COMMENT ON FUNCTION tin_as_gltf(tin, int, raster, float8) IS
+'One level (NULL = finest) as a binary glTF 2.0 (.glb) mesh, y up, centred on the bounding box (the centre and SRID are in the node extras), heights times z_factor. With texture (a north-up raster in the tin''s SRID: 1 band grey, 3 RGB, 4 RGBA; at most 8192 pixels a side) the image is painted on the surface; without, vertices are coloured by height. NULL when t is NULL.';
 
 -- search_path safety (0.2.0): every SQL-language wrapper runs with the
 -- search_path of the install (this extension's schema, then PostGIS's), so

@@ -51,6 +51,7 @@ mod memory;
 mod overlay;
 mod point;
 mod raster;
+mod render;
 mod threads;
 mod types;
 

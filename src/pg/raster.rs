@@ -11,6 +11,26 @@ use crate::io::raster::{self, Band, GeoTransform};
 use crate::merge::raster::{is_data, paint, sweep, weighted_stats, zonal_stats, PixelGrid};
 use crate::tin::Tin;
 
+/// ERROR unless the raster and the tin both have an SRID and it is the same.
+pub(super) fn check_raster_srid(raster_srid: i32, tin_srid: i32, func: &str) {
+    if raster_srid == 0 || tin_srid == 0 || raster_srid != tin_srid {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            if raster_srid == 0 || tin_srid == 0 {
+                format!(
+                    "{func}: the raster (SRID {}) and the tin (SRID {}) must both have an SRID; set it with ST_SetSRID",
+                    raster_srid, tin_srid
+                )
+            } else {
+                format!(
+                    "{func}: raster has SRID {} but the tin has SRID {}; transform it first, e.g. ST_Transform(rast, {})",
+                    raster_srid, tin_srid, tin_srid
+                )
+            },
+        );
+    }
+}
+
 /// The band of a raster argument with its pixel grid; `None` when the
 /// raster has no pixels or the band is flagged all-nodata (no rows).
 fn raster_arg(
@@ -20,22 +40,7 @@ fn raster_arg(
     func: &str,
 ) -> Option<(GeoTransform, PixelGrid, Band)> {
     let head = raster::read(rast, None).or_raise();
-    if head.srid == 0 || tin.srid == 0 || head.srid != tin.srid {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-            if head.srid == 0 || tin.srid == 0 {
-                format!(
-                    "{func}: the raster (SRID {}) and the tin (SRID {}) must both have an SRID; set it with ST_SetSRID",
-                    head.srid, tin.srid
-                )
-            } else {
-                format!(
-                    "{func}: raster has SRID {} but the tin has SRID {}; transform it first, e.g. ST_Transform(rast, {})",
-                    head.srid, tin.srid, tin.srid
-                )
-            },
-        );
-    }
+    check_raster_srid(head.srid, tin.srid, func);
     if band < 1 {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,

@@ -126,3 +126,19 @@ pub fn raster_bytes(width: usize, height: usize) -> usize {
 pub fn overlay_bytes(tris_a: usize, tris_b: usize) -> usize {
     tris_a.saturating_add(tris_b).saturating_mul(96)
 }
+
+/// Working memory of an SVG picture of `triangles` triangles (the text,
+/// about 100 bytes per triangle, plus colours).
+pub fn svg_bytes(triangles: usize) -> usize {
+    triangles.saturating_mul(112).saturating_add(1 << 16)
+}
+
+/// Working memory of a glTF mesh: per vertex the f32 attributes, the f64
+/// normal sums and the copies into the binary chunk and the output; per
+/// triangle the indices, twice.
+pub fn glb_bytes(vertices: usize, triangles: usize) -> usize {
+    vertices
+        .saturating_mul(136)
+        .saturating_add(triangles.saturating_mul(36))
+        .saturating_add(1 << 16)
+}

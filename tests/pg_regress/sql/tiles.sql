@@ -39,7 +39,7 @@ RESET enable_seqscan;
 -- covering one answers it, at every level, with the same height; at a
 -- sample that height is the pixel value itself (ST_Value is the oracle),
 -- at a midpoint the mean of the two pixel values.
-CREATE TABLE seam AS
+CREATE TABLE tile_seam AS
 WITH c AS (
   SELECT p.x, p.y, p.val, p.geom FROM dem_window, ST_PixelAsCentroids(rast) p
   WHERE (p.x > 1 AND (p.x - 1) % 100 = 0) OR (p.y > 1 AND (p.y - 1) % 100 = 0)
@@ -51,7 +51,7 @@ FROM c JOIN c n ON (n.x = c.x AND n.y = c.y + 1 AND (c.x - 1) % 100 = 0)
                 OR (n.y = c.y AND n.x = c.x + 1 AND (c.y - 1) % 100 = 0);
 WITH h AS (
   SELECT s.geom, s.expect, l, k.id, tin_height(k.t, s.geom, l) AS z
-  FROM seam s JOIN tin_tiles k ON tin_envelope(k.t) && s.geom, generate_series(0, 2) l
+  FROM tile_seam s JOIN tin_tiles k ON tin_envelope(k.t) && s.geom, generate_series(0, 2) l
 ), per AS (
   SELECT geom, expect, l, count(*) AS tiles, count(z) AS answered, max(z) - min(z) AS spread, max(abs(z - expect)) AS off
   FROM h GROUP BY geom, expect, l
@@ -65,15 +65,15 @@ FROM per GROUP BY l ORDER BY l;
 -- point kept by DISTINCT ON (on a seam either tile gives the same height). Every pixel centre of the
 -- window in a sample of ~1/7 gets a height from the tiles and from the
 -- single tin, each within the level's tolerance of the pixel value.
-CREATE TABLE pts AS
+CREATE TABLE tile_pts AS
 SELECT row_number() OVER () AS id, p.geom, p.val
 FROM dem_window, ST_PixelAsCentroids(rast) p WHERE (p.x + 3 * p.y) % 7 = 0;
 WITH tiled AS (
   SELECT DISTINCT ON (p.id, l) p.id, p.val, l, tin_height(k.t, p.geom, l) AS z
-  FROM pts p JOIN tin_tiles k ON tin_envelope(k.t) && p.geom, generate_series(0, 2) l
+  FROM tile_pts p JOIN tin_tiles k ON tin_envelope(k.t) && p.geom, generate_series(0, 2) l
   ORDER BY p.id, l, k.id
 ), single AS (
-  SELECT p.id, l, tin_height(w.t, p.geom, l) AS z FROM pts p, window_tin w, generate_series(0, 2) l
+  SELECT p.id, l, tin_height(w.t, p.geom, l) AS z FROM tile_pts p, window_tin w, generate_series(0, 2) l
 )
 SELECT tiled.l AS level, count(*) AS points, count(tiled.z) AS tiled_answers, count(single.z) AS single_answers,
        count(*) FILTER (WHERE abs(tiled.z - tiled.val) > 2.0 * 2 ^ (2 - tiled.l) + 1e-9) AS tiled_beyond_tolerance,
@@ -84,30 +84,30 @@ FROM tiled JOIN single USING (id, l) GROUP BY tiled.l ORDER BY 1;
 -- PostGIS, each piece merged with its tile, then summed per contour. Planar
 -- lengths equal the single tin's (and ST_Length of the contour in the
 -- window); draped pieces meet on the seams at the same height.
-CREATE TABLE wcontours AS
+CREATE TABLE tile_contours AS
 SELECT c.id, ST_Intersection(c.geom, w.env) AS geom
 FROM contours c, (SELECT tin_envelope(t) AS env FROM window_tin) w
 WHERE ST_Intersects(c.geom, w.env) AND ST_Length(ST_Intersection(c.geom, w.env)) > 0;
-CREATE TABLE pieces AS
+CREATE TABLE tile_pieces AS
 SELECT c.id AS contour, k.id AS tile, k.t,
        ST_CollectionExtract(ST_Intersection(c.geom, tin_envelope(k.t)), 2) AS geom
-FROM wcontours c JOIN tin_tiles k ON tin_envelope(k.t) && c.geom;
-DELETE FROM pieces WHERE ST_IsEmpty(geom);
+FROM tile_contours c JOIN tin_tiles k ON tin_envelope(k.t) && c.geom;
+DELETE FROM tile_pieces WHERE ST_IsEmpty(geom);
 WITH tiled AS (
   SELECT p.contour AS id, sum(s.length2d) AS len2d, sum(s.length3d) AS len3d
-  FROM pieces p, tin_line_segments(p.t, p.geom, 1) s GROUP BY p.contour
+  FROM tile_pieces p, tin_line_segments(p.t, p.geom, 1) s GROUP BY p.contour
 ), single AS (
   SELECT c.id, sum(s.length2d) AS len2d, sum(s.length3d) AS len3d
-  FROM wcontours c, window_tin w, tin_line_segments(w.t, c.geom, 1) s GROUP BY c.id
+  FROM tile_contours c, window_tin w, tin_line_segments(w.t, c.geom, 1) s GROUP BY c.id
 )
 SELECT count(*) AS contours,
        count(*) FILTER (WHERE abs(tiled.len2d - single.len2d) > 1e-9 * single.len2d) AS len2d_differ,
        count(*) FILTER (WHERE abs(tiled.len2d - ST_Length(c.geom)) > 1e-9 * tiled.len2d) AS len2d_not_st_length,
        count(*) FILTER (WHERE abs(tiled.len3d - single.len3d) > 0.01 * single.len3d) AS len3d_differ_over_1pct
-FROM tiled JOIN single USING (id) JOIN wcontours c USING (id);
+FROM tiled JOIN single USING (id) JOIN tile_contours c USING (id);
 WITH ends AS (
   SELECT p.contour, p.tile, e.geom
-  FROM pieces p, ST_Dump(tin_drape(p.t, p.geom, 1)) d,
+  FROM tile_pieces p, ST_Dump(tin_drape(p.t, p.geom, 1)) d,
        LATERAL (VALUES (ST_StartPoint(d.geom)), (ST_EndPoint(d.geom))) e(geom)
 )
 SELECT count(*) AS seam_crossings,
