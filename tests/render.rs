@@ -226,45 +226,30 @@ fn bad_render_arguments_are_errors() {
     assert!(Texture::from_bands(&r[..2]).is_err(), "2 bands");
     r[0].gt.skew_x = 1.0;
     assert!(Texture::from_bands(&r).is_err(), "skewed");
-    let ids = [0, 1, 2];
     let vals = [1.0, 2.0];
+    let value_error = |ids: &[i32]| {
+        let fill = Fill::Values {
+            triangles: ids,
+            values: &vals,
+        };
+        let opts = SvgOptions {
+            fill,
+            ..SvgOptions::default()
+        };
+        tin_svg(&t, 0, &opts, &mut ok).unwrap_err().to_string()
+    };
+    for (ids, says) in [
+        (&[0, 1, 2][..], "3 elements"),
+        (&[0, -1], "out of range"),
+        (&[4, 4], "more than once"),
+    ] {
+        let e = value_error(ids);
+        assert!(e.contains(says), "{e}");
+    }
     let opts = |fill| SvgOptions {
         fill,
         ..SvgOptions::default()
     };
-    let e = tin_svg(
-        &t,
-        0,
-        &opts(Fill::Values {
-            triangles: &ids,
-            values: &vals,
-        }),
-        &mut ok,
-    )
-    .unwrap_err();
-    assert!(e.to_string().contains("3 elements"), "{e}");
-    let e = tin_svg(
-        &t,
-        0,
-        &opts(Fill::Values {
-            triangles: &[0, -1],
-            values: &vals,
-        }),
-        &mut ok,
-    )
-    .unwrap_err();
-    assert!(e.to_string().contains("out of range"), "{e}");
-    let e = tin_svg(
-        &t,
-        0,
-        &opts(Fill::Values {
-            triangles: &[4, 4],
-            values: &vals,
-        }),
-        &mut ok,
-    )
-    .unwrap_err();
-    assert!(e.to_string().contains("more than once"), "{e}");
     let many: Vec<String> = (0..21).map(|i| format!("c{i}")).collect();
     let ids: Vec<i32> = (0..21).collect();
     assert!(tin_svg(

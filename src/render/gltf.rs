@@ -177,6 +177,57 @@ impl Default for GlbOptions<'_> {
     }
 }
 
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+
+/// The binary chunk being filled, with its buffer views and accessors.
+#[derive(Default)]
+struct Chunk {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Chunk {
+    /// Append `bytes` (4-byte aligned) as a buffer view; its index.
+    fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        pad4(&mut self.bin, 0);
+        let mut v = json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len()});
+        if let Some(t) = target {
+            v["target"] = json!(t);
+        }
+        self.views.push(v);
+        self.views.len() - 1
+    }
+
+    fn accessor(&mut self, a: Value) -> usize {
+        self.accessors.push(a);
+        self.accessors.len() - 1
+    }
+
+    /// A vertex attribute of `count` elements of `kind` (VEC2, VEC3) as
+    /// little-endian f32, with its bounds when given; the accessor's index.
+    fn floats(
+        &mut self,
+        data: &[f32],
+        count: usize,
+        kind: &str,
+        bounds: Option<(&[f32; 3], &[f32; 3])>,
+    ) -> usize {
+        let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let view = self.view(&bytes, Some(ARRAY_BUFFER));
+        let mut a =
+            json!({"bufferView": view, "componentType": 5126, "count": count, "type": kind});
+        if let Some((lo, hi)) = bounds {
+            a["min"] = json!(lo);
+            a["max"] = json!(hi);
+        }
+        self.accessor(a)
+    }
+}
+
 /// sRGB byte to linear (glTF vertex colours are linear).
 fn linear(c: u8) -> f32 {
     let s = c as f64 / 255.0;
@@ -190,12 +241,6 @@ fn linear(c: u8) -> f32 {
 /// Pad to a multiple of 4 bytes (glb chunks and buffer views are aligned).
 fn pad4(b: &mut Vec<u8>, byte: u8) {
     b.resize(b.len().next_multiple_of(4), byte);
-}
-
-fn push_f32s(bin: &mut Vec<u8>, v: &[f32]) {
-    for x in v {
-        bin.extend_from_slice(&x.to_le_bytes());
-    }
 }
 
 /// The `.glb` bytes of one level.
@@ -245,25 +290,8 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
             }
         }
     }
-    let mut bin: Vec<u8> = Vec::new();
-    let mut views: Vec<Value> = Vec::new();
-    let mut accessors: Vec<Value> = Vec::new();
+    let mut chunk = Chunk::default();
     let mut attributes = serde_json::Map::new();
-    // one bufferView + accessor per attribute, 4-byte aligned
-    let mut add = |bin: &mut Vec<u8>, bytes: Vec<u8>, acc: Value, target: Option<u32>| -> usize {
-        let offset = bin.len();
-        bin.extend_from_slice(&bytes);
-        pad4(bin, 0);
-        let mut view = json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len()});
-        if let Some(t) = target {
-            view["target"] = json!(t);
-        }
-        views.push(view);
-        let mut acc = acc;
-        acc["bufferView"] = json!(views.len() - 1);
-        accessors.push(acc);
-        accessors.len() - 1
-    };
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for p in &pos {
         for k in 0..3 {
@@ -271,31 +299,20 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let mut bytes = Vec::with_capacity(nv * 12);
-    push_f32s(&mut bytes, pos.as_flattened());
-    let a = add(
-        &mut bin,
-        bytes,
-        json!({"componentType": 5126, "count": nv, "type": "VEC3", "min": lo, "max": hi}),
-        Some(34962),
-    );
+    let a = chunk.floats(pos.as_flattened(), nv, "VEC3", Some((&lo, &hi)));
     attributes.insert("POSITION".into(), json!(a));
-    let mut bytes = Vec::with_capacity(nv * 12);
-    for n in &nrm {
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        let u = if len > 0.0 {
-            n.map(|x| (x / len) as f32)
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        push_f32s(&mut bytes, &u);
-    }
-    let a = add(
-        &mut bin,
-        bytes,
-        json!({"componentType": 5126, "count": nv, "type": "VEC3"}),
-        Some(34962),
-    );
+    let unit: Vec<[f32; 3]> = nrm
+        .iter()
+        .map(|n| {
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            if len > 0.0 {
+                n.map(|x| (x / len) as f32)
+            } else {
+                [0.0, 1.0, 0.0]
+            }
+        })
+        .collect();
+    let a = chunk.floats(unit.as_flattened(), nv, "VEC3", None);
     attributes.insert("NORMAL".into(), json!(a));
     let mut material = json!({
         "name": "surface",
@@ -304,45 +321,29 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
     });
     let mut png_bytes = None;
     if let Some(tex) = opts.texture {
-        let mut bytes = Vec::with_capacity(nv * 8);
-        for v in verts {
-            push_f32s(&mut bytes, &tex.uv(v[0], v[1]));
-        }
-        let a = add(
-            &mut bin,
-            bytes,
-            json!({"componentType": 5126, "count": nv, "type": "VEC2"}),
-            Some(34962),
-        );
+        let uv: Vec<[f32; 2]> = verts.iter().map(|v| tex.uv(v[0], v[1])).collect();
+        let a = chunk.floats(uv.as_flattened(), nv, "VEC2", None);
         attributes.insert("TEXCOORD_0".into(), json!(a));
         material["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
         material["alphaMode"] = json!("MASK");
         png_bytes = Some(tex.png()?);
     } else {
-        let mut bytes = Vec::with_capacity(nv * 12);
-        for v in verts {
-            let col = Ramp::Terrain.colour(v[2], b.min_z, b.max_z);
-            push_f32s(&mut bytes, &col.map(linear));
-        }
-        let a = add(
-            &mut bin,
-            bytes,
-            json!({"componentType": 5126, "count": nv, "type": "VEC3"}),
-            Some(34962),
-        );
+        let cols: Vec<[f32; 3]> = verts
+            .iter()
+            .map(|v| Ramp::Terrain.colour(v[2], b.min_z, b.max_z).map(linear))
+            .collect();
+        let a = chunk.floats(cols.as_flattened(), nv, "VEC3", None);
         attributes.insert("COLOR_0".into(), json!(a));
     }
-    let mut bytes = Vec::with_capacity(lv.tris.len() * 12);
-    for t in &lv.tris {
-        for i in t {
-            bytes.extend_from_slice(&i.to_le_bytes());
-        }
-    }
-    let ind = add(
-        &mut bin,
-        bytes,
-        json!({"componentType": 5125, "count": lv.tris.len() * 3, "type": "SCALAR"}),
-        Some(34963),
+    let idx: Vec<u8> = lv
+        .tris
+        .iter()
+        .flatten()
+        .flat_map(|i| i.to_le_bytes())
+        .collect();
+    let view = chunk.view(&idx, Some(ELEMENT_ARRAY_BUFFER));
+    let ind = chunk.accessor(
+        json!({"bufferView": view, "componentType": 5125, "count": lv.tris.len() * 3, "type": "SCALAR"}),
     );
     let mut doc = json!({
         "asset": {"version": "2.0", "generator": "tinmerge"},
@@ -356,15 +357,17 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
         "materials": [material],
     });
     if let Some(png) = png_bytes {
-        let offset = bin.len();
-        bin.extend_from_slice(&png);
-        pad4(&mut bin, 0);
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": png.len()}));
-        doc["images"] = json!([{"bufferView": views.len() - 1, "mimeType": "image/png"}]);
+        let view = chunk.view(&png, None);
+        doc["images"] = json!([{"bufferView": view, "mimeType": "image/png"}]);
         doc["samplers"] =
             json!([{"magFilter": 9729, "minFilter": 9729, "wrapS": 33071, "wrapT": 33071}]);
         doc["textures"] = json!([{"sampler": 0, "source": 0}]);
     }
+    let Chunk {
+        bin,
+        views,
+        accessors,
+    } = chunk;
     doc["accessors"] = json!(accessors);
     doc["bufferViews"] = json!(views);
     doc["buffers"] = json!([{"byteLength": bin.len()}]);
