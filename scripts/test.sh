@@ -42,6 +42,9 @@ tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | 
 echo "== browser: the demo page's pictures and 3D views in headless Chromium"
 tests/browser.sh
 
+echo "== tutorial: every block of docs/tutorial.md, in order"
+tests/tutorial.sh
+
 echo "== COPY, pg_dump, pg_restore"
 tests/dump_restore.sh
 
