@@ -12,13 +12,13 @@ psqlc() {
   raster2pgsql -s 4326 tests/data/jacksboro_fault_dem.tif public.dem_geo
 } 2>/dev/null | psqlc -q -d "$db" >/dev/null
 # A window of the UTM DEM without nodata (10 pixels in from every side), as
-# one raster (dem_window) and as raster2pgsql -t 100x100 tiles (dem_tiles):
+# one raster (dem_window) and as raster2pgsql -t 100x100 tiles (window_tiles):
 # the tiled-terrain fixtures (docs/scaling.md).
 win=$(mktemp -d)
 gdal_translate -q -srcwin 10 10 324 343 tests/data/jacksboro_fault_dem_utm16n.tif "$win/window.tif"
 {
   raster2pgsql -s 32616 -N -9999 "$win/window.tif" public.dem_window
-  raster2pgsql -s 32616 -N -9999 -t 100x100 "$win/window.tif" public.dem_tiles
+  raster2pgsql -s 32616 -N -9999 -t 100x100 "$win/window.tif" public.window_tiles
 } 2>/dev/null | psqlc -q -d "$db" >/dev/null
 rm -rf "$win"
 # Contour lines of the UTM DEM every 50 m (gdal_contour), as table contours.

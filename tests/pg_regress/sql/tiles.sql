@@ -1,22 +1,22 @@
 -- Tiled terrains (docs/scaling.md): a window of the DEM without nodata,
 -- loaded by the runner both whole (dem_window) and as raster2pgsql -t
--- 100x100 tiles (dem_tiles, 16 tiles). Each tile's tin is built from its
+-- 100x100 tiles (window_tiles, 16 tiles). Each tile's tin is built from its
 -- pixels plus the first column and row of its right and lower neighbours
 -- (one shared column/row of samples per seam) with keep_border => true.
 SET extra_float_digits = 0;
-SELECT count(*) AS tiles, sum(ST_Width(rast) * ST_Height(rast)) AS pixels FROM dem_tiles;
+SELECT count(*) AS tiles, sum(ST_Width(rast) * ST_Height(rast)) AS pixels FROM window_tiles;
 
 -- the build pattern: tile extent grown by one pixel right and down, filled
 -- from the neighbours, one tin per tile
 CREATE TABLE tin_tiles AS
 SELECT a.rid AS id,
        tin_from_raster(ST_Clip(ST_Union(b.rast), e.env), 2.0, 3, keep_border => true) AS t
-FROM dem_tiles a
+FROM window_tiles a
 CROSS JOIN LATERAL (SELECT ST_MakeEnvelope(
     ST_UpperLeftX(a.rast), ST_UpperLeftY(a.rast) + (ST_Height(a.rast) + 1) * ST_ScaleY(a.rast),
     ST_UpperLeftX(a.rast) + (ST_Width(a.rast) + 1) * ST_ScaleX(a.rast), ST_UpperLeftY(a.rast),
     ST_SRID(a.rast)) AS env) e
-JOIN dem_tiles b ON b.rast && e.env
+JOIN window_tiles b ON b.rast && e.env
 GROUP BY a.rid, e.env;
 CREATE INDEX tin_tiles_envelope ON tin_tiles USING gist (tin_envelope(t));
 ANALYZE tin_tiles;
