@@ -216,6 +216,16 @@ echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shif
 cargo bench --bench overlay 2>/dev/null
 echo "== cancellation: time from statement_timeout to the error"
 scripts/cancel-latency.sh tinmerge_bench
+echo "== pictures: one level as SVG / as a 3D mesh (tinmerge) vs the PostGIS way (ST_AsSVG of every triangle row / ST_AsX3D of the level as a TIN)"
+q -F ' | ' <<'SQL'
+SELECT * FROM bench('tinmerge: tin_as_svg(t, 0), 10k triangles, whole document', 'SELECT length(tin_as_svg(t, 0)) FROM terrain', 5)
+UNION ALL SELECT * FROM bench('PostGIS: string_agg(ST_AsSVG(geom)) over tin_triangles(t, 0), paths only', 'SELECT length(string_agg(ST_AsSVG(geom, 0, 1), '' '')) FROM terrain, tin_triangles(t, 0)', 5)
+UNION ALL SELECT * FROM bench('tinmerge: tin_as_svg(t, 4), 157k triangles', 'SELECT length(tin_as_svg(t, 4)) FROM terrain', 3)
+UNION ALL SELECT * FROM bench('PostGIS: string_agg(ST_AsSVG(geom)) over tin_triangles(t, 4)', 'SELECT length(string_agg(ST_AsSVG(geom, 0, 1), '' '')) FROM terrain, tin_triangles(t, 4)', 3)
+UNION ALL SELECT * FROM bench('tinmerge: tin_as_gltf(t, 4), binary glTF with normals and colours', 'SELECT octet_length(tin_as_gltf(t, 4)) FROM terrain', 3)
+UNION ALL SELECT * FROM bench('PostGIS: ST_AsX3D(tin_as_geometry(t, 4)), X3D text', 'SELECT length(ST_AsX3D(tin_as_geometry(t, 4))) FROM terrain', 3)
+UNION ALL SELECT * FROM bench('tinmerge: tin_as_gltf(t, 2, ST_HillShade(rast)), with a PNG texture', 'SELECT octet_length(tin_as_gltf(t, 2, ST_HillShade(d.rast))) FROM terrain, dem d', 3);
+SQL
 echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs/scaling.md)"
 cargo bench --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"
