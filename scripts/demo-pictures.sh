@@ -15,6 +15,7 @@ q() { scripts/cluster.sh psql -qAtX -v ON_ERROR_STOP=1 -d "$db" "$@"; }
 # fixtures of the merge pictures: a second terrain for the overlay (the DEM
 # shifted by 1.3 km east and 0.9 km south, one level at 24 m), the slope of the DEM
 q <<'SQL'
+SET client_min_messages = warning;
 DROP TABLE IF EXISTS demo_shifted, demo_slope;
 CREATE TABLE demo_shifted AS
   SELECT tin_from_raster(ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + 1300, ST_UpperLeftY(rast) - 900), 24.0, 1) AS t FROM dem;
