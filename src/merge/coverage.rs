@@ -162,14 +162,18 @@ pub fn coverage(
     interrupt: &mut dyn FnMut() -> Result<(), TinError>,
     on_cell: &mut dyn FnMut(u32, usize, usize, f64),
 ) -> Result<(), TinError> {
-    let n = tin
-        .levels
-        .get(level)
-        .ok_or_else(|| TinError::Corrupt("raster coverage: level".into()))?
-        .tris
-        .len() as u32;
+    let n = num_triangles(tin, level)?;
     let mut tk = Ticker { n: 0, f: interrupt };
     coverage_of(tin, level, gt, width, height, 0..n, &mut tk, on_cell)
+}
+
+/// Number of triangles of `level`, an error for a level the tin lacks.
+pub(crate) fn num_triangles(tin: &Tin, level: usize) -> Result<u32, TinError> {
+    let lv = tin
+        .levels
+        .get(level)
+        .ok_or_else(|| TinError::Corrupt("raster coverage: level".into()))?;
+    Ok(lv.tris.len() as u32)
 }
 
 /// [`coverage`] of the triangles `tris` only (in id order).

@@ -751,12 +751,7 @@ pub fn weighted_stats(
         finish(&mut cur, &mut pairs);
         Ok(out)
     };
-    let n = tin
-        .levels
-        .get(level)
-        .ok_or_else(|| TinError::Corrupt("raster coverage: level".into()))?
-        .tris
-        .len() as u32;
+    let n = super::coverage::num_triangles(tin, level)?;
     if crate::tin::par::threads() <= 1 {
         return run(0..n, &mut Ticker { n: 0, f: interrupt });
     }

@@ -50,6 +50,8 @@ fn _tin_as_svg(
             .map(|v| v.unwrap_or_else(|| "NULL".to_string()))
             .collect()
     });
+    // triangles alone: highlight them as one class
+    let selected: Vec<String>;
     let fill = match (&ids, &values, &names) {
         (None, None, None) => Fill::Height,
         (Some(ids), Some(values), None) => Fill::Values {
@@ -60,10 +62,13 @@ fn _tin_as_svg(
             triangles: ids,
             classes,
         },
-        (Some(ids), None, None) => Fill::Classes {
-            triangles: ids,
-            classes: &[],
-        },
+        (Some(ids), None, None) => {
+            selected = vec!["selected".to_string(); ids.len()];
+            Fill::Classes {
+                triangles: ids,
+                classes: &selected,
+            }
+        }
         (None, _, _) => raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
             "tin_as_svg: vals or classes need triangles (the triangle id of each value)",
@@ -72,18 +77,6 @@ fn _tin_as_svg(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
             "tin_as_svg: give vals or classes, not both",
         ),
-    };
-    // triangles alone: highlight them as one class
-    let selected: Vec<String>;
-    let fill = match fill {
-        Fill::Classes { triangles, classes } if classes.is_empty() && !triangles.is_empty() => {
-            selected = vec!["selected".to_string(); triangles.len()];
-            Fill::Classes {
-                triangles,
-                classes: &selected,
-            }
-        }
-        f => f,
     };
     let g = features.map(|b| {
         let g = ewkb::read(b).or_raise();
