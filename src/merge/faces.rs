@@ -178,13 +178,15 @@ pub fn convex_domain(tin: &Tin, lv: &Level) -> bool {
         return false;
     };
     let (mut prev, mut cur, mut seen) = (start, next[start] as usize, 1usize);
-    let p = |i: usize| co(xy(&tin.verts[i]));
     loop {
         let nx = next[cur];
         if nx == NONE || seen > count {
             return false;
         }
-        if orient2d(p(prev), p(cur), p(nx as usize)) < 0.0 {
+        // convex up to rounding: a raster build's boundary vertex on a
+        // hull edge of the pixel lattice may lie a hair inside it
+        let v = |i: usize| &tin.verts[i];
+        if !crate::tin::left_or_on_rounded(v(prev), v(cur), v(nx as usize)) {
             return false;
         }
         if cur == start {

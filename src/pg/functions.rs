@@ -10,7 +10,8 @@ use serde_json::json;
 use super::types::{TinArg, TinOut};
 use super::{cache, interrupt, memory, raise, OrRaise};
 use crate::io::{ewkb, raster};
-use crate::tin::build::{build, build_with, check_tolerances, default_tolerances, BuildOptions};
+use crate::tin::build::{build, build_lattice, check_tolerances, default_tolerances, BuildOptions};
+use crate::tin::lattice::Lattice;
 use crate::tin::memory as tmem;
 use crate::tin::{resolve_level, NONE};
 
@@ -24,8 +25,9 @@ fn reserve_build(func: &str, samples: usize, levels: usize) {
     );
 }
 
-/// Valid pixel centres of one band as samples, and the raster's SRID.
-fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {
+/// Valid pixels of one band as lattice samples (col, row, value), the
+/// raster's pixel lattice and its SRID.
+fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
     if band < 1 {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -54,8 +56,7 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {
         for col in 0..r.width {
             let v = b.values[row * r.width + col];
             if b.is_valid(v) {
-                let (x, y) = r.gt.centre(col, row);
-                pts.push([x, y, v]);
+                pts.push([col as f64, row as f64, v]);
             }
         }
     }
@@ -65,7 +66,7 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, i32) {
             format!("band {band} has no valid pixels (every pixel is nodata)"),
         );
     }
-    (pts, r.srid)
+    (pts, r.gt.lattice(), r.srid)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
@@ -104,10 +105,10 @@ fn _tin_from_raster_tolerances(
 
 /// The build behind both `tin_from_raster` forms.
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
-    let (pts, srid) = raster_samples(rast, band);
+    let (pts, lattice, srid) = raster_samples(rast, band);
     reserve_build("tin_from_raster", pts.len(), tols.len());
     let opts = BuildOptions { keep_border };
-    TinOut::from_tin(&build_with(pts, tols, srid, opts, &mut interrupt).or_raise())
+    TinOut::from_tin(&build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise())
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]

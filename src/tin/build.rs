@@ -26,6 +26,7 @@
 //! tin.sanity_check().unwrap();
 //! ```
 
+use super::lattice::Lattice;
 use super::samples::{c2, SampleGrid};
 use super::{grid, interpolate, locate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use robust::orient2d;
@@ -242,11 +243,18 @@ impl Builder {
         let mut best = 0.0f64;
         let mut cand = NONE;
         let inserted = &self.inserted;
+        // a sliver's plane says nothing about the samples in it (and
+        // `snapshot` leaves slivers out): they must all become vertices
+        let sliver = super::is_sliver(&c[0], &c[1], &c[2]);
         self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
             if inserted[i] {
                 return;
             }
-            let e = (interpolate(&c, p[0], p[1]) - p[2]).abs();
+            let e = if sliver {
+                f64::MAX
+            } else {
+                (interpolate(&c, p[0], p[1]) - p[2]).abs()
+            };
             if e > best {
                 best = e;
                 cand = i as u32;
@@ -385,6 +393,9 @@ impl Builder {
                 st.cand as usize,
                 Some(FixedVertexHandle::from_index(st.corner as usize)),
             )?;
+            if self.cdt.num_constraints() > 0 {
+                self.split_rounded_constraints(v);
+            }
             self.rescan_around(v);
             // A sample that did not become a new vertex (cannot happen for
             // distinct samples, but never loop on it) is marked inserted;
@@ -403,6 +414,45 @@ impl Builder {
         Ok(max)
     }
 
+    /// A new vertex `v` that lies on an interior constraint edge a-b only up
+    /// to rounding (scattered samples: no lattice decides it) left the
+    /// edge whole and a sliver (a, b, v) beside it: a crack in the surface.
+    /// Split the edge at `v` instead: a-v and v-b become the constraints,
+    /// a-b is released and flipped away by spade's legalisation. Edges on
+    /// the hull cannot flip; their slivers are dropped by `snapshot`.
+    fn split_rounded_constraints(&mut self, v: FixedVertexHandle) {
+        loop {
+            let pv = self.vert3(v);
+            let mut found = None;
+            for e in self.cdt.vertex(v).out_edges() {
+                // e: v -> a; the face left of e is (v, a, b), opposite edge a -> b
+                let opp = e.next();
+                if e.face().is_outer() || !opp.is_constraint_edge() {
+                    continue;
+                }
+                // the triangle across a-b: not the outer face (hull edges
+                // cannot flip) and not a sliver itself (slivers along the
+                // hull are dropped by `snapshot`; leave them be)
+                let Some(other) = opp.rev().face().as_inner() else {
+                    continue;
+                };
+                let ov = other.vertices().map(|v| self.vert3(v.fix()));
+                if super::is_sliver(&ov[0], &ov[1], &ov[2]) {
+                    continue;
+                }
+                let (a, b) = (opp.from().fix(), opp.to().fix());
+                if super::is_sliver(&self.vert3(a), &self.vert3(b), &pv) {
+                    found = Some((a, b, opp.as_undirected().fix()));
+                    break;
+                }
+            }
+            let Some((a, b, ab)) = found else { break };
+            self.cdt.add_constraint(a, v);
+            self.cdt.add_constraint(v, b);
+            self.cdt.remove_constraint_edge(ab);
+        }
+    }
+
     fn constrain_all_edges(&mut self) {
         let edges: Vec<_> = self
             .cdt
@@ -418,9 +468,22 @@ impl Builder {
         }
     }
 
+    /// The current triangles, without slivers (zero area up to rounding).
+    /// Only scattered samples make them, and only along the hull: a sample
+    /// within rounding of a hull edge, inside it, leaves a sliver between
+    /// itself and the edge (spade keeps the convex hull; the edge cannot
+    /// flip), and later samples there split that sliver into more. Leaving
+    /// them out makes the boundary run through those samples (convex up to
+    /// rounding) instead of hiding a crack behind a wall. Interior slivers
+    /// never stay: `split_rounded_constraints` splits the edge. Raster
+    /// builds, decided on the lattice, have none.
     fn snapshot(&self) -> Vec<[u32; 3]> {
         self.cdt
             .inner_faces()
+            .filter(|f| {
+                let v = f.vertices().map(|v| self.vert3(v.fix()));
+                !super::is_sliver(&v[0], &v[1], &v[2])
+            })
             .map(|f| {
                 let v = f.vertices();
                 [
@@ -524,6 +587,39 @@ pub fn build_with(
         .collect();
     drop(b);
     assemble(verts, raw_levels, srid, interrupt)
+}
+
+/// Build a hierarchy from raster samples given on the pixel lattice,
+/// `(col, row, z)` with integer `col`, `row`: topology is decided there,
+/// where pixel centres on one line are exactly collinear, and the result is
+/// mapped to world coordinates by `lattice` (see [`super::lattice`]).
+pub fn build_lattice(
+    samples: Vec<[f64; 3]>,
+    lattice: &Lattice,
+    tolerances: &[f64],
+    srid: i32,
+    opts: BuildOptions,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Tin, TinError> {
+    if !lattice.is_valid() {
+        return Err(TinError::InvalidParameter(format!(
+            "raster georeference is degenerate or not finite (scale {} x {}, skew {} x {})",
+            lattice.scale_x, lattice.scale_y, lattice.skew_x, lattice.skew_y
+        )));
+    }
+    if let Some(p) = samples.iter().find(|p| {
+        p[0] != p[0].trunc() || p[1] != p[1].trunc() || p[0].abs() > 1e9 || p[1].abs() > 1e9
+    }) {
+        return Err(TinError::InvalidParameter(format!(
+            "lattice samples need whole column and row numbers, got ({}, {})",
+            p[0], p[1]
+        )));
+    }
+    let tin = lattice.to_world(build_with(samples, tolerances, srid, opts, interrupt)?);
+    for v in &tin.verts {
+        super::check_xy("a pixel centre", v[0], v[1])?;
+    }
+    Ok(tin)
 }
 
 /// Morton code of a point normalised to the bbox (16 bits per axis).
@@ -697,13 +793,18 @@ fn assemble(
 }
 
 /// The triangle of `level` that contains all three corners of `t` (exact
-/// test). The centroid's triangle is tried first, then its neighbours, then
+/// test, up to rounding). The centroid's triangle is tried first, then its neighbours, then
 /// every triangle: a sliver's rounded centroid can fall just outside it.
 fn find_parent(tin: &Tin, level: usize, t: &[u32; 3], cx: f64, cy: f64) -> Option<u32> {
+    // a corner may lie a hair outside its parent when a point build split a
+    // constraint edge at a sample within rounding of it (see
+    // `Builder::split_rounded_constraints`): containment up to rounding
     let holds = |p: u32| {
+        let pt = tin.levels[level].tris[p as usize];
+        let c = pt.map(|v| tin.verts[v as usize]);
         t.iter().all(|&v| {
-            let q = tin.verts[v as usize];
-            locate::contains(tin, level, p, q[0], q[1])
+            let q = &tin.verts[v as usize];
+            (0..3).all(|j| super::left_or_on_rounded(&c[j], &c[(j + 1) % 3], q))
         })
     };
     let lv = &tin.levels[level];

@@ -9,7 +9,16 @@
 //! [`Tin::sanity_check`] adds the geometric properties of the hierarchy that
 //! tests check on real data: each level tiles one convex domain, children tile
 //! their parent (so coarse edges persist), and triangles are constrained
-//! Delaunay (edges inside a parent are locally Delaunay).
+//! Delaunay (edges inside a parent are locally Delaunay). These are exact in
+//! the frame the build decided topology in: world coordinates for point
+//! builds, the pixel lattice for raster builds (check a raster build's
+//! lattice-frame tin, before [`super::lattice::Lattice::to_world`]); in
+//! world coordinates a raster build is convex and nested up to rounding.
+//!
+//! [`problems`] finds what must never be in a tin and what tinmerge 0.2.0
+//! could store: slivers, triangles of zero area up to rounding, each hiding
+//! a crack (its corner lies on the opposite edge, so the surface on the
+//! two sides of that edge disagrees).
 
 use super::{Tin, TinError, MAX_LEVELS, NONE};
 use robust::{incircle, orient2d, Coord};
@@ -145,16 +154,15 @@ pub fn validate_structure_checked(
                     )));
                 }
                 last = p;
-                let pt = pl.tris[p as usize];
+                let pt = pl.tris[p as usize].map(|v| tin.verts[v as usize]);
                 for &v in &lv.tris[t] {
-                    let q = xy(&tin.verts[v as usize]);
+                    let q = &tin.verts[v as usize];
                     for j in 0..3 {
-                        let o = orient2d(
-                            xy(&tin.verts[pt[j] as usize]),
-                            xy(&tin.verts[pt[(j + 1) % 3] as usize]),
-                            q,
-                        );
-                        if o < 0.0 {
+                        // up to rounding: a vertex on a parent's edge in the
+                        // frame the build decided topology in (the pixel
+                        // lattice) may lie a hair beside it in world
+                        // coordinates
+                        if !super::left_or_on_rounded(&pt[j], &pt[(j + 1) % 3], q) {
                             return Err(bad(format!(
                                 "level {l}: triangle {t} is not inside its parent {p}"
                             )));
@@ -262,7 +270,7 @@ impl Tin {
                 let a = self.verts[cycle[i] as usize];
                 let b = self.verts[cycle[(i + 1) % k] as usize];
                 let c = self.verts[cycle[(i + 2) % k] as usize];
-                if orient2d(xy(&a), xy(&b), xy(&c)) < 0.0 {
+                if !super::left_or_on_rounded(&a, &b, &c) {
                     return Err(bad(format!(
                         "level {l}: domain is not convex at vertex {}",
                         cycle[(i + 1) % k]
@@ -297,8 +305,11 @@ impl Tin {
                     let (mut sum, mut err) = (0.0, 0.0);
                     for t in &cl.tris[s..e] {
                         let (a, e) = area2(self, t);
+                        let c = t.map(|v| self.verts[v as usize]);
                         sum += a;
-                        err += e;
+                        // a child corner may be a hair outside (see
+                        // validate_structure)
+                        err += e + super::orient_slack(&c[0], &c[1], &c[2]);
                     }
                     let (pa, pe) = area2(self, tri);
                     if e == s || (sum - pa).abs() > err + pe + 1e-12 * pa {
@@ -340,4 +351,72 @@ impl Tin {
         }
         Ok(())
     }
+}
+
+/// What [`problems`] finds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Problem {
+    pub level: usize,
+    pub triangle: u32,
+    /// `"sliver"` (the corner lies on the opposite edge and the surface
+    /// agrees there) or `"crack"` (it does not: a vertical wall).
+    pub kind: &'static str,
+    pub detail: String,
+}
+
+/// Every sliver of every level: a triangle with zero area up to rounding
+/// ([`super::is_sliver`]). Its corner opposite the longest edge lies on
+/// that edge, which the triangle on the other side has whole: a hidden
+/// T-junction. `kind` is `"crack"` when the corner's height differs from
+/// the edge's height there (the sliver is a wall), `"sliver"` otherwise.
+pub fn problems(
+    tin: &Tin,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Vec<Problem>, TinError> {
+    let mut out = Vec::new();
+    let zspan = (tin.bbox.max_z - tin.bbox.min_z).abs();
+    for (l, lv) in tin.levels.iter().enumerate() {
+        for (t, tri) in lv.tris.iter().enumerate() {
+            if t % 16384 == 16383 {
+                interrupt()?;
+            }
+            let c = tri.map(|v| tin.verts[v as usize]);
+            if !super::is_sliver(&c[0], &c[1], &c[2]) {
+                continue;
+            }
+            // the longest edge (j+1, j+2) and its opposite corner j
+            let len = |j: usize| {
+                let (p, q) = (&c[(j + 1) % 3], &c[(j + 2) % 3]);
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            };
+            let j = (0..3)
+                .max_by(|&a, &b| len(a).total_cmp(&len(b)))
+                .unwrap_or(0);
+            let (p, q, v) = (&c[(j + 1) % 3], &c[(j + 2) % 3], &c[j]);
+            let d = len(j);
+            let s = if d > 0.0 {
+                ((v[0] - p[0]) * (q[0] - p[0]) + (v[1] - p[1]) * (q[1] - p[1])) / (d * d)
+            } else {
+                0.0
+            };
+            let wall = (v[2] - (p[2] + s.clamp(0.0, 1.0) * (q[2] - p[2]))).abs();
+            let crack = wall > 1e-9 * zspan.max(1.0);
+            out.push(Problem {
+                level: l,
+                triangle: t as u32,
+                kind: if crack { "crack" } else { "sliver" },
+                detail: format!(
+                    "vertex {} lies on edge {}-{} up to rounding ({:.3e} from it, edge {:.6} long); \
+                     the surface jumps {:.6} there",
+                    tri[j],
+                    tri[(j + 1) % 3],
+                    tri[(j + 2) % 3],
+                    super::orient(&c[0], &c[1], &c[2]).abs() / d.max(f64::MIN_POSITIVE),
+                    d,
+                    wall
+                ),
+            });
+        }
+    }
+    Ok(out)
 }
