@@ -163,6 +163,9 @@ COMMENT ON FUNCTION tin_num_levels(tin) IS 'Number of levels of detail (header o
 COMMENT ON FUNCTION tin_num_triangles(tin, int) IS 'Triangles at a level (NULL = finest; header only).';
 COMMENT ON FUNCTION tin_num_vertices(tin, int) IS 'Vertices used by a level (NULL = finest; header only).';
 COMMENT ON FUNCTION tin_tolerance(tin, int) IS 'Vertical error bound a level was built to (NULL = finest; header only).';
+COMMENT ON FUNCTION tin_validate(tin) IS
+'Problems of a stored tin, one row each: level, problem (''crack'': a triangle of zero area up to rounding whose corner lies on the opposite edge while the surfaces on the two sides disagree there, a vertical wall; ''sliver'': the same where they agree), triangle id (as in tin_triangles) and a detail. No rows for a sound tin. Tins built by tinmerge 0.2.0 from rasters whose pixel centres do not round exactly (geographic grids, fractional origins) have them: rebuild those (docs/upgrading.md).';
+ALTER FUNCTION tin_validate(tin) ROWS 10;
 COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes and per level: tolerance, triangles, vertices and the max error measured at the source samples (header only).';
 COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes (see tinmerge.cache_size).';
 

@@ -78,7 +78,7 @@ fn generate(rng: &mut StdRng, k: usize) -> Grid {
         )
     } else {
         (
-            49072.339790118443 + rng.random_range(0.0..600000.0),
+            49_072.339_790_118_44 + rng.random_range(0.0..600000.0),
             4060000.0 + rng.random_range(0.0..1e6) + rng.random::<f64>(),
         )
     };
@@ -110,7 +110,7 @@ fn generate(rng: &mut StdRng, k: usize) -> Grid {
     }
     // nodata: a rotated border on some grids (diagonal hull edges), holes
     let mut border = String::new();
-    if k % 3 != 0 {
+    if !k.is_multiple_of(3) {
         let (cx, cy) = (w as f64 / 2.0, h as f64 / 2.0);
         let a: f64 = rng.random_range(0.2..0.9);
         let (s, co) = a.sin_cos();

@@ -168,6 +168,33 @@ fn tin_tolerance(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Opt
     t.map(|t| level_info(&t, level).tolerance)
 }
 
+/// Every sliver and hidden crack of a tin (see `tin::check::problems`):
+/// values built by tinmerge 0.2.0 from grids whose pixel centres round off
+/// their lattice lines have them; rebuild those (docs/upgrading.md).
+#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn tin_validate(
+    t: TinArg,
+) -> TableIterator<
+    'static,
+    (
+        name!(level, i32),
+        name!(problem, String),
+        name!(triangle, i32),
+        name!(detail, String),
+    ),
+> {
+    let tin = t.tin();
+    let found = crate::tin::check::problems(&tin, &mut interrupt).or_raise();
+    TableIterator::new(found.into_iter().map(|p| {
+        (
+            p.level as i32,
+            p.kind.to_string(),
+            p.triangle as i32,
+            p.detail,
+        )
+    }))
+}
+
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn tin_info(t: TinArg) -> JsonB {
     let h = t.header();

@@ -6,7 +6,10 @@ The oracle never calls tinmerge's own geometry code: triangles come out of
 PostGIS's own `ST_PixelAsCentroids`, and the checks use numpy, shapely and
 matplotlib's triangulation (TrapezoidMapTriFinder + LinearTriInterpolator).
 
-Checked on the UTM DEM, tolerance 2 m, 5 levels:
+Checked on both bundled DEMs (UTM 16N, 90 m pixels with a nodata border;
+EPSG:4326, 1/1200 degree pixels, where tinmerge 0.2.0 built 15,490 slivers),
+tolerance 2 m, 5 levels:
+ 0. no sliver: every triangle's smallest altitude is at least 1e-3 pixel;
  1. every level is a conforming triangulation of the same domain (the convex
     hull of the valid pixel centres): counter-clockwise triangles, every edge
     shared by at most two triangles, edges used once lie on the hull, total
@@ -25,7 +28,11 @@ from collections import defaultdict
 
 import numpy as np
 from matplotlib.tri import LinearTriInterpolator, Triangulation
-from shapely.geometry import MultiPoint, Point
+from shapely import STRtree
+from shapely import wkt as shapely_wkt
+from shapely.geometry import MultiPoint, Point, Polygon
+
+wkt_loads = shapely_wkt.loads
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 HOST = os.path.join(ROOT, "target", "pg")
@@ -42,6 +49,11 @@ def sql_rows(query):
     return list(csv.reader(io.StringIO(out)))
 
 
+def sql(command):
+    subprocess.run(["psql", "-h", HOST, "-p", PORT, "-U", "postgres", "-d", DB, "-qAt", "-v", "ON_ERROR_STOP=1"],
+                   input=command, text=True, check=True)
+
+
 def main():
     failures = []
 
@@ -50,13 +62,24 @@ def main():
             failures.append(msg)
             print("FAIL:", msg)
 
-    t0 = time.time()
-    subprocess.run(["psql", "-h", HOST, "-p", PORT, "-U", "postgres", "-d", DB, "-qAt", "-v", "ON_ERROR_STOP=1", "-c",
-                    f"DROP TABLE IF EXISTS prop_terrain; CREATE TABLE prop_terrain AS "
-                    f"SELECT tin_from_raster(rast, {TOL}, {LEVELS}) AS t FROM dem"], check=True)
-    print(f"built the tin in SQL in {time.time() - t0:.2f} s")
+    for table in ("dem", "dem_geo"):
+        check_dem(table, check)
+    if failures:
+        print(f"{len(failures)} property checks FAILED")
+        sys.exit(1)
+    print("hierarchy properties 0-3 hold at every valid pixel of both DEMs; merges near split coarse edges "
+          "agree with the oracle")
 
-    px = np.array(sql_rows("SELECT ST_X(geom), ST_Y(geom), val FROM dem, ST_PixelAsCentroids(rast, 1, true)"),
+
+def check_dem(table, check):
+    print(f"== {table}")
+    t0 = time.time()
+    sql(f"SET client_min_messages = warning; DROP TABLE IF EXISTS prop_terrain; CREATE TABLE prop_terrain AS "
+        f"SELECT tin_from_raster(rast, {TOL}, {LEVELS}) AS t FROM {table}")
+    print(f"built the tin in SQL in {time.time() - t0:.2f} s")
+    pxsize = float(sql_rows(f"SELECT abs(ST_PixelWidth(rast)) FROM {table}")[0][0])
+
+    px = np.array(sql_rows(f"SELECT ST_X(geom), ST_Y(geom), val FROM {table}, ST_PixelAsCentroids(rast, 1, true)"),
                   dtype=float)
     print(f"{len(px)} valid pixels (PostGIS ST_PixelAsCentroids)")
     hull = MultiPoint(px[:, :2]).convex_hull
@@ -87,6 +110,12 @@ def main():
         area2 = ((c[:, 1, 0] - c[:, 0, 0]) * (c[:, 2, 1] - c[:, 0, 1])
                  - (c[:, 2, 0] - c[:, 0, 0]) * (c[:, 1, 1] - c[:, 0, 1]))
         check((area2 > 0).all(), f"level {l}: {(area2 <= 0).sum()} triangles not counter-clockwise / zero area")
+        # property 0: no slivers (smallest altitude = 2 area / longest side, in pixels)
+        sides = np.stack([np.hypot(c[:, (k + 1) % 3, 0] - c[:, k, 0], c[:, (k + 1) % 3, 1] - c[:, k, 1])
+                          for k in range(3)], axis=1)
+        alt = np.abs(area2) / sides.max(axis=1) / pxsize
+        check((alt >= 1e-3).all(), f"level {l}: {(alt < 1e-3).sum()} slivers (altitude under 1e-3 pixel)")
+        print(f"level {l}: smallest altitude {alt.min():.4f} px")
         # property 1: edges shared by <= 2 triangles, boundary edges on the hull, areas add up
         edges = defaultdict(int)
         for i in range(n):
@@ -105,6 +134,8 @@ def main():
               f"level {l}: triangles cover {total} m2, the hull of the pixels {hull.area} m2")
         lv["tri"], lv["verts"], lv["edges"] = tri, verts, edges
         lv["vid"] = keys
+        lv["z"] = np.zeros(len(verts))
+        lv["z"][tri.ravel()] = c.reshape(-1, 3)[:, 2]
 
         # property 3: error at every valid pixel centre, by matplotlib's interpolator
         T = Triangulation(verts[:, 0], verts[:, 1], tri)
@@ -159,6 +190,7 @@ def main():
         order = np.argsort(cv[:, 0])
         xs = cv[order, 0]
         broken = 0
+        split = C.setdefault("split", [])
         for (ia, ib) in P["edges"]:
             a, b = P["verts"][ia], P["verts"][ib]
             lo, hi = np.searchsorted(xs, min(a[0], b[0]) - 1e-9), np.searchsorted(xs, max(a[0], b[0]) + 1e-9, "right")
@@ -177,13 +209,161 @@ def main():
                 continue
             if any(tuple(sorted((chain[i], chain[i + 1]))) not in cedges for i in range(len(chain) - 1)):
                 broken += 1
+            # vertices of level l + 1 on a coarse edge: where 0.2.0 left slivers
+            split.extend((a, b, cv[k]) for k in chain[1:-1])
         check(broken == 0, f"level {l}: {broken} edges do not persist at level {l + 1}")
         print(f"level {l} -> {l + 1}: children inside parents, tile them; {len(P['edges'])} edges persist")
 
-    if failures:
-        print(f"{len(failures)} property checks FAILED")
-        sys.exit(1)
-    print("hierarchy properties 1-3 hold at every valid pixel")
+    # areas and 3D lengths are refused on geographic tins (degrees mixed with metres)
+    check_merges_near_split_edges(levels, pxsize, check, metric=(table != "dem_geo"))
+
+
+def check_merges_near_split_edges(levels, pxsize, check, metric, per_level=40):
+    """tin_height, tin_drape, tin_line_segments and tin_area_stats (area3d)
+    around vertices that split a coarse edge, against the level's triangles
+    (from tin_triangles) with matplotlib's interpolator and shapely."""
+    rng = np.random.default_rng(22)
+    feats = []  # (level, kind, wkt)
+    for l in range(1, LEVELS):
+        sp = levels[l].get("split", [])
+        if not sp:
+            continue
+        for k in rng.choice(len(sp), size=min(per_level, len(sp)), replace=False):
+            a, b, v = sp[k]
+            d = np.array([b[0] - a[0], b[1] - a[1]])
+            d /= np.hypot(*d)
+            n = np.array([-d[1], d[0]])
+            for s, t in ((0.25, 0.0), (-0.25, 0.0), (0.1, 0.3), (-0.1, -0.3), (1e-7, 0.0), (-1e-7, 0.0)):
+                p = v + (s * n + t * d) * pxsize
+                feats.append((l, "point", f"POINT({float(p[0])!r} {float(p[1])!r})"))
+            for t in (0.0, 0.3):
+                p, q = v + (-2 * n + t * d) * pxsize, v + (2 * n + t * d) * pxsize
+                feats.append((l, "line", f"LINESTRING({float(p[0])!r} {float(p[1])!r},{float(q[0])!r} {float(q[1])!r})"))
+            ang = 0.35
+            ring = [v + 1.5 * pxsize * np.array([np.cos(ang + j * np.pi / 2), np.sin(ang + j * np.pi / 2)])
+                    for j in range(4)]
+            ring.append(ring[0])
+            feats.append((l, "poly", "POLYGON((" + ",".join(f"{float(p[0])!r} {float(p[1])!r}" for p in ring) + "))"))
+    if not feats:
+        check(False, "no vertex splits a coarse edge: nothing near formerly-sliver edges was tested")
+        return
+    srid = sql_rows("SELECT tin_srid(t) FROM prop_terrain")[0][0]
+    values = ",".join(f"({i},{l},'{k}',ST_GeomFromText('{w}',{srid}))" for i, (l, k, w) in enumerate(feats))
+    sql(f"SET client_min_messages = warning; DROP TABLE IF EXISTS prop_feats; CREATE TABLE prop_feats(i int, l int, kind text, g geometry); "
+        f"INSERT INTO prop_feats VALUES {values}")
+    heights = {int(r[0]): (float(r[1]) if r[1] != "" else None) for r in sql_rows(
+        "SELECT i, tin_height(t, g, l) FROM prop_terrain, prop_feats WHERE kind = 'point'")}
+    drapes = defaultdict(list)
+    for r in sql_rows("SELECT i, ST_X(p.geom), ST_Y(p.geom), ST_Z(p.geom) FROM prop_terrain, prop_feats, "
+                      "ST_DumpPoints(tin_drape(t, g, l)) p WHERE kind = 'line'"):
+        drapes[int(r[0])].append([float(x) for x in r[1:]])
+    len3d = {} if not metric else {int(r[0]): float(r[1]) for r in sql_rows(
+        "SELECT i, sum(s.length3d) FROM prop_terrain, prop_feats, tin_line_segments(t, g, l) s "
+        "WHERE kind = 'line' GROUP BY i")}
+    area3d = {} if not metric else {int(r[0]): float(r[1]) for r in sql_rows(
+        "SELECT i, s.area3d FROM prop_terrain, prop_feats, tin_area_stats(t, g, l) s WHERE kind = 'poly'")}
+
+    interps, trees = {}, {}
+    bad = defaultdict(int)
+    shown = []
+
+    def example(msg):
+        if len(shown) < 6:
+            shown.append(msg)
+            print("  e.g.", msg)
+    for i, (l, kind, w) in enumerate(feats):
+        lv = levels[l]
+        if l not in interps:
+            interps[l] = LinearTriInterpolator(Triangulation(lv["verts"][:, 0], lv["verts"][:, 1], lv["tri"]), lv["z"])
+            trees[l] = STRtree([Polygon(t[:, :2]) for t in lv["c"]])
+        def f(x, y, l=l, lv=lv):
+            """Heights by the interpolator; points it leaves out (on the
+            hull, up to rounding) from a triangle within 1e-9 pixel."""
+            z = interps[l](x, y)
+            m = np.ma.getmaskarray(z)
+            if not m.any():
+                return z
+            z = np.ma.array(np.ma.getdata(z).astype(float), mask=m.copy())
+            for j in np.atleast_1d(np.nonzero(m)[0]) if np.ndim(z) else [None]:
+                px_, py_ = (x, y) if j is None else (x[j], y[j])
+                near = [t for t in trees[l].query(Point(px_, py_).buffer(1e-9 * pxsize))
+                        if Polygon(lv["c"][t][:, :2]).distance(Point(px_, py_)) <= 1e-9 * pxsize]
+                if near:
+                    zz = plane(lv["c"][near[0]], px_, py_)
+                    if j is None:
+                        return np.ma.array(zz)
+                    z[j] = zz
+                    z.mask[j] = False
+            return z
+        geom = wkt_loads(w)
+        if kind == "point":
+            zo = f(geom.x, geom.y)
+            outside = np.ma.is_masked(zo) or np.isnan(float(zo))
+            if outside != (heights[i] is None) or (not outside and abs(heights[i] - float(zo)) > 1e-6):
+                bad["tin_height"] += 1
+                example(f"tin_height {w} level {l}: {heights[i]} vs oracle {zo}")
+        elif kind == "line":
+            pts = np.array(drapes[i])
+            zo = f(pts[:, 0], pts[:, 1])
+            dz = np.abs(np.ma.getdata(zo) - pts[:, 2])
+            if np.ma.getmaskarray(zo).any() or dz.max() > 1e-6:
+                bad["tin_drape"] += 1
+                example(f"tin_drape {w} level {l}: max |dz| {dz.max()} at "
+                        f"{pts[dz.argmax()].tolist()}, oracle {zo[dz.argmax()]}, masked {np.ma.getmaskarray(zo).sum()}")
+            # 3D length: the surface is linear between the line's crossings
+            # with triangle edges (continuous: no cracks), so it is the sum
+            # over those pieces of their 3D length, heights from the
+            # interpolator (a line along an edge is in two triangles: not
+            # counted twice this way)
+            (x0, y0), (x1, y1) = geom.coords
+            ts = {0.0, 1.0}
+            for t in trees[l].query(geom):
+                cut = geom.intersection(Polygon(lv["c"][t][:, :2]).exterior)
+                for g in getattr(cut, "geoms", [cut]):
+                    for (x, y) in getattr(g, "coords", []):
+                        ts.add(((x - x0) * (x1 - x0) + (y - y0) * (y1 - y0)) / ((x1 - x0) ** 2 + (y1 - y0) ** 2))
+            ts = np.array(sorted(t for t in ts if 0.0 <= t <= 1.0))
+            xs, ys = x0 + ts * (x1 - x0), y0 + ts * (y1 - y0)
+            zs = f(xs, ys)
+            inside = ~np.ma.getmaskarray(zs)
+            zs = np.ma.getdata(zs)
+            ok = inside[:-1] & inside[1:]
+            total = float(np.sum(np.sqrt(np.diff(xs) ** 2 + np.diff(ys) ** 2 + np.diff(zs) ** 2)[ok]))
+            if metric and abs(total - len3d.get(i, 0.0)) > 1e-9 * max(total, 1.0):
+                bad["tin_line_segments length3d"] += 1
+                example(f"length3d {w} level {l}: {len3d.get(i)} vs oracle {total}")
+        elif metric:
+            total = 0.0
+            for t in trees[l].query(geom):
+                ct = lv["c"][t]
+                a = geom.intersection(Polygon(ct[:, :2])).area
+                if a > 0:
+                    total += a * secant(ct)
+            if abs(total - area3d.get(i, 0.0)) > 1e-9 * total:
+                bad["tin_area_stats area3d"] += 1
+                example(f"area3d {w} level {l}: {area3d.get(i)} vs oracle {total}")
+    n = defaultdict(int)
+    for (_, kind, _) in feats:
+        n[kind] += 1
+    print(f"merges near split coarse edges: {n['point']} points, {n['line']} lines, {n['poly']} polygons; "
+          f"disagreements: {dict(bad) or 0}")
+    check(not bad, f"merges near split coarse edges disagree with the oracle: {dict(bad)}")
+
+
+def plane(ct, x, y):
+    """Heights on the plane through a triangle's three corners."""
+    (x0, y0, z0), (x1, y1, z1), (x2, y2, z2) = ct
+    d = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+    u = ((x - x0) * (y2 - y0) - (x2 - x0) * (y - y0)) / d
+    v = ((x1 - x0) * (y - y0) - (x - x0) * (y1 - y0)) / d
+    return z0 + u * (z1 - z0) + v * (z2 - z0)
+
+
+def secant(ct):
+    """3D area over 2D area of a triangle's plane."""
+    p, q, r = ct
+    nrm = np.cross(q - p, r - p)
+    return np.linalg.norm(nrm) / abs(nrm[2])
 
 
 if __name__ == "__main__":

@@ -183,10 +183,17 @@ SELECT e.name,
        (SELECT count(*) FROM tin_line_triangles(t, e.geom, 1, 500) w JOIN line_tris tr ON tr.level = 1 AND tr.id = w.triangle
           WHERE NOT ST_DWithin(tr.geom, e.geom, 250 + 1e-6)) AS too_far
 FROM edge_cases e, terrain ORDER BY e.name;
--- first approach order: the first triangle is the one under the start
-SELECT (SELECT triangle FROM tin_line_triangles(t, geom, 4, 100) ORDER BY seq LIMIT 1) =
-       tin_locate(t, ST_StartPoint(geom), 4) AS starts_under_the_start
-FROM contours, terrain WHERE id = 100;
+-- first approach order: every triangle within width/2 of the start (all
+-- first approached at the start; oracle ST_DWithin) comes before the others,
+-- the one under the start among them
+WITH w AS (SELECT seq, triangle FROM contours c, terrain, tin_line_triangles(t, c.geom, 4, 100) WHERE c.id = 100),
+near AS (SELECT tr.id FROM line_tris tr, contours c
+         WHERE c.id = 100 AND tr.level = 4 AND ST_DWithin(tr.geom, ST_StartPoint(c.geom), 50))
+SELECT (SELECT count(*) FROM near) AS near_the_start,
+       (SELECT array_agg(triangle ORDER BY triangle) FROM w WHERE seq <= (SELECT count(*) FROM near))
+         = (SELECT array_agg(id ORDER BY id) FROM near) AS near_ones_first,
+       (SELECT tin_locate(t, ST_StartPoint(geom), 4) FROM contours, terrain WHERE id = 100) IN (SELECT id FROM near)
+         AS under_the_start_among_them;
 
 -- The stored line tree gives the same rows as the geometry, for every
 -- contour and every function (the tree only skips work)
