@@ -208,13 +208,7 @@ fn area2(tin: &Tin, tri: &[u32; 3]) -> (f64, f64) {
     ];
     let (p, q) = ((b[0] - a[0]) * (c[1] - a[1]), (c[0] - a[0]) * (b[1] - a[1]));
     // each coordinate difference is off by at most an ulp of the magnitude
-    let mag = a[0]
-        .abs()
-        .max(a[1].abs())
-        .max(b[0].abs())
-        .max(b[1].abs())
-        .max(c[0].abs())
-        .max(c[1].abs());
+    let mag = super::max_abs_xy(&a, &b, &c);
     let m = (b[0] - a[0])
         .abs()
         .max((b[1] - a[1]).abs())

@@ -73,15 +73,21 @@ pub fn check_xy(what: &str, x: f64, y: f64) -> Result<(), TinError> {
 /// ```
 #[inline]
 pub fn orient_slack(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
-    let m = a[0]
-        .abs()
+    let m = max_abs_xy(a, b, c);
+    let d = |p: &[f64; 3], q: &[f64; 3]| (p[0] - q[0]).abs().max((p[1] - q[1]).abs());
+    64.0 * f64::EPSILON * m * (d(a, b) + d(b, c) + d(c, a))
+}
+
+/// Largest |x| or |y| of three points: the magnitude their rounding is
+/// relative to.
+#[inline]
+pub(crate) fn max_abs_xy(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    a[0].abs()
         .max(a[1].abs())
         .max(b[0].abs())
         .max(b[1].abs())
         .max(c[0].abs())
-        .max(c[1].abs());
-    let d = |p: &[f64; 3], q: &[f64; 3]| (p[0] - q[0]).abs().max((p[1] - q[1]).abs());
-    64.0 * f64::EPSILON * m * (d(a, b) + d(b, c) + d(c, a))
+        .max(c[1].abs())
 }
 
 /// `orient2d(a, b, c)` by the exact predicate, as a plain number.
