@@ -177,11 +177,11 @@ SQL
 
 echo "== raster merge: per-triangle mean of the DEM and a 4x finer copy, every level (tinmerge, exactextract, PostGIS)"
 TINMERGE_DB=tinmerge_bench python3 scripts/bench-raster.py
-echo "== core raster sweep (cargo bench --bench raster)"
-cargo bench --bench raster 2>/dev/null
+echo "== core raster sweep (cargo bench -p tinmerge-core --bench raster)"
+cargo bench -p tinmerge-core --bench raster 2>/dev/null
 
-echo "== core locate (cargo bench --bench locate): ns per point"
-cargo bench --bench locate 2>/dev/null
+echo "== core locate (cargo bench -p tinmerge-core --bench locate): ns per point"
+cargo bench -p tinmerge-core --bench locate 2>/dev/null
 echo "== TIN/TIN overlay from SQL: the DEM tin against one built at 1.5 m, levels 0-1 (tinmerge tin_overlay / tin_difference vs PostGIS ST_Intersection over a GiST join of tin_triangles)"
 q <<'SQL'
 CREATE TABLE epoch2 AS SELECT tin_from_raster(rast, 1.5, 5) AS t FROM dem;
@@ -212,8 +212,8 @@ FROM terrain, epoch2, generate_series(3, 4) l,
      LATERAL bench('difference', format('SELECT * FROM terrain, epoch2, tin_difference(terrain.t, epoch2.t, %s, %s)', l, l), 3) b3
 ORDER BY 1;
 SQL
-echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shifted copy, every level, vs the naive CDT (cargo bench --bench overlay)"
-cargo bench --bench overlay 2>/dev/null
+echo "== TIN/TIN overlay: the DEM tin against one at other tolerances and a shifted copy, every level, vs the naive CDT (cargo bench -p tinmerge-core --bench overlay)"
+cargo bench -p tinmerge-core --bench overlay 2>/dev/null
 echo "== cancellation: time from statement_timeout to the error"
 scripts/cancel-latency.sh tinmerge_bench
 echo "== pictures: one level as SVG / as a 3D mesh (tinmerge) vs the PostGIS way (ST_AsSVG of every triangle row / ST_AsX3D of the level as a TIN)"
@@ -227,6 +227,6 @@ UNION ALL SELECT * FROM bench('PostGIS: ST_AsX3D(tin_as_geometry(t, 4)), X3D tex
 UNION ALL SELECT * FROM bench('tinmerge: tin_as_gltf(t, 2, ST_HillShade(rast)), with a PNG texture', 'SELECT octet_length(tin_as_gltf(t, 2, ST_HillShade(d.rast))) FROM terrain, dem d', 3);
 SQL
 echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs/scaling.md)"
-cargo bench --bench threads 2>/dev/null
+cargo bench -p tinmerge-core --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"
 scripts/bench-parallel.sh

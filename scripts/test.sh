@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
-# The whole test suite: module boundary, formatting, plain cargo tests on real
-# data, #[pg_test]s, the pg_regress suite, and the independent property test.
+# The whole test suite: formatting, the core crate's cargo tests on real data
+# (no PostgreSQL), #[pg_test]s, the pg_regress suite, and the independent
+# property tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 
-echo "== module boundary"
-scripts/check-boundary.sh
+echo "== no module imports one that imports it back"
+python3 scripts/check-cycles.py src crates/tinmerge-core/src
 echo "== cargo fmt --check"
 cargo fmt --check
-echo "== cargo test (pure Rust core, real DEM)"
-cargo test --release
+echo "== cargo test -p tinmerge-core (the pure core, real DEMs, no PostgreSQL)"
+cargo test --release -p tinmerge-core
 
 echo "== cargo pgrx test (#[pg_test] only: the integration tests ran above in release)"
 if [ "$(id -u)" -eq 0 ]; then

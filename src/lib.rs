@@ -1,17 +1,15 @@
 //! tinmerge: adaptive hierarchical triangulations merged with PostGIS data.
 //!
-//! `tin`, `merge`, `render` and `io` are pure Rust (no pgrx); `pg` is the SQL layer.
-pub mod io;
-pub mod merge;
-pub mod render;
-pub mod tin;
-
+//! This crate is the SQL layer only (`pg`): it converts arguments, calls the
+//! pure core ([`tinmerge_core`]: the hierarchy, the merges, readers/writers,
+//! pictures; no pgrx, a separate crate of the workspace so the compiler keeps
+//! it that way) and maps its errors to SQLSTATEs.
 pub mod pg;
 
-/// Every Rust allocation is counted (`tin::memory`): the SQL layer bounds a
-/// call's memory with it (`tinmerge.max_memory`), tests measure peaks.
+/// Every Rust allocation is counted (`tinmerge_core::tin::memory`): the SQL
+/// layer bounds a call's memory with it (`tinmerge.max_memory`).
 #[global_allocator]
-static ALLOCATOR: tin::memory::Counting = tin::memory::Counting;
+static ALLOCATOR: tinmerge_core::tin::memory::Counting = tinmerge_core::tin::memory::Counting;
 
 /// Required at the crate root by `cargo pgrx test`.
 #[cfg(test)]

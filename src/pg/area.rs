@@ -8,12 +8,14 @@
 use pgrx::prelude::*;
 
 use super::args::check_srid;
-use super::types::TinArg;
-use super::{interrupt, raise, tin_level, OrRaise};
-use crate::io::ewkb::{self, Geom};
-use crate::merge::area::{area_rows, sweep, Method};
-use crate::merge::polygon::Area;
-use crate::merge::surface::{stats, volume};
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::tin_type::tin_level;
+use super::tin_type::TinArg;
+use tinmerge_core::io::ewkb::{self, Geom};
+use tinmerge_core::merge::area::{area_rows, sweep, Method};
+use tinmerge_core::merge::polygon::Area;
+use tinmerge_core::merge::surface::{stats, volume};
 
 /// The area of a POLYGON or MULTIPOLYGON argument: SRID checked, validity
 /// (PostGIS's verdict) checked, coordinates finite.
@@ -46,7 +48,7 @@ fn area_arg(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> 
         }
     }
     for c in polys.iter().flatten().flatten() {
-        crate::tin::check_xy(&format!("{func}: the polygon"), c[0], c[1]).or_raise();
+        tinmerge_core::tin::check_xy(&format!("{func}: the polygon"), c[0], c[1]).or_raise();
     }
     Area::new(
         polys

@@ -4,8 +4,8 @@
 use pgrx::pg_sys;
 use pgrx::prelude::*;
 
-use super::{raise, OrRaise};
-use crate::io::gserialized;
+use super::errors::{raise, OrRaise};
+use tinmerge_core::io::gserialized;
 
 raw_datum_arg!(
     /// A PostGIS `geometry` argument as the raw Datum: read in PostGIS's own
@@ -37,7 +37,8 @@ impl GeomArg {
         }
         match p.point {
             Some(Some(xy)) => {
-                crate::tin::check_xy(&format!("{func}: the point"), xy[0], xy[1]).or_raise();
+                tinmerge_core::tin::check_xy(&format!("{func}: the point"), xy[0], xy[1])
+                    .or_raise();
                 Some(xy)
             }
             Some(None) => None,

@@ -14,9 +14,13 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::{Arc, Weak};
 
-use super::{memory, raise_tin, CACHE_SIZE_MB};
-use crate::tin::layout::Header;
-use crate::tin::{Tin, TinError};
+use pgrx::prelude::*;
+use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
+
+use super::errors::raise_tin;
+use super::memory;
+use tinmerge_core::tin::layout::Header;
+use tinmerge_core::tin::{Tin, TinError};
 
 /// Identity of an on-disk TOAST value: `varatt_external`'s fields.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -47,8 +51,24 @@ struct Aliases {
     map: HashMap<ToastKey, Alias>,
 }
 
+/// `tinmerge.cache_size`: MB of decoded tin values kept per backend.
+pub static CACHE_SIZE_MB: GucSetting<i32> = GucSetting::<i32>::new(256);
+pub fn define_guc() {
+    GucRegistry::define_int_guc(
+        c"tinmerge.cache_size",
+        c"Megabytes of decoded tin values cached per backend.",
+        c"A query calling tinmerge functions once per row on the same tin decodes it once per backend; this bounds the memory those decoded values use (0 disables the cache).",
+        &CACHE_SIZE_MB,
+        0,
+        64 * 1024,
+        GucContext::Userset,
+        GucFlags::UNIT_MB,
+    );
+}
+
 thread_local! {
-    static ALIASES: RefCell<Aliases> = RefCell::new(Aliases::default());
+    static ALIASES
+: RefCell<Aliases> = RefCell::new(Aliases::default());
 }
 
 /// What is remembered for `key` in transaction `epoch`, if anything.
@@ -114,20 +134,16 @@ impl Cache {
                 .unwrap_or(0);
             used -= self.entries.swap_remove(oldest).bytes;
         }
+        memory::set_cached(used);
+    }
+
+    fn report(&self) {
+        memory::set_cached(self.entries.iter().map(|e| e.bytes).sum());
     }
 }
 
 thread_local! {
     static CACHE: RefCell<Cache> = RefCell::new(Cache::default());
-}
-
-/// Approximate heap size of a decoded value.
-fn size_of(t: &Tin) -> usize {
-    let mut n = t.verts.len() * 24;
-    for l in &t.levels {
-        n += l.tris.len() * 28 + l.child_start.len() * 4 + l.grid.cells.len() * 4;
-    }
-    n
 }
 
 /// The decoded value for (hash, len), decoding with `decode` on a miss.
@@ -161,12 +177,13 @@ pub fn get_or_decode(
     if let Some(t) = found {
         return t;
     }
-    memory::reserve(crate::tin::memory::decode_bytes(len as usize), || {
-        format!("decoding a stored tin of {} bytes", len)
-    });
+    memory::reserve(
+        tinmerge_core::tin::layout::decode_bytes(len as usize),
+        || format!("decoding a stored tin of {} bytes", len),
+    );
     // decode outside the borrow: an ERROR here must not leave it borrowed
     let tin = Arc::new(decode().unwrap_or_else(|e| raise_tin(e)));
-    let bytes = size_of(&tin);
+    let bytes = tin.heap_bytes();
     if bytes <= limit {
         CACHE.with(|c| {
             let mut c = c.borrow_mut();
@@ -179,6 +196,7 @@ pub fn get_or_decode(
                 bytes,
                 last,
             });
+            c.report();
         });
     }
     tin
@@ -200,4 +218,19 @@ pub fn stats() -> (u64, u64, usize, usize) {
             c.entries.iter().map(|e| e.bytes).sum(),
         )
     })
+}
+
+/// `tin_cache_stats()`: this backend's cache (hits, misses, entries, bytes).
+#[pg_extern(volatile, parallel_safe)]
+fn tin_cache_stats() -> TableIterator<
+    'static,
+    (
+        name!(hits, i64),
+        name!(misses, i64),
+        name!(entries, i32),
+        name!(bytes, i64),
+    ),
+> {
+    let (h, m, e, b) = stats();
+    TableIterator::once((h as i64, m as i64, e as i32, b as i64))
 }

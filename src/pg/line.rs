@@ -7,13 +7,15 @@
 use pgrx::prelude::*;
 
 use super::args::check_srid;
-use super::types::TinArg;
-use super::{interrupt, raise, tin_level, OrRaise};
-use crate::io::ewkb::{self, Geom};
-use crate::merge::drape::drape;
-use crate::merge::line::{runs, walk_parts, Part, PieceSink, TriangleSink};
-use crate::merge::widened::near_line;
-use crate::tin::{Tin, TinError};
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::tin_type::tin_level;
+use super::tin_type::TinArg;
+use tinmerge_core::io::ewkb::{self, Geom};
+use tinmerge_core::merge::drape::drape;
+use tinmerge_core::merge::line::{runs, walk_parts, Part, PieceSink, TriangleSink};
+use tinmerge_core::merge::widened::near_line;
+use tinmerge_core::tin::{Tin, TinError};
 
 /// The parts of a LINESTRING or MULTILINESTRING argument (SRID checked,
 /// coordinates finite); an ERROR naming the type for anything else.
@@ -40,7 +42,7 @@ pub(crate) fn line_parts(bytes: &[u8], tin_srid: i32, func: &str) -> Vec<Part> {
         .into_iter()
         .map(|l| {
             for c in l.iter() {
-                crate::tin::check_xy(&format!("{func}: the line"), c[0], c[1]).or_raise();
+                tinmerge_core::tin::check_xy(&format!("{func}: the line"), c[0], c[1]).or_raise();
             }
             Part::new(l.iter().map(|c| [c[0], c[1]]).collect())
         })
@@ -58,7 +60,7 @@ pub(crate) fn check_width(width: f64) -> f64 {
 }
 
 /// Triangles of the line: travel order (width 0) or first approach.
-pub(crate) fn line_triangles<L: crate::merge::line::Polyline>(
+pub(crate) fn line_triangles<L: tinmerge_core::merge::line::Polyline>(
     tin: &Tin,
     l: usize,
     parts: &[L],
@@ -247,12 +249,12 @@ fn _tin_drape(
     check_srid(g.srid, tin.srid, "tin_drape");
     let mut bad = None;
     g.geom.for_each_coord(&mut |c| {
-        if bad.is_none() && crate::tin::check_xy("", c[0], c[1]).is_err() {
+        if bad.is_none() && tinmerge_core::tin::check_xy("", c[0], c[1]).is_err() {
             bad = Some(*c);
         }
     });
     if let Some(c) = bad {
-        crate::tin::check_xy("tin_drape: the geometry", c[0], c[1]).or_raise();
+        tinmerge_core::tin::check_xy("tin_drape: the geometry", c[0], c[1]).or_raise();
     }
     let out = drape(&tin, l, &g.geom).or_raise()?;
     Some(ewkb::Writer::write(g.srid, true, &out))

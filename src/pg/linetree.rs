@@ -1,5 +1,5 @@
 //! The `linetree` SQL type (a multi-scale line tree stored flat, see
-//! [`crate::merge::linetree`]) and the line-merge functions taking it.
+//! [`tinmerge_core::merge::linetree`]) and the line-merge functions taking it.
 //! Values are read in place: a merge detoasts the value, checks its header,
 //! size and hash, and reads only the nodes and points it visits.
 
@@ -11,14 +11,15 @@ use pgrx::IntoDatum;
 use std::ffi::{CStr, CString};
 
 use super::args::check_srid;
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
 use super::line::{check_width, part_offsets, profile, seq_rows};
-use super::types::TinArg;
-use super::{interrupt, raise, OrRaise};
-use crate::io::ewkb::{self, Geom};
-use crate::merge::line::{PieceSink, TriangleSink};
-use crate::merge::linetree::{self, near_tree, walk_tree, View};
-use crate::tin::Tin;
+use super::tin_type::TinArg;
 use std::sync::Arc;
+use tinmerge_core::io::ewkb::{self, Geom};
+use tinmerge_core::merge::line::{PieceSink, TriangleSink};
+use tinmerge_core::merge::linetree::{self, near_tree, walk_tree, View};
+use tinmerge_core::tin::Tin;
 
 raw_datum_arg!(
     /// A `linetree` argument as the raw Datum.
@@ -44,7 +45,7 @@ pub struct LineTreeOut(pub Vec<u8>);
 
 impl IntoDatum for LineTreeOut {
     fn into_datum(self) -> Option<pg_sys::Datum> {
-        Some(super::types::varlena_datum(&self.0, "linetree"))
+        Some(super::varlena::varlena_datum(&self.0, "linetree"))
     }
     fn type_oid() -> pg_sys::Oid {
         pg_sys::InvalidOid
@@ -71,18 +72,18 @@ fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> LineTreeOut {
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_in(input: &CStr) -> LineTreeOut {
-    let bytes = super::types::hex_input(input, "linetree");
+    let bytes = super::varlena::hex_input(input, "linetree");
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_out(t: LineTreeArg) -> CString {
-    CString::new(crate::tin::layout::to_hex(t.bytes())).unwrap_or_default()
+    CString::new(tinmerge_core::tin::layout::to_hex(t.bytes())).unwrap_or_default()
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_recv(mut buf: pgrx::datum::Internal) -> LineTreeOut {
-    let bytes = super::types::recv_bytes(&mut buf, "linetree");
+    let bytes = super::varlena::recv_bytes(&mut buf, "linetree");
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION)
 }
 
@@ -214,7 +215,7 @@ fn tree_profile(
     level: Option<i32>,
     func: &str,
 ) -> (Vec<(f64, f64)>, Option<f64>) {
-    use crate::merge::line::Polyline;
+    use tinmerge_core::merge::line::Polyline;
     let (tin, l, v) = tin_level_tree(t, lt, level, func);
     let mut sink = PieceSink::new(&tin, l);
     walk_tree(

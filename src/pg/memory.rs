@@ -9,8 +9,10 @@
 use pgrx::prelude::*;
 use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
 
-use super::{cache, raise};
-use crate::tin::{memory, TinError};
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+
+use super::errors::raise;
+use tinmerge_core::tin::{memory, TinError};
 
 /// `tinmerge.max_memory` in MB.
 pub static MAX_MEMORY_MB: GucSetting<i32> = GucSetting::<i32>::new(1024);
@@ -36,9 +38,18 @@ fn limit() -> Option<usize> {
     (mb >= 0).then(|| (mb as usize).saturating_mul(MB))
 }
 
+/// Bytes of decoded values the backend cache holds (`cache` reports them
+/// with [`set_cached`]; they are bounded by `tinmerge.cache_size` instead).
+static CACHED: AtomicUsize = AtomicUsize::new(0);
+
+/// Called by the cache whenever what it holds changes.
+pub fn set_cached(bytes: usize) {
+    CACHED.store(bytes, Relaxed);
+}
+
 /// Heap in use for work: everything counted minus the cached values.
 pub fn working() -> usize {
-    memory::live().saturating_sub(cache::stats().3)
+    memory::live().saturating_sub(CACHED.load(Relaxed))
 }
 
 fn mb(bytes: usize) -> usize {

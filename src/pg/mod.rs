@@ -2,10 +2,6 @@
 //! SQLSTATEs. Nothing algorithmic lives here.
 
 use pgrx::prelude::*;
-use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
-
-use crate::io::IoError;
-use crate::tin::TinError;
 
 /// Declare an argument type that keeps the raw Datum of SQL type `$sql`
 /// (no detoast, no copy): `FromDatum`, `ArgAbi` (a NULL where the function
@@ -29,7 +25,7 @@ macro_rules! raw_datum_arg {
             unsafe fn unbox_arg_unchecked(arg: pgrx::callconv::Arg<'_, 'fcx>) -> Self {
                 let i = arg.index();
                 unsafe { arg.unbox_arg_using_from_datum() }.unwrap_or_else(|| {
-                    $crate::pg::raise(
+                    $crate::pg::errors::raise(
                         pgrx::PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
                         format!("{} argument {i} is NULL", $sql),
                     )
@@ -43,8 +39,12 @@ macro_rules! raw_datum_arg {
 
 mod area;
 mod args;
+mod build;
 mod cache;
-mod functions;
+mod errors;
+mod header;
+mod interrupt;
+mod level;
 mod line;
 mod linetree;
 mod memory;
@@ -53,92 +53,20 @@ mod point;
 mod raster;
 mod render;
 mod threads;
-mod types;
+mod tin_type;
+mod varlena;
 
 ::pgrx::pg_module_magic!(name, version);
 
-/// `tinmerge.cache_size`: MB of decoded tin values kept per backend.
-pub static CACHE_SIZE_MB: GucSetting<i32> = GucSetting::<i32>::new(256);
+// The public SQL signatures (geometry/raster wrappers, operators), after
+// every Rust function they call.
+extension_sql_file!("../../sql/tinmerge.sql", name = "public_api", finalize);
 
 #[pg_guard]
 pub extern "C-unwind" fn _PG_init() {
-    GucRegistry::define_int_guc(
-        c"tinmerge.cache_size",
-        c"Megabytes of decoded tin values cached per backend.",
-        c"A query calling tinmerge functions once per row on the same tin decodes it once per backend; this bounds the memory those decoded values use (0 disables the cache).",
-        &CACHE_SIZE_MB,
-        0,
-        64 * 1024,
-        GucContext::Userset,
-        GucFlags::UNIT_MB,
-    );
+    cache::define_guc();
     memory::define_guc();
     threads::define_guc();
-}
-
-/// Raise an ERROR with an SQLSTATE; never returns.
-pub(crate) fn raise(code: PgSqlErrorCode, msg: impl Into<String>) -> ! {
-    let msg: String = msg.into();
-    ereport!(ERROR, code, msg);
-}
-
-/// The core's interrupt callback: PostgreSQL's CHECK_FOR_INTERRUPTS, then
-/// the running `tinmerge.max_memory` check.
-pub(crate) fn interrupt() -> Result<(), TinError> {
-    pg_sys::check_for_interrupts!();
-    memory::check()
-}
-
-/// The decoded tin of an argument and a level resolved against it (one
-/// cache look-up per row).
-pub(crate) fn tin_level(
-    t: &types::TinArg,
-    level: Option<i32>,
-) -> (std::sync::Arc<crate::tin::Tin>, usize) {
-    let tin = t.tin();
-    let l = tin.level_index(level).or_raise();
-    (tin, l)
-}
-
-/// Map a core error to its SQLSTATE and raise it.
-pub(crate) fn raise_tin(e: TinError) -> ! {
-    use PgSqlErrorCode::*;
-    let code = match &e {
-        TinError::InvalidParameter(_)
-        | TinError::LevelOutOfRange { .. }
-        | TinError::Degenerate(_) => ERRCODE_INVALID_PARAMETER_VALUE,
-        TinError::Corrupt(_) | TinError::CorruptLineTree(_) => ERRCODE_DATA_CORRUPTED,
-        TinError::TooLarge(_) => ERRCODE_PROGRAM_LIMIT_EXCEEDED,
-        TinError::MemoryLimit(_) => ERRCODE_CONFIGURATION_LIMIT_EXCEEDED,
-        TinError::Interrupted => ERRCODE_QUERY_CANCELED,
-    };
-    raise(code, e.to_string())
-}
-
-/// Map an input-format error to its SQLSTATE and raise it.
-pub(crate) fn raise_io(e: IoError) -> ! {
-    use PgSqlErrorCode::*;
-    let code = match &e {
-        IoError::Geometry(_) | IoError::Raster(_) => ERRCODE_INVALID_BINARY_REPRESENTATION,
-        IoError::Unsupported(_) => ERRCODE_INVALID_PARAMETER_VALUE,
-    };
-    raise(code, e.to_string())
-}
-
-pub(crate) trait OrRaise<T> {
-    fn or_raise(self) -> T;
-}
-
-impl<T> OrRaise<T> for Result<T, TinError> {
-    fn or_raise(self) -> T {
-        self.unwrap_or_else(|e| raise_tin(e))
-    }
-}
-
-impl<T> OrRaise<T> for Result<T, IoError> {
-    fn or_raise(self) -> T {
-        self.unwrap_or_else(|e| raise_io(e))
-    }
 }
 
 #[cfg(feature = "pg_test")]

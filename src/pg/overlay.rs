@@ -4,12 +4,14 @@
 
 use pgrx::prelude::*;
 
-use super::types::{TinArg, TinOut};
-use super::{interrupt, memory, raise, tin_level, OrRaise};
-use crate::io::ewkb;
-use crate::merge::overlay::{difference, overlay, Overlay};
-use crate::tin::build::from_triangles;
-use crate::tin::memory as tmem;
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::memory;
+use super::tin_type::tin_level;
+use super::tin_type::{TinArg, TinOut};
+use tinmerge_core::io::ewkb;
+use tinmerge_core::merge::overlay::{difference, overlay, Overlay};
+use tinmerge_core::tin::build::from_triangles;
 
 /// The overlay of two tin arguments at their levels, SRIDs checked, with
 /// the SRID of the result.
@@ -32,7 +34,7 @@ fn overlay_args(
         );
     }
     let (na, nb) = (ta.levels[la].tris.len(), tb.levels[lb].tris.len());
-    memory::reserve(tmem::overlay_bytes(na, nb), || {
+    memory::reserve(tinmerge_core::merge::overlay::overlay_bytes(na, nb), || {
         format!("{func}: overlaying {na} and {nb} triangles")
     });
     (
@@ -93,12 +95,15 @@ fn _tin_overlay_tin(
         .zip(&o.za)
         .map(|(p, &z)| [p[0], p[1], z])
         .collect();
-    memory::reserve(tmem::build_bytes(verts.len(), 1), || {
-        format!(
-            "tin_overlay_tin: storing {} triangles as a tin",
-            o.tris.len()
-        )
-    });
+    memory::reserve(
+        tinmerge_core::tin::build::build_bytes(verts.len(), 1),
+        || {
+            format!(
+                "tin_overlay_tin: storing {} triangles as a tin",
+                o.tris.len()
+            )
+        },
+    );
     let tin = from_triangles(verts, o.tris, srid, &mut interrupt).or_raise();
     Some(TinOut::from_tin(&tin))
 }

@@ -6,9 +6,11 @@
 use pgrx::prelude::*;
 
 use super::args::GeomArg;
-use super::types::TinArg;
-use super::{interrupt, tin_level, OrRaise};
-use crate::merge::point::{self, Rect};
+use super::errors::OrRaise;
+use super::interrupt::interrupt;
+use super::tin_type::tin_level;
+use super::tin_type::TinArg;
+use tinmerge_core::merge::point::{self, Rect};
 
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_locate(

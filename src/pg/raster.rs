@@ -5,11 +5,14 @@
 
 use pgrx::prelude::*;
 
-use super::types::TinArg;
-use super::{interrupt, memory, raise, tin_level, OrRaise};
-use crate::io::raster::{self, Band, GeoTransform};
-use crate::merge::raster::{is_data, paint, sweep, weighted_stats, zonal_stats, PixelGrid};
-use crate::tin::Tin;
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::memory;
+use super::tin_type::tin_level;
+use super::tin_type::TinArg;
+use tinmerge_core::io::raster::{self, Band, GeoTransform};
+use tinmerge_core::merge::raster::{is_data, paint, sweep, weighted_stats, zonal_stats, PixelGrid};
+use tinmerge_core::tin::Tin;
 
 /// ERROR unless the raster and the tin both have an SRID and it is the same.
 pub(super) fn check_raster_srid(raster_srid: i32, tin_srid: i32, func: &str) {
@@ -51,7 +54,7 @@ fn raster_arg(
         return None;
     }
     memory::reserve(
-        crate::tin::memory::raster_bytes(head.width, head.height),
+        tinmerge_core::io::raster::raster_bytes(head.width, head.height),
         || format!("{func}: reading a {} x {} raster", head.width, head.height),
     );
     let r = raster::read(rast, Some(band as usize)).or_raise();

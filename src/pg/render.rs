@@ -7,13 +7,15 @@
 use pgrx::prelude::*;
 
 use super::args::check_srid;
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::memory;
 use super::raster::check_raster_srid;
-use super::types::TinArg;
-use super::{interrupt, memory, raise, tin_level, OrRaise};
-use crate::io::{ewkb, raster};
-use crate::render::gltf::{tin_glb, GlbOptions, Texture};
-use crate::render::svg::{tin_svg, Fill, SvgOptions};
-use crate::tin::memory as tmem;
+use super::tin_type::tin_level;
+use super::tin_type::TinArg;
+use tinmerge_core::io::{ewkb, raster};
+use tinmerge_core::render::gltf::{tin_glb, GlbOptions, Texture};
+use tinmerge_core::render::svg::{tin_svg, Fill, SvgOptions};
 
 fn no_nulls<T: Copy>(a: &[Option<T>], what: &str) -> Vec<T> {
     a.iter()
@@ -90,9 +92,10 @@ fn _tin_as_svg(
         legend: legend.as_deref(),
         width: u32::try_from(width).unwrap_or(0),
     };
-    memory::reserve(tmem::svg_bytes(tin.levels[l].num_triangles()), || {
-        format!("drawing {} triangles", tin.levels[l].num_triangles())
-    });
+    memory::reserve(
+        tinmerge_core::render::svg::svg_bytes(tin.levels[l].num_triangles()),
+        || format!("drawing {} triangles", tin.levels[l].num_triangles()),
+    );
     Some(tin_svg(&tin, l, &opts, &mut interrupt).or_raise())
 }
 
@@ -109,7 +112,8 @@ fn _tin_as_gltf(
         let head = raster::read(b, None).or_raise();
         check_raster_srid(head.srid, tin.srid, "tin_as_gltf");
         memory::reserve(
-            tmem::raster_bytes(head.width, head.height) * head.num_bands.max(1),
+            tinmerge_core::io::raster::raster_bytes(head.width, head.height)
+                * head.num_bands.max(1),
             || format!("reading a {} x {} texture", head.width, head.height),
         );
         let bands: Vec<_> = (1..=head.num_bands)
@@ -122,7 +126,7 @@ fn _tin_as_gltf(
         z_factor: z_factor.unwrap_or(1.0),
     };
     memory::reserve(
-        tmem::glb_bytes(
+        tinmerge_core::render::gltf::glb_bytes(
             tin.levels[l].num_vertices as usize,
             tin.levels[l].num_triangles(),
         ),

@@ -6,7 +6,7 @@
 use pgrx::pg_sys;
 use std::sync::atomic::{AtomicI32, Ordering::Relaxed};
 
-use crate::tin::par;
+use tinmerge_core::tin::par;
 
 /// The setting's storage, written by PostgreSQL's GUC machinery on this
 /// backend's thread (an atomic only to have a stable `*mut i32`).

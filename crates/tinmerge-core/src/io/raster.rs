@@ -1,0 +1,310 @@
+//! WKB raster (PostGIS RFC2) reader, written by hand: no maintained crate
+//! reads it. Layout: u8 endianness; u16 version (0); u16 band count; f64
+//! scaleX, scaleY, ipX, ipY, skewX, skewY; i32 SRID; u16 width, height; then
+//! per band: u8 flags (0x80 out-db, 0x40 has nodata, 0x20 all nodata, low 4
+//! bits pixel type), nodata value in the pixel type, then width x height
+//! pixels row-major (out-db bands carry a band number and a path instead).
+
+use super::IoError;
+use crate::tin::lattice::Lattice;
+
+/// Georeferencing of a raster: pixel (col, row) corner is
+/// `(ip_x + col*scale_x + row*skew_x, ip_y + col*skew_y + row*scale_y)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeoTransform {
+    pub scale_x: f64,
+    pub scale_y: f64,
+    pub ip_x: f64,
+    pub ip_y: f64,
+    pub skew_x: f64,
+    pub skew_y: f64,
+}
+
+impl GeoTransform {
+    /// Centre of pixel (col, row) ([`Lattice::centre`], the one formula).
+    pub fn centre(&self, col: usize, row: usize) -> (f64, f64) {
+        self.lattice().centre(col as f64, row as f64)
+    }
+
+    /// The pixel lattice this geotransform maps to the world.
+    pub fn lattice(&self) -> Lattice {
+        Lattice {
+            ip_x: self.ip_x,
+            ip_y: self.ip_y,
+            scale_x: self.scale_x,
+            scale_y: self.scale_y,
+            skew_x: self.skew_x,
+            skew_y: self.skew_y,
+        }
+    }
+}
+
+/// One band, converted to f64, with its nodata value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Band {
+    pub pixel_type: u8,
+    pub nodata: Option<f64>,
+    /// The band is flagged as all nodata.
+    pub all_nodata: bool,
+    /// Row-major values.
+    pub values: Vec<f64>,
+}
+
+impl Band {
+    /// Whether a value counts as data (not nodata, not NaN).
+    #[inline]
+    pub fn is_valid(&self, v: f64) -> bool {
+        !self.all_nodata && !v.is_nan() && self.nodata != Some(v)
+    }
+}
+
+/// A parsed raster holding the one band asked for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Raster {
+    pub srid: i32,
+    pub width: usize,
+    pub height: usize,
+    pub num_bands: usize,
+    pub gt: GeoTransform,
+    pub band: Option<Band>,
+}
+
+/// Pixel type name and size in bytes, as PostGIS numbers them.
+pub fn pixel_type(t: u8) -> Option<(&'static str, usize)> {
+    Some(match t {
+        0 => ("1BB", 1),
+        1 => ("2BUI", 1),
+        2 => ("4BUI", 1),
+        3 => ("8BSI", 1),
+        4 => ("8BUI", 1),
+        5 => ("16BSI", 2),
+        6 => ("16BUI", 2),
+        7 => ("32BSI", 4),
+        8 => ("32BUI", 4),
+        10 => ("32BF", 4),
+        11 => ("64BF", 8),
+        _ => return None,
+    })
+}
+
+struct Rd<'a> {
+    b: &'a [u8],
+    pos: usize,
+    le: bool,
+}
+
+impl<'a> Rd<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], IoError> {
+        match self.pos.checked_add(n).filter(|&e| e <= self.b.len()) {
+            Some(e) => {
+                let s = &self.b[self.pos..e];
+                self.pos = e;
+                Ok(s)
+            }
+            None => Err(IoError::Raster(format!(
+                "truncated: {} bytes needed at offset {}, raster has {}",
+                n,
+                self.pos,
+                self.b.len()
+            ))),
+        }
+    }
+    fn arr<const N: usize>(&mut self) -> Result<[u8; N], IoError> {
+        let mut a = [0u8; N];
+        a.copy_from_slice(self.take(N)?);
+        if !self.le {
+            a.reverse();
+        }
+        Ok(a)
+    }
+    fn u8(&mut self) -> Result<u8, IoError> {
+        Ok(self.take(1)?[0])
+    }
+    fn u16(&mut self) -> Result<u16, IoError> {
+        Ok(u16::from_le_bytes(self.arr()?))
+    }
+    fn i32(&mut self) -> Result<i32, IoError> {
+        Ok(i32::from_le_bytes(self.arr()?))
+    }
+    fn f64(&mut self) -> Result<f64, IoError> {
+        Ok(f64::from_le_bytes(self.arr()?))
+    }
+    fn value(&mut self, t: u8) -> Result<f64, IoError> {
+        Ok(match t {
+            0..=2 | 4 => self.u8()? as f64,
+            3 => self.u8()? as i8 as f64,
+            5 => i16::from_le_bytes(self.arr()?) as f64,
+            6 => u16::from_le_bytes(self.arr()?) as f64,
+            7 => i32::from_le_bytes(self.arr()?) as f64,
+            8 => u32::from_le_bytes(self.arr()?) as f64,
+            10 => f32::from_le_bytes(self.arr()?) as f64,
+            11 => f64::from_le_bytes(self.arr()?),
+            _ => return Err(IoError::Raster(format!("unknown pixel type {t}"))),
+        })
+    }
+}
+
+/// Parse WKB raster bytes, keeping band `band` (1-based). `band` beyond the
+/// band count is an error unless the raster has no bands and `band` is None.
+pub fn read(b: &[u8], band: Option<usize>) -> Result<Raster, IoError> {
+    let mut r = Rd {
+        b,
+        pos: 0,
+        le: true,
+    };
+    r.le = match r.u8()? {
+        0 => false,
+        1 => true,
+        x => return Err(IoError::Raster(format!("bad byte order marker {x}"))),
+    };
+    let version = r.u16()?;
+    if version != 0 {
+        return Err(IoError::Raster(format!(
+            "WKB raster version {version} is not supported"
+        )));
+    }
+    let nb = r.u16()? as usize;
+    let gt = GeoTransform {
+        scale_x: r.f64()?,
+        scale_y: r.f64()?,
+        ip_x: r.f64()?,
+        ip_y: r.f64()?,
+        skew_x: r.f64()?,
+        skew_y: r.f64()?,
+    };
+    let srid = r.i32()?;
+    let width = r.u16()? as usize;
+    let height = r.u16()? as usize;
+    let g = [
+        gt.scale_x, gt.scale_y, gt.ip_x, gt.ip_y, gt.skew_x, gt.skew_y,
+    ];
+    if !g.iter().all(|v| v.is_finite()) {
+        return Err(IoError::Raster(
+            "georeference has a non-finite value".into(),
+        ));
+    }
+    let mut out = Raster {
+        srid,
+        width,
+        height,
+        num_bands: nb,
+        gt,
+        band: None,
+    };
+    let Some(want) = band else { return Ok(out) };
+    if want == 0 || want > nb {
+        return Err(IoError::Unsupported(format!(
+            "band {want} does not exist: the raster has {nb} band(s), numbered from 1"
+        )));
+    }
+    let npix = width * height;
+    for i in 1..=nb {
+        let flags = r.u8()?;
+        let t = flags & 0x0f;
+        let (_, size) = pixel_type(t)
+            .ok_or_else(|| IoError::Raster(format!("band {i}: unknown pixel type {t}")))?;
+        let nodata_raw = r.value(t)?;
+        let has_nodata = flags & 0x40 != 0;
+        if flags & 0x80 != 0 {
+            if i == want {
+                return Err(IoError::Unsupported(format!(
+                    "band {i} is an out-db band (stored outside the database); load it in-db with raster2pgsql without -R"
+                )));
+            }
+            r.u8()?;
+            while r.u8()? != 0 {}
+            continue;
+        }
+        if i != want {
+            r.take(
+                npix.checked_mul(size)
+                    .ok_or_else(|| IoError::Raster("size overflow".into()))?,
+            )?;
+            continue;
+        }
+        // Check the length before allocating.
+        let need = npix
+            .checked_mul(size)
+            .ok_or_else(|| IoError::Raster("size overflow".into()))?;
+        if r.pos + need > b.len() {
+            return Err(IoError::Raster(format!(
+                "truncated: band {i} needs {need} bytes of pixels, {} remain",
+                b.len() - r.pos
+            )));
+        }
+        let mut values = Vec::with_capacity(npix);
+        for _ in 0..npix {
+            values.push(r.value(t)?);
+        }
+        out.band = Some(Band {
+            pixel_type: t,
+            nodata: has_nodata.then_some(nodata_raw),
+            all_nodata: flags & 0x20 != 0,
+            values,
+        });
+        return Ok(out);
+    }
+    Err(IoError::Raster("band not found".into()))
+}
+
+/// Heap needed to read one band of a `width` x `height` raster (values as
+/// f64) and hand its pixels to triangles.
+pub fn raster_bytes(width: usize, height: usize) -> usize {
+    width
+        .saturating_mul(height)
+        .saturating_mul(9)
+        .saturating_add(1 << 16)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(le: bool) -> Vec<u8> {
+        // 2 x 2, 16BSI, nodata -1, values 1 2 -1 4
+        let mut b = vec![if le { 1 } else { 0 }];
+        let put = |b: &mut Vec<u8>, v: &[u8]| {
+            let mut v = v.to_vec();
+            if !le {
+                v.reverse();
+            }
+            b.extend_from_slice(&v);
+        };
+        put(&mut b, &0u16.to_le_bytes());
+        put(&mut b, &1u16.to_le_bytes());
+        for v in [10.0f64, -10.0, 100.0, 200.0, 0.0, 0.0] {
+            put(&mut b, &v.to_le_bytes());
+        }
+        put(&mut b, &32616i32.to_le_bytes());
+        put(&mut b, &2u16.to_le_bytes());
+        put(&mut b, &2u16.to_le_bytes());
+        b.push(0x40 | 5);
+        put(&mut b, &(-1i16).to_le_bytes());
+        for v in [1i16, 2, -1, 4] {
+            put(&mut b, &v.to_le_bytes());
+        }
+        b
+    }
+
+    #[test]
+    fn reads_both_byte_orders() {
+        for le in [true, false] {
+            let r = read(&sample(le), Some(1)).unwrap();
+            assert_eq!((r.width, r.height, r.srid), (2, 2, 32616));
+            let band = r.band.unwrap();
+            assert_eq!(band.values, vec![1.0, 2.0, -1.0, 4.0]);
+            assert!(!band.is_valid(-1.0));
+            assert_eq!(r.gt.centre(1, 1), (115.0, 185.0));
+        }
+    }
+
+    #[test]
+    fn truncation_and_missing_band() {
+        let b = sample(true);
+        for n in 0..b.len() {
+            assert!(read(&b[..n], Some(1)).is_err(), "prefix {n} accepted");
+        }
+        assert!(read(&b, Some(2)).is_err());
+        assert!(read(&b, Some(0)).is_err());
+    }
+}

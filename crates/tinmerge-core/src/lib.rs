@@ -1,0 +1,14 @@
+//! The pure core of tinmerge: adaptive hierarchical triangulations and their
+//! merges with points, lines, polygons, rasters and other TINs (the seed
+//! method). No PostgreSQL: `cargo test -p tinmerge-core` runs without it, and
+//! the extension crate (`src/pg/`) is the only one that depends on pgrx.
+//!
+//! - [`tin`]: the hierarchy (data model, build, storage layout, grid index,
+//!   point location, invariant checks);
+//! - [`merge`]: one module per merge;
+//! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
+//! - [`render`]: pictures (SVG, glTF).
+pub mod io;
+pub mod merge;
+pub mod render;
+pub mod tin;

@@ -1,0 +1,779 @@
+//! Line merge (seed 6.4), the plain walk: follow a polyline through the
+//! triangles of one level, cutting it wherever it crosses a triangle edge.
+//!
+//! Every decision is an exact orientation test (`robust::orient2d`) on the
+//! line's own vertices and the triangles' corners, never on a computed
+//! crossing point, so the sequence of triangles is exact; crossing points are
+//! computed on the edge they cross (so both triangles agree on their height).
+//!
+//! Where the choice would be ambiguous the rules are:
+//! - a line running along an edge is in the triangle with the smaller id of
+//!   the two sharing that edge;
+//! - a line through a vertex continues in the triangle of the vertex's fan
+//!   that holds the next stretch of the line;
+//! - a piece that starts on an edge or a vertex belongs to the triangle the
+//!   line goes into, not to the one it touches.
+//!
+//! Parts of the line outside the (convex) domain are skipped; a line that
+//! leaves and comes back starts a new run of pieces.
+//!
+//! The walk reports to a [`Sink`]: every point of the cut line with the
+//! triangle of the piece it belongs to (a crossing point is reported twice:
+//! as the end of one piece and the start of the next) and its distance along
+//! the line. [`crate::merge::linetree`] drives the same walker from a
+//! multi-scale line tree and skips the stretches that cannot leave a
+//! triangle.
+//!
+//! ```
+//! use tinmerge_core::tin::build::build;
+//! use tinmerge_core::merge::line::{pieces, Part};
+//! // a plane z = x sampled on a 3 x 3 grid: 8 triangles
+//! let mut pts = Vec::new();
+//! for i in 0..3 {
+//!     for j in 0..3 {
+//!         pts.push([i as f64, j as f64, i as f64]);
+//!     }
+//! }
+//! let tin = build(pts, &[0.0], 0, &mut || Ok(())).unwrap();
+//! let line = Part::new(vec![[0.1, 0.3], [1.9, 0.3]]);
+//! let cut = pieces(&tin, 0, &[line]).unwrap();
+//! // the line is cut at every edge it crosses; the lengths add up
+//! let total: f64 = cut.iter().map(|p| p.length2d()).sum();
+//! assert!((total - 1.8).abs() < 1e-12);
+//! assert!(cut.len() >= 2);
+//! // heights come from the surface: z = x
+//! for p in &cut {
+//!     for q in &p.points {
+//!         assert!((q[2] - q[0]).abs() < 1e-12);
+//!     }
+//! }
+//! ```
+
+use crate::tin::locate;
+use crate::tin::{interpolate, Level, Tin, TinError, NONE};
+use robust::{orient2d, Coord};
+
+/// A point in the plane.
+pub type P2 = [f64; 2];
+
+#[inline]
+fn c(p: P2) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+#[inline]
+fn v2(v: &[f64; 3]) -> Coord<f64> {
+    Coord { x: v[0], y: v[1] }
+}
+
+#[inline]
+fn dist(a: P2, b: P2) -> f64 {
+    (b[0] - a[0]).hypot(b[1] - a[1])
+}
+
+/// A polyline as the walker reads it: vertices and the planar distance of
+/// each from the first. Reads may fail (a stored line tree is checked as it
+/// is read).
+pub trait Polyline {
+    fn len(&self) -> usize;
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    fn pt(&self, i: usize) -> Result<P2, TinError>;
+    /// Planar length of the line from vertex 0 to vertex `i`.
+    fn cum(&self, i: usize) -> Result<f64, TinError>;
+}
+
+/// One part (a LINESTRING) held in memory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    pub pts: Vec<P2>,
+    pub cum: Vec<f64>,
+}
+
+impl Part {
+    pub fn new(pts: Vec<P2>) -> Part {
+        let mut cum = Vec::with_capacity(pts.len());
+        let mut d = 0.0;
+        for (i, p) in pts.iter().enumerate() {
+            if i > 0 {
+                d += dist(pts[i - 1], *p);
+            }
+            cum.push(d);
+        }
+        Part { pts, cum }
+    }
+
+    /// Planar length.
+    pub fn length(&self) -> f64 {
+        self.cum.last().copied().unwrap_or(0.0)
+    }
+}
+
+impl Polyline for Part {
+    fn len(&self) -> usize {
+        self.pts.len()
+    }
+    fn pt(&self, i: usize) -> Result<P2, TinError> {
+        self.pts
+            .get(i)
+            .copied()
+            .ok_or_else(|| TinError::InvalidParameter(format!("no vertex {i}")))
+    }
+    fn cum(&self, i: usize) -> Result<f64, TinError> {
+        self.cum
+            .get(i)
+            .copied()
+            .ok_or_else(|| TinError::InvalidParameter(format!("no vertex {i}")))
+    }
+}
+
+/// Receives the cut line from the walker.
+pub trait Sink {
+    /// Whether the sink needs the points (false: only the triangles, which
+    /// lets the line tree skip the vertices of stretches inside a triangle).
+    fn wants_points(&self) -> bool {
+        true
+    }
+    /// A point of the cut line, in the piece of triangle `tri`; `along` is
+    /// the planar distance from the start of the part.
+    fn point(&mut self, tri: u32, p: P2, along: f64);
+    /// The line leaves the domain or a part ends: the next point starts a
+    /// new run of pieces.
+    fn brk(&mut self);
+}
+
+/// Where a closed triangle holds a point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Spot {
+    Inside,
+    /// On the edge opposite corner `j`, not at a corner.
+    Edge(usize),
+    /// At corner `j`.
+    Corner(usize),
+}
+
+/// How the line leaves a triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Exit {
+    /// Through the inside of the edge opposite corner `j`.
+    Edge(usize),
+    /// Through corner `j`.
+    Corner(usize),
+}
+
+fn corrupt(what: &str) -> TinError {
+    TinError::Corrupt(format!("line walk: {what}"))
+}
+
+/// Follows lines through the triangles of one level.
+pub struct Walker<'a, S: Sink> {
+    tin: &'a Tin,
+    level: usize,
+    pub sink: &'a mut S,
+    /// Triangle whose closed area holds the current point (None: outside).
+    cur: Option<u32>,
+    /// Whether the current point has been reported (a piece is open).
+    open: bool,
+    /// Hull edges as (triangle, edge), found on first need.
+    hull: Option<Vec<(u32, usize)>>,
+    interrupt: &'a mut dyn FnMut() -> Result<(), TinError>,
+    ticks: u32,
+}
+
+impl<'a, S: Sink> Walker<'a, S> {
+    pub fn new(
+        tin: &'a Tin,
+        level: usize,
+        sink: &'a mut S,
+        interrupt: &'a mut dyn FnMut() -> Result<(), TinError>,
+    ) -> Self {
+        Walker {
+            tin,
+            level,
+            sink,
+            cur: None,
+            open: false,
+            hull: None,
+            interrupt,
+            ticks: 0,
+        }
+    }
+
+    /// Call the interrupt check now.
+    pub fn interrupt_now(&mut self) -> Result<(), TinError> {
+        (self.interrupt)()
+    }
+
+    fn tick(&mut self) -> Result<(), TinError> {
+        self.ticks = self.ticks.wrapping_add(1);
+        if self.ticks.is_multiple_of(4096) {
+            (self.interrupt)()?;
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn corners(&self, t: u32) -> [Coord<f64>; 3] {
+        let cs = self.tin.corners(self.level, t);
+        [v2(&cs[0]), v2(&cs[1]), v2(&cs[2])]
+    }
+
+    #[inline]
+    fn nbr(&self, t: u32, j: usize) -> u32 {
+        self.tin.levels[self.level].nbrs[t as usize][j]
+    }
+
+    #[inline]
+    fn emit(&mut self, t: u32, p: P2, along: f64) {
+        self.sink.point(t, p, along);
+        self.open = true;
+    }
+
+    /// Start a part at its first vertex.
+    pub fn start_part(&mut self, p: P2) {
+        self.cur = locate::locate(self.tin, self.level, p[0], p[1]);
+        self.open = false;
+    }
+
+    /// End a part: a part that never moved but lies in the domain is
+    /// reported as a single point in its triangle.
+    pub fn end_part(&mut self, p0: P2, moved: bool) {
+        if !moved && !self.open {
+            if let Some(t) = self.cur {
+                self.emit(t, p0, 0.0);
+            }
+        }
+        self.sink.brk();
+        self.cur = None;
+        self.open = false;
+    }
+
+    /// Triangle holding the current point, when it is inside (for the line
+    /// tree's containment tests).
+    pub fn current(&self) -> Option<u32> {
+        self.cur
+    }
+
+    /// Move to p without reporting anything (the widened-line merge skipping
+    /// a stretch whose triangles are all known): the current triangle
+    /// becomes one holding p, found by a walk from the current one.
+    pub fn jump_to(&mut self, p: P2) {
+        let start = match self.cur {
+            Some(t) => t,
+            None => locate::start_triangle(self.tin, self.level, p[0], p[1]),
+        };
+        self.cur = match locate::walk(self.tin, self.level, start, p[0], p[1]) {
+            locate::Walk::Inside(t) => Some(t),
+            locate::Walk::Outside(_) => None,
+        };
+        self.open = false;
+    }
+
+    /// Report original vertices known to lie strictly inside the current
+    /// triangle (the line tree's skip): `first` is the current point.
+    pub fn run_inside<L: Polyline + ?Sized>(
+        &mut self,
+        line: &L,
+        first: usize,
+        last: usize,
+    ) -> Result<(), TinError> {
+        let Some(t) = self.cur else {
+            return Err(corrupt("run inside with no current triangle"));
+        };
+        if !self.open {
+            self.emit(t, line.pt(first)?, line.cum(first)?);
+        }
+        if self.sink.wants_points() {
+            for k in first + 1..=last {
+                self.emit(t, line.pt(k)?, line.cum(k)?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Follow the segment from vertex `k` to vertex `k + 1` of `line`.
+    pub fn segment<L: Polyline + ?Sized>(&mut self, line: &L, k: usize) -> Result<(), TinError> {
+        let (p, q) = (line.pt(k)?, line.pt(k + 1)?);
+        let along = line.cum(k)?;
+        self.walk_segment(p, q, along)
+    }
+
+    /// Follow the segment p -> q (`along` = distance of p from the start).
+    pub fn walk_segment(&mut self, p: P2, q: P2, along: f64) -> Result<(), TinError> {
+        if p == q {
+            return Ok(());
+        }
+        self.tick()?;
+        let mut t = match self.cur {
+            Some(t) => match self.start_in(t, p, q)? {
+                Some(u) => {
+                    if !self.open || u != t {
+                        self.emit(u, p, along);
+                    }
+                    u
+                }
+                None => {
+                    // leaves the domain right at p
+                    self.leave();
+                    return Ok(());
+                }
+            },
+            None => match self.enter(p, q)? {
+                Some((u, x)) => {
+                    self.emit(u, x, along + dist(p, x));
+                    u
+                }
+                None => return Ok(()),
+            },
+        };
+        let (cp, cq) = (c(p), c(q));
+        // steps left before the walk is declared broken
+        let mut budget = 2 * self.tin.levels[self.level].tris.len() + 64;
+        loop {
+            if budget == 0 {
+                return Err(corrupt("the walk did not end"));
+            }
+            budget -= 1;
+            let tc = self.corners(t);
+            if (0..3).all(|j| orient2d(tc[(j + 1) % 3], tc[(j + 2) % 3], cq) >= 0.0) {
+                self.emit(t, q, along + dist(p, q));
+                self.cur = Some(t);
+                return Ok(());
+            }
+            match exit(&tc, cp, cq)? {
+                Exit::Edge(j) => {
+                    let (a, b) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
+                    let oa = orient2d(cp, cq, a);
+                    let ob = orient2d(cp, cq, b);
+                    let r = (oa / (oa - ob)).clamp(0.0, 1.0);
+                    let x = [a.x + r * (b.x - a.x), a.y + r * (b.y - a.y)];
+                    let ax = along + dist(p, x);
+                    self.emit(t, x, ax);
+                    let n = self.nbr(t, j);
+                    if n == NONE {
+                        self.leave();
+                        return Ok(());
+                    }
+                    self.emit(n, x, ax);
+                    t = n;
+                }
+                Exit::Corner(j) => {
+                    let vid = self.tin.levels[self.level].tris[t as usize][j];
+                    let v = self.tin.verts[vid as usize];
+                    let x = [v[0], v[1]];
+                    let ax = along + dist(p, x);
+                    self.emit(t, x, ax);
+                    match self.fan(t, vid, cq)? {
+                        Some(n) => {
+                            if n != t {
+                                self.emit(n, x, ax);
+                            }
+                            t = n;
+                        }
+                        None => {
+                            self.leave();
+                            return Ok(());
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn leave(&mut self) {
+        self.sink.brk();
+        self.cur = None;
+        self.open = false;
+    }
+
+    /// The triangle holding the first stretch of p -> q, given a closed
+    /// triangle `t` holding p (None: the segment leaves the domain at p).
+    fn start_in(&mut self, t: u32, p: P2, q: P2) -> Result<Option<u32>, TinError> {
+        let tc = self.corners(t);
+        let (cp, cq) = (c(p), c(q));
+        match spot(&tc, cp) {
+            None => Err(corrupt("current point is not in its triangle")),
+            Some(Spot::Inside) => Ok(Some(t)),
+            Some(Spot::Edge(j)) => {
+                let (a, b) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
+                let n = self.nbr(t, j);
+                let o = orient2d(a, b, cq);
+                Ok(if o > 0.0 {
+                    Some(t)
+                } else if o < 0.0 {
+                    (n != NONE).then_some(n)
+                } else if n == NONE {
+                    Some(t)
+                } else {
+                    Some(t.min(n))
+                })
+            }
+            Some(Spot::Corner(j)) => {
+                let vid = self.tin.levels[self.level].tris[t as usize][j];
+                self.fan(t, vid, cq)
+            }
+        }
+    }
+
+    /// Around vertex `vid` (a corner of `t0`), the triangle whose closed
+    /// wedge holds the direction towards q (smaller id of two when the
+    /// direction runs along an edge); None when the direction leaves the
+    /// domain.
+    fn fan(&self, t0: u32, vid: u32, q: Coord<f64>) -> Result<Option<u32>, TinError> {
+        let tin = self.tin;
+        let lv = &tin.levels[self.level];
+        let v = v2(&tin.verts[vid as usize]);
+        let limit = lv.tris.len() + 1;
+        // first counter-clockwise from t0, then (if the fan is open, on the
+        // hull) clockwise
+        for ccw in [true, false] {
+            let mut u = t0;
+            for _ in 0..limit {
+                let tri = lv.tris[u as usize];
+                let i = tri
+                    .iter()
+                    .position(|&x| x == vid)
+                    .ok_or_else(|| corrupt("vertex fan is inconsistent"))?;
+                let b = v2(&tin.verts[tri[(i + 1) % 3] as usize]);
+                let cc = v2(&tin.verts[tri[(i + 2) % 3] as usize]);
+                let ob = orient2d(v, b, q);
+                let oc = orient2d(v, cc, q);
+                if ob >= 0.0 && oc <= 0.0 {
+                    let other = if ob == 0.0 {
+                        lv.nbrs[u as usize][(i + 2) % 3]
+                    } else if oc == 0.0 {
+                        lv.nbrs[u as usize][(i + 1) % 3]
+                    } else {
+                        NONE
+                    };
+                    return Ok(Some(if other == NONE { u } else { u.min(other) }));
+                }
+                let next = if ccw {
+                    lv.nbrs[u as usize][(i + 1) % 3]
+                } else {
+                    lv.nbrs[u as usize][(i + 2) % 3]
+                };
+                if next == NONE {
+                    break;
+                }
+                if next == t0 {
+                    if ccw {
+                        // a closed fan was searched whole
+                        return Ok(None);
+                    }
+                    break;
+                }
+                u = next;
+            }
+        }
+        Ok(None)
+    }
+
+    /// For p outside the domain: where p -> q enters it (triangle holding
+    /// the first stretch inside, and the entry point), or None if it
+    /// does not (touching the hull at a single point does not count).
+    fn enter(&mut self, p: P2, q: P2) -> Result<Option<(u32, P2)>, TinError> {
+        let b = &self.tin.bbox;
+        if p[0].max(q[0]) < b.min_x
+            || p[0].min(q[0]) > b.max_x
+            || p[1].max(q[1]) < b.min_y
+            || p[1].min(q[1]) > b.max_y
+        {
+            return Ok(None);
+        }
+        let (cp, cq) = (c(p), c(q));
+        if self.hull.is_none() {
+            self.hull = Some(hull_edges(&self.tin.levels[self.level]));
+        }
+        for &(t, j) in self.hull.as_deref().unwrap_or(&[]) {
+            let tc = self.corners(t);
+            let (a, bb) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
+            // p strictly outside this edge's half-plane, q on or inside it
+            if !(orient2d(a, bb, cp) < 0.0 && orient2d(a, bb, cq) >= 0.0) {
+                continue;
+            }
+            let oa = orient2d(cp, cq, a);
+            let ob = orient2d(cp, cq, bb);
+            if oa > 0.0 && ob < 0.0 {
+                // through the inside of the edge
+                if orient2d(a, bb, cq) == 0.0 {
+                    // reaches the hull only at q: nothing inside yet; q is
+                    // the current point, in t
+                    self.cur = Some(t);
+                    self.open = false;
+                    return Ok(None);
+                }
+                let r = (oa / (oa - ob)).clamp(0.0, 1.0);
+                let x = [a.x + r * (bb.x - a.x), a.y + r * (bb.y - a.y)];
+                return Ok(Some((t, x)));
+            }
+            for (o, k) in [(oa, (j + 1) % 3), (ob, (j + 2) % 3)] {
+                if o == 0.0 {
+                    // through a hull vertex: it lies on the segment (p and q
+                    // are on either side of the edge's line)
+                    let vid = self.tin.levels[self.level].tris[t as usize][k];
+                    let vv = self.tin.verts[vid as usize];
+                    let x = [vv[0], vv[1]];
+                    if x == q {
+                        self.cur = Some(t);
+                        self.open = false;
+                        return Ok(None);
+                    }
+                    if let Some(u) = self.fan(t, vid, cq)? {
+                        return Ok(Some((u, x)));
+                    }
+                }
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// The hull edges of a level, as (triangle, edge opposite corner j), by
+/// increasing triangle id.
+pub fn hull_edges(lv: &Level) -> Vec<(u32, usize)> {
+    let mut h = Vec::new();
+    for (t, n) in lv.nbrs.iter().enumerate() {
+        for (j, &x) in n.iter().enumerate() {
+            if x == NONE {
+                h.push((t as u32, j));
+            }
+        }
+    }
+    h
+}
+
+/// Where the closed triangle holds p (None: outside it).
+fn spot(tc: &[Coord<f64>; 3], p: Coord<f64>) -> Option<Spot> {
+    let o = [0, 1, 2].map(|j| orient2d(tc[(j + 1) % 3], tc[(j + 2) % 3], p));
+    if o.iter().any(|&x| x < 0.0) {
+        return None;
+    }
+    let zeros: Vec<usize> = (0..3).filter(|&j| o[j] == 0.0).collect();
+    Some(match zeros.as_slice() {
+        [] => Spot::Inside,
+        [j] => Spot::Edge(*j),
+        // on the edges opposite corners j and k: at the third corner
+        [j, k] => Spot::Corner(3 - j - k),
+        _ => return None,
+    })
+}
+
+/// How the line p -> q leaves triangle `tc`, which holds a stretch of it
+/// and not q.
+fn exit(tc: &[Coord<f64>; 3], p: Coord<f64>, q: Coord<f64>) -> Result<Exit, TinError> {
+    let o = [0, 1, 2].map(|k| orient2d(p, q, tc[k]));
+    // corner a on the right of the line, b on its left: the line leaves
+    // through the inside of the counter-clockwise edge a -> b
+    for j in 0..3 {
+        if o[(j + 1) % 3] < 0.0 && o[(j + 2) % 3] > 0.0 {
+            return Ok(Exit::Edge(j));
+        }
+    }
+    let zeros: Vec<usize> = (0..3).filter(|&k| o[k] == 0.0).collect();
+    match zeros.as_slice() {
+        [k] => Ok(Exit::Corner(*k)),
+        [j, k] => {
+            // along an edge: leave through the corner further on
+            let (dx, dy) = (q.x - p.x, q.y - p.y);
+            let key = |k: usize| {
+                if dx.abs() >= dy.abs() {
+                    tc[k].x * dx.signum()
+                } else {
+                    tc[k].y * dy.signum()
+                }
+            };
+            Ok(Exit::Corner(if key(*j) >= key(*k) { *j } else { *k }))
+        }
+        _ => Err(corrupt("the line does not cross the triangle it is in")),
+    }
+}
+
+/// One piece of a cut line: the stretch inside one triangle, with heights
+/// from the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Piece {
+    /// Index of the part (LINESTRING) the piece comes from.
+    pub part: usize,
+    pub triangle: u32,
+    /// x, y, z; z from the triangle's plane.
+    pub points: Vec<[f64; 3]>,
+    /// Distance along the part of each point.
+    pub along: Vec<f64>,
+}
+
+impl Piece {
+    pub fn length2d(&self) -> f64 {
+        self.points
+            .windows(2)
+            .map(|w| dist([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
+            .sum()
+    }
+    pub fn length3d(&self) -> f64 {
+        self.points
+            .windows(2)
+            .map(|w| {
+                let (dx, dy, dz) = (w[1][0] - w[0][0], w[1][1] - w[0][1], w[1][2] - w[0][2]);
+                (dx * dx + dy * dy + dz * dz).sqrt()
+            })
+            .sum()
+    }
+    pub fn rise(&self) -> f64 {
+        match (self.points.first(), self.points.last()) {
+            (Some(a), Some(b)) => b[2] - a[2],
+            _ => 0.0,
+        }
+    }
+}
+
+/// Collects [`Piece`]s (repeated points dropped).
+pub struct PieceSink<'a> {
+    tin: &'a Tin,
+    level: usize,
+    pub part: usize,
+    pub pieces: Vec<Piece>,
+    open: bool,
+}
+
+impl<'a> PieceSink<'a> {
+    pub fn new(tin: &'a Tin, level: usize) -> Self {
+        PieceSink {
+            tin,
+            level,
+            part: 0,
+            pieces: Vec::new(),
+            open: false,
+        }
+    }
+}
+
+impl Sink for PieceSink<'_> {
+    fn point(&mut self, tri: u32, p: P2, along: f64) {
+        let z = interpolate(&self.tin.corners(self.level, tri), p[0], p[1]);
+        if self.open {
+            if let Some(last) = self.pieces.last_mut() {
+                if last.triangle == tri {
+                    if let Some(lp) = last.points.last() {
+                        if lp[0] == p[0] && lp[1] == p[1] {
+                            return;
+                        }
+                    }
+                    last.points.push([p[0], p[1], z]);
+                    last.along.push(along);
+                    return;
+                }
+            }
+        }
+        self.pieces.push(Piece {
+            part: self.part,
+            triangle: tri,
+            points: vec![[p[0], p[1], z]],
+            along: vec![along],
+        });
+        self.open = true;
+    }
+    fn brk(&mut self) {
+        self.open = false;
+    }
+}
+
+/// Collects the triangles in travel order (a triangle entered again after
+/// another, or after leaving the domain, appears again).
+#[derive(Default)]
+pub struct TriangleSink {
+    pub tris: Vec<u32>,
+    open: bool,
+}
+
+impl Sink for TriangleSink {
+    fn wants_points(&self) -> bool {
+        false
+    }
+    fn point(&mut self, tri: u32, _p: P2, _along: f64) {
+        if !(self.open && self.tris.last() == Some(&tri)) {
+            self.tris.push(tri);
+        }
+        self.open = true;
+    }
+    fn brk(&mut self) {
+        self.open = false;
+    }
+}
+
+/// Walk every segment of every part (the plain walk of the seed: O(N + M)).
+pub fn walk_parts<S: Sink, L: Polyline>(
+    tin: &Tin,
+    level: usize,
+    parts: &[L],
+    sink: &mut S,
+    on_part: &mut dyn FnMut(&mut S, usize),
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<(), TinError> {
+    // one walker for all parts: the hull (for parts entering from outside
+    // the domain) is found once
+    let mut w = Walker::new(tin, level, sink, interrupt);
+    for (i, part) in parts.iter().enumerate() {
+        on_part(&mut *w.sink, i);
+        if part.is_empty() {
+            continue;
+        }
+        let p0 = part.pt(0)?;
+        w.start_part(p0);
+        let mut moved = false;
+        for k in 0..part.len() - 1 {
+            moved |= part.pt(k)? != part.pt(k + 1)?;
+            w.segment(part, k)?;
+        }
+        w.end_part(p0, moved);
+    }
+    Ok(())
+}
+
+/// The line cut into pieces, one per triangle crossed (plain walk).
+pub fn pieces(tin: &Tin, level: usize, parts: &[Part]) -> Result<Vec<Piece>, TinError> {
+    let mut sink = PieceSink::new(tin, level);
+    walk_parts(
+        tin,
+        level,
+        parts,
+        &mut sink,
+        &mut |s, i| s.part = i,
+        &mut || Ok(()),
+    )?;
+    Ok(sink.pieces)
+}
+
+/// Triangles the line passes through, in travel order (plain walk).
+pub fn triangles(tin: &Tin, level: usize, parts: &[Part]) -> Result<Vec<u32>, TinError> {
+    let mut sink = TriangleSink::default();
+    walk_parts(tin, level, parts, &mut sink, &mut |_, _| {}, &mut || Ok(()))?;
+    Ok(sink.tris)
+}
+
+/// The pieces joined into continuous runs (a run ends where the line leaves
+/// the domain or a part ends): the draped line, with a vertex at every
+/// triangle-edge crossing. Returns (part, points, distance along the part
+/// of each point).
+pub fn runs(pieces: &[Piece]) -> Vec<(usize, Vec<[f64; 3]>, Vec<f64>)> {
+    let mut out: Vec<(usize, Vec<[f64; 3]>, Vec<f64>)> = Vec::new();
+    let mut prev_end: Option<(usize, [f64; 2])> = None;
+    for p in pieces {
+        let Some(first) = p.points.first() else {
+            continue;
+        };
+        let joins = prev_end == Some((p.part, [first[0], first[1]]));
+        match out.last_mut() {
+            Some(run) if joins => {
+                // the crossing point is already there (end of the last piece)
+                run.1.extend_from_slice(&p.points[1..]);
+                run.2.extend_from_slice(&p.along[1..]);
+            }
+            _ => out.push((p.part, p.points.clone(), p.along.clone())),
+        }
+        if let Some(l) = p.points.last() {
+            prev_end = Some((p.part, [l[0], l[1]]));
+        }
+    }
+    out
+}

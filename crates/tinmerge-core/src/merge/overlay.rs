@@ -1,0 +1,618 @@
+//! TIN/TIN overlay (seed 6.2, second problem): one triangulation of the
+//! common domain of two TINs that holds every vertex and every edge of both,
+//! edges cut where they cross, each output triangle labelled with the
+//! triangle of A and of B that contains it.
+//!
+//! The crossings are found by walking every edge of A through B (spade's
+//! [`LineIntersectionIterator`] over B's triangulation, loaded as a CDT whose
+//! constraints are B's own edges, so the walk sees exactly B). Every
+//! decision of the walk is an exact orientation test; a crossing point is
+//! computed once, from the pair of edges, and shared by both edges' lists.
+//! A's vertices are located in B exactly (on a vertex of B: the same output
+//! vertex; on an edge of B: a point of that edge), B's vertices in A.
+//! Every edge of A and of B is then a chain of pieces between consecutive
+//! points along it; all points lie in the closed common domain, which is
+//! convex, so every piece does too. The pieces go into one bulk-loaded
+//! constrained Delaunay triangulation (spade); pieces that rounding of
+//! crossing points made cross again (near-parallel edges) are added
+//! afterwards with spade's splitting insertion, so the result is always a
+//! valid triangulation with strictly positive (exact) orientation.
+//!
+//! Cost: O(N + M + K) for the walks and the lists plus the CDT bulk load
+//! (O(V log V) for V = output vertices), against the naive method
+//! ([`naive`]): every edge of both inserted into one CDT with splitting.
+//!
+//! ```
+//! use tinmerge_core::tin::build::build;
+//! use tinmerge_core::merge::overlay::overlay;
+//! let grid = |dx: f64| {
+//!     let mut pts = Vec::new();
+//!     for i in 0..4 {
+//!         for j in 0..4 {
+//!             pts.push([i as f64 + dx, j as f64, (i * j) as f64]);
+//!         }
+//!     }
+//!     build(pts, &[0.0], 0, &mut || Ok(())).unwrap()
+//! };
+//! let (a, b) = (grid(0.0), grid(0.5));
+//! let o = overlay(&a, 0, &b, 0, &mut || Ok(())).unwrap();
+//! // the common domain is [0.5, 3] x [0, 3]
+//! let area: f64 = (0..o.tris.len()).map(|t| o.area(t)).sum();
+//! assert!((area - 7.5).abs() < 1e-9);
+//! ```
+
+use crate::merge::{faces, Ticker};
+use crate::tin::{interpolate, locate, Tin, TinError, NONE};
+use robust::{orient2d, Coord};
+use spade::handles::FixedVertexHandle;
+use spade::{
+    ConstrainedDelaunayTriangulation, Intersection, LineIntersectionIterator, Point2,
+    PositionInTriangulation, Triangulation,
+};
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// The overlay of two TINs.
+#[derive(Clone, Debug, Default)]
+pub struct Overlay {
+    /// Output vertices (x, y).
+    pub pts: Vec<[f64; 2]>,
+    /// Height of each output vertex on surface A and on surface B.
+    pub za: Vec<f64>,
+    pub zb: Vec<f64>,
+    /// Output triangles, counter-clockwise.
+    pub tris: Vec<[u32; 3]>,
+    /// Triangle of A (at its level) and of B containing each output triangle.
+    pub tri_a: Vec<u32>,
+    pub tri_b: Vec<u32>,
+    /// Proper crossings of an edge of A with an edge of B.
+    pub crossings: usize,
+    /// Pieces that had to be inserted with splitting (rounding of crossing
+    /// points made them cross another piece; constrained-triangulation path
+    /// only).
+    pub resplit: usize,
+    /// Why the face-by-face path ([`crate::merge::faces`]) was not used and
+    /// the constrained triangulation built instead (None: faces path).
+    pub fallback: Option<String>,
+}
+
+impl Overlay {
+    /// Planar area of output triangle `t`.
+    pub fn area(&self, t: usize) -> f64 {
+        let [a, b, c] = self.tris[t].map(|v| self.pts[v as usize]);
+        0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+    }
+
+    /// Corners of output triangle `t` with heights from A (`from_b` false)
+    /// or from B.
+    pub fn corners(&self, t: usize, from_b: bool) -> [[f64; 3]; 3] {
+        self.tris[t].map(|v| {
+            let p = self.pts[v as usize];
+            let z = if from_b {
+                self.zb[v as usize]
+            } else {
+                self.za[v as usize]
+            };
+            [p[0], p[1], z]
+        })
+    }
+}
+
+fn co(p: [f64; 2]) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+fn xy(v: &[f64; 3]) -> [f64; 2] {
+    [v[0], v[1]]
+}
+
+/// The edges of one level, each once: (smaller vertex id, larger).
+fn level_edges(tin: &Tin, level: usize) -> Vec<[u32; 2]> {
+    let lv = &tin.levels[level];
+    let mut e = Vec::with_capacity(lv.tris.len() * 3 / 2 + 8);
+    for (t, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
+        for j in 0..3 {
+            if nb[j] == NONE || (t as u32) < nb[j] {
+                let (u, v) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+                e.push([u.min(v), u.max(v)]);
+            }
+        }
+    }
+    e
+}
+
+/// B's level as a CDT with exactly B's triangles (vertex handle i = B
+/// vertex i). Refused when the level's domain is not convex (the CDT would
+/// fill the concavities).
+fn load(tin: &Tin, level: usize, which: &str) -> Result<Cdt, TinError> {
+    let lv = &tin.levels[level];
+    let nv = lv.num_vertices as usize;
+    let verts: Vec<Point2<f64>> = tin.verts[..nv]
+        .iter()
+        .map(|v| Point2::new(v[0], v[1]))
+        .collect();
+    let edges: Vec<[usize; 2]> = level_edges(tin, level)
+        .iter()
+        .map(|e| [e[0] as usize, e[1] as usize])
+        .collect();
+    if edges.iter().any(|e| e[1] >= nv) {
+        return Err(TinError::Corrupt(format!(
+            "tin {which}: a triangle uses a vertex beyond the level's vertex count"
+        )));
+    }
+    let mut conflicts = 0usize;
+    let cdt = Cdt::try_bulk_load_cdt(verts, edges, |_| conflicts += 1)
+        .map_err(|e| TinError::Corrupt(format!("tin {which}: {e:?}")))?;
+    if conflicts > 0 || cdt.num_vertices() != nv || cdt.num_inner_faces() != lv.tris.len() {
+        return Err(TinError::InvalidParameter(format!(
+            "tin {which} at level {level} is not a triangulation of the convex hull of its vertices \
+             ({} triangles, {} expected); the overlay needs convex domains",
+            lv.tris.len(),
+            cdt.num_inner_faces()
+        )));
+    }
+    Ok(cdt)
+}
+
+/// Crossing point of edge (p, q) of A with edge (u, v) of B, known to cross
+/// properly (all four orientations non-zero). Give the ends of both edges
+/// in a canonical order (by vertex id) so the point does not depend on who
+/// asks.
+pub(crate) fn crossing(p: [f64; 2], q: [f64; 2], u: [f64; 2], v: [f64; 2]) -> [f64; 2] {
+    let op = orient2d(co(u), co(v), co(p));
+    let oq = orient2d(co(u), co(v), co(q));
+    let t = (op / (op - oq)).clamp(0.0, 1.0);
+    [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
+}
+
+/// Output vertices as they are found.
+struct Points {
+    pts: Vec<Point2<f64>>,
+    /// A or B vertex id behind each output vertex (NONE: a crossing).
+    src_a: Vec<u32>,
+    src_b: Vec<u32>,
+}
+
+impl Points {
+    fn push(&mut self, p: [f64; 2], a: u32, b: u32) -> u32 {
+        self.pts.push(Point2::new(p[0], p[1]));
+        self.src_a.push(a);
+        self.src_b.push(b);
+        (self.pts.len() - 1) as u32
+    }
+}
+
+/// Overlay of A at `level_a` and B at `level_b`: face by face
+/// ([`crate::merge::faces`]) when B's domain is convex and rounding never
+/// gets in the way, else the constrained triangulation
+/// ([`overlay_constrained`]); [`Overlay::fallback`] says which.
+///
+/// A panic inside spade (its internal assertions) is reported as an error.
+pub fn overlay(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, TinError> {
+    guarded(interrupt, |check| {
+        overlay_dispatch(a, level_a, b, level_b, check)
+    })
+}
+
+/// The overlay always built as one constrained triangulation (the robust
+/// path; for tests and benchmarks of the two paths).
+pub fn overlay_constrained(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, TinError> {
+    guarded(interrupt, |check| {
+        overlay_cdt(a, level_a, b, level_b, check)
+    })
+}
+
+/// Runs `f`, turning a panic inside spade into an error; a panic raised by
+/// the caller's interrupt check (a cancel, through the host's error
+/// handling) goes on unwinding untouched.
+fn guarded(
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    f: impl FnOnce(&mut dyn FnMut() -> Result<(), TinError>) -> Result<Overlay, TinError>,
+) -> Result<Overlay, TinError> {
+    let in_check = std::cell::Cell::new(false);
+    let mut check = || {
+        in_check.set(true);
+        let r = interrupt();
+        in_check.set(false);
+        r
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&mut check))).map_err(|payload| {
+        if in_check.get() {
+            std::panic::resume_unwind(payload);
+        }
+        TinError::Degenerate(
+            "overlay: the triangulation library failed on these inputs (edges crossing too \
+                 near each other for double precision)"
+                .into(),
+        )
+    })?
+}
+
+/// The face-by-face overlay when B's domain is convex and rounding never
+/// gets in the way (checked exactly); otherwise the constrained
+/// triangulation.
+fn overlay_dispatch(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, TinError> {
+    let (ba, bb) = (&a.bbox, &b.bbox);
+    if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
+        return Ok(Overlay::default()); // disjoint domains
+    }
+    let why = if faces::convex_domain(b, &b.levels[level_b]) {
+        match faces::overlay_faces(a, level_a, b, level_b, interrupt) {
+            Ok(o) => return Ok(o),
+            Err(faces::Refused::Error(e)) => return Err(e),
+            Err(faces::Refused::Rounding(why)) => why,
+        }
+    } else {
+        "b's domain is not convex"
+    };
+    let mut o = overlay_cdt(a, level_a, b, level_b, interrupt)?;
+    o.fallback = Some(why.to_string());
+    Ok(o)
+}
+
+/// The overlay as one constrained Delaunay triangulation of all vertices
+/// and edge pieces (see the module comment).
+fn overlay_cdt(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Overlay, TinError> {
+    let mut tk = Ticker { n: 0, f: interrupt };
+    let (ba, bb) = (&a.bbox, &b.bbox);
+    if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
+        return Ok(Overlay::default()); // disjoint domains
+    }
+    let cdt_b = load(b, level_b, "b")?;
+    let (la, lb) = (&a.levels[level_a], &b.levels[level_b]);
+    let (nva, nvb) = (la.num_vertices as usize, lb.num_vertices as usize);
+    let mut pts = Points {
+        pts: Vec::with_capacity(nva + nvb),
+        src_a: Vec::with_capacity(nva + nvb),
+        src_b: Vec::with_capacity(nva + nvb),
+    };
+    let mut out_a = vec![NONE; nva];
+    let mut out_b = vec![NONE; nvb];
+    // points on each undirected edge of B (besides its ends): output ids
+    let mut on_b: Vec<Vec<u32>> = vec![Vec::new(); cdt_b.num_undirected_edges()];
+
+    // A's vertices located in B
+    for (i, v) in a.verts[..nva].iter().enumerate() {
+        tk.tick()?;
+        let hint = {
+            let t = locate::start_triangle(b, level_b, v[0], v[1]);
+            FixedVertexHandle::from_index(lb.tris.get(t as usize).map_or(0, |tr| tr[0] as usize))
+        };
+        match cdt_b.locate_with_hint(Point2::new(v[0], v[1]), hint) {
+            PositionInTriangulation::OnVertex(h) => {
+                let id = pts.push(xy(v), i as u32, h.index() as u32);
+                out_a[i] = id;
+                out_b[h.index()] = id;
+            }
+            PositionInTriangulation::OnEdge(e) => {
+                let id = pts.push(xy(v), i as u32, NONE);
+                out_a[i] = id;
+                on_b[e.as_undirected().index()].push(id);
+            }
+            PositionInTriangulation::OnFace(_) => {
+                out_a[i] = pts.push(xy(v), i as u32, NONE);
+            }
+            _ => {}
+        }
+    }
+    // B's vertices inside A's domain
+    for (j, v) in b.verts[..nvb].iter().enumerate() {
+        tk.tick()?;
+        if out_b[j] == NONE && locate::locate(a, level_a, v[0], v[1]).is_some() {
+            out_b[j] = pts.push(xy(v), NONE, j as u32);
+        }
+    }
+
+    // every edge of A walked through B
+    let mut pieces: Vec<[usize; 2]> = Vec::new();
+    let mut crossings = 0usize;
+    let mut chain: Vec<u32> = Vec::new();
+    for [i, k] in level_edges(a, level_a) {
+        tk.tick()?;
+        let (p, q) = (xy(&a.verts[i as usize]), xy(&a.verts[k as usize]));
+        chain.clear();
+        if out_a[i as usize] != NONE {
+            chain.push(out_a[i as usize]);
+        }
+        let it =
+            LineIntersectionIterator::new(&cdt_b, Point2::new(p[0], p[1]), Point2::new(q[0], q[1]));
+        for x in it {
+            match x {
+                Intersection::VertexIntersection(h) => {
+                    let id = out_b[h.fix().index()];
+                    if id == NONE {
+                        return Err(TinError::Corrupt(
+                            "overlay: an edge of a meets a vertex of b outside a's domain".into(),
+                        ));
+                    }
+                    chain.push(id);
+                }
+                Intersection::EdgeIntersection(e) => {
+                    let (hu, hv) = (e.from(), e.to());
+                    let (u, v) = (hu.position(), hv.position());
+                    let (u, v) = ([u.x, u.y], [v.x, v.y]);
+                    let (op, oq) = (orient2d(co(u), co(v), co(p)), orient2d(co(u), co(v), co(q)));
+                    if op == 0.0 || oq == 0.0 {
+                        // an end of the edge of A on this edge of B: that
+                        // end is in the chain already (located OnEdge)
+                        continue;
+                    }
+                    // a proper crossing (ends of the edge of B are reported
+                    // as vertex intersections)
+                    let (s, t) = if i < k { (p, q) } else { (q, p) };
+                    let (s2, t2) = if hu.fix().index() < hv.fix().index() {
+                        (u, v)
+                    } else {
+                        (v, u)
+                    };
+                    let id = pts.push(crossing(s, t, s2, t2), NONE, NONE);
+                    crossings += 1;
+                    on_b[e.as_undirected().index()].push(id);
+                    chain.push(id);
+                }
+                Intersection::EdgeOverlap(_) => {}
+            }
+        }
+        if out_a[k as usize] != NONE {
+            chain.push(out_a[k as usize]);
+        }
+        chain.dedup();
+        for w in chain.windows(2) {
+            pieces.push([w[0] as usize, w[1] as usize]);
+        }
+    }
+
+    // every edge of B: its ends inside A's domain and the points found on it,
+    // in order along it
+    let mut along: Vec<(f64, u32)> = Vec::new();
+    for e in cdt_b.undirected_edges() {
+        tk.tick()?;
+        let [hu, hv] = e.vertices();
+        let (iu, iv) = (hu.fix().index(), hv.fix().index());
+        let (u, v) = (hu.position(), hv.position());
+        let d = [v.x - u.x, v.y - u.y];
+        along.clear();
+        let pt = |id: u32| pts.pts[id as usize];
+        let param = |p: Point2<f64>| (p.x - u.x) * d[0] + (p.y - u.y) * d[1];
+        if out_b[iu] != NONE {
+            along.push((f64::NEG_INFINITY, out_b[iu]));
+        }
+        for &id in &on_b[e.index()] {
+            along.push((param(pt(id)), id));
+        }
+        if out_b[iv] != NONE {
+            along.push((f64::INFINITY, out_b[iv]));
+        }
+        along.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for w in along.windows(2) {
+            if w[0].1 != w[1].1 {
+                pieces.push([w[0].1 as usize, w[1].1 as usize]);
+            }
+        }
+    }
+    for p in pieces.iter_mut() {
+        if p[0] > p[1] {
+            p.swap(0, 1);
+        }
+    }
+    pieces.sort_unstable();
+    pieces.dedup();
+
+    // one constrained triangulation of all points and pieces
+    let Points { pts, src_a, src_b } = pts;
+    let n_in = pts.len();
+    let mut conflicts: Vec<[usize; 2]> = Vec::new();
+    let mut cdt = Cdt::try_bulk_load_cdt(pts.clone(), pieces, |e| conflicts.push(e))
+        .map_err(|e| TinError::Degenerate(format!("overlay: {e:?}")))?;
+    if cdt.num_vertices() != n_in {
+        return Err(TinError::Degenerate(
+            "overlay: two output points coincide (a crossing rounded onto a vertex)".into(),
+        ));
+    }
+    let resplit = conflicts.len();
+    for [u, v] in conflicts {
+        tk.tick()?;
+        cdt.add_constraint_and_split(
+            FixedVertexHandle::from_index(u),
+            FixedVertexHandle::from_index(v),
+            |p| p,
+        );
+    }
+
+    let mut o = Overlay {
+        pts: cdt
+            .vertices()
+            .map(|v| [v.position().x, v.position().y])
+            .collect(),
+        crossings,
+        resplit,
+        ..Overlay::default()
+    };
+    let nv = o.pts.len();
+    o.za = vec![f64::NAN; nv];
+    o.zb = vec![f64::NAN; nv];
+    for (id, (&sa, &sb)) in src_a.iter().zip(&src_b).enumerate() {
+        if sa != NONE {
+            o.za[id] = a.verts[sa as usize][2];
+        }
+        if sb != NONE {
+            o.zb[id] = b.verts[sb as usize][2];
+        }
+    }
+    o.tris.reserve(cdt.num_inner_faces());
+    for f in cdt.inner_faces() {
+        tk.tick()?;
+        let vs = f.vertices().map(|v| v.fix().index() as u32);
+        let c = vs.map(|v| o.pts[v as usize]);
+        let (cx, cy) = (
+            (c[0][0] + c[1][0] + c[2][0]) / 3.0,
+            (c[0][1] + c[1][1] + c[2][1]) / 3.0,
+        );
+        let ta = owner(a, level_a, cx, cy, &c)?;
+        let tb = owner(b, level_b, cx, cy, &c)?;
+        let (ca, cb) = (a.corners(level_a, ta), b.corners(level_b, tb));
+        for (k, &v) in vs.iter().enumerate() {
+            let v = v as usize;
+            if o.za[v].is_nan() {
+                o.za[v] = interpolate(&ca, c[k][0], c[k][1]);
+            }
+            if o.zb[v].is_nan() {
+                o.zb[v] = interpolate(&cb, c[k][0], c[k][1]);
+            }
+        }
+        o.tris.push(vs);
+        o.tri_a.push(ta);
+        o.tri_b.push(tb);
+    }
+    Ok(o)
+}
+
+/// The triangle of `tin` holding an output triangle (its centroid; for a
+/// sliver whose rounded centroid falls just outside the domain, the hull
+/// triangle the walk ends in).
+fn owner(tin: &Tin, level: usize, x: f64, y: f64, c: &[[f64; 2]; 3]) -> Result<u32, TinError> {
+    if let Some(t) = locate::locate(tin, level, x, y) {
+        return Ok(t);
+    }
+    for p in c {
+        if let Some(t) = locate::locate(tin, level, p[0], p[1]) {
+            return Ok(t);
+        }
+    }
+    let s = locate::start_triangle(tin, level, x, y);
+    match locate::walk(tin, level, s, x, y) {
+        locate::Walk::Inside(t) | locate::Walk::Outside(t) => Ok(t),
+    }
+}
+
+/// The naive method, for comparison: all vertices of both levels in one
+/// CDT, then every edge of A and of B inserted with splitting where it
+/// crosses. Returns (vertices, triangles) of the triangulation of the union
+/// of the convex hulls.
+pub fn naive(a: &Tin, level_a: usize, b: &Tin, level_b: usize) -> Result<(usize, usize), TinError> {
+    std::panic::catch_unwind(|| naive_inner(a, level_a, b, level_b)).map_err(|_| {
+        TinError::Degenerate("naive overlay: spade failed (one of its assertions)".into())
+    })?
+}
+
+fn naive_inner(
+    a: &Tin,
+    level_a: usize,
+    b: &Tin,
+    level_b: usize,
+) -> Result<(usize, usize), TinError> {
+    let (nva, nvb) = (
+        a.levels[level_a].num_vertices as usize,
+        b.levels[level_b].num_vertices as usize,
+    );
+    let verts: Vec<Point2<f64>> = a.verts[..nva]
+        .iter()
+        .chain(&b.verts[..nvb])
+        .map(|v| Point2::new(v[0], v[1]))
+        .collect();
+    let mut cdt =
+        Cdt::bulk_load(verts).map_err(|e| TinError::Degenerate(format!("overlay: {e:?}")))?;
+    let handle =
+        |cdt: &Cdt, v: &[f64; 3]| cdt.locate_vertex(Point2::new(v[0], v[1])).map(|h| h.fix());
+    for (tin, level) in [(a, level_a), (b, level_b)] {
+        for [u, v] in level_edges(tin, level) {
+            let (hu, hv) = (
+                handle(&cdt, &tin.verts[u as usize]),
+                handle(&cdt, &tin.verts[v as usize]),
+            );
+            if let (Some(hu), Some(hv)) = (hu, hv) {
+                cdt.add_constraint_and_split(hu, hv, |p| p);
+            }
+        }
+    }
+    Ok((cdt.num_vertices(), cdt.num_inner_faces()))
+}
+
+/// Cut and fill between surfaces A and B over the overlay: (volume where A
+/// is above B, volume where A is below B, planar area where they differ).
+/// Exact for the piecewise linear surfaces: within an output triangle both
+/// are linear, and the triangle is split at the zero line of A - B.
+pub fn difference(o: &Overlay) -> (f64, f64, f64) {
+    let (mut cut, mut fill, mut changed) = (0.0, 0.0, 0.0);
+    for t in 0..o.tris.len() {
+        let area = o.area(t);
+        let d = o.tris[t].map(|v| o.za[v as usize] - o.zb[v as usize]);
+        if d.iter().all(|&x| x == 0.0) {
+            continue;
+        }
+        changed += area;
+        let pos = positive_part(area, d);
+        let neg = positive_part(area, d.map(|x| -x));
+        cut += pos;
+        fill += neg;
+    }
+    (cut, fill, changed)
+}
+
+/// Integral over a triangle of area `area` of max(f, 0) for the linear f
+/// with corner values `d`.
+fn positive_part(area: f64, d: [f64; 3]) -> f64 {
+    let total = area * (d[0] + d[1] + d[2]) / 3.0;
+    let pos: Vec<f64> = d.iter().copied().filter(|&x| x > 0.0).collect();
+    let non: Vec<f64> = d.iter().copied().filter(|&x| x <= 0.0).collect();
+    match (pos.as_slice(), non.as_slice()) {
+        ([], _) => 0.0,
+        (_, []) => total,
+        // one corner above: a corner triangle, scaled by t1 * t2, mean d0 / 3
+        ([p], [n1, n2]) => area * p * p * p / (3.0 * (p - n1) * (p - n2)),
+        // two corners above: everything minus the negative corner triangle
+        ([p1, p2], [n]) => total + area * (-n) * (-n) * (-n) / (3.0 * (p1 - n) * (p2 - n)),
+        _ => 0.0,
+    }
+}
+
+/// Least heap an overlay of `tris_a` and `tris_b` triangles needs: the
+/// output has at least one triangle per input triangle met, each with its
+/// vertices, labels and heights. Crossing edges make it larger; that part is
+/// bounded while the overlay runs, not here.
+pub fn overlay_bytes(tris_a: usize, tris_b: usize) -> usize {
+    tris_a.saturating_add(tris_b).saturating_mul(96)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn positive_part_of_linear_functions() {
+        // f = x on the triangle (0,0), (1,0), (0,1): integral of max(x - 0.5, 0)
+        // = integral over x in [0.5, 1] of (x - 0.5)(1 - x) dx = 1/48
+        let v = positive_part(0.5, [-0.5, 0.5, -0.5]);
+        assert!((v - 1.0 / 48.0).abs() < 1e-15, "{v}");
+        // and the other side: integral of max(0.5 - x, 0) = 1/48 + 1/4 - 1/6 ... = total + pos
+        let total = 0.5 * (-0.5 + 0.5 - 0.5) / 3.0;
+        let n = positive_part(0.5, [0.5, -0.5, 0.5]);
+        assert!((n - (v - total)).abs() < 1e-15);
+        assert_eq!(positive_part(2.0, [1.0, 1.0, 1.0]), 2.0);
+        assert_eq!(positive_part(2.0, [-1.0, 0.0, -1.0]), 0.0);
+    }
+}

@@ -1,0 +1,921 @@
+//! Raster merge (seed 6.2, first problem): the pixels of a raster handed to
+//! the triangles of one level by a scanline sweep.
+//!
+//! A horizontal line steps down the raster one row of pixel centres at a
+//! time. Its cut is the set of triangles it crosses: a triangle enters the
+//! cut at the first row at or below its top vertex and leaves after the last
+//! row at or above its bottom vertex (the events, bucketed by row once:
+//! O(N + rows)). In each row every triangle of the cut receives the run of
+//! pixel centres it owns, found from where the row meets its edges and
+//! settled at the two ends with exact predicates. No pixel is located on its
+//! own: the work is O(M + N + rows x cut) for M pixels and N triangles.
+//!
+//! **Which triangle owns a centre.** A centre strictly inside a triangle
+//! belongs to it. A centre on an edge or a vertex belongs to the triangle
+//! that holds the point moved by an infinitesimal step east and a far
+//! smaller step north (simulation of simplicity with the direction
+//! (1, ε)): on a shared edge the triangle east of it (north of an east-west
+//! edge), on a vertex the triangle just east-north-east of it. Exactly one
+//! triangle owns each centre inside the domain, decided by `orient2d` and
+//! coordinate comparisons only. On the domain's outer boundary, where the
+//! moved point falls outside, the centre goes to the triangle of the hull
+//! edge it lies on (of the hull edge starting at it, for a hull vertex), so
+//! every centre in the closed domain is counted exactly once.
+//!
+//! ```
+//! use tinmerge_core::io::raster::GeoTransform;
+//! use tinmerge_core::merge::raster::{sweep, PixelGrid};
+//! use tinmerge_core::tin::build::build;
+//! // two triangles over the square (0,0)-(4,4), split along the diagonal
+//! let pts = vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]];
+//! let tin = build(pts, &[0.0], 0, &mut || Ok(())).unwrap();
+//! // a 4 x 4 raster of 1 x 1 pixels, north up
+//! let gt = GeoTransform { scale_x: 1.0, scale_y: -1.0, ip_x: 0.0, ip_y: 4.0, skew_x: 0.0, skew_y: 0.0 };
+//! let grid = PixelGrid::new(&gt, 4, 4).unwrap();
+//! let mut per_tri = vec![0; 2];
+//! sweep(&tin, 0, &grid, false, &mut || Ok(()), &mut |t, _row, c0, c1| per_tri[t as usize] += c1 - c0).unwrap();
+//! // 16 centres: 6 strictly on each side of the diagonal, 4 on it (to the east)
+//! assert_eq!(per_tri.iter().sum::<usize>(), 16);
+//! assert!(per_tri.contains(&6) && per_tri.contains(&10));
+//! ```
+
+use crate::io::raster::GeoTransform;
+use crate::merge::coverage::{check_grid, coverage_of};
+use crate::merge::Ticker;
+use crate::tin::{Tin, TinError, NONE};
+use robust::{orient2d, Coord};
+
+/// The pixel centres of a north-up (unrotated) raster: `xs[col]`, `ys[row]`,
+/// computed exactly as [`GeoTransform::centre`] does.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PixelGrid {
+    pub width: usize,
+    pub height: usize,
+    pub xs: Axis,
+    pub ys: Axis,
+}
+
+/// Monotone coordinates of pixel centres along one axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    pub v: Vec<f64>,
+    step: f64,
+    increasing: bool,
+}
+
+impl Axis {
+    fn new(v: Vec<f64>, step: f64) -> Axis {
+        Axis {
+            v,
+            step,
+            increasing: step > 0.0,
+        }
+    }
+
+    /// Number of leading indices for which `pred` holds (a prefix, as the
+    /// axis is monotone), starting from an estimate near `x`.
+    #[inline]
+    fn prefix(&self, x: f64, pred: impl Fn(f64) -> bool) -> usize {
+        let n = self.v.len();
+        let e = (x - self.v.first().copied().unwrap_or(0.0)) / self.step;
+        let mut k = if e.is_nan() || e <= 0.0 {
+            0
+        } else if e >= n as f64 {
+            n
+        } else {
+            e as usize
+        };
+        while k > 0 && !pred(self.v[k - 1]) {
+            k -= 1;
+        }
+        while k < n && pred(self.v[k]) {
+            k += 1;
+        }
+        k
+    }
+
+    /// Indices `i0..i1` of the centres with `lo <= v[i] <= hi` (empty when
+    /// `i1 <= i0`).
+    #[inline]
+    pub fn range(&self, lo: f64, hi: f64) -> (usize, usize) {
+        if self.increasing {
+            (self.prefix(lo, |v| v < lo), self.prefix(hi, |v| v <= hi))
+        } else {
+            (self.prefix(hi, |v| v > hi), self.prefix(lo, |v| v >= lo))
+        }
+    }
+}
+
+impl PixelGrid {
+    /// The centres of a `width` x `height` raster; rotated or skewed rasters
+    /// are refused.
+    pub fn new(gt: &GeoTransform, width: usize, height: usize) -> Result<PixelGrid, TinError> {
+        check_grid(gt)?;
+        let xs = (0..width).map(|c| gt.centre(c, 0).0).collect();
+        let ys = (0..height).map(|r| gt.centre(0, r).1).collect();
+        Ok(PixelGrid {
+            width,
+            height,
+            xs: Axis::new(xs, gt.scale_x),
+            ys: Axis::new(ys, gt.scale_y),
+        })
+    }
+}
+
+#[inline]
+fn c(p: [f64; 2]) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+/// Whether the point on the line u -> v, moved by (ε, ε²), is left of it.
+#[inline]
+fn tie_left(u: [f64; 2], v: [f64; 2]) -> bool {
+    if v[1] != u[1] {
+        v[1] < u[1]
+    } else {
+        v[0] > u[0]
+    }
+}
+
+/// Whether the counter-clockwise triangle owns the point (the rule in the
+/// module documentation, without the hull case).
+#[inline]
+pub fn owns(t: &[[f64; 2]; 3], p: [f64; 2]) -> bool {
+    for j in 0..3 {
+        let (u, v) = (t[j], t[(j + 1) % 3]);
+        let o = orient2d(c(u), c(v), c(p));
+        if o < 0.0 || (o == 0.0 && !tie_left(u, v)) {
+            return false;
+        }
+    }
+    true
+}
+
+fn xy(v: &[f64; 3]) -> [f64; 2] {
+    [v[0], v[1]]
+}
+
+/// A triangle in the sweep's cut, with what each row needs precomputed:
+/// the inverse slope `dx/dy` of each edge and the parts of the rounding
+/// bound of `x = a.x + (y - a.y) * dx/dy` that do not depend on `y`.
+struct CutTri {
+    t: u32,
+    /// first row after the triangle
+    end_row: u32,
+    cs: [[f64; 2]; 3],
+    k: [f64; 3],
+    e: [f64; 3],
+}
+
+impl CutTri {
+    fn new(t: u32, end_row: u32, cs: [[f64; 2]; 3]) -> CutTri {
+        let (mut k, mut e) = ([0.0; 3], [0.0; 3]);
+        for j in 0..3 {
+            let (a, b) = (cs[j], cs[(j + 1) % 3]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            if dy != 0.0 {
+                k[j] = dx / dy;
+                e[j] = a[1].abs() * k[j].abs() + a[0].abs() + dx.abs();
+            }
+        }
+        CutTri {
+            t,
+            end_row,
+            cs,
+            k,
+            e,
+        }
+    }
+
+    /// The x-interval where the row `y` meets the closed triangle, rounded,
+    /// with a bound on the rounding error of its ends (a few ulps of each
+    /// operand, the slope amplifying those of y; exact tests settle the
+    /// centres within that bound).
+    #[inline]
+    fn row_interval(&self, y: f64) -> (f64, f64, f64) {
+        let (mut lo, mut hi, mut err) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+        for j in 0..3 {
+            let (a, b) = (self.cs[j], self.cs[(j + 1) % 3]);
+            if (a[1] <= y && y <= b[1]) || (b[1] <= y && y <= a[1]) {
+                if a[1] == b[1] {
+                    lo = lo.min(a[0].min(b[0]));
+                    hi = hi.max(a[0].max(b[0]));
+                } else {
+                    let x = (a[0] + (y - a[1]) * self.k[j]).clamp(a[0].min(b[0]), a[0].max(b[0]));
+                    err = err.max(y.abs() * self.k[j].abs() + self.e[j]);
+                    lo = lo.min(x);
+                    hi = hi.max(x);
+                }
+            }
+        }
+        (lo, hi, err * (16.0 * f64::EPSILON))
+    }
+}
+
+/// Centres on the domain's outer boundary that no triangle owns by the
+/// perturbation rule, with the triangle they go to: `(row, col, tri)`.
+fn hull_extras(tin: &Tin, level: usize, g: &PixelGrid) -> Result<Vec<(u32, u32, u32)>, TinError> {
+    let lv = &tin.levels[level];
+    let nv = lv.num_vertices as usize;
+    let bad = || TinError::Corrupt("raster sweep: vertex id".into());
+    // previous hull vertex of each hull vertex (the domain is on the left
+    // of its counter-clockwise hull edges)
+    let mut prev = vec![NONE; nv];
+    let mut hull = Vec::new();
+    for (t, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
+        for j in 0..3 {
+            if nb[j] == NONE {
+                let (u, v) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+                *prev.get_mut(v as usize).ok_or_else(bad)? = u;
+                hull.push((t as u32, u, v));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let vert = |i: u32| -> Result<[f64; 2], TinError> {
+        tin.verts.get(i as usize).map(xy).ok_or_else(bad)
+    };
+    for &(t, ui, vi) in &hull {
+        let (u, v) = (vert(ui)?, vert(vi)?);
+        // the hull vertex u, if it is a centre
+        let (c0, c1) = g.xs.range(u[0], u[0]);
+        let (r0, r1) = g.ys.range(u[1], u[1]);
+        if c0 < c1 && r0 < r1 {
+            let w = vert(*prev.get(ui as usize).ok_or_else(bad)?)?;
+            let inside = if orient2d(c(w), c(u), c(v)) >= 0.0 {
+                tie_left(w, u) && tie_left(u, v)
+            } else {
+                tie_left(w, u) || tie_left(u, v)
+            };
+            if !inside {
+                for r in r0..r1 {
+                    for col in c0..c1 {
+                        out.push((r as u32, col as u32, t));
+                    }
+                }
+            }
+        }
+        // centres strictly inside the edge, when the moved point is outside
+        if tie_left(u, v) {
+            continue;
+        }
+        let (ylo, yhi) = (u[1].min(v[1]), u[1].max(v[1]));
+        let (r0, r1) = g.ys.range(ylo, yhi);
+        for r in r0..r1 {
+            let y = g.ys.v[r];
+            let (xlo, xhi) = if u[1] == v[1] {
+                (u[0].min(v[0]), u[0].max(v[0]))
+            } else {
+                if y == ylo || y == yhi {
+                    continue;
+                }
+                let x = u[0] + (y - u[1]) / (v[1] - u[1]) * (v[0] - u[0]);
+                (x, x)
+            };
+            let (c0, c1) = g.xs.range(xlo, xhi);
+            for col in c0.saturating_sub(1)..(c1 + 1).min(g.width) {
+                let p = [g.xs.v[col], y];
+                if p == u || p == v {
+                    continue;
+                }
+                let within = p[0] >= u[0].min(v[0]) && p[0] <= u[0].max(v[0]);
+                if within && orient2d(c(u), c(v), c(p)) == 0.0 {
+                    out.push((r as u32, col as u32, t));
+                }
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
+}
+
+/// The sweep: calls `on_span(triangle, row, c0, c1)` for every run of
+/// pixel centres `c0..c1` of `row` owned by a triangle of `level`, row by
+/// row from the first raster row. With `ordered`, the runs of a row come
+/// left to right in column order (else in cut order). Every centre in the
+/// closed domain is handed to exactly one triangle; centres outside are not
+/// handed at all.
+pub fn sweep(
+    tin: &Tin,
+    level: usize,
+    g: &PixelGrid,
+    ordered: bool,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    on_span: &mut dyn FnMut(u32, usize, usize, usize),
+) -> Result<(), TinError> {
+    let mut tk = Ticker { n: 0, f: interrupt };
+    let ev = Events::new(tin, level, g, &mut tk)?;
+    ev.run(0..g.height, ordered, &mut tk, on_span)
+}
+
+/// Pixels per band of rows in [`sweep_par`] (a band is a few milliseconds
+/// of work).
+const BAND_PIXELS: usize = 1 << 18;
+
+/// [`sweep`] (unordered) on `tin::par`'s threads: the rows are cut into
+/// bands, each band is swept on its own (its starting cut rebuilt from the
+/// events, in the order the whole sweep would have it) and `span` maps each
+/// run to a value there; `consume` then gets the values on this thread in
+/// exactly the order [`sweep`] hands the runs, whatever the thread count.
+/// Interrupts are checked between batches of bands.
+pub fn sweep_par<S: Send>(
+    tin: &Tin,
+    level: usize,
+    g: &PixelGrid,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    span: &(dyn Fn(u32, usize, usize, usize) -> S + Sync),
+    consume: &mut dyn FnMut(S),
+) -> Result<(), TinError> {
+    let mut tk = Ticker { n: 0, f: interrupt };
+    let ev = Events::new(tin, level, g, &mut tk)?;
+    if crate::tin::par::threads() <= 1 {
+        return ev.run(0..g.height, false, &mut tk, &mut |t, r, c0, c1| {
+            consume(span(t, r, c0, c1))
+        });
+    }
+    let rows = (BAND_PIXELS / g.width.max(1)).max(1);
+    let bands: Vec<std::ops::Range<usize>> = (0..g.height)
+        .step_by(rows)
+        .map(|r| r..(r + rows).min(g.height))
+        .collect();
+    crate::tin::par::map_batched(
+        &bands,
+        |b| {
+            let mut out = Vec::new();
+            let mut none = || Ok(());
+            let mut quiet = Ticker { n: 0, f: &mut none };
+            ev.run(b.clone(), false, &mut quiet, &mut |t, r, c0, c1| {
+                out.push(span(t, r, c0, c1))
+            })
+            .map(|()| out)
+        },
+        &mut *tk.f,
+        &mut |band| {
+            for v in band? {
+                consume(v);
+            }
+            Ok(())
+        },
+    )
+}
+
+/// What the sweep needs before its first row: triangles bucketed by their
+/// first row, and the extra centres on the domain's boundary.
+struct Events<'a> {
+    tin: &'a Tin,
+    level: usize,
+    g: &'a PixelGrid,
+    /// `bucket[start[r]..start[r + 1]]`: (triangle, first row after it) of
+    /// the triangles whose first row is `r`
+    start: Vec<u32>,
+    bucket: Vec<(u32, u32)>,
+    extras: Vec<(u32, u32, u32)>,
+}
+
+impl<'a> Events<'a> {
+    fn new(
+        tin: &'a Tin,
+        level: usize,
+        g: &'a PixelGrid,
+        tk: &mut Ticker,
+    ) -> Result<Events<'a>, TinError> {
+        let lv = tin
+            .levels
+            .get(level)
+            .ok_or_else(|| TinError::Corrupt("raster sweep: level".into()))?;
+        let h = g.height;
+        // events: triangles bucketed by their first row (counting sort)
+        let mut first = vec![0u32; h + 1];
+        let mut span_of = Vec::with_capacity(lv.tris.len());
+        for t in 0..lv.tris.len() as u32 {
+            tk.tick()?;
+            let cs = tin.corners(level, t);
+            let ylo = cs[0][1].min(cs[1][1]).min(cs[2][1]);
+            let yhi = cs[0][1].max(cs[1][1]).max(cs[2][1]);
+            let (r0, r1) = g.ys.range(ylo, yhi);
+            if r0 < r1 {
+                first[r0] += 1;
+                span_of.push((t, r0 as u32, r1 as u32));
+            }
+        }
+        let mut start = vec![0u32; h + 1];
+        let mut acc = 0u32;
+        for r in 0..h {
+            start[r] = acc;
+            acc += first[r];
+        }
+        start[h] = acc;
+        let mut fill = start.clone();
+        let mut bucket = vec![(0u32, 0u32); span_of.len()];
+        for &(t, r0, r1) in &span_of {
+            let k = &mut fill[r0 as usize];
+            bucket[*k as usize] = (t, r1);
+            *k += 1;
+        }
+        drop(span_of);
+        let extras = hull_extras(tin, level, g)?;
+        Ok(Events {
+            tin,
+            level,
+            g,
+            start,
+            bucket,
+            extras,
+        })
+    }
+
+    /// Sweep the rows `rows` (see [`sweep`]).
+    fn run(
+        &self,
+        rows: std::ops::Range<usize>,
+        ordered: bool,
+        tk: &mut Ticker,
+        on_span: &mut dyn FnMut(u32, usize, usize, usize),
+    ) -> Result<(), TinError> {
+        let (tin, level, g) = (self.tin, self.level, self.g);
+        let (start, bucket, extras) = (&self.start, &self.bucket, &self.extras);
+        // the cut: triangle, end row, corners; at the first row of the band
+        // it holds the triangles begun above that are still open, in the
+        // order a sweep from row 0 would have them
+        let mut cut: Vec<CutTri> = Vec::new();
+        for r in 0..rows.start {
+            for &(t, r1) in &bucket[start[r] as usize..start[r + 1] as usize] {
+                if r1 as usize > rows.start {
+                    cut.push(CutTri::new(t, r1, tin.corners(level, t).map(|v| xy(&v))));
+                }
+            }
+        }
+        let mut ex = extras.partition_point(|e| (e.0 as usize) < rows.start);
+        let mut row_spans: Vec<(usize, usize, u32)> = Vec::new();
+        let (xs, w) = (&g.xs.v[..], g.width);
+        let (x0, sx) = (xs.first().copied().unwrap_or(0.0), g.xs.step);
+        let inv_sx = 1.0 / sx;
+        for r in rows {
+            for &(t, r1) in &bucket[start[r] as usize..start[r + 1] as usize] {
+                cut.push(CutTri::new(t, r1, tin.corners(level, t).map(|v| xy(&v))));
+            }
+            let y = g.ys.v[r];
+            row_spans.clear();
+            for ct in &cut {
+                tk.tick()?;
+                let (t, cs) = (&ct.t, &ct.cs);
+                let (xl, xr, err) = ct.row_interval(y);
+                if xl > xr {
+                    continue;
+                }
+                // candidate columns from the index-space interval, with slack
+                // for rounding; a candidate is decided by comparing its centre
+                // with the rounded ends, and only within the error bound (or on
+                // a row through a vertex, where the row may run along an edge)
+                // by the exact rule
+                let (ul, ur) = if sx > 0.0 {
+                    ((xl - x0) * inv_sx, (xr - x0) * inv_sx)
+                } else {
+                    ((xr - x0) * inv_sx, (xl - x0) * inv_sx)
+                };
+                let d = err * inv_sx.abs() + 1e-9 * (1.0 + ul.abs().max(ur.abs()));
+                let a0 = ((ul - d).floor() as isize).clamp(0, w as isize) as usize;
+                let a1 =
+                    (((ur + d).ceil() as isize).saturating_add(1)).clamp(0, w as isize) as usize;
+                let on_vertex_row = cs.iter().any(|p| p[1] == y);
+                let own = |i: usize| {
+                    let x = xs[i];
+                    if x < xl - err || x > xr + err {
+                        false
+                    } else if !on_vertex_row && x > xl + err && x < xr - err {
+                        true
+                    } else {
+                        owns(cs, [x, y])
+                    }
+                };
+                let Some(lo) = (a0..a1).find(|&i| own(i)) else {
+                    continue;
+                };
+                let end = (lo..a1).rev().find(|&i| own(i)).map_or(lo + 1, |i| i + 1);
+                if ordered {
+                    row_spans.push((lo, end, *t));
+                } else {
+                    on_span(*t, r, lo, end);
+                }
+            }
+            while ex < extras.len() && extras[ex].0 as usize == r {
+                let (_, col, t) = extras[ex];
+                if ordered {
+                    row_spans.push((col as usize, col as usize + 1, t));
+                } else {
+                    on_span(t, r, col as usize, col as usize + 1);
+                }
+                ex += 1;
+            }
+            if ordered {
+                row_spans.sort_unstable();
+                for &(c0, c1, t) in &row_spans {
+                    on_span(t, r, c0, c1);
+                }
+            }
+            cut.retain(|ct| ct.end_row as usize > r + 1);
+        }
+        Ok(())
+    }
+}
+
+/// Statistics of the valid pixels handed to one triangle (or, weighted,
+/// of the valid pixels it overlaps, each counting by its coverage).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ZoneStats {
+    pub triangle: u32,
+    /// Pixels handed over (weighted: pixels overlapped).
+    pub count: u64,
+    /// Sum of the pixels' weights: `count` unweighted, the pixel area of
+    /// the triangle's valid cover when weighted.
+    pub weight: f64,
+    /// Sum of values (weighted: of value times coverage).
+    pub sum: f64,
+    pub min: f64,
+    pub max: f64,
+    /// Most frequent value, smallest on ties (when asked for).
+    pub mode: Option<f64>,
+}
+
+impl ZoneStats {
+    pub fn mean(&self) -> f64 {
+        self.sum / self.weight
+    }
+
+    fn empty(triangle: u32) -> ZoneStats {
+        ZoneStats {
+            triangle,
+            count: 0,
+            weight: 0.0,
+            sum: 0.0,
+            min: f64::INFINITY,
+            max: f64::NEG_INFINITY,
+            mode: None,
+        }
+    }
+}
+
+/// Whether a value counts: not NaN, not the nodata value.
+#[inline]
+pub fn is_data(v: f64, nodata: Option<f64>) -> bool {
+    !v.is_nan() && Some(v) != nodata
+}
+
+/// Per-triangle statistics of a band (`values` row-major, `width x
+/// height` of `g`; NaN and `nodata` values are skipped). Triangles
+/// receiving no valid pixel are left out; rows in triangle order.
+pub fn zonal_stats(
+    tin: &Tin,
+    level: usize,
+    g: &PixelGrid,
+    values: &[f64],
+    nodata: Option<f64>,
+    want_mode: bool,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Vec<ZoneStats>, TinError> {
+    if values.len() != g.width * g.height {
+        return Err(TinError::InvalidParameter(format!(
+            "raster band has {} values for {} x {} pixels",
+            values.len(),
+            g.width,
+            g.height
+        )));
+    }
+    let n = tin.levels.get(level).map_or(0, |l| l.tris.len());
+    let mut st: Vec<ZoneStats> = (0..n as u32).map(ZoneStats::empty).collect();
+    let mut spans: Vec<(u32, u32, u32, u32)> = Vec::new();
+    let w = g.width;
+    let nd = nodata.unwrap_or(f64::NAN);
+    // each run's count, sum, min and max (on the sweep's threads), added
+    // to its triangle in the sweep's order
+    let per_span = |t: u32, r: usize, c0: usize, c1: usize| {
+        let (mut n, mut sum, mut lo, mut hi) = (0u64, 0.0, f64::INFINITY, f64::NEG_INFINITY);
+        for &v in &values[r * w + c0..r * w + c1] {
+            if !v.is_nan() && v != nd {
+                n += 1;
+                sum += v;
+                lo = if v < lo { v } else { lo };
+                hi = if v > hi { v } else { hi };
+            }
+        }
+        (t, r as u32, c0 as u32, c1 as u32, n, sum, lo, hi)
+    };
+    sweep_par(tin, level, g, interrupt, &per_span, &mut |(
+        t,
+        r,
+        c0,
+        c1,
+        n,
+        sum,
+        lo,
+        hi,
+    )| {
+        let z = &mut st[t as usize];
+        z.count += n;
+        z.sum += sum;
+        z.min = z.min.min(lo);
+        z.max = z.max.max(hi);
+        if want_mode {
+            spans.push((t, r, c0, c1));
+        }
+    })?;
+    if want_mode {
+        // spans grouped by triangle: a stable counting sort (rows stay in
+        // order within a triangle), linear and checked between passes
+        interrupt()?;
+        let mut start = vec![0u32; n + 1];
+        for sp in &spans {
+            start[sp.0 as usize + 1] += 1;
+        }
+        for t in 0..n {
+            start[t + 1] += start[t];
+        }
+        interrupt()?;
+        let mut grouped = vec![(0u32, 0u32, 0u32, 0u32); spans.len()];
+        let mut fill = start.clone();
+        for sp in &spans {
+            let at = &mut fill[sp.0 as usize];
+            grouped[*at as usize] = *sp;
+            *at += 1;
+        }
+        drop(spans);
+        // work items: runs of triangles holding about MODE_PIXELS pixels
+        const MODE_PIXELS: u64 = 1 << 16;
+        let mut items: Vec<(usize, usize)> = Vec::new();
+        let (mut t0, mut px) = (0usize, 0u64);
+        for (t, z) in st.iter().enumerate() {
+            px += z.count;
+            if px >= MODE_PIXELS || t + 1 == n {
+                items.push((t0, t + 1));
+                t0 = t + 1;
+                px = 0;
+            }
+        }
+        let modes = |&(ta, tb): &(usize, usize)| {
+            let mut buf: Vec<f64> = Vec::new();
+            let mut out = Vec::with_capacity(tb - ta);
+            for t in ta..tb {
+                buf.clear();
+                for &(_, r, c0, c1) in &grouped[start[t] as usize..start[t + 1] as usize] {
+                    let base = r as usize * w;
+                    buf.extend(
+                        values[base + c0 as usize..base + c1 as usize]
+                            .iter()
+                            .copied()
+                            .filter(|&v| is_data(v, nodata)),
+                    );
+                }
+                out.push(mode(&mut buf));
+            }
+            (ta, out)
+        };
+        crate::tin::par::map_batched(&items, modes, interrupt, &mut |(ta, out)| {
+            for (k, m) in out.into_iter().enumerate() {
+                st[ta + k].mode = m;
+            }
+            Ok(())
+        })?;
+    }
+    st.retain(|z| z.count > 0);
+    for z in &mut st {
+        z.weight = z.count as f64;
+    }
+    Ok(st)
+}
+
+/// Coverage-weighted per-triangle statistics of a band: every valid pixel
+/// a triangle overlaps counts by the exact fraction `f` of its area inside
+/// the triangle (as exactextract does for polygons): `weight` = sum of `f`,
+/// `sum` = sum of `f * value`, `mean` their ratio, `min`/`max` over the
+/// overlapped pixels, `mode` the value of greatest total coverage
+/// (smallest on ties). Triangles overlapping no valid pixel are left out.
+#[allow(clippy::too_many_arguments)]
+pub fn weighted_stats(
+    tin: &Tin,
+    level: usize,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    values: &[f64],
+    nodata: Option<f64>,
+    want_mode: bool,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Vec<ZoneStats>, TinError> {
+    if values.len() != width * height {
+        return Err(TinError::InvalidParameter(format!(
+            "raster band has {} values for {width} x {height} pixels",
+            values.len()
+        )));
+    }
+    let run = |tris: std::ops::Range<u32>, tk: &mut Ticker| -> Result<Vec<ZoneStats>, TinError> {
+        let mut out: Vec<ZoneStats> = Vec::new();
+        let mut cur = ZoneStats::empty(u32::MAX);
+        let mut pairs: Vec<(f64, f64)> = Vec::new();
+        let mut finish = |z: &mut ZoneStats, pairs: &mut Vec<(f64, f64)>| {
+            if z.count > 0 {
+                if want_mode {
+                    z.mode = weighted_mode(pairs);
+                }
+                out.push(z.clone());
+            }
+            pairs.clear();
+        };
+        coverage_of(
+            tin,
+            level,
+            gt,
+            width,
+            height,
+            tris,
+            tk,
+            &mut |t, r, c, f| {
+                let v = values[r * width + c];
+                if !is_data(v, nodata) {
+                    return;
+                }
+                if t != cur.triangle {
+                    finish(&mut cur, &mut pairs);
+                    cur = ZoneStats::empty(t);
+                }
+                cur.count += 1;
+                cur.weight += f;
+                cur.sum += f * v;
+                cur.min = cur.min.min(v);
+                cur.max = cur.max.max(v);
+                if want_mode {
+                    pairs.push((v, f));
+                }
+            },
+        )?;
+        finish(&mut cur, &mut pairs);
+        Ok(out)
+    };
+    let n = super::coverage::num_triangles(tin, level)?;
+    if crate::tin::par::threads() <= 1 {
+        return run(0..n, &mut Ticker { n: 0, f: interrupt });
+    }
+    check_grid(gt)?;
+    // on threads: runs of triangles covering about ITEM_PIXELS pixels
+    // (bounding boxes in pixel units), each triangle wholly in one run, so
+    // every triangle's statistics are computed as in the serial loop
+    const ITEM_PIXELS: f64 = 65536.0;
+    let (sx, sy) = (gt.scale_x.abs(), gt.scale_y.abs());
+    let mut items: Vec<std::ops::Range<u32>> = Vec::new();
+    let (mut t0, mut px) = (0u32, 0.0f64);
+    for t in 0..n {
+        let cs = tin.corners(level, t);
+        let bw = cs[0][0].max(cs[1][0]).max(cs[2][0]) - cs[0][0].min(cs[1][0]).min(cs[2][0]);
+        let bh = cs[0][1].max(cs[1][1]).max(cs[2][1]) - cs[0][1].min(cs[1][1]).min(cs[2][1]);
+        px += (bw / sx + 2.0) * (bh / sy + 2.0);
+        if px >= ITEM_PIXELS || t + 1 == n {
+            items.push(t0..t + 1);
+            t0 = t + 1;
+            px = 0.0;
+        }
+    }
+    let mut out: Vec<ZoneStats> = Vec::new();
+    crate::tin::par::map_batched(
+        &items,
+        |r| {
+            let mut none = || Ok(());
+            run(r.clone(), &mut Ticker { n: 0, f: &mut none })
+        },
+        interrupt,
+        &mut |part| {
+            out.extend(part?);
+            Ok(())
+        },
+    )?;
+    Ok(out)
+}
+
+/// The value of greatest total weight, smallest on ties.
+fn weighted_mode(pairs: &mut [(f64, f64)]) -> Option<f64> {
+    pairs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<(f64, f64)> = None;
+    let mut i = 0;
+    while i < pairs.len() {
+        let mut j = i;
+        let mut wsum = 0.0;
+        while j < pairs.len() && pairs[j].0 == pairs[i].0 {
+            wsum += pairs[j].1;
+            j += 1;
+        }
+        if best.is_none_or(|(bw, _)| wsum > bw) {
+            best = Some((wsum, pairs[i].0));
+        }
+        i = j;
+    }
+    best.map(|(_, v)| v)
+}
+
+/// The mean colour of each triangle: every pixel whose centre a triangle
+/// owns (the rule of [`sweep`]) and whose three bands are all valid adds
+/// its (r, g, b). Returns `(triangle, pixels, [r, g, b] means)` for the
+/// triangles receiving a pixel, in triangle order.
+pub fn paint(
+    tin: &Tin,
+    level: usize,
+    g: &PixelGrid,
+    bands: [&[f64]; 3],
+    nodata: [Option<f64>; 3],
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Vec<(u32, u64, [f64; 3])>, TinError> {
+    if bands.iter().any(|b| b.len() != g.width * g.height) {
+        return Err(TinError::InvalidParameter(format!(
+            "raster bands do not hold {} x {} pixels",
+            g.width, g.height
+        )));
+    }
+    let n = tin.levels.get(level).map_or(0, |l| l.tris.len());
+    let mut acc = vec![(0u64, [0.0f64; 3]); n];
+    let w = g.width;
+    sweep(tin, level, g, false, interrupt, &mut |t, r, c0, c1| {
+        let a = &mut acc[t as usize];
+        let (lo, hi) = (r * w + c0, r * w + c1);
+        let (rs, gs, bs) = (&bands[0][lo..hi], &bands[1][lo..hi], &bands[2][lo..hi]);
+        for ((&rv, &gv), &bv) in rs.iter().zip(gs).zip(bs) {
+            if is_data(rv, nodata[0]) && is_data(gv, nodata[1]) && is_data(bv, nodata[2]) {
+                a.0 += 1;
+                a.1[0] += rv;
+                a.1[1] += gv;
+                a.1[2] += bv;
+            }
+        }
+    })?;
+    Ok(acc
+        .into_iter()
+        .enumerate()
+        .filter(|(_, a)| a.0 > 0)
+        .map(|(t, (cnt, s))| (t as u32, cnt, s.map(|v| v / cnt as f64)))
+        .collect())
+}
+
+/// Most frequent value, smallest on ties.
+fn mode(buf: &mut [f64]) -> Option<f64> {
+    buf.sort_unstable_by(|a, b| a.total_cmp(b));
+    let mut best: Option<(usize, f64)> = None;
+    let mut i = 0;
+    while i < buf.len() {
+        let mut j = i + 1;
+        while j < buf.len() && buf[j] == buf[i] {
+            j += 1;
+        }
+        if best.is_none_or(|(n, _)| j - i > n) {
+            best = Some((j - i, buf[i]));
+        }
+        i = j;
+    }
+    best.map(|(_, v)| v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_ranges_both_directions() {
+        let inc = Axis::new(vec![0.5, 1.5, 2.5, 3.5], 1.0);
+        assert_eq!(inc.range(1.5, 2.5), (1, 3));
+        assert_eq!(inc.range(1.6, 2.4), (2, 2));
+        assert_eq!(inc.range(-10.0, 10.0), (0, 4));
+        assert_eq!(inc.range(9.0, 10.0), (4, 4));
+        let dec = Axis::new(vec![3.5, 2.5, 1.5, 0.5], -1.0);
+        assert_eq!(dec.range(1.5, 2.5), (1, 3));
+        assert_eq!(dec.range(0.0, 0.4), (4, 4));
+        assert_eq!(dec.range(3.6, 9.0), (0, 0));
+    }
+
+    #[test]
+    fn tie_rule_is_a_partition_of_a_vertex_fan() {
+        // eight triangles around the origin, every centre on an edge or the
+        // vertex: each of the 5 x 5 lattice points inside is owned once
+        let ring = [
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [-1.0, 1.0],
+            [-1.0, 0.0],
+            [-1.0, -1.0],
+            [0.0, -1.0],
+            [1.0, -1.0],
+        ];
+        for i in -2i32..=2 {
+            for j in -2i32..=2 {
+                let p = [i as f64 * 0.25, j as f64 * 0.25];
+                let n = (0..8)
+                    .filter(|&k| owns(&[[0.0, 0.0], ring[k], ring[(k + 1) % 8]], p))
+                    .count();
+                assert_eq!(n, 1, "{p:?} owned {n} times");
+            }
+        }
+    }
+
+    #[test]
+    fn mode_smallest_on_ties() {
+        assert_eq!(mode(&mut [3.0, 1.0, 3.0, 1.0, 2.0]), Some(1.0));
+        assert_eq!(mode(&mut [5.0, 2.0, 5.0]), Some(5.0));
+        assert_eq!(mode(&mut []), None);
+    }
+}

@@ -1,0 +1,239 @@
+//! Surface statistics and volumes over the terrain clipped exactly to a
+//! polygon (`tin_area_stats`, `tin_volume`), from the area sweep.
+//!
+//! Inside triangles count whole (their descendants at the target level, for
+//! inside triangles found at coarser levels); boundary triangles count
+//! through their boundary pieces ([`crate::merge::clip`]). The surface is
+//! linear on each triangle, so every integral is exact up to rounding: the
+//! integral of z over a region of a triangle is its area times the plane's
+//! value at its centroid (from the first moments), and the volume above or
+//! below a base height is the same integral over the part of the region on
+//! that side of the line where the plane meets the base.
+//!
+//! ```
+//! use tinmerge_core::tin::build::build;
+//! use tinmerge_core::merge::area::{sweep, Method};
+//! use tinmerge_core::merge::polygon::Area;
+//! use tinmerge_core::merge::surface::{stats, volume};
+//! // the plane z = x on a 3 x 3 grid
+//! let mut pts = Vec::new();
+//! for i in 0..3 { for j in 0..3 { pts.push([i as f64, j as f64, i as f64]); } }
+//! let tin = build(pts, &[0.0], 0, &mut || Ok(())).unwrap();
+//! let a = Area::new(vec![vec![vec![[0.5, 0.5], [1.5, 0.5], [1.5, 1.5], [0.5, 1.5]]]]);
+//! let s = sweep(&tin, 0, &a, Method::Hierarchy, &mut || Ok(())).unwrap();
+//! let st = stats(&tin, &a, &s, &mut || Ok(())).unwrap();
+//! assert!((st.area2d - 1.0).abs() < 1e-12);
+//! assert!((st.mean_z() - 1.0).abs() < 1e-12);
+//! assert!((st.max_slope - 45.0).abs() < 1e-9);
+//! let (cut, fill) = volume(&tin, &a, &s, 1.0, &mut || Ok(())).unwrap();
+//! assert!((cut - 0.125).abs() < 1e-12 && (fill - 0.125).abs() < 1e-12);
+//! ```
+
+use crate::merge::area::{descendants, Sweep};
+use crate::merge::clip::{clip_chains, clip_convex, clipped_moments, Chain, Moments};
+use crate::merge::line::P2;
+use crate::merge::polygon::{Area, Where};
+use crate::tin::{Tin, TinError};
+
+/// Statistics of the clipped surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceStats {
+    /// Planar area.
+    pub area2d: f64,
+    /// Surface area.
+    pub area3d: f64,
+    pub min_z: f64,
+    pub max_z: f64,
+    /// Integral of z over the planar area.
+    pub z_integral: f64,
+    /// Integral of the slope (degrees) over the planar area.
+    pub slope_integral: f64,
+    /// Steepest triangle with some area inside, degrees.
+    pub max_slope: f64,
+}
+
+impl SurfaceStats {
+    /// Area-weighted mean height (NaN for an empty area).
+    pub fn mean_z(&self) -> f64 {
+        self.z_integral / self.area2d
+    }
+    /// Area-weighted mean slope in degrees (NaN for an empty area).
+    pub fn mean_slope(&self) -> f64 {
+        self.slope_integral / self.area2d
+    }
+}
+
+/// The plane of a triangle relative to its first corner: (z0, dz/dx,
+/// dz/dy).
+pub fn plane(c: &[[f64; 3]; 3]) -> (f64, f64, f64) {
+    let (ax, ay, az) = (c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]);
+    let (bx, by, bz) = (c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]);
+    let d = ax * by - bx * ay;
+    let gx = (az * by - bz * ay) / d;
+    let gy = (ax * bz - bx * az) / d;
+    (c[0][2], gx, gy)
+}
+
+/// One triangle's part of the clipped region: the triangle's corners and
+/// chains (None: wholly inside).
+struct Part<'a> {
+    corners: [[f64; 3]; 3],
+    chains: Option<&'a [Chain]>,
+}
+
+/// Visit every triangle of the target level with area inside: inside ones
+/// (descendants of coarser inside ones included) and boundary ones.
+fn each_part(
+    tin: &Tin,
+    s: &Sweep,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    f: &mut dyn FnMut(Part) -> Result<(), TinError>,
+) -> Result<(), TinError> {
+    let mut n = 0u32;
+    let mut d = Vec::new();
+    for (l, ts) in s.inside.iter().enumerate() {
+        for &t in ts {
+            d.clear();
+            descendants(tin, l, t, s.level, &mut d)?;
+            for &u in &d {
+                n = n.wrapping_add(1);
+                if n.is_multiple_of(4096) {
+                    interrupt()?;
+                }
+                f(Part {
+                    corners: tin.corners(s.level, u),
+                    chains: None,
+                })?;
+            }
+        }
+    }
+    let mut k = 0;
+    let mut owned: Vec<Chain> = Vec::new();
+    for &t in &s.boundary {
+        n = n.wrapping_add(1);
+        if n.is_multiple_of(4096) {
+            interrupt()?;
+        }
+        while k < s.chains.len() && s.chains[k].0 < t {
+            k += 1;
+        }
+        owned.clear();
+        while k < s.chains.len() && s.chains[k].0 == t {
+            owned.push(s.chains[k].1.clone());
+            k += 1;
+        }
+        f(Part {
+            corners: tin.corners(s.level, t),
+            chains: Some(&owned),
+        })?;
+    }
+    Ok(())
+}
+
+/// Statistics of the surface clipped to the area.
+pub fn stats(
+    tin: &Tin,
+    area: &Area,
+    s: &Sweep,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<SurfaceStats, TinError> {
+    let mut st = SurfaceStats {
+        area2d: 0.0,
+        area3d: 0.0,
+        min_z: f64::INFINITY,
+        max_z: f64::NEG_INFINITY,
+        z_integral: 0.0,
+        slope_integral: 0.0,
+        max_slope: f64::NEG_INFINITY,
+    };
+    each_part(tin, s, interrupt, &mut |p| {
+        let cs = p.corners;
+        let c2: [P2; 3] = cs.map(|v| [v[0], v[1]]);
+        let o = c2[0];
+        let (z0, gx, gy) = plane(&cs);
+        let zat = |q: P2| z0 + gx * (q[0] - o[0]) + gy * (q[1] - o[1]);
+        let m = match p.chains {
+            None => {
+                for v in &cs {
+                    st.min_z = st.min_z.min(v[2]);
+                    st.max_z = st.max_z.max(v[2]);
+                }
+                Moments::of_polygon(o, &c2)
+            }
+            Some(ch) => {
+                // extremes of a linear function over the clipped region lie
+                // at its vertices: boundary points and corners in the area
+                for q in ch.iter().flat_map(|c| c.pts.iter()) {
+                    let z = zat(*q);
+                    st.min_z = st.min_z.min(z);
+                    st.max_z = st.max_z.max(z);
+                }
+                for v in &cs {
+                    if area.locate([v[0], v[1]]) != Where::Outside {
+                        st.min_z = st.min_z.min(v[2]);
+                        st.max_z = st.max_z.max(v[2]);
+                    }
+                }
+                clipped_moments(&c2, o, ch, &mut |q| area.locate(q))
+            }
+        };
+        if m.a <= 0.0 {
+            return Ok(());
+        }
+        let grad = gx.hypot(gy);
+        let slope = grad.atan().to_degrees();
+        st.area2d += m.a;
+        st.area3d += m.a * (1.0 + grad * grad).sqrt();
+        st.z_integral += m.linear(z0, gx, gy);
+        st.slope_integral += m.a * slope;
+        st.max_slope = st.max_slope.max(slope);
+        Ok(())
+    })?;
+    Ok(st)
+}
+
+/// Volume between the clipped surface and the height `base`: (cut, fill) =
+/// (volume of surface above base, volume of space below base down to the
+/// surface).
+pub fn volume(
+    tin: &Tin,
+    area: &Area,
+    s: &Sweep,
+    base: f64,
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<(f64, f64), TinError> {
+    let (mut cut, mut fill) = (0.0, 0.0);
+    each_part(tin, s, interrupt, &mut |p| {
+        let cs = p.corners;
+        let c2: [P2; 3] = cs.map(|v| [v[0], v[1]]);
+        let o = c2[0];
+        let (z0, gx, gy) = plane(&cs);
+        for sign in [1.0, -1.0] {
+            // h >= 0 where the surface is on this side of the base
+            let h = |q: P2| sign * (z0 + gx * (q[0] - o[0]) + gy * (q[1] - o[1]) - base);
+            let side = if cs.iter().all(|v| sign * (v[2] - base) >= 0.0) {
+                c2.to_vec()
+            } else {
+                clip_convex(&c2, &h)
+            };
+            if side.len() < 3 {
+                continue;
+            }
+            let m = match p.chains {
+                None => Moments::of_polygon(o, &side),
+                Some(ch) => {
+                    let cut_chains = clip_chains(ch, &h);
+                    clipped_moments(&side, o, &cut_chains, &mut |q| area.locate(q))
+                }
+            };
+            let v = sign * m.linear(z0 - base, gx, gy);
+            if sign > 0.0 {
+                cut += v.max(0.0);
+            } else {
+                fill += v.max(0.0);
+            }
+        }
+        Ok(())
+    })?;
+    Ok((cut, fill))
+}

@@ -1,0 +1,406 @@
+//! The flat little-endian storage layout of a `tin` value (the bytes after the
+//! 4-byte varlena length word).
+//!
+//! ```text
+//! offset size  field
+//!      0    4  magic "TINM"
+//!      4    2  format version (1)
+//!      6    2  flags (0)
+//!      8    4  header length (856)
+//!     12    4  SRID (i32)
+//!     16    4  number of levels L (1..16)
+//!     20    4  number of vertices V (all levels)
+//!     24    8  total length of the value in bytes (u64)
+//!     32    8  content hash: xxh3-64 of the value with these 8 bytes zeroed
+//!     40   48  bbox: min x, min y, max x, max y, min z, max z (f64)
+//!     88  768  16 level records of 48 bytes (unused ones zero):
+//!              tolerance f64, max error f64, triangles u32, vertices u32,
+//!              grid nx u32, grid ny u32, grid cell size f64, reserved 8
+//!    856       vertices: V x (x, y, z) f64
+//!              per level: triangles T x 3 u32, neighbours T x 3 u32,
+//!              parents T x u32, padding to 8, grid cells nx*ny u32, padding to 8
+//! ```
+//! Every section's offset follows from the header's counts, so a reader
+//! checks `total length == computed length` before it allocates anything,
+//! then [`super::check::validate_structure`] before the value is used.
+
+use super::build::child_starts;
+use super::check::validate_structure_checked;
+use super::{Bbox, Grid, Level, Tin, TinError, MAX_LEVELS, NONE};
+use xxhash_rust::xxh3::Xxh3;
+
+pub const MAGIC: &[u8; 4] = b"TINM";
+pub const VERSION: u16 = 1;
+pub const LEVEL_RECORD: usize = 48;
+pub const HEADER_LEN: usize = 88 + MAX_LEVELS * LEVEL_RECORD;
+
+/// Per-level summary stored in the header.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelInfo {
+    pub tolerance: f64,
+    pub max_error: f64,
+    pub num_triangles: u32,
+    pub num_vertices: u32,
+    pub grid_nx: u32,
+    pub grid_ny: u32,
+    pub grid_cell: f64,
+}
+
+/// The fixed header, readable from the first [`HEADER_LEN`] bytes alone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Header {
+    pub srid: i32,
+    pub num_vertices: u32,
+    pub total_len: u64,
+    pub hash: u64,
+    pub bbox: Bbox,
+    pub levels: Vec<LevelInfo>,
+}
+
+impl Header {
+    pub fn num_levels(&self) -> usize {
+        self.levels.len()
+    }
+}
+
+fn corrupt(s: impl Into<String>) -> TinError {
+    TinError::Corrupt(s.into())
+}
+
+struct Rd<'a> {
+    b: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Rd<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], TinError> {
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.b.len());
+        match end {
+            Some(e) => {
+                let s = &self.b[self.pos..e];
+                self.pos = e;
+                Ok(s)
+            }
+            None => Err(corrupt(format!(
+                "truncated: needs {} bytes at offset {}, value has {}",
+                n,
+                self.pos,
+                self.b.len()
+            ))),
+        }
+    }
+    fn u16(&mut self) -> Result<u16, TinError> {
+        let s = self.take(2)?;
+        Ok(u16::from_le_bytes([s[0], s[1]]))
+    }
+    fn u32(&mut self) -> Result<u32, TinError> {
+        let s = self.take(4)?;
+        Ok(u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+    }
+    fn u64(&mut self) -> Result<u64, TinError> {
+        let s = self.take(8)?;
+        let mut a = [0u8; 8];
+        a.copy_from_slice(s);
+        Ok(u64::from_le_bytes(a))
+    }
+    fn f64(&mut self) -> Result<f64, TinError> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+    fn align8(&mut self) -> Result<(), TinError> {
+        let pad = (8 - self.pos % 8) % 8;
+        self.take(pad).map(|_| ())
+    }
+}
+
+/// Parse and check the fixed header (needs at least [`HEADER_LEN`] bytes).
+pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
+    if b.len() < HEADER_LEN {
+        return Err(corrupt(format!(
+            "truncated: {} bytes, the header alone is {HEADER_LEN}",
+            b.len()
+        )));
+    }
+    let mut r = Rd { b, pos: 0 };
+    if r.take(4)? != MAGIC {
+        return Err(corrupt("bad magic number (not a tin value)"));
+    }
+    let version = r.u16()?;
+    if version != VERSION {
+        return Err(corrupt(format!(
+            "format version {version} is not supported (this build reads version {VERSION})"
+        )));
+    }
+    let _flags = r.u16()?;
+    let hl = r.u32()?;
+    if hl as usize != HEADER_LEN {
+        return Err(corrupt(format!(
+            "header length {hl}, expected {HEADER_LEN}"
+        )));
+    }
+    let srid = r.u32()? as i32;
+    let nl = r.u32()?;
+    if nl == 0 || nl as usize > MAX_LEVELS {
+        return Err(corrupt(format!(
+            "number of levels {nl} is not in 1..{MAX_LEVELS}"
+        )));
+    }
+    let num_vertices = r.u32()?;
+    let total_len = r.u64()?;
+    let hash = r.u64()?;
+    let bbox = Bbox {
+        min_x: r.f64()?,
+        min_y: r.f64()?,
+        max_x: r.f64()?,
+        max_y: r.f64()?,
+        min_z: r.f64()?,
+        max_z: r.f64()?,
+    };
+    let mut levels = Vec::with_capacity(nl as usize);
+    for _ in 0..nl {
+        levels.push(LevelInfo {
+            tolerance: r.f64()?,
+            max_error: r.f64()?,
+            num_triangles: r.u32()?,
+            num_vertices: r.u32()?,
+            grid_nx: r.u32()?,
+            grid_ny: r.u32()?,
+            grid_cell: r.f64()?,
+        });
+        r.take(8)?;
+    }
+    Ok(Header {
+        srid,
+        num_vertices,
+        total_len,
+        hash,
+        bbox,
+        levels,
+    })
+}
+
+/// Length of a value with these counts, or None on overflow.
+fn body_len(h: &Header) -> Option<u64> {
+    let pad8 = |x: u64| x.checked_add(7).map(|v| v / 8 * 8);
+    let mut len = HEADER_LEN as u64;
+    len = len.checked_add((h.num_vertices as u64).checked_mul(24)?)?;
+    for lv in &h.levels {
+        let t = lv.num_triangles as u64;
+        len = len.checked_add(t.checked_mul(28)?)?;
+        len = pad8(len)?;
+        len = len.checked_add(
+            (lv.grid_nx as u64)
+                .checked_mul(lv.grid_ny as u64)?
+                .checked_mul(4)?,
+        )?;
+        len = pad8(len)?;
+    }
+    Some(len)
+}
+
+/// Content hash of a value (hash field taken as zero).
+pub fn content_hash(b: &[u8]) -> u64 {
+    let mut h = Xxh3::new();
+    h.update(&b[..32.min(b.len())]);
+    if b.len() >= 40 {
+        h.update(&[0u8; 8]);
+        h.update(&b[40..]);
+    }
+    h.digest()
+}
+
+/// Serialise a tin (whose structure is valid) to its storage bytes.
+pub fn encode(tin: &Tin) -> Vec<u8> {
+    let mut out: Vec<u8> = Vec::new();
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&VERSION.to_le_bytes());
+    out.extend_from_slice(&0u16.to_le_bytes());
+    out.extend_from_slice(&(HEADER_LEN as u32).to_le_bytes());
+    out.extend_from_slice(&tin.srid.to_le_bytes());
+    out.extend_from_slice(&(tin.levels.len() as u32).to_le_bytes());
+    out.extend_from_slice(&(tin.verts.len() as u32).to_le_bytes());
+    out.extend_from_slice(&0u64.to_le_bytes()); // total length, patched below
+    out.extend_from_slice(&0u64.to_le_bytes()); // hash, patched below
+    let b = &tin.bbox;
+    for v in [b.min_x, b.min_y, b.max_x, b.max_y, b.min_z, b.max_z] {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    for i in 0..MAX_LEVELS {
+        match tin.levels.get(i) {
+            Some(lv) => {
+                out.extend_from_slice(&lv.tolerance.to_le_bytes());
+                out.extend_from_slice(&lv.max_error.to_le_bytes());
+                out.extend_from_slice(&(lv.tris.len() as u32).to_le_bytes());
+                out.extend_from_slice(&lv.num_vertices.to_le_bytes());
+                out.extend_from_slice(&lv.grid.nx.to_le_bytes());
+                out.extend_from_slice(&lv.grid.ny.to_le_bytes());
+                out.extend_from_slice(&lv.grid.cell.to_le_bytes());
+                out.extend_from_slice(&[0u8; 8]);
+            }
+            None => out.extend_from_slice(&[0u8; LEVEL_RECORD]),
+        }
+    }
+    debug_assert_eq!(out.len(), HEADER_LEN);
+    for v in &tin.verts {
+        for c in v {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    let pad = |out: &mut Vec<u8>| {
+        while !out.len().is_multiple_of(8) {
+            out.push(0);
+        }
+    };
+    for lv in &tin.levels {
+        for t in &lv.tris {
+            for v in t {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        for t in &lv.nbrs {
+            for v in t {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        for p in &lv.parent {
+            out.extend_from_slice(&p.to_le_bytes());
+        }
+        pad(&mut out);
+        for c in &lv.grid.cells {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+        pad(&mut out);
+    }
+    let total = out.len() as u64;
+    out[24..32].copy_from_slice(&total.to_le_bytes());
+    let h = content_hash(&out);
+    out[32..40].copy_from_slice(&h.to_le_bytes());
+    out
+}
+
+/// Parse and fully validate storage bytes. The length implied by the header's
+/// counts is checked against the actual length before anything is allocated.
+pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
+    decode_checked(b, &mut || Ok(()))
+}
+
+/// [`decode`] calling `interrupt` between its phases and regularly inside
+/// the validation (a cancel does not wait for a whole 15 MB value).
+pub fn decode_checked(
+    b: &[u8],
+    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+) -> Result<Tin, TinError> {
+    let h = read_header(b)?;
+    let expect = body_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
+    if h.total_len != b.len() as u64 || expect != b.len() as u64 {
+        return Err(corrupt(format!(
+            "length mismatch: value has {} bytes, header says {} and its counts need {}",
+            b.len(),
+            h.total_len,
+            expect
+        )));
+    }
+    if content_hash(b) != h.hash {
+        return Err(corrupt("content hash mismatch (value is corrupted)"));
+    }
+    interrupt()?;
+    let mut r = Rd { b, pos: HEADER_LEN };
+    let mut verts = Vec::with_capacity(h.num_vertices as usize);
+    for _ in 0..h.num_vertices {
+        verts.push([r.f64()?, r.f64()?, r.f64()?]);
+    }
+    let mut levels: Vec<Level> = Vec::with_capacity(h.levels.len());
+    for li in &h.levels {
+        interrupt()?;
+        let nt = li.num_triangles as usize;
+        let mut tris = Vec::with_capacity(nt);
+        for _ in 0..nt {
+            tris.push([r.u32()?, r.u32()?, r.u32()?]);
+        }
+        let mut nbrs = Vec::with_capacity(nt);
+        for _ in 0..nt {
+            nbrs.push([r.u32()?, r.u32()?, r.u32()?]);
+        }
+        let mut parent = Vec::with_capacity(nt);
+        for _ in 0..nt {
+            parent.push(r.u32()?);
+        }
+        r.align8()?;
+        let nc = li.grid_nx as usize * li.grid_ny as usize;
+        let mut cells = Vec::with_capacity(nc);
+        for _ in 0..nc {
+            cells.push(r.u32()?);
+        }
+        r.align8()?;
+        levels.push(Level {
+            tolerance: li.tolerance,
+            max_error: li.max_error,
+            num_vertices: li.num_vertices,
+            tris,
+            nbrs,
+            parent,
+            child_start: Vec::new(),
+            grid: Grid {
+                cell: li.grid_cell,
+                nx: li.grid_nx,
+                ny: li.grid_ny,
+                cells,
+            },
+        });
+    }
+    for l in 1..levels.len() {
+        let np = levels[l - 1].tris.len();
+        let parents_ok = levels[l]
+            .parent
+            .iter()
+            .all(|&p| p != NONE && (p as usize) < np);
+        if parents_ok {
+            levels[l - 1].child_start = child_starts(&levels[l].parent, np);
+        }
+    }
+    let tin = Tin {
+        srid: h.srid,
+        bbox: h.bbox,
+        verts,
+        levels,
+    };
+    interrupt()?;
+    validate_structure_checked(&tin, interrupt)?;
+    Ok(tin)
+}
+
+/// Upper-case hex of the storage bytes (text output, as PostGIS prints geometry).
+pub fn to_hex(b: &[u8]) -> String {
+    const D: &[u8; 16] = b"0123456789ABCDEF";
+    let mut s = String::with_capacity(b.len() * 2);
+    for &x in b {
+        s.push(D[(x >> 4) as usize] as char);
+        s.push(D[(x & 15) as usize] as char);
+    }
+    s
+}
+
+/// Parse hex text (either case) into bytes.
+pub fn from_hex(s: &str) -> Result<Vec<u8>, TinError> {
+    let s = s.trim();
+    if !s.len().is_multiple_of(2) {
+        return Err(corrupt("hex text has an odd number of digits"));
+    }
+    let val = |c: u8| -> Result<u8, TinError> {
+        match c {
+            b'0'..=b'9' => Ok(c - b'0'),
+            b'a'..=b'f' => Ok(c - b'a' + 10),
+            b'A'..=b'F' => Ok(c - b'A' + 10),
+            _ => Err(corrupt(format!("'{}' is not a hex digit", c as char))),
+        }
+    };
+    s.as_bytes()
+        .chunks_exact(2)
+        .map(|p| Ok(val(p[0])? << 4 | val(p[1])?))
+        .collect()
+}
+
+/// Upper bound of the heap used to decode a stored value of `len` bytes
+/// (the decoded arrays and the grid index are about the stored size).
+pub fn decode_bytes(len: usize) -> usize {
+    len.saturating_mul(2).saturating_add(1 << 16)
+}

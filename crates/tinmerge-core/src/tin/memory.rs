@@ -1,0 +1,104 @@
+//! Heap accounting: a counting wrapper around the system allocator, so the
+//! SQL layer can bound the memory one call uses (`tinmerge.max_memory`) and
+//! tests can measure the peak memory of a build or a merge.
+//!
+//! Every Rust allocation of the process goes through [`Counting`]
+//! (installed as the global allocator by the extension's crate root, and by
+//! any test binary that measures); the counters are
+//! two relaxed atomics, a few nanoseconds per allocation. PostgreSQL's own
+//! `palloc` memory is not counted.
+//!
+//! The estimates a request is checked against *before* it allocates live
+//! next to the algorithm they estimate (`build::build_bytes`,
+//! `layout::decode_bytes`, `io::raster::raster_bytes`,
+//! `merge::overlay::overlay_bytes`, `render::svg::svg_bytes`,
+//! `render::gltf::glb_bytes`, `Tin::heap_bytes`); `tests/memory.rs` measures
+//! the real peaks on the DEM and checks each estimate is an upper bound
+//! (build, decode, raster) or, for the overlay whose output size depends on
+//! how many edges cross, a lower bound that the running check completes.
+//!
+//! ```
+//! use tinmerge_core::tin::memory;
+//!
+//! #[global_allocator]
+//! static ALLOCATOR: memory::Counting = memory::Counting;
+//!
+//! fn main() {
+//!     let before = memory::live();
+//!     let v = std::hint::black_box(vec![1u8; 1 << 20]);
+//!     assert!(memory::live() >= before + (1 << 20));
+//!     drop(v);
+//! }
+//! ```
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+
+/// The system allocator, counting live bytes and their peak.
+pub struct Counting;
+
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+#[inline]
+fn grew(n: usize) {
+    let now = LIVE.fetch_add(n, Relaxed) + n;
+    PEAK.fetch_max(now, Relaxed);
+}
+
+#[inline]
+fn shrank(n: usize) {
+    LIVE.fetch_sub(n, Relaxed);
+}
+
+// SAFETY: every call is forwarded unchanged to `System`; the counters are
+// only updated when the system allocator succeeded.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            grew(layout.size());
+        }
+        p
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc_zeroed(layout) };
+        if !p.is_null() {
+            grew(layout.size());
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) };
+        shrank(layout.size());
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let p = unsafe { System.realloc(ptr, layout, new_size) };
+        if !p.is_null() {
+            if new_size >= layout.size() {
+                grew(new_size - layout.size());
+            } else {
+                shrank(layout.size() - new_size);
+            }
+        }
+        p
+    }
+}
+
+/// Bytes of Rust heap live in this process now.
+pub fn live() -> usize {
+    LIVE.load(Relaxed)
+}
+
+/// Highest [`live`] since the last [`reset_peak`].
+pub fn peak() -> usize {
+    PEAK.load(Relaxed)
+}
+
+/// Start measuring a new peak from the current [`live`].
+pub fn reset_peak() {
+    PEAK.store(LIVE.load(Relaxed), Relaxed);
+}

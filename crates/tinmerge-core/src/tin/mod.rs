@@ -1,0 +1,280 @@
+//! The adaptive hierarchical triangulation: data model, construction, storage
+//! layout, grid index and point location. Pure Rust: never imports pgrx.
+//!
+//! Invariants of a [`Tin`] (checked by [`Tin::sanity_check`] and, for values
+//! read from disk or the wire, by [`layout::decode`]):
+//! - vertices are one array shared by every level; level `i` uses the prefix
+//!   `0..levels[i].num_vertices` (vertices are appended as levels get finer);
+//! - each level is a conforming triangulation of the same convex domain, with
+//!   counter-clockwise triangles and symmetric neighbour links;
+//! - every triangle of level `i+1` lies inside its parent at level `i`, and the
+//!   triangles of level `i+1` are sorted by parent, so the children of a parent
+//!   are a contiguous range (`Level::child_start`);
+//! - every edge of level `i` is a union of edges of level `i+1`.
+
+pub mod build;
+pub mod check;
+pub mod grid;
+pub mod lattice;
+pub mod layout;
+pub mod locate;
+pub mod memory;
+pub mod par;
+pub mod samples;
+
+use thiserror::Error;
+
+/// Marks "no triangle" in neighbour and parent arrays.
+pub const NONE: u32 = u32::MAX;
+/// Most levels a `tin` may have.
+pub const MAX_LEVELS: usize = 16;
+/// Largest coordinate magnitude accepted for x and y: the exact predicates
+/// multiply differences of coordinates, which must not overflow `f64`
+/// (real coordinates are below 1e8 in every projection).
+pub const MAX_COORD: f64 = 1e100;
+
+/// `Ok` for a usable x, y; otherwise an `InvalidParameter` error saying what
+/// (`what`: "the polygon", "sample") had which coordinate.
+///
+/// ```
+/// use tinmerge_core::tin::check_xy;
+/// assert!(check_xy("the line", 740000.0, 4060000.0).is_ok());
+/// assert!(check_xy("the line", f64::NAN, 0.0).is_err());
+/// assert!(check_xy("the line", 1e300, 0.0).is_err());
+/// ```
+pub fn check_xy(what: &str, x: f64, y: f64) -> Result<(), TinError> {
+    if !(x.is_finite() && y.is_finite()) {
+        return Err(TinError::InvalidParameter(format!(
+            "{what} has a non-finite coordinate ({x} {y})"
+        )));
+    }
+    if x.abs() > MAX_COORD || y.abs() > MAX_COORD {
+        return Err(TinError::InvalidParameter(format!(
+            "{what} has a coordinate beyond ±1e100 ({x:e} {y:e}): exact geometric predicates cannot use it"
+        )));
+    }
+    Ok(())
+}
+
+/// How far from zero `orient2d(a, b, c)` (twice the signed area of a, b, c)
+/// can be pushed by rounding the coordinates of the three points to
+/// doubles: a generous bound (64 ulps of the largest coordinate, times the
+/// side lengths). A triangle whose area is within it is degenerate up to
+/// rounding (a *sliver*: its third corner lies on the opposite edge); a
+/// point within it of an edge is on that edge up to rounding.
+///
+/// ```
+/// use tinmerge_core::tin::{orient_slack, is_sliver};
+/// let (a, b) = ([67072.33979011845, 118745.07014525152, 0.0], [68672.33979011845, 117145.07014525152, 0.0]);
+/// let c = [65472.33979011844, 120345.07014525152, 0.0];  // collinear on the pixel lattice
+/// assert!(is_sliver(&a, &b, &c));
+/// assert!(!is_sliver(&a, &b, &[65472.0, 120346.0, 0.0]));
+/// assert!(orient_slack(&a, &b, &c) < 1e-3);
+/// ```
+#[inline]
+pub fn orient_slack(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    let m = max_abs_xy(a, b, c);
+    let d = |p: &[f64; 3], q: &[f64; 3]| (p[0] - q[0]).abs().max((p[1] - q[1]).abs());
+    64.0 * f64::EPSILON * m * (d(a, b) + d(b, c) + d(c, a))
+}
+
+/// Largest |x| or |y| of three points: the magnitude their rounding is
+/// relative to.
+#[inline]
+pub(crate) fn max_abs_xy(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    a[0].abs()
+        .max(a[1].abs())
+        .max(b[0].abs())
+        .max(b[1].abs())
+        .max(c[0].abs())
+        .max(c[1].abs())
+}
+
+/// `orient2d(a, b, c)` by the exact predicate, as a plain number.
+#[inline]
+pub fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    let co = |p: &[f64; 3]| robust::Coord { x: p[0], y: p[1] };
+    robust::orient2d(co(a), co(b), co(c))
+}
+
+/// Whether triangle a, b, c has zero area up to rounding (see
+/// [`orient_slack`]).
+#[inline]
+pub fn is_sliver(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    orient(a, b, c).abs() <= orient_slack(a, b, c)
+}
+
+/// Whether c is left of or on the line a -> b, up to rounding.
+#[inline]
+pub fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    orient(a, b, c) >= -orient_slack(a, b, c)
+}
+
+/// Axis-aligned bounding box of the vertices (x, y and z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bbox {
+    pub min_x: f64,
+    pub min_y: f64,
+    pub max_x: f64,
+    pub max_y: f64,
+    pub min_z: f64,
+    pub max_z: f64,
+}
+
+impl Bbox {
+    /// Bounding box of a non-empty vertex list.
+    pub fn of(verts: &[[f64; 3]]) -> Bbox {
+        let mut b = Bbox {
+            min_x: f64::INFINITY,
+            min_y: f64::INFINITY,
+            max_x: f64::NEG_INFINITY,
+            max_y: f64::NEG_INFINITY,
+            min_z: f64::INFINITY,
+            max_z: f64::NEG_INFINITY,
+        };
+        for v in verts {
+            b.min_x = b.min_x.min(v[0]);
+            b.min_y = b.min_y.min(v[1]);
+            b.max_x = b.max_x.max(v[0]);
+            b.max_y = b.max_y.max(v[1]);
+            b.min_z = b.min_z.min(v[2]);
+            b.max_z = b.max_z.max(v[2]);
+        }
+        b
+    }
+}
+
+/// Regular grid over the bounding box mapping each cell to one triangle near
+/// (usually containing) the cell centre: the start of a point-location walk.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    /// Cell edge length (same horizontally and vertically).
+    pub cell: f64,
+    pub nx: u32,
+    pub ny: u32,
+    /// Row-major, `nx * ny` triangle ids.
+    pub cells: Vec<u32>,
+}
+
+/// One level of detail.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    /// Vertical error bound this level was built to.
+    pub tolerance: f64,
+    /// Largest vertical error measured at the source samples when built.
+    pub max_error: f64,
+    /// This level uses vertices `0..num_vertices`.
+    pub num_vertices: u32,
+    /// Vertex ids of each triangle, counter-clockwise.
+    pub tris: Vec<[u32; 3]>,
+    /// `nbrs[t][j]` is the triangle across the edge opposite vertex `j`
+    /// (edge `tris[t][j+1] -> tris[t][j+2]`), or [`NONE`] on the hull.
+    pub nbrs: Vec<[u32; 3]>,
+    /// Parent triangle at the previous (coarser) level; [`NONE`] at level 0.
+    pub parent: Vec<u32>,
+    /// Children of triangle `t` at the next level are
+    /// `child_start[t]..child_start[t+1]`; empty at the finest level.
+    /// Derived from the next level's `parent` (not stored on disk).
+    pub child_start: Vec<u32>,
+    pub grid: Grid,
+}
+
+impl Level {
+    pub fn num_triangles(&self) -> usize {
+        self.tris.len()
+    }
+}
+
+/// A terrain surface as an adaptive hierarchical triangulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tin {
+    pub srid: i32,
+    pub bbox: Bbox,
+    pub verts: Vec<[f64; 3]>,
+    pub levels: Vec<Level>,
+}
+
+impl Tin {
+    /// Approximate heap size of a decoded value (what a cache of decoded
+    /// values counts against its bound).
+    pub fn heap_bytes(&self) -> usize {
+        let mut n = self.verts.len() * 24;
+        for l in &self.levels {
+            n += l.tris.len() * 28 + l.child_start.len() * 4 + l.grid.cells.len() * 4;
+        }
+        n
+    }
+
+    pub fn num_levels(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// Resolve an optional SQL level (None = finest) to an index.
+    pub fn level_index(&self, level: Option<i32>) -> Result<usize, TinError> {
+        resolve_level(level, self.levels.len())
+    }
+
+    /// The three corners of triangle `t` at `level`.
+    #[inline]
+    pub fn corners(&self, level: usize, t: u32) -> [[f64; 3]; 3] {
+        let tri = self.levels[level].tris[t as usize];
+        [
+            self.verts[tri[0] as usize],
+            self.verts[tri[1] as usize],
+            self.verts[tri[2] as usize],
+        ]
+    }
+}
+
+/// Resolve an optional level (None = finest) against a level count.
+pub fn resolve_level(level: Option<i32>, num_levels: usize) -> Result<usize, TinError> {
+    match level {
+        None => Ok(num_levels - 1),
+        Some(l) if l >= 0 && (l as usize) < num_levels => Ok(l as usize),
+        Some(l) => Err(TinError::LevelOutOfRange {
+            level: l as i64,
+            num_levels,
+        }),
+    }
+}
+
+/// Height at (x, y) on the plane through triangle `c`, by barycentric weights.
+#[inline]
+pub fn interpolate(c: &[[f64; 3]; 3], x: f64, y: f64) -> f64 {
+    let [a, b, cc] = c;
+    let d = (b[0] - a[0]) * (cc[1] - a[1]) - (cc[0] - a[0]) * (b[1] - a[1]);
+    let wb = ((x - a[0]) * (cc[1] - a[1]) - (cc[0] - a[0]) * (y - a[1])) / d;
+    let wc = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / d;
+    a[2] + wb * (b[2] - a[2]) + wc * (cc[2] - a[2])
+}
+
+/// Errors of the core; the SQL layer maps each kind to an SQLSTATE.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum TinError {
+    /// Bad argument value (SQLSTATE 22023).
+    #[error("{0}")]
+    InvalidParameter(String),
+    /// Level outside 0..num_levels (SQLSTATE 22023).
+    #[error("level {level} is out of range: this tin has levels 0..{} (0 = coarsest, NULL = finest)", .num_levels.saturating_sub(1))]
+    LevelOutOfRange { level: i64, num_levels: usize },
+    /// Too few or degenerate samples (SQLSTATE 22023).
+    #[error("{0}")]
+    Degenerate(String),
+    /// Stored or transmitted bytes that are not a valid value (SQLSTATE 22P03 / XX001).
+    #[error("invalid tin value: {0}")]
+    Corrupt(String),
+    /// Stored or transmitted bytes that are not a valid `linetree`
+    /// (SQLSTATE 22P03 / XX001).
+    #[error("invalid linetree value: {0}")]
+    CorruptLineTree(String),
+    /// Would exceed a size limit (SQLSTATE 54000).
+    #[error("{0}")]
+    TooLarge(String),
+    /// Would use more memory than the caller allows (`tinmerge.max_memory`,
+    /// SQLSTATE 53400).
+    #[error("{0}")]
+    MemoryLimit(String),
+    /// Build was interrupted by the caller's interrupt check.
+    #[error("interrupted")]
+    Interrupted,
+}

@@ -1,0 +1,785 @@
+//! Area merge on the real DEM against independent oracles written here:
+//! coverage by Sutherland-Hodgman clipping of every ring to every triangle,
+//! the relation from vertex/crossing tests on `geo`'s exact line
+//! intersection, and statistics and volumes integrated over the clipped
+//! polygons by fan triangulation. Polygons: `gdal_contour -p` bands of the
+//! bundled DEM (multipolygons with holes), seeded random star polygons with
+//! holes, and hand-made polygons along the triangle edges of a grid TIN.
+
+mod common;
+
+use common::dem_tin;
+use geo::orient::{Direction, Orient};
+use geo::{line_intersection::line_intersection, Coord, Line, LineIntersection};
+use rand::{rngs::StdRng, Rng, SeedableRng};
+use std::collections::{BTreeMap, HashSet};
+use tinmerge_core::merge::area::{area_rows, sweep, AreaRow, Method, Relation};
+use tinmerge_core::merge::polygon::Area;
+use tinmerge_core::merge::surface::{stats, volume};
+use tinmerge_core::tin::build::build;
+use tinmerge_core::tin::Tin;
+use wkt::TryFromWkt;
+
+type P2 = [f64; 2];
+type Polys = Vec<Vec<Vec<P2>>>;
+
+fn no_interrupt() -> Result<(), tinmerge_core::tin::TinError> {
+    Ok(())
+}
+
+/// The bundled contour bands (`gdal_contour -p -i 50` of the UTM DEM),
+/// rings oriented by `geo` (shells counter-clockwise, holes clockwise).
+fn bands() -> Vec<(String, Polys)> {
+    let text = std::fs::read_to_string(common::data_path("contour_bands.csv")).unwrap();
+    let mut out = Vec::new();
+    for line in text.lines().skip(1) {
+        let mut it = line.splitn(3, ',');
+        let (lo, hi, w) = (it.next().unwrap(), it.next().unwrap(), it.next().unwrap());
+        let mp = geo::MultiPolygon::<f64>::try_from_wkt_str(w.trim_matches('"')).unwrap();
+        out.push((format!("band {lo}-{hi}"), polys_of(&mp)));
+    }
+    out
+}
+
+fn polys_of(mp: &geo::MultiPolygon<f64>) -> Polys {
+    mp.orient(Direction::Default)
+        .0
+        .iter()
+        .map(|p| {
+            std::iter::once(p.exterior())
+                .chain(p.interiors())
+                .map(|r| r.0.iter().map(|c| [c.x, c.y]).collect())
+                .collect()
+        })
+        .collect()
+}
+
+fn signed_area(r: &[P2]) -> f64 {
+    let o = r[0];
+    let mut s = 0.0;
+    for i in 0..r.len() {
+        let (p, q) = (r[i], r[(i + 1) % r.len()]);
+        s += (p[0] - o[0]) * (q[1] - o[1]) - (q[0] - o[0]) * (p[1] - o[1]);
+    }
+    s / 2.0
+}
+
+/// Sutherland-Hodgman of one ring against a counter-clockwise triangle.
+fn clip_ring(ring: &[P2], t: &[P2; 3]) -> Vec<P2> {
+    let mut poly: Vec<P2> = ring.to_vec();
+    if poly.first() == poly.last() {
+        poly.pop();
+    }
+    for j in 0..3 {
+        let (a, b) = (t[j], t[(j + 1) % 3]);
+        let side = |p: P2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+        let mut out = Vec::new();
+        for i in 0..poly.len() {
+            let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                let s = sp / (sp - sq);
+                out.push([p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])]);
+            }
+        }
+        poly = out;
+        if poly.is_empty() {
+            break;
+        }
+    }
+    poly
+}
+
+fn tri2(tin: &Tin, l: usize, t: u32) -> [P2; 3] {
+    tin.corners(l, t).map(|v| [v[0], v[1]])
+}
+
+fn strictly_inside(t: &[P2; 3], p: P2) -> bool {
+    (0..3).all(|j| {
+        let (a, b) = (t[j], t[(j + 1) % 3]);
+        robust::orient2d(
+            robust::Coord { x: a[0], y: a[1] },
+            robust::Coord { x: b[0], y: b[1] },
+            robust::Coord { x: p[0], y: p[1] },
+        ) > 0.0
+    })
+}
+
+/// Whether a ring segment passes through the open triangle: an end or the
+/// midpoint strictly inside, or a proper crossing of an edge.
+fn crosses_inside(t: &[P2; 3], a: P2, b: P2) -> bool {
+    let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    if strictly_inside(t, a) || strictly_inside(t, b) || strictly_inside(t, mid) {
+        return true;
+    }
+    let s = Line::new(Coord { x: a[0], y: a[1] }, Coord { x: b[0], y: b[1] });
+    (0..3).any(|j| {
+        let e = Line::new(
+            Coord {
+                x: t[j][0],
+                y: t[j][1],
+            },
+            Coord {
+                x: t[(j + 1) % 3][0],
+                y: t[(j + 1) % 3][1],
+            },
+        );
+        matches!(
+            line_intersection(s, e),
+            Some(LineIntersection::SinglePoint {
+                is_proper: true,
+                ..
+            })
+        )
+    })
+}
+
+fn strictly_outside(t: &[P2; 3], p: P2) -> bool {
+    (0..3).any(|j| {
+        let (a, b) = (t[j], t[(j + 1) % 3]);
+        robust::orient2d(
+            robust::Coord { x: a[0], y: a[1] },
+            robust::Coord { x: b[0], y: b[1] },
+            robust::Coord { x: p[0], y: p[1] },
+        ) < 0.0
+    })
+}
+
+fn bbox(pts: &[P2]) -> [f64; 4] {
+    let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+    for p in pts {
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
+    }
+    b
+}
+
+fn overlaps(a: &[f64; 4], b: &[f64; 4]) -> bool {
+    a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3]
+}
+
+/// The oracle's answer for every triangle of a level: (relation, coverage).
+fn oracle(tin: &Tin, l: usize, polys: &Polys) -> BTreeMap<u32, (Relation, f64)> {
+    let rings: Vec<(&Vec<P2>, [f64; 4])> = polys.iter().flatten().map(|r| (r, bbox(r))).collect();
+    let mut out = BTreeMap::new();
+    for t in 0..tin.levels[l].tris.len() as u32 {
+        let tc = tri2(tin, l, t);
+        let tb = bbox(&tc);
+        let area_t = signed_area(&tc);
+        let mut covered = 0.0;
+        let mut crossed = false;
+        for (r, rb) in &rings {
+            covered += signed_area_or_zero(&clip_ring(r, &tc));
+            if !crossed && overlaps(rb, &tb) {
+                crossed = r.windows(2).any(|w| crosses_inside(&tc, w[0], w[1]));
+            }
+        }
+        let cov = covered / area_t;
+        if crossed {
+            out.insert(t, (Relation::Boundary, cov));
+        } else if cov > 0.5 {
+            out.insert(t, (Relation::Inside, cov));
+        }
+    }
+    out
+}
+
+fn signed_area_or_zero(p: &[P2]) -> f64 {
+    if p.len() < 3 {
+        0.0
+    } else {
+        signed_area(p)
+    }
+}
+
+fn rows_of(tin: &Tin, l: usize, polys: &Polys, method: Method) -> Vec<AreaRow> {
+    let area = Area::new(polys.clone());
+    let s = sweep(tin, l, &area, method, &mut no_interrupt).unwrap();
+    area_rows(tin, &area, &s, false, &mut no_interrupt).unwrap()
+}
+
+fn check_against_oracle(tin: &Tin, l: usize, polys: &Polys, what: &str) {
+    let want = oracle(tin, l, polys);
+    let got = rows_of(tin, l, polys, Method::Hierarchy);
+    let got_map: BTreeMap<u32, (Relation, f64)> = got
+        .iter()
+        .map(|r| (r.triangle, (r.relation, r.coverage)))
+        .collect();
+    assert_eq!(
+        got.len(),
+        got_map.len(),
+        "{what} level {l}: a triangle twice"
+    );
+    let mut worst: f64 = 0.0;
+    for (t, (rel, cov)) in &want {
+        let Some((grel, gcov)) = got_map.get(t) else {
+            panic!("{what} level {l}: triangle {t} ({rel:?}, {cov}) missing");
+        };
+        assert_eq!(grel, rel, "{what} level {l}: triangle {t} relation");
+        worst = worst.max((gcov - cov).abs());
+        assert!(
+            (gcov - cov).abs() < 1e-9,
+            "{what} level {l}: triangle {t} coverage {gcov} vs {cov}"
+        );
+    }
+    for t in got_map.keys() {
+        assert!(
+            want.contains_key(t),
+            "{what} level {l}: triangle {t} reported but outside"
+        );
+    }
+    println!(
+        "{what} level {l}: {} inside, {} boundary, worst coverage difference {worst:.1e}",
+        want.values().filter(|v| v.0 == Relation::Inside).count(),
+        want.values().filter(|v| v.0 == Relation::Boundary).count()
+    );
+}
+
+#[test]
+fn contour_bands_match_the_oracle_at_every_level() {
+    let tin = dem_tin();
+    for (name, polys) in bands() {
+        let size: usize = polys.iter().flatten().map(|r| r.len()).sum();
+        // keep the brute-force oracle affordable on the large bands
+        let top = match size {
+            0..=1000 => tin.num_levels() - 1,
+            1001..=3000 => 2,
+            _ => 1,
+        };
+        for l in 0..=top {
+            check_against_oracle(&tin, l, &polys, &name);
+        }
+    }
+}
+
+/// Seeded random star-shaped polygons (valid by construction) with a hole,
+/// some reaching outside the domain, and two-part multipolygons.
+fn random_polys(rng: &mut StdRng, tin: &Tin) -> Polys {
+    let b = tin.bbox;
+    let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
+    let mut out = Vec::new();
+    let parts = rng.random_range(1..=2);
+    for k in 0..parts {
+        let cx = b.min_x + w * (0.25 + 0.5 * k as f64) + rng.random_range(-0.1..0.1) * w;
+        let cy = b.min_y + h * rng.random_range(0.2..0.8);
+        let r0 = w.min(h) * rng.random_range(0.05..0.3);
+        let n = rng.random_range(5..60);
+        let star = |rmin: f64, rmax: f64, rng: &mut StdRng, ccw: bool| -> Vec<P2> {
+            let mut ring: Vec<P2> = (0..n)
+                .map(|i| {
+                    let a =
+                        std::f64::consts::TAU * (i as f64 + rng.random_range(0.0..0.9)) / n as f64;
+                    let r = rng.random_range(rmin..rmax);
+                    [cx + r * a.cos(), cy + r * a.sin()]
+                })
+                .collect();
+            if !ccw {
+                ring.reverse();
+            }
+            let f = ring[0];
+            ring.push(f);
+            ring
+        };
+        let mut poly = vec![star(r0 * 0.5, r0, rng, true)];
+        if rng.random_bool(0.6) {
+            poly.push(star(r0 * 0.1, r0 * 0.45, rng, false));
+        }
+        out.push(poly);
+    }
+    out
+}
+
+#[test]
+fn random_polygons_match_the_oracle() {
+    let tin = dem_tin();
+    let mut rng = StdRng::seed_from_u64(20261122);
+    for i in 0..6 {
+        let polys = random_polys(&mut rng, &tin);
+        for l in [0, 2, tin.num_levels() - 1] {
+            check_against_oracle(&tin, l, &polys, &format!("random {i}"));
+        }
+    }
+}
+
+/// A paraboloid on an n x n integer grid: every vertex kept, so polygons
+/// along grid lines run along triangle edges and through vertices.
+fn grid_tin(n: usize) -> Tin {
+    let mut pts = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (i as f64, j as f64);
+            pts.push([x, y, (x - 3.3) * (x - 3.3) + 0.5 * (y - 2.1) * (y - 2.1)]);
+        }
+    }
+    build(pts, &[8.0, 2.0, 0.0], 0, &mut || Ok(())).unwrap()
+}
+
+fn ring(pts: &[P2]) -> Vec<P2> {
+    let mut r = pts.to_vec();
+    r.push(pts[0]);
+    r
+}
+
+#[test]
+fn degenerate_positions_on_a_grid() {
+    let tin = grid_tin(9);
+    let cases: Vec<(&str, Polys)> = vec![
+        (
+            "box along grid lines",
+            vec![vec![ring(&[
+                [1.0, 1.0],
+                [6.0, 1.0],
+                [6.0, 5.0],
+                [1.0, 5.0],
+            ])]],
+        ),
+        (
+            "diamond through vertices",
+            vec![vec![ring(&[
+                [4.0, 0.0],
+                [8.0, 4.0],
+                [4.0, 8.0],
+                [0.0, 4.0],
+            ])]],
+        ),
+        (
+            "box with a hole along grid lines",
+            vec![vec![
+                ring(&[[0.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0]]),
+                ring(&[[2.0, 2.0], [2.0, 5.0], [5.0, 5.0], [5.0, 2.0]]),
+            ]],
+        ),
+        (
+            "whole domain and beyond",
+            vec![vec![ring(&[
+                [-5.0, -5.0],
+                [20.0, -5.0],
+                [20.0, 20.0],
+                [-5.0, 20.0],
+            ])]],
+        ),
+        (
+            "partly outside",
+            vec![vec![ring(&[
+                [-3.0, 2.5],
+                [5.5, 2.5],
+                [5.5, 11.0],
+                [-3.0, 11.0],
+            ])]],
+        ),
+        (
+            "inside one triangle",
+            vec![vec![ring(&[[3.1, 3.05], [3.3, 3.05], [3.1, 3.25]])]],
+        ),
+        (
+            "two squares touching at a vertex",
+            vec![
+                vec![ring(&[[1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]])],
+                vec![ring(&[[3.0, 3.0], [5.5, 3.0], [5.5, 5.5], [3.0, 5.5]])],
+            ],
+        ),
+        (
+            "hole touching its shell at a point",
+            vec![vec![
+                ring(&[[0.5, 0.5], [7.5, 0.5], [7.5, 7.5], [0.5, 7.5]]),
+                ring(&[[0.5, 0.5], [3.0, 4.0], [4.0, 3.0]]),
+            ]],
+        ),
+        (
+            "starting on an edge",
+            vec![vec![ring(&[
+                [2.5, 2.0],
+                [6.0, 2.0],
+                [6.0, 6.3],
+                [2.5, 6.3],
+            ])]],
+        ),
+    ];
+    for (name, polys) in cases {
+        let polys: Polys = polys
+            .into_iter()
+            .map(|p| {
+                p.into_iter()
+                    .enumerate()
+                    .map(|(i, mut r)| {
+                        // shells counter-clockwise, holes clockwise
+                        if (i == 0) != (signed_area(&r[..r.len() - 1]) > 0.0) {
+                            r.reverse();
+                        }
+                        r
+                    })
+                    .collect()
+            })
+            .collect();
+        for l in 0..tin.num_levels() {
+            check_against_oracle(&tin, l, &polys, name);
+        }
+    }
+}
+
+#[test]
+fn the_three_methods_agree_and_the_hierarchy_examines_fewer() {
+    let tin = dem_tin();
+    let fin = tin.num_levels() - 1;
+    for (name, polys) in bands() {
+        let area = Area::new(polys.clone());
+        let mut got = Vec::new();
+        for m in [Method::Hierarchy, Method::Flat, Method::Scan] {
+            let s = sweep(&tin, fin, &area, m, &mut no_interrupt).unwrap();
+            let rows = area_rows(&tin, &area, &s, false, &mut no_interrupt).unwrap();
+            println!("{name}: {m:?} examined {}", s.examined);
+            got.push((rows, s.examined));
+        }
+        assert_eq!(got[0].0, got[1].0, "{name}: hierarchy vs flat");
+        assert_eq!(got[0].0, got[2].0, "{name}: hierarchy vs scan");
+        assert!(got[2].1 == tin.levels[fin].tris.len() || got[2].1 > got[0].1);
+    }
+}
+
+#[test]
+fn compact_output_expands_to_the_full_list() {
+    let tin = dem_tin();
+    let mut polys_all: Vec<(String, Polys)> = bands();
+    let mut rng = StdRng::seed_from_u64(7);
+    polys_all.push(("random".into(), random_polys(&mut rng, &tin)));
+    for (name, polys) in polys_all {
+        let area = Area::new(polys.clone());
+        for l in 0..tin.num_levels() {
+            let s = sweep(&tin, l, &area, Method::Hierarchy, &mut no_interrupt).unwrap();
+            let full = area_rows(&tin, &area, &s, false, &mut no_interrupt).unwrap();
+            let compact = area_rows(&tin, &area, &s, true, &mut no_interrupt).unwrap();
+            // expand with the parent links (not the child ranges the code uses)
+            let coarse: HashSet<(usize, u32)> = compact
+                .iter()
+                .filter(|r| r.relation == Relation::Inside)
+                .map(|r| (r.level, r.triangle))
+                .collect();
+            let mut expanded: Vec<u32> = Vec::new();
+            for t in 0..tin.levels[l].tris.len() as u32 {
+                let (mut lv, mut a) = (l, t);
+                loop {
+                    if coarse.contains(&(lv, a)) {
+                        expanded.push(t);
+                        break;
+                    }
+                    if lv == 0 {
+                        break;
+                    }
+                    a = tin.levels[lv].parent[a as usize];
+                    lv -= 1;
+                }
+            }
+            let inside_full: Vec<u32> = full
+                .iter()
+                .filter(|r| r.relation == Relation::Inside)
+                .map(|r| r.triangle)
+                .collect();
+            assert_eq!(expanded, inside_full, "{name} level {l}");
+            let bf: Vec<&AreaRow> = full
+                .iter()
+                .filter(|r| r.relation == Relation::Boundary)
+                .collect();
+            let bc: Vec<&AreaRow> = compact
+                .iter()
+                .filter(|r| r.relation == Relation::Boundary)
+                .collect();
+            assert_eq!(bf, bc, "{name} level {l}: boundary rows");
+            // coarse inside triangles have no inside parent
+            for &(lv, a) in &coarse {
+                if lv > 0 {
+                    let p = tin.levels[lv].parent[a as usize];
+                    assert!(!coarse.contains(&(lv - 1, p)));
+                }
+            }
+            if l == tin.num_levels() - 1 {
+                println!(
+                    "{name}: full {} rows, compact {} rows",
+                    full.len(),
+                    compact.len()
+                );
+            }
+        }
+    }
+}
+
+/// Integrals over the clipped polygons (oracle): area, surface area, the
+/// integral of z, of the slope, min/max z, cut and fill at `base`.
+#[derive(Debug, Default)]
+struct Integrals {
+    a: f64,
+    a3: f64,
+    z: f64,
+    slope: f64,
+    min_z: f64,
+    max_z: f64,
+    max_slope: f64,
+    cut: f64,
+    fill: f64,
+}
+
+fn plane_z(c: &[[f64; 3]; 3], p: P2) -> f64 {
+    let d = (c[1][0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
+    let wb = ((p[0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (p[1] - c[0][1])) / d;
+    let wc = ((c[1][0] - c[0][0]) * (p[1] - c[0][1]) - (p[0] - c[0][0]) * (c[1][1] - c[0][1])) / d;
+    c[0][2] + wb * (c[1][2] - c[0][2]) + wc * (c[2][2] - c[0][2])
+}
+
+/// Integral of a function linear on the polygon, by fan triangulation.
+fn fan_integral(poly: &[P2], f: &dyn Fn(P2) -> f64) -> f64 {
+    let mut s = 0.0;
+    for i in 1..poly.len().saturating_sub(1) {
+        let (a, b, c) = (poly[0], poly[i], poly[i + 1]);
+        let ar = ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) / 2.0;
+        s += ar * (f(a) + f(b) + f(c)) / 3.0;
+    }
+    s
+}
+
+fn half_plane(poly: &[P2], h: &dyn Fn(P2) -> f64) -> Vec<P2> {
+    let mut out = Vec::new();
+    for i in 0..poly.len() {
+        let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (hp, hq) = (h(p), h(q));
+        if hp >= 0.0 {
+            out.push(p);
+        }
+        if (hp >= 0.0) != (hq >= 0.0) {
+            let s = hp / (hp - hq);
+            out.push([p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])]);
+        }
+    }
+    out
+}
+
+fn oracle_integrals(tin: &Tin, l: usize, polys: &Polys, base: f64) -> Integrals {
+    let rings: Vec<&Vec<P2>> = polys.iter().flatten().collect();
+    let to_ring = |r: &Vec<P2>| {
+        geo::LineString::from(
+            r.iter()
+                .map(|c| Coord { x: c[0], y: c[1] })
+                .collect::<Vec<_>>(),
+        )
+    };
+    let mp = geo::MultiPolygon::new(
+        polys
+            .iter()
+            .map(|p| geo::Polygon::new(to_ring(&p[0]), p[1..].iter().map(to_ring).collect()))
+            .collect(),
+    );
+    let mut o = Integrals {
+        min_z: f64::INFINITY,
+        max_z: f64::NEG_INFINITY,
+        max_slope: f64::NEG_INFINITY,
+        ..Integrals::default()
+    };
+    for t in 0..tin.levels[l].tris.len() as u32 {
+        let c = tin.corners(l, t);
+        let tc = tri2(tin, l, t);
+        let z = |p: P2| plane_z(&c, p);
+        let n = {
+            let (u, v) = (
+                [c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]],
+                [c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]],
+            );
+            [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ]
+        };
+        let sec = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / n[2].abs();
+        let slope = (sec * sec - 1.0).max(0.0).sqrt().atan().to_degrees();
+        let mut a_t = 0.0;
+        for r in &rings {
+            let p = clip_ring(r, &tc);
+            if p.len() < 3 {
+                continue;
+            }
+            let a = signed_area(&p);
+            if a == 0.0 {
+                continue;
+            }
+            a_t += a;
+            o.z += fan_integral(&p, &z);
+            o.cut += fan_integral(&half_plane(&p, &|q| z(q) - base), &|q| z(q) - base);
+            o.fill += fan_integral(&half_plane(&p, &|q| base - z(q)), &|q| base - z(q));
+        }
+        if a_t > 0.0 {
+            // the region's vertices: corners of the triangle in the polygon,
+            // ring vertices in the triangle, crossings of rings and edges
+            let mut vs: Vec<P2> = tc
+                .iter()
+                .filter(|c| geo::Intersects::intersects(&mp, &geo::Point::new(c[0], c[1])))
+                .copied()
+                .collect();
+            let tb = bbox(&tc);
+            for r in &rings {
+                for w in r.windows(2) {
+                    if !overlaps(&bbox(w), &tb) {
+                        continue;
+                    }
+                    if !strictly_outside(&tc, w[0]) {
+                        vs.push(w[0]);
+                    }
+                    let sg = Line::new(
+                        Coord {
+                            x: w[0][0],
+                            y: w[0][1],
+                        },
+                        Coord {
+                            x: w[1][0],
+                            y: w[1][1],
+                        },
+                    );
+                    for j in 0..3 {
+                        let e = Line::new(
+                            Coord {
+                                x: tc[j][0],
+                                y: tc[j][1],
+                            },
+                            Coord {
+                                x: tc[(j + 1) % 3][0],
+                                y: tc[(j + 1) % 3][1],
+                            },
+                        );
+                        match line_intersection(sg, e) {
+                            Some(LineIntersection::SinglePoint { intersection, .. }) => {
+                                vs.push([intersection.x, intersection.y])
+                            }
+                            Some(LineIntersection::Collinear { intersection }) => {
+                                vs.push([intersection.start.x, intersection.start.y]);
+                                vs.push([intersection.end.x, intersection.end.y]);
+                            }
+                            None => {}
+                        }
+                    }
+                }
+            }
+            for q in vs {
+                o.min_z = o.min_z.min(z(q));
+                o.max_z = o.max_z.max(z(q));
+            }
+        }
+        if a_t > 1e-9 * signed_area(&tc) {
+            o.a += a_t;
+            o.a3 += a_t * sec;
+            o.slope += a_t * slope;
+            o.max_slope = o.max_slope.max(slope);
+        }
+    }
+    o
+}
+
+fn close(a: f64, b: f64, scale: f64, what: &str) {
+    assert!(
+        (a - b).abs() <= 1e-9 * scale.abs().max(1.0),
+        "{what}: {a} vs {b} (scale {scale})"
+    );
+}
+
+#[test]
+fn stats_and_volumes_match_the_clipped_triangles() {
+    let tin = dem_tin();
+    let mut cases: Vec<(String, Polys)> = bands().into_iter().take(1).collect();
+    let mut rng = StdRng::seed_from_u64(99);
+    for i in 0..3 {
+        cases.push((format!("random {i}"), random_polys(&mut rng, &tin)));
+    }
+    // bands(): the first line of the file is the 250-300 band; use the
+    // smallest one as well
+    cases.push(bands().into_iter().last().unwrap());
+    for (name, polys) in cases {
+        let area = Area::new(polys.clone());
+        let size: usize = polys.iter().flatten().map(|r| r.len()).sum();
+        let levels = if size > 1000 {
+            vec![0]
+        } else {
+            vec![0, tin.num_levels() - 1]
+        };
+        for l in levels {
+            let s = sweep(&tin, l, &area, Method::Hierarchy, &mut no_interrupt).unwrap();
+            let st = stats(&tin, &area, &s, &mut no_interrupt).unwrap();
+            let base = (tin.bbox.min_z + tin.bbox.max_z) / 2.0;
+            let (cut, fill) = volume(&tin, &area, &s, base, &mut no_interrupt).unwrap();
+            let o = oracle_integrals(&tin, l, &polys, base);
+            let what = format!("{name} level {l}");
+            close(st.area2d, o.a, o.a, &format!("{what} area2d"));
+            close(st.area3d, o.a3, o.a3, &format!("{what} area3d"));
+            close(st.z_integral, o.z, o.z, &format!("{what} integral of z"));
+            close(
+                st.slope_integral,
+                o.slope,
+                o.slope,
+                &format!("{what} integral of slope"),
+            );
+            close(
+                st.max_slope,
+                o.max_slope,
+                90.0,
+                &format!("{what} max slope"),
+            );
+            close(st.min_z, o.min_z, 1000.0, &format!("{what} min z"));
+            close(st.max_z, o.max_z, 1000.0, &format!("{what} max z"));
+            close(cut, o.cut, o.z.abs(), &format!("{what} cut"));
+            close(fill, o.fill, o.z.abs(), &format!("{what} fill"));
+            println!(
+                "{what}: area {:.1} m2, mean z {:.3} m, cut {:.1} m3, fill {:.1} m3",
+                st.area2d,
+                st.mean_z(),
+                cut,
+                fill
+            );
+        }
+    }
+}
+
+#[test]
+fn full_domain_box_volume_is_the_prism_sum() {
+    let tin = dem_tin();
+    let b = tin.bbox;
+    let m = 1000.0;
+    let polys = vec![vec![vec![
+        [b.min_x - m, b.min_y - m],
+        [b.max_x + m, b.min_y - m],
+        [b.max_x + m, b.max_y + m],
+        [b.min_x - m, b.max_y + m],
+        [b.min_x - m, b.min_y - m],
+    ]]];
+    let area = Area::new(polys);
+    for l in 0..tin.num_levels() {
+        for base in [b.min_z - 10.0, (b.min_z + b.max_z) / 2.0] {
+            let s = sweep(&tin, l, &area, Method::Hierarchy, &mut no_interrupt).unwrap();
+            assert!(s.boundary.is_empty());
+            let (cut, fill) = volume(&tin, &area, &s, base, &mut no_interrupt).unwrap();
+            // analytic: each triangle is a prism of its area times its mean
+            // height above base (signed), summed
+            let mut net = 0.0;
+            let mut domain = 0.0;
+            for t in 0..tin.levels[l].tris.len() as u32 {
+                let c = tin.corners(l, t);
+                let a = signed_area(&tri2(&tin, l, t));
+                domain += a;
+                net += a * ((c[0][2] + c[1][2] + c[2][2]) / 3.0 - base);
+            }
+            close(
+                cut - fill,
+                net,
+                net,
+                &format!("level {l} base {base}: cut - fill"),
+            );
+            if base < b.min_z {
+                assert_eq!(fill, 0.0);
+                close(cut, net, net, &format!("level {l}: prism sum"));
+            }
+            let st = stats(&tin, &area, &s, &mut no_interrupt).unwrap();
+            close(st.area2d, domain, domain, "domain area");
+        }
+    }
+}

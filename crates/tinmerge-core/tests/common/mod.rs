@@ -1,0 +1,139 @@
+//! Test support: read the bundled GeoTIFF DEMs with the `tiff` crate (an
+//! independent reader: the extension itself never parses TIFF).
+#![allow(dead_code)]
+
+use std::fs::File;
+use tiff::decoder::{Decoder, DecodingResult};
+use tiff::tags::Tag;
+
+pub struct Dem {
+    pub width: usize,
+    pub height: usize,
+    pub origin_x: f64,
+    pub origin_y: f64,
+    pub scale_x: f64,
+    pub scale_y: f64,
+    pub nodata: Option<f64>,
+    pub values: Vec<f64>,
+}
+
+impl Dem {
+    /// The DEM on an `f` times finer grid (each pixel `f x f` sub-pixels
+    /// with its value): geotransform, width, height, values (row-major).
+    pub fn upsampled(
+        &self,
+        f: usize,
+    ) -> (
+        tinmerge_core::io::raster::GeoTransform,
+        usize,
+        usize,
+        Vec<f64>,
+    ) {
+        let (w, h) = (self.width * f, self.height * f);
+        let mut values = vec![0.0; w * h];
+        for row in 0..h {
+            for col in 0..w {
+                values[row * w + col] = self.values[(row / f) * self.width + col / f];
+            }
+        }
+        let gt = tinmerge_core::io::raster::GeoTransform {
+            scale_x: self.scale_x / f as f64,
+            scale_y: -self.scale_y / f as f64,
+            ip_x: self.origin_x,
+            ip_y: self.origin_y,
+            skew_x: 0.0,
+            skew_y: 0.0,
+        };
+        (gt, w, h, values)
+    }
+
+    pub fn centre(&self, col: usize, row: usize) -> (f64, f64) {
+        (
+            self.origin_x + (col as f64 + 0.5) * self.scale_x,
+            self.origin_y - (row as f64 + 0.5) * self.scale_y,
+        )
+    }
+
+    /// Valid samples (x, y, z) at pixel centres.
+    pub fn samples(&self) -> Vec<[f64; 3]> {
+        let mut out = Vec::new();
+        for r in 0..self.height {
+            for c in 0..self.width {
+                let v = self.values[r * self.width + c];
+                if v.is_nan() || Some(v) == self.nodata {
+                    continue;
+                }
+                let (x, y) = self.centre(c, r);
+                out.push([x, y, v]);
+            }
+        }
+        out
+    }
+}
+
+pub fn data_path(name: &str) -> String {
+    format!("{}/../../tests/data/{}", env!("CARGO_MANIFEST_DIR"), name)
+}
+
+pub fn read_dem(name: &str) -> Dem {
+    let f = File::open(data_path(name)).expect("open DEM");
+    let mut d = Decoder::new(f).expect("tiff decoder");
+    let (w, h) = d.dimensions().expect("dimensions");
+    let scale = d
+        .get_tag_f64_vec(Tag::ModelPixelScaleTag)
+        .expect("pixel scale");
+    let tie = d.get_tag_f64_vec(Tag::ModelTiepointTag).expect("tiepoint");
+    let nodata = d
+        .get_tag_ascii_string(Tag::GdalNodata)
+        .ok()
+        .and_then(|s| s.trim_matches(char::from(0)).trim().parse::<f64>().ok());
+    let values: Vec<f64> = match d.read_image().expect("read image") {
+        DecodingResult::F32(v) => v.into_iter().map(|x| x as f64).collect(),
+        DecodingResult::F64(v) => v,
+        _ => panic!("unexpected sample format"),
+    };
+    Dem {
+        width: w as usize,
+        height: h as usize,
+        origin_x: tie[3] - tie[0] * scale[0],
+        origin_y: tie[4] + tie[1] * scale[1],
+        scale_x: scale[0],
+        scale_y: scale[1],
+        nodata,
+        values,
+    }
+}
+
+/// The UTM DEM as a tin: tolerance 2 m at the finest of 5 levels (the
+/// extension's own build: tests of the merges start from it).
+pub fn dem_tin() -> tinmerge_core::tin::Tin {
+    use tinmerge_core::tin::build::{build, default_tolerances};
+    let dem = read_dem("jacksboro_fault_dem_utm16n.tif");
+    build(
+        dem.samples(),
+        &default_tolerances(2.0, 5).unwrap(),
+        32616,
+        &mut || Ok(()),
+    )
+    .unwrap()
+}
+
+/// Convex polygon clipped to the left of the line a -> b (Sutherland-Hodgman
+/// step): the tests' own clipper, independent of the extension's.
+pub fn clip_half(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
+    // keep the side left of a->b
+    let side = |p: [f64; 2]| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for i in 0..poly.len() {
+        let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (sp, sq) = (side(p), side(q));
+        if sp >= 0.0 {
+            out.push(p);
+        }
+        if (sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0) {
+            let t = sp / (sp - sq);
+            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+        }
+    }
+    out
+}

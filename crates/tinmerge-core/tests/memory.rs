@@ -1,0 +1,161 @@
+//! The memory estimates that `tinmerge.max_memory` checks requests against
+//! (`tin::memory`), against the peak heap each request really uses on the
+//! real DEM, measured by the counting allocator: builds, decoding a stored
+//! value and reading a raster band must stay under their estimate (else a
+//! request passing the check could still exceed the limit), and the
+//! estimate must not be so loose that it refuses requests using a quarter of
+//! it. The overlay's estimate is a lower bound (its output grows with the
+//! crossings, checked while it runs), so its real peak must be above it.
+//!
+//! One test function: the counters are process-wide, so nothing else may
+//! allocate while a peak is measured.
+
+mod common;
+
+use common::read_dem;
+use tinmerge_core::io::raster;
+use tinmerge_core::merge::overlay::overlay;
+use tinmerge_core::tin::build::{build, default_tolerances};
+use tinmerge_core::tin::{layout, memory};
+
+/// The extension installs the counting allocator in its crate root; this
+/// test binary links only the core, so it installs it here.
+#[global_allocator]
+static ALLOCATOR: memory::Counting = memory::Counting;
+
+/// Peak heap above the current level while `f` runs, and its result.
+fn peak_of<T>(f: impl FnOnce() -> T) -> (usize, T) {
+    let base = memory::live();
+    memory::reset_peak();
+    let out = f();
+    (memory::peak().saturating_sub(base), out)
+}
+
+/// A one-band float64 WKB raster (little endian), as PostGIS sends it.
+fn wkb_raster(gt: &raster::GeoTransform, w: usize, h: usize, values: &[f64]) -> Vec<u8> {
+    let mut b = vec![1u8];
+    b.extend_from_slice(&0u16.to_le_bytes());
+    b.extend_from_slice(&1u16.to_le_bytes());
+    for v in [
+        gt.scale_x, gt.scale_y, gt.ip_x, gt.ip_y, gt.skew_x, gt.skew_y,
+    ] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.extend_from_slice(&32616i32.to_le_bytes());
+    b.extend_from_slice(&(w as u16).to_le_bytes());
+    b.extend_from_slice(&(h as u16).to_le_bytes());
+    b.push(0x40 | 11); // 64BF, has nodata
+    b.extend_from_slice(&(-9999.0f64).to_le_bytes());
+    for v in values {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b
+}
+
+fn row(what: &str, input: String, peak: usize, estimate: usize) {
+    println!(
+        "{what:<28} {input:>34} {:>9.1} MB {:>9.1} MB {:>6.2}",
+        peak as f64 / 1e6,
+        estimate as f64 / 1e6,
+        estimate as f64 / peak.max(1) as f64
+    );
+}
+
+fn upper_bound(what: &str, peak: usize, estimate: usize) {
+    assert!(
+        peak <= estimate,
+        "{what}: peak {peak} bytes above the estimate {estimate}"
+    );
+    assert!(
+        estimate <= 4 * peak.max(1 << 20),
+        "{what}: estimate {estimate} bytes is over 4x the peak {peak}"
+    );
+}
+
+#[test]
+fn estimates_bound_the_measured_peaks() {
+    let dem = read_dem("jacksboro_fault_dem_utm16n.tif");
+    println!(
+        "{:<28} {:>34} {:>12} {:>12} {:>6}",
+        "request", "input", "peak", "estimate", "ratio"
+    );
+
+    // builds: the samples are part of the request (the SQL layer reserves
+    // the estimate minus the samples it already holds)
+    let mut tins = Vec::new();
+    // (1: DEM, 0: DEM + noise; levels; tolerance): tolerance 0.01 on noisy samples
+    // makes nearly every sample a vertex of the finest levels (worst case)
+    for (f, levels, tol) in [(1usize, 1usize, 2.0), (1, 5, 2.0), (0, 5, 0.01)] {
+        let samples: Vec<[f64; 3]> = if f == 1 {
+            dem.samples()
+        } else {
+            dem.samples()
+                .into_iter()
+                .enumerate()
+                .map(|(i, p)| [p[0], p[1], p[2] + ((i * 7919) % 13) as f64 * 0.37])
+                .collect()
+        };
+        let n = samples.len();
+        let tols = default_tolerances(tol, levels as i32).unwrap();
+        let (peak, tin) = peak_of(move || build(samples, &tols, 32616, &mut || Ok(())).unwrap());
+        let peak = peak + n * 24;
+        let est = tinmerge_core::tin::build::build_bytes(n, levels);
+        let verts = tin.verts.len();
+        row(
+            "build",
+            format!("{n} samples, {verts} verts, {levels} lv"),
+            peak,
+            est,
+        );
+        upper_bound("build", peak, est);
+        if f == 1 && levels == 5 {
+            tins.push(tin);
+        }
+    }
+
+    // decoding a stored value
+    let stored = layout::encode(&tins[0]);
+    let (peak, decoded) = peak_of(|| layout::decode(&stored).unwrap());
+    let est = layout::decode_bytes(stored.len());
+    row("decode", format!("{} bytes", stored.len()), peak, est);
+    upper_bound("decode", peak, est);
+    drop(decoded);
+
+    // reading a raster band
+    for f in [1usize, 4] {
+        let (gt, w, h, v) = dem.upsampled(f);
+        let wkb = wkb_raster(&gt, w, h, &v);
+        drop(v);
+        let (peak, r) = peak_of(|| raster::read(&wkb, Some(1)).unwrap());
+        assert_eq!(r.width * r.height, w * h);
+        let est = raster::raster_bytes(w, h);
+        row("raster band", format!("{w} x {h} px"), peak, est);
+        upper_bound("raster", peak, est);
+    }
+
+    // overlay: the estimate is the least it can need
+    let dem_s = dem.samples();
+    let other = build(
+        dem_s.iter().map(|p| [p[0], p[1], p[2] + 0.5]).collect(),
+        &default_tolerances(3.0, 5).unwrap(),
+        32616,
+        &mut || Ok(()),
+    )
+    .unwrap();
+    for l in [1usize, 2] {
+        let (na, nb) = (tins[0].levels[l].tris.len(), other.levels[l].tris.len());
+        let (peak, o) = peak_of(|| overlay(&tins[0], l, &other, l, &mut || Ok(())).unwrap());
+        let est = tinmerge_core::merge::overlay::overlay_bytes(na, nb);
+        row(
+            "overlay (estimate = least)",
+            format!("{na} + {nb} tris"),
+            peak,
+            est,
+        );
+        assert!(!o.tris.is_empty());
+        assert!(
+            est <= peak,
+            "overlay: least estimate {est} above the peak {peak}"
+        );
+    }
+}

@@ -1,0 +1,425 @@
+//! TIN/TIN overlay on real TINs built from the bundled DEM, checked against
+//! oracles written here: the common domain from a hull and a half-plane
+//! clipper of the test's own, exact orientation tests, and heights from
+//! point location in the inputs.
+
+mod common;
+
+use common::read_dem;
+use robust::{orient2d, Coord};
+use std::collections::{HashMap, HashSet};
+use tinmerge_core::merge::overlay::{difference, overlay, overlay_constrained, Overlay};
+use tinmerge_core::tin::build::build;
+use tinmerge_core::tin::{interpolate, locate, Tin, NONE};
+
+type P = [f64; 2];
+
+fn co(p: P) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+/// DEM samples of a window of rows/columns, shifted by (dx, dy) pixels and
+/// raised by dz.
+fn window(r0: usize, c0: usize, n: usize, dx: f64, dy: f64, dz: f64) -> Vec<[f64; 3]> {
+    let dem = read_dem("jacksboro_fault_dem_utm16n.tif");
+    let mut out = Vec::new();
+    for r in r0..r0 + n {
+        for c in c0..c0 + n {
+            let v = dem.values[r * dem.width + c];
+            if v.is_nan() || Some(v) == dem.nodata {
+                continue;
+            }
+            let (x, y) = dem.centre(c, r);
+            out.push([x + dx * dem.scale_x, y - dy * dem.scale_y, v + dz]);
+        }
+    }
+    out
+}
+
+fn tin(samples: Vec<[f64; 3]>, tols: &[f64]) -> Tin {
+    build(samples, tols, 32616, &mut || Ok(())).unwrap()
+}
+
+/// Convex hull (Andrew's monotone chain, exact turns), CCW, no collinear
+/// points.
+fn hull(mut p: Vec<P>) -> Vec<P> {
+    p.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    p.dedup();
+    let mut h: Vec<P> = Vec::new();
+    for pass in 0..2 {
+        let start = h.len();
+        let it: Box<dyn Iterator<Item = &P>> = if pass == 0 {
+            Box::new(p.iter())
+        } else {
+            Box::new(p.iter().rev())
+        };
+        for &q in it {
+            while h.len() >= start + 2
+                && orient2d(co(h[h.len() - 2]), co(h[h.len() - 1]), co(q)) <= 0.0
+            {
+                h.pop();
+            }
+            h.push(q);
+        }
+        h.pop();
+    }
+    h
+}
+
+/// Convex polygon `poly` clipped by the convex polygon `by` (both CCW).
+fn clip(poly: &[P], by: &[P]) -> Vec<P> {
+    let mut out = poly.to_vec();
+    for i in 0..by.len() {
+        out = common::clip_half(&out, by[i], by[(i + 1) % by.len()]);
+    }
+    out
+}
+
+fn area(poly: &[P]) -> f64 {
+    let mut s = 0.0;
+    for i in 0..poly.len() {
+        let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
+        s += p[0] * q[1] - q[0] * p[1];
+    }
+    s / 2.0
+}
+
+fn level_pts(t: &Tin, l: usize) -> Vec<P> {
+    t.verts[..t.levels[l].num_vertices as usize]
+        .iter()
+        .map(|v| [v[0], v[1]])
+        .collect()
+}
+
+fn in_closed(poly: &[P], p: P) -> bool {
+    (0..poly.len()).all(|i| orient2d(co(poly[i]), co(poly[(i + 1) % poly.len()]), co(p)) >= 0.0)
+}
+
+fn edges(t: &Tin, l: usize) -> Vec<(P, P)> {
+    let lv = &t.levels[l];
+    let mut e = Vec::new();
+    for (i, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
+        for j in 0..3 {
+            if nb[j] == NONE || (i as u32) < nb[j] {
+                let (u, v) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+                let (u, v) = (t.verts[u as usize], t.verts[v as usize]);
+                e.push(([u[0], u[1]], [v[0], v[1]]));
+            }
+        }
+    }
+    e
+}
+
+/// Segment (p, q) clipped to the convex polygon (Cyrus-Beck), or None.
+fn clip_segment(poly: &[P], p: P, q: P) -> Option<(P, P)> {
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let side = |r: P| (b[0] - a[0]) * (r[1] - a[1]) - (b[1] - a[1]) * (r[0] - a[0]);
+        let (sp, sq) = (side(p), side(q));
+        if sp < 0.0 && sq < 0.0 {
+            return None;
+        }
+        if sp < 0.0 {
+            t0 = t0.max(sp / (sp - sq));
+        } else if sq < 0.0 {
+            t1 = t1.min(sp / (sp - sq));
+        }
+    }
+    let at = |t: f64| [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
+    (t1 - t0 > 1e-12).then(|| (at(t0), at(t1)))
+}
+
+const TOL: f64 = 1e-6; // metres, for points computed by two codes
+
+struct Index<'a> {
+    o: &'a Overlay,
+    cells: HashMap<(i64, i64), Vec<u32>>,
+    adj: Vec<Vec<u32>>,
+}
+
+impl<'a> Index<'a> {
+    fn new(o: &'a Overlay) -> Self {
+        let mut cells: HashMap<(i64, i64), Vec<u32>> = HashMap::new();
+        for (i, p) in o.pts.iter().enumerate() {
+            cells
+                .entry(((p[0]).floor() as i64, (p[1]).floor() as i64))
+                .or_default()
+                .push(i as u32);
+        }
+        let mut adj = vec![Vec::new(); o.pts.len()];
+        for t in &o.tris {
+            for j in 0..3 {
+                let (u, v) = (t[j], t[(j + 1) % 3]);
+                adj[u as usize].push(v);
+                adj[v as usize].push(u);
+            }
+        }
+        Index { o, cells, adj }
+    }
+    fn find(&self, p: P) -> Option<u32> {
+        let (cx, cy) = (p[0].floor() as i64, p[1].floor() as i64);
+        let mut best: Option<(f64, u32)> = None;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for &i in self.cells.get(&(cx + dx, cy + dy)).into_iter().flatten() {
+                    let q = self.o.pts[i as usize];
+                    let d = (q[0] - p[0]).hypot(q[1] - p[1]);
+                    if d <= TOL && best.is_none_or(|b| d < b.0) {
+                        best = Some((d, i));
+                    }
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+    /// Follow output edges from s to e along the segment; the length covered.
+    fn follow(&self, s: P, e: P) -> Result<f64, String> {
+        let len = (e[0] - s[0]).hypot(e[1] - s[1]);
+        let dir = [(e[0] - s[0]) / len, (e[1] - s[1]) / len];
+        let mut cur = self
+            .find(s)
+            .ok_or("start of the clipped edge is not an output vertex")?;
+        let end = self
+            .find(e)
+            .ok_or("end of the clipped edge is not an output vertex")?;
+        let mut covered = 0.0;
+        let mut steps = 0;
+        while cur != end {
+            steps += 1;
+            if steps > 100_000 {
+                return Err("does not arrive".into());
+            }
+            let c = self.o.pts[cur as usize];
+            let mut next: Option<(f64, u32)> = None;
+            for &v in &self.adj[cur as usize] {
+                let q = self.o.pts[v as usize];
+                let (wx, wy) = (q[0] - c[0], q[1] - c[1]);
+                let forward = wx * dir[0] + wy * dir[1];
+                let off = (q[0] - s[0]) * dir[1] - (q[1] - s[1]) * dir[0];
+                if forward > 0.0 && off.abs() <= TOL && next.is_none_or(|n| forward < n.0) {
+                    next = Some((forward, v));
+                }
+            }
+            let (f, v) =
+                next.ok_or_else(|| format!("no output edge continues the segment at {c:?}"))?;
+            covered += f;
+            cur = v;
+        }
+        Ok(covered)
+    }
+}
+
+/// Both paths (faces, and the constrained triangulation) checked against
+/// the oracles; the faces path must not have fallen back on these inputs.
+fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
+    let c = overlay_constrained(a, la, b, lb, &mut || Ok(())).unwrap();
+    check_one(a, la, b, lb, &c);
+    let o = overlay(a, la, b, lb, &mut || Ok(())).unwrap();
+    assert_eq!(o.fallback, None, "the faces path fell back");
+    check_one(a, la, b, lb, &o);
+    o
+}
+
+fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
+    let dom = clip(&hull(level_pts(a, la)), &hull(level_pts(b, lb)));
+    let dom_area = area(&dom);
+
+    // triangles strictly CCW, every directed edge once, areas add up
+    let mut directed = HashSet::new();
+    let mut sum = 0.0;
+    for (t, tri) in o.tris.iter().enumerate() {
+        let c = tri.map(|v| o.pts[v as usize]);
+        assert!(
+            orient2d(co(c[0]), co(c[1]), co(c[2])) > 0.0,
+            "triangle {t} not CCW"
+        );
+        for j in 0..3 {
+            assert!(
+                directed.insert((tri[j], tri[(j + 1) % 3])),
+                "directed edge twice"
+            );
+        }
+        sum += o.area(t);
+    }
+    assert!(
+        (sum - dom_area).abs() <= 1e-9 * dom_area,
+        "area {sum} vs common domain {dom_area}"
+    );
+
+    // every input vertex in the common domain is an output vertex
+    let out: HashSet<(u64, u64)> = o
+        .pts
+        .iter()
+        .map(|p| (p[0].to_bits(), p[1].to_bits()))
+        .collect();
+    for (t, l) in [(a, la), (b, lb)] {
+        for p in level_pts(t, l) {
+            if in_closed(&dom, p) {
+                assert!(
+                    out.contains(&(p[0].to_bits(), p[1].to_bits())),
+                    "vertex {p:?} missing"
+                );
+            }
+        }
+    }
+
+    // every input edge, clipped, is a chain of output edges
+    let idx = Index::new(o);
+    for (t, l) in [(a, la), (b, lb)] {
+        for (p, q) in edges(t, l) {
+            if let Some((s, e)) = clip_segment(&dom, p, q) {
+                let len = (e[0] - s[0]).hypot(e[1] - s[1]);
+                if len < 1e-3 {
+                    continue;
+                }
+                let covered = idx
+                    .follow(s, e)
+                    .unwrap_or_else(|m| panic!("edge {p:?}-{q:?}: {m}"));
+                assert!(
+                    (covered - len).abs() <= 1e-6 * len.max(1.0),
+                    "edge {p:?}-{q:?}: {covered} of {len}"
+                );
+            }
+        }
+    }
+
+    // each output triangle inside its triangle of A and of B
+    for (t, tri) in o.tris.iter().enumerate() {
+        for (src, l, owner) in [(a, la, o.tri_a[t]), (b, lb, o.tri_b[t])] {
+            let c = src.corners(l, owner).map(|v| [v[0], v[1]]);
+            for &v in tri {
+                let p = o.pts[v as usize];
+                for j in 0..3 {
+                    let (u, w) = (c[j], c[(j + 1) % 3]);
+                    let d = ((w[0] - u[0]) * (p[1] - u[1]) - (w[1] - u[1]) * (p[0] - u[0]))
+                        / (w[0] - u[0]).hypot(w[1] - u[1]);
+                    assert!(
+                        d >= -1e-7,
+                        "output triangle {t} pokes out of its owner by {d}"
+                    );
+                }
+            }
+        }
+    }
+    // heights: on A's and B's surfaces, from the inputs' own point location
+    for (i, p) in o.pts.iter().enumerate() {
+        for (src, l, z) in [(a, la, o.za[i]), (b, lb, o.zb[i])] {
+            let t = locate::locate(src, l, p[0], p[1]).or_else(|| {
+                let s = locate::start_triangle(src, l, p[0], p[1]);
+                match locate::walk(src, l, s, p[0], p[1]) {
+                    locate::Walk::Inside(t) | locate::Walk::Outside(t) => Some(t),
+                }
+            });
+            let zz = interpolate(&src.corners(l, t.unwrap()), p[0], p[1]);
+            assert!((zz - z).abs() < 1e-6, "height {z} vs {zz}");
+        }
+    }
+}
+
+#[test]
+fn overlay_of_different_tolerances_shares_vertices_and_edges() {
+    // same samples, different tolerances: A's vertices are B's, many edges
+    // coincide (collinear overlaps), the rest cross
+    let a = tin(window(40, 60, 70, 0.0, 0.0, 0.0), &[8.0, 3.0]);
+    let b = tin(window(40, 60, 70, 0.0, 0.0, 0.0), &[5.0, 1.5]);
+    for (la, lb) in [(0, 0), (1, 1), (0, 1), (1, 0)] {
+        let o = check(&a, la, &b, lb);
+        assert!(o.crossings > 0);
+    }
+}
+
+#[test]
+fn overlay_of_a_shifted_copy_crosses_everywhere() {
+    let a = tin(window(100, 100, 60, 0.0, 0.0, 0.0), &[6.0, 2.0]);
+    let b = tin(window(100, 100, 60, 0.37, 0.61, 0.0), &[6.0, 2.0]);
+    let o = check(&a, 1, &b, 1);
+    assert!(o.crossings > a.levels[1].tris.len());
+    // partial overlap: shifted by 25 pixels
+    let c = tin(window(100, 100, 60, 25.0, 13.5, 0.0), &[6.0, 2.0]);
+    check(&a, 1, &c, 0);
+}
+
+#[test]
+fn overlay_with_itself_is_itself() {
+    let a = tin(window(10, 10, 50, 0.0, 0.0, 0.0), &[4.0, 2.0]);
+    let o = check(&a, 1, &a, 1);
+    assert_eq!(o.crossings, 0);
+    assert_eq!(o.tris.len(), a.levels[1].tris.len());
+    let (cut, fill, changed) = difference(&o);
+    assert_eq!((cut, fill, changed), (0.0, 0.0, 0.0));
+}
+
+#[test]
+fn difference_against_sampled_heights() {
+    let a = tin(window(60, 60, 50, 0.0, 0.0, 0.0), &[3.0]);
+    let raised = tin(window(60, 60, 50, 0.0, 0.0, 1.0), &[3.0]);
+    let o = check(&raised, 0, &a, 0);
+    let (cut, fill, changed) = difference(&o);
+    let dom = hull(level_pts(&a, 0));
+    let dom_area = area(&dom);
+    assert!(
+        (cut - dom_area).abs() <= 1e-9 * dom_area,
+        "{cut} vs {dom_area}"
+    );
+    assert!(fill.abs() <= 1e-9 * dom_area);
+    assert!((changed - dom_area).abs() <= 1e-9 * dom_area);
+
+    // two epochs: a shifted, coarser copy; cut and fill against the mean of
+    // max(±(zA - zB), 0) over a fine grid of points located in each input
+    let b = tin(window(60, 60, 50, 0.31, 0.17, 0.0), &[6.0]);
+    let o = check(&a, 0, &b, 0);
+    let (cut, fill, _) = difference(&o);
+    let dom = clip(&hull(level_pts(&a, 0)), &hull(level_pts(&b, 0)));
+    let (x0, x1) = dom
+        .iter()
+        .fold((f64::MAX, f64::MIN), |m, p| (m.0.min(p[0]), m.1.max(p[0])));
+    let (y0, y1) = dom
+        .iter()
+        .fold((f64::MAX, f64::MIN), |m, p| (m.0.min(p[1]), m.1.max(p[1])));
+    let n = 600;
+    let (mut sc, mut sf, mut inside) = (0.0, 0.0, 0usize);
+    for i in 0..n {
+        for j in 0..n {
+            let p = [
+                x0 + (i as f64 + 0.5) / n as f64 * (x1 - x0),
+                y0 + (j as f64 + 0.5) / n as f64 * (y1 - y0),
+            ];
+            if !in_closed(&dom, p) {
+                continue;
+            }
+            let (ta, tb) = (
+                locate::locate(&a, 0, p[0], p[1]).unwrap(),
+                locate::locate(&b, 0, p[0], p[1]).unwrap(),
+            );
+            let d = interpolate(&a.corners(0, ta), p[0], p[1])
+                - interpolate(&b.corners(0, tb), p[0], p[1]);
+            sc += d.max(0.0);
+            sf += (-d).max(0.0);
+            inside += 1;
+        }
+    }
+    let cell = (x1 - x0) * (y1 - y0) / (n * n) as f64;
+    let (ec, ef) = (sc * cell, sf * cell);
+    assert!(inside > n * n / 2);
+    assert!((cut - ec).abs() <= 0.01 * ec, "cut {cut} vs sampled {ec}");
+    assert!(
+        (fill - ef).abs() <= 0.01 * ef,
+        "fill {fill} vs sampled {ef}"
+    );
+}
+
+#[test]
+fn interrupt_stops_the_overlay_and_its_panic_is_not_swallowed() {
+    let a = tin(window(100, 100, 60, 0.0, 0.0, 0.0), &[2.0]);
+    let b = tin(window(100, 100, 60, 0.37, 0.61, 0.0), &[2.0]);
+    // an interrupt check that reports cancellation: the error comes back
+    let r = overlay(&a, 0, &b, 0, &mut || {
+        Err(tinmerge_core::tin::TinError::Interrupted)
+    });
+    assert!(matches!(r, Err(tinmerge_core::tin::TinError::Interrupted)));
+    // one that unwinds (as the host's error handling does): it keeps
+    // unwinding, it is not turned into an overlay error
+    let r = std::panic::catch_unwind(|| overlay(&a, 0, &b, 0, &mut || panic!("cancelled")));
+    assert!(r.is_err());
+}

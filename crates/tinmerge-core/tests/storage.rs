@@ -1,0 +1,132 @@
+//! Storage format: exact round trip, and hostile bytes never panic. Mutated
+//! values get a recomputed content hash so that structural validation (not
+//! the hash) has to catch them.
+use tinmerge_core::tin::build::build;
+use tinmerge_core::tin::layout::{content_hash, decode, encode, HEADER_LEN};
+use tinmerge_core::tin::{locate, TinError};
+
+fn sample_tin() -> Vec<u8> {
+    // a seeded pseudo-random terrain on a 40 x 40 grid
+    let mut s: u64 = 0x5eed;
+    let mut rnd = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s % 1000) as f64 / 100.0
+    };
+    let mut pts = Vec::new();
+    for i in 0..40 {
+        for j in 0..40 {
+            let (x, y) = (i as f64 * 10.0, j as f64 * 10.0);
+            pts.push([x, y, (x / 30.0).sin() * 20.0 + rnd()]);
+        }
+    }
+    let tin = build(pts, &[8.0, 4.0, 1.0], 32616, &mut || Ok(())).unwrap();
+    tin.sanity_check().unwrap();
+    encode(&tin)
+}
+
+fn rehash(b: &mut [u8]) {
+    let h = content_hash(b);
+    b[32..40].copy_from_slice(&h.to_le_bytes());
+}
+
+#[test]
+fn roundtrip_is_exact() {
+    let b = sample_tin();
+    let t = decode(&b).unwrap();
+    assert_eq!(encode(&t), b);
+}
+
+#[test]
+fn crafted_values_with_valid_hash_are_rejected() {
+    let b = sample_tin();
+    let body = HEADER_LEN;
+    let nv = u32::from_le_bytes(b[20..24].try_into().unwrap()) as usize;
+    let tris = body + nv * 24; // first triangle of level 0
+    type Damage<'a> = Box<dyn Fn(&mut Vec<u8>) + 'a>;
+    let cases: Vec<(&str, Damage)> = vec![
+        (
+            "vertex index out of range",
+            Box::new(move |b| b[tris..tris + 4].copy_from_slice(&u32::MAX.to_le_bytes())),
+        ),
+        (
+            "non-finite coordinate",
+            Box::new(|b| b[body..body + 8].copy_from_slice(&f64::NAN.to_le_bytes())),
+        ),
+        (
+            "huge triangle count",
+            Box::new(|b| b[88 + 16..88 + 20].copy_from_slice(&0x7fff_ffffu32.to_le_bytes())),
+        ),
+        (
+            "zero levels",
+            Box::new(|b| b[16..20].copy_from_slice(&0u32.to_le_bytes())),
+        ),
+        (
+            "tolerances not decreasing",
+            Box::new(|b| b[88..96].copy_from_slice(&0.5f64.to_le_bytes())),
+        ),
+        (
+            "swapped triangle corners",
+            Box::new(move |b| {
+                let (x, y) = (tris, tris + 4);
+                let a: [u8; 4] = b[x..x + 4].try_into().unwrap();
+                let c: [u8; 4] = b[y..y + 4].try_into().unwrap();
+                b[x..x + 4].copy_from_slice(&c);
+                b[y..y + 4].copy_from_slice(&a);
+            }),
+        ),
+        (
+            "bbox that does not match",
+            Box::new(|b| b[40..48].copy_from_slice(&(-1e9f64).to_le_bytes())),
+        ),
+    ];
+    for (name, f) in cases {
+        let mut m = b.clone();
+        f(&mut m);
+        rehash(&mut m);
+        match decode(&m) {
+            Err(TinError::Corrupt(msg)) => eprintln!("{name}: {msg}"),
+            other => panic!("{name}: expected a Corrupt error, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn random_mutations_never_panic() {
+    let b = sample_tin();
+    let mut s: u64 = 42;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    };
+    let (mut ok, mut err) = (0, 0);
+    for _ in 0..3000 {
+        let mut m = b.clone();
+        for _ in 0..(1 + next() % 4) {
+            let i = (next() as usize) % m.len();
+            m[i] ^= 1 << (next() % 8);
+        }
+        if next() % 8 == 0 {
+            let cut = (next() as usize) % m.len();
+            m.truncate(cut);
+        }
+        if m.len() >= 40 && next() % 2 == 0 {
+            rehash(&mut m);
+        }
+        match decode(&m) {
+            Ok(t) => {
+                ok += 1;
+                // a value that passes validation is safe to query
+                for l in 0..t.levels.len() {
+                    let _ = locate::locate(&t, l, t.bbox.min_x + 55.0, t.bbox.min_y + 77.0);
+                }
+            }
+            Err(_) => err += 1,
+        }
+    }
+    eprintln!("{ok} mutated values still valid, {err} rejected");
+    assert!(err > 0);
+}

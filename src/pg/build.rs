@@ -1,0 +1,136 @@
+//! The builders: `tin_from_raster` (both forms) and `tin_from_points`.
+//! Geometry and raster travel as (E)WKB `bytea`; the public
+//! `geometry`/`raster` signatures are thin SQL wrappers in `sql/tinmerge.sql`.
+
+use pgrx::prelude::*;
+
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::memory;
+use super::tin_type::TinOut;
+use tinmerge_core::io::{ewkb, raster};
+use tinmerge_core::tin::build::{
+    build, build_lattice, check_tolerances, default_tolerances, BuildOptions,
+};
+use tinmerge_core::tin::lattice::Lattice;
+
+/// Refuse a build that would pass `tinmerge.max_memory` (the samples are
+/// already allocated); otherwise hand `tinmerge.threads` to the core.
+fn reserve_build(func: &str, samples: usize, levels: usize) {
+    super::threads::apply();
+    memory::reserve(
+        tinmerge_core::tin::build::build_bytes(samples, levels).saturating_sub(samples * 24),
+        || format!("{func}: building a tin from {samples} samples at {levels} levels"),
+    );
+}
+
+/// Valid pixels of one band as lattice samples (col, row, value), the
+/// raster's pixel lattice and its SRID.
+fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
+    if band < 1 {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("band must be 1 or more (bands are numbered from 1), got {band}"),
+        );
+    }
+    let head = raster::read(rast, None).or_raise();
+    if head.width == 0 || head.height == 0 {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("raster is empty ({} x {} pixels)", head.width, head.height),
+        );
+    }
+    memory::reserve(raster::raster_bytes(head.width, head.height), || {
+        format!("reading a {} x {} raster", head.width, head.height)
+    });
+    let r = raster::read(rast, Some(band as usize)).or_raise();
+    let Some(b) = r.band else {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            "raster has no such band",
+        );
+    };
+    let mut pts = Vec::new();
+    for row in 0..r.height {
+        for col in 0..r.width {
+            let v = b.values[row * r.width + col];
+            if b.is_valid(v) {
+                pts.push([col as f64, row as f64, v]);
+            }
+        }
+    }
+    if pts.is_empty() {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("band {band} has no valid pixels (every pixel is nodata)"),
+        );
+    }
+    (pts, r.gt.lattice(), r.srid)
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn _tin_from_raster(
+    rast: &[u8],
+    tolerance: f64,
+    levels: i32,
+    band: i32,
+    keep_border: bool,
+) -> TinOut {
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    build_raster(rast, &tols, band, keep_border)
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn _tin_from_raster_tolerances(
+    rast: &[u8],
+    tolerances: Vec<Option<f64>>,
+    band: i32,
+    keep_border: bool,
+) -> TinOut {
+    let tols: Vec<f64> = tolerances
+        .into_iter()
+        .map(|t| {
+            t.unwrap_or_else(|| {
+                raise(
+                    PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
+                    "tolerances must not contain NULL",
+                )
+            })
+        })
+        .collect();
+    check_tolerances(&tols).or_raise();
+    build_raster(rast, &tols, band, keep_border)
+}
+
+/// The build behind both `tin_from_raster` forms.
+fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
+    let (pts, lattice, srid) = raster_samples(rast, band);
+    reserve_build("tin_from_raster", pts.len(), tols.len());
+    let opts = BuildOptions { keep_border };
+    TinOut::from_tin(&build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise())
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    let g = ewkb::read(pts).or_raise();
+    if g.geom.is_empty() {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            "geometry is empty: no samples to build a tin from",
+        );
+    }
+    if !g.has_z {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{} has no Z coordinate: tin_from_points needs 3D samples (e.g. MULTIPOINT Z; ST_Force3DZ adds Z = 0)",
+                g.geom.type_name()
+            ),
+        );
+    }
+    let mut samples = Vec::new();
+    g.geom.for_each_coord(&mut |c| samples.push(*c));
+    reserve_build("tin_from_points", samples.len(), tols.len());
+    TinOut::from_tin(&build(samples, &tols, g.srid, &mut interrupt).or_raise())
+}

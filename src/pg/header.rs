@@ -1,0 +1,87 @@
+//! Functions answered from the fixed header alone (a prefix slice of the
+//! stored value, never the triangles): SRID, counts, tolerances, `tin_info`,
+//! the envelope.
+
+use pgrx::prelude::*;
+use pgrx::JsonB;
+use serde_json::json;
+
+use super::errors::OrRaise;
+use super::tin_type::TinArg;
+use tinmerge_core::io::ewkb;
+use tinmerge_core::tin::resolve_level;
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_srid(t: TinArg) -> i32 {
+    t.header().srid
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_num_levels(t: TinArg) -> i32 {
+    t.header().num_levels() as i32
+}
+
+/// The header's record for a level (None = finest).
+fn level_info(t: &TinArg, level: Option<i32>) -> tinmerge_core::tin::layout::LevelInfo {
+    let h = t.header();
+    let l = resolve_level(level, h.num_levels()).or_raise();
+    h.levels[l]
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn tin_num_triangles(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<i32> {
+    t.map(|t| level_info(&t, level).num_triangles as i32)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn tin_num_vertices(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<i32> {
+    t.map(|t| level_info(&t, level).num_vertices as i32)
+}
+
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn tin_tolerance(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<f64> {
+    t.map(|t| level_info(&t, level).tolerance)
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_info(t: TinArg) -> JsonB {
+    let h = t.header();
+    let b = h.bbox;
+    let levels: Vec<_> = h
+        .levels
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            json!({
+                "level": i,
+                "tolerance": l.tolerance,
+                "triangles": l.num_triangles,
+                "vertices": l.num_vertices,
+                "max_error": l.max_error,
+            })
+        })
+        .collect();
+    JsonB(json!({
+        "srid": h.srid,
+        "bbox": [b.min_x, b.min_y, b.max_x, b.max_y],
+        "z_range": [b.min_z, b.max_z],
+        "bytes": h.total_len,
+        "num_levels": h.num_levels(),
+        "num_vertices": h.num_vertices,
+        "levels": levels,
+    }))
+}
+
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn _tin_envelope(t: TinArg) -> Vec<u8> {
+    let h = t.header();
+    let b = h.bbox;
+    let ring = vec![
+        [b.min_x, b.min_y, 0.0],
+        [b.min_x, b.max_y, 0.0],
+        [b.max_x, b.max_y, 0.0],
+        [b.max_x, b.min_y, 0.0],
+        [b.min_x, b.min_y, 0.0],
+    ];
+    ewkb::Writer::write(h.srid, false, &ewkb::Geom::Polygon(vec![ring]))
+}

@@ -1,0 +1,260 @@
+//! The `tin` SQL type: a flat varlena (see `tinmerge_core::tin::layout`) passed to
+//! Rust as the raw Datum, so header-only functions read just a slice and
+//! full reads go through the backend cache.
+
+use pgrx::callconv::{BoxRet, FcInfo};
+use pgrx::datum::Datum as RetDatum;
+use pgrx::pg_sys;
+use pgrx::prelude::*;
+use pgrx::IntoDatum;
+use std::ffi::{CStr, CString};
+use std::sync::{Arc, Weak};
+
+use super::cache;
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::memory;
+use super::varlena::{hex_input, recv_bytes, varlena_datum};
+use tinmerge_core::tin::layout::{self, Header, HEADER_LEN};
+use tinmerge_core::tin::Tin;
+
+raw_datum_arg!(
+    /// A `tin` argument: the Datum as passed, not detoasted.
+    TinArg,
+    "tin"
+);
+
+impl TinArg {
+    fn ptr(&self) -> *mut pg_sys::varlena {
+        self.0.cast_mut_ptr()
+    }
+
+    /// The TOAST pointer's identity when the Datum is an on-disk TOAST
+    /// pointer (the usual case for a tin read from a table).
+    fn toast_key(&self) -> Option<cache::ToastKey> {
+        let p = self.ptr();
+        unsafe {
+            if pgrx::varatt_is_1b_e(p)
+                && pgrx::vartag_external(p) as u32 == pg_sys::vartag_external::VARTAG_ONDISK
+            {
+                let e = std::ptr::read_unaligned(
+                    pgrx::vardata_1b_e(p) as *const pg_sys::varatt_external
+                );
+                Some(cache::ToastKey {
+                    relid: e.va_toastrelid.to_u32(),
+                    valueid: e.va_valueid.to_u32(),
+                    rawsize: e.va_rawsize,
+                    extinfo: e.va_extinfo,
+                })
+            } else {
+                None
+            }
+        }
+    }
+
+    /// For an on-disk value: its TOAST key, the transaction it is looked up
+    /// in, and what this transaction remembers of it.
+    fn remembered(&self) -> Option<(cache::ToastKey, i64, Option<cache::Alias>)> {
+        let key = self.toast_key()?;
+        let epoch = unsafe { pg_sys::GetCurrentTransactionStartTimestamp() };
+        Some((key, epoch, cache::alias_for(&key, epoch)))
+    }
+
+    /// The fixed header, read through a prefix slice (no full detoast), or
+    /// remembered from an earlier row of this transaction for the same
+    /// on-disk value.
+    pub fn header(&self) -> Arc<Header> {
+        let Some((key, epoch, alias)) = self.remembered() else {
+            return Arc::new(self.read_header());
+        };
+        if let Some(a) = alias {
+            return a.header;
+        }
+        let header = Arc::new(self.read_header());
+        let tin = Weak::new();
+        cache::remember(
+            key,
+            epoch,
+            cache::Alias {
+                header: header.clone(),
+                tin,
+            },
+        );
+        header
+    }
+
+    fn read_header(&self) -> Header {
+        let bytes = unsafe {
+            let s = pg_sys::pg_detoast_datum_slice(self.ptr(), 0, HEADER_LEN as i32);
+            pgrx::varlena::varlena_to_byte_slice(s)
+        };
+        layout::read_header(bytes).or_raise()
+    }
+
+    /// The whole value's bytes (detoasted into the current memory context).
+    pub fn bytes(&self) -> &[u8] {
+        unsafe {
+            let v = pg_sys::pg_detoast_datum(self.ptr());
+            pgrx::varlena::varlena_to_byte_slice(v)
+        }
+    }
+
+    /// The decoded, validated value, from the backend cache when the same
+    /// content was decoded before. For a stored value met again in this
+    /// transaction this is one look-up, with no read of the value at all.
+    pub fn tin(&self) -> Arc<Tin> {
+        let Some((key, epoch, alias)) = self.remembered() else {
+            let h = self.read_header();
+            return cache::get_or_decode(h.hash, h.total_len, || {
+                layout::decode_checked(self.bytes(), &mut interrupt)
+            });
+        };
+        let header = match alias {
+            Some(a) => {
+                if let Some(t) = a.tin.upgrade() {
+                    cache::count_alias_hit();
+                    return t;
+                }
+                a.header
+            }
+            None => Arc::new(self.read_header()),
+        };
+        let tin = cache::get_or_decode(header.hash, header.total_len, || {
+            layout::decode_checked(self.bytes(), &mut interrupt)
+        });
+        let alias = cache::Alias {
+            header,
+            tin: Arc::downgrade(&tin),
+        };
+        cache::remember(key, epoch, alias);
+        tin
+    }
+}
+
+/// A `tin` result: storage bytes, copied into a palloc'd varlena on return.
+pub struct TinOut(pub Vec<u8>);
+
+impl IntoDatum for TinOut {
+    fn into_datum(self) -> Option<pg_sys::Datum> {
+        Some(varlena_datum(&self.0, "tin"))
+    }
+    fn type_oid() -> pg_sys::Oid {
+        pg_sys::InvalidOid
+    }
+}
+
+unsafe impl BoxRet for TinOut {
+    unsafe fn box_into<'fcx>(self, fcinfo: &mut FcInfo<'fcx>) -> RetDatum<'fcx> {
+        match self.into_datum() {
+            Some(d) => unsafe { fcinfo.return_raw_datum(d) },
+            None => fcinfo.return_null(),
+        }
+    }
+}
+
+pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(TinOut, "tin");
+
+impl TinOut {
+    pub fn from_tin(t: &Tin) -> TinOut {
+        TinOut(layout::encode(t))
+    }
+}
+
+extension_sql!(
+    "CREATE TYPE tin;\nCREATE TYPE linetree;",
+    name = "tin_shell",
+    bootstrap
+);
+
+/// Input bytes as a result value, once they decode and validate in full;
+/// otherwise an ERROR with `code`.
+fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> TinOut {
+    memory::reserve(layout::decode_bytes(bytes.len()), || {
+        format!("reading a tin value of {} bytes", bytes.len())
+    });
+    if let Err(e) = layout::decode(&bytes) {
+        raise(code, e.to_string());
+    }
+    TinOut(bytes)
+}
+
+/// Text input: hex of the storage bytes, fully validated.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_in(input: &CStr) -> TinOut {
+    let bytes = hex_input(input, "tin");
+    validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION)
+}
+
+/// Text output: upper-case hex of the storage bytes.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_out(t: TinArg) -> CString {
+    CString::new(layout::to_hex(t.bytes())).unwrap_or_default()
+}
+
+/// Binary input: the storage bytes, fully validated.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_recv(mut buf: pgrx::datum::Internal) -> TinOut {
+    let bytes = recv_bytes(&mut buf, "tin");
+    validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION)
+}
+
+/// Binary output: the storage bytes.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
+fn tin_send(t: TinArg) -> Vec<u8> {
+    t.bytes().to_vec()
+}
+
+extension_sql!(
+    r#"
+CREATE TYPE tin (
+    INPUT = tin_in,
+    OUTPUT = tin_out,
+    RECEIVE = tin_recv,
+    SEND = tin_send,
+    INTERNALLENGTH = VARIABLE,
+    ALIGNMENT = double,
+    STORAGE = external
+);
+COMMENT ON TYPE tin IS 'A terrain surface as an adaptive hierarchical triangulation: levels 0 (coarsest) to n-1 (finest), each nested in the previous one. Text form: hex of the binary form.';
+"#,
+    name = "tin_type",
+    requires = [tin_in, tin_out, tin_recv, tin_send]
+);
+
+/// `=` on tin: the same stored bytes. Two pointers to the same on-disk
+/// TOAST value are equal without reading it (`GROUP BY t` over the rows of
+/// a merge meets the same terrain on every row); otherwise the headers'
+/// content hashes and lengths are compared first (header-only reads), the
+/// bytes only when they agree.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_eq(a: TinArg, b: TinArg) -> bool {
+    if let (Some(ka), Some(kb)) = (a.toast_key(), b.toast_key()) {
+        if ka == kb {
+            return true;
+        }
+    }
+    let (ha, hb) = (a.header(), b.header());
+    ha.hash == hb.hash && ha.total_len == hb.total_len && a.bytes() == b.bytes()
+}
+
+/// `<>` on tin.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_ne(a: TinArg, b: TinArg) -> bool {
+    !tin_eq(a, b)
+}
+
+/// Hash support for `=` (GROUP BY, DISTINCT, hash joins): the header's
+/// content hash folded to 32 bits; equal values have equal headers.
+#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+fn tin_hash(t: TinArg) -> i32 {
+    let h = t.header().hash;
+    (h ^ (h >> 32)) as u32 as i32
+}
+
+/// The decoded tin of an argument and a level resolved against it (one
+/// cache look-up per row).
+pub(crate) fn tin_level(t: &TinArg, level: Option<i32>) -> (Arc<Tin>, usize) {
+    let tin = t.tin();
+    let l = tin.level_index(level).or_raise();
+    (tin, l)
+}
