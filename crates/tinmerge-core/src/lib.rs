@@ -7,7 +7,11 @@
 //!   point location, invariant checks);
 //! - [`merge`]: one module per merge;
 //! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
-//! - [`render`]: pictures (SVG, glTF).
+//! - [`render`]: pictures (SVG, glTF);
+//! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
+//!   long work is cancelled.
+pub mod geom;
+pub mod interrupt;
 pub mod io;
 pub mod merge;
 pub mod render;

@@ -12,6 +12,7 @@
 mod common;
 
 use std::time::Instant;
+use tinmerge_core::interrupt::Interrupt;
 use tinmerge_core::merge::area::{sweep, Method};
 use tinmerge_core::merge::line::{walk_parts, Part, TriangleSink};
 use tinmerge_core::merge::overlay::{overlay, overlay_constrained};
@@ -20,7 +21,7 @@ use tinmerge_core::merge::raster::{weighted_stats, zonal_stats, PixelGrid};
 use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::{Tin, TinError};
 
-type Op<'a> = Box<dyn Fn(&mut dyn FnMut() -> Result<(), TinError>) -> Result<(), TinError> + 'a>;
+type Op<'a> = Box<dyn Fn(&mut Interrupt<'_>) -> Result<(), TinError> + 'a>;
 
 /// Full run: number of checks and the largest gap between two (ms).
 fn gaps(op: &Op) -> (usize, f64, f64) {

@@ -506,7 +506,7 @@ fn oracle_sees_a_hidden_t_junction() {
         verts,
         levels: vec![],
     };
-    let nbrs = tinmerge_core::tin::build::compute_neighbours(&tris).unwrap();
+    let nbrs = tinmerge_core::tin::hierarchy::compute_neighbours(&tris).unwrap();
     tin.levels.push(tinmerge_core::tin::Level {
         tolerance: 0.0,
         max_error: 0.0,

@@ -51,10 +51,13 @@
 //! assert!((covered - 4.0).abs() < 1e-12);
 //! ```
 
+use crate::geom::P2;
+use crate::geom::{co, tri_area};
+use crate::interrupt::{Interrupt, Ticker};
 use crate::merge::clip::{clipped_moments, Chain};
-use crate::merge::line::{Sink, Walker, P2};
-use crate::merge::polygon::{c, segment_meets_open_triangle, Area, Where};
-use crate::merge::Ticker;
+use crate::merge::line::{Sink, Walker};
+use crate::merge::polygon::{segment_meets_open_triangle, Area, Where};
+use crate::tin::hierarchy::{children, descendants};
 use crate::tin::{Tin, TinError, NONE};
 use robust::orient2d;
 
@@ -164,7 +167,7 @@ fn walk_rings(
     level: usize,
     area: &Area,
     want_pieces: bool,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<RingSink, TinError> {
     let mut sink = RingSink {
         ring: 0,
@@ -250,7 +253,7 @@ impl<'a> Status<'a> {
             (cs[0][0] + cs[1][0] + cs[2][0]) / 3.0,
             (cs[0][1] + cs[1][1] + cs[2][1]) / 3.0,
         ];
-        if (0..3).all(|j| orient2d(c(cs[j]), c(cs[(j + 1) % 3]), c(g)) > 0.0) {
+        if (0..3).all(|j| orient2d(co(cs[j]), co(cs[(j + 1) % 3]), co(g)) > 0.0) {
             match self.area.locate(g) {
                 Where::Inside => return true,
                 Where::Outside => return false,
@@ -285,23 +288,8 @@ pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
     sum / tri_area(t)
 }
 
-/// Area of a counter-clockwise triangle.
-#[inline]
-pub fn tri_area(t: &[P2; 3]) -> f64 {
-    ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1])) / 2.0
-}
-
 fn corrupt(what: &str) -> TinError {
     TinError::Corrupt(format!("area sweep: {what}"))
-}
-
-/// Children of triangle p (level l) at level l + 1.
-fn children(tin: &Tin, l: usize, p: u32) -> Result<std::ops::Range<u32>, TinError> {
-    let cs = &tin.levels[l].child_start;
-    match (cs.get(p as usize), cs.get(p as usize + 1)) {
-        (Some(&s), Some(&e)) if s <= e => Ok(s..e),
-        _ => Err(corrupt("child range")),
-    }
 }
 
 /// Find the boundary and the inside triangles down to `level` (see the
@@ -311,7 +299,7 @@ pub fn sweep(
     level: usize,
     area: &Area,
     method: Method,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Sweep, TinError> {
     if level >= tin.levels.len() {
         return Err(TinError::LevelOutOfRange {
@@ -337,7 +325,7 @@ pub fn sweep(
     // coarser levels it is the ancestors' (a triangle's inside holds its
     // children's), found by following parent links (seed 6.5).
     let walk = walk_rings(tin, level, area, true, interrupt)?;
-    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut tk = Ticker::new(interrupt);
     let mut flags: Vec<Vec<u8>> = (0..=level)
         .map(|l| {
             if l >= first {
@@ -602,24 +590,6 @@ fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &[u8], area: &Area) -> Vec<(u
     out
 }
 
-/// Descendants of triangle t (level l) at level `to`, appended to out.
-pub fn descendants(
-    tin: &Tin,
-    l: usize,
-    t: u32,
-    to: usize,
-    out: &mut Vec<u32>,
-) -> Result<(), TinError> {
-    if l == to {
-        out.push(t);
-        return Ok(());
-    }
-    for ch in children(tin, l, t)? {
-        descendants(tin, l + 1, ch, to, out)?;
-    }
-    Ok(())
-}
-
 /// Coverage of each boundary triangle of the sweep, in `boundary` order.
 pub fn coverages(tin: &Tin, area: &Area, s: &Sweep) -> Vec<f64> {
     let mut out = Vec::with_capacity(s.boundary.len());
@@ -649,7 +619,7 @@ pub fn area_rows(
     area: &Area,
     s: &Sweep,
     compact: bool,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<AreaRow>, TinError> {
     let mut rows = Vec::new();
     let inside_row = |t: u32, level: usize| AreaRow {
@@ -658,7 +628,7 @@ pub fn area_rows(
         relation: Relation::Inside,
         coverage: 1.0,
     };
-    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut tk = Ticker::new(interrupt);
     for (l, ts) in s.inside.iter().enumerate() {
         if compact || l == s.level {
             rows.extend(ts.iter().map(|&t| inside_row(t, l)));

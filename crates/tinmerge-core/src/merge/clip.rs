@@ -25,7 +25,7 @@
 //! assert!((m.a - 1.5).abs() < 1e-12); // 2 - 1/2
 //! ```
 
-use crate::merge::line::P2;
+use crate::geom::P2;
 use crate::merge::polygon::Where;
 
 /// A piece of the area's boundary inside the convex polygon, in ring

@@ -29,8 +29,8 @@
 //! assert_eq!(on_diagonal, 8); // the 4 diagonal pixels, half in each triangle
 //! ```
 
+use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
-use crate::merge::Ticker;
 use crate::tin::{Tin, TinError};
 
 type P = [f64; 2];
@@ -159,11 +159,11 @@ pub fn coverage(
     gt: &GeoTransform,
     width: usize,
     height: usize,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
     on_cell: &mut dyn FnMut(u32, usize, usize, f64),
 ) -> Result<(), TinError> {
     let n = num_triangles(tin, level)?;
-    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut tk = Ticker::new(interrupt);
     coverage_of(tin, level, gt, width, height, 0..n, &mut tk, on_cell)
 }
 

@@ -37,10 +37,12 @@
 // corners and edges are indexed 0..3 in several arrays at once
 #![allow(clippy::needless_range_loop)]
 
-use crate::merge::overlay::{crossing, Overlay};
-use crate::merge::Ticker;
+use crate::geom::{co, crossing, xy};
+use crate::merge::overlay::Overlay;
+
+use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::{interpolate, locate, Level, Tin, TinError, NONE};
-use robust::{orient2d, Coord};
+use robust::orient2d;
 use rustc_hash::FxHashMap;
 
 /// Why the fast path gave up (the caller then uses the robust path).
@@ -57,16 +59,6 @@ impl From<TinError> for Refused {
     fn from(e: TinError) -> Self {
         Refused::Error(e)
     }
-}
-
-#[inline]
-fn co(p: [f64; 2]) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
-
-#[inline]
-fn xy(v: &[f64; 3]) -> [f64; 2] {
-    [v[0], v[1]]
 }
 
 /// Undirected edge ids of a level: `ids[t][j]` for the edge of triangle `t`
@@ -186,7 +178,7 @@ pub fn convex_domain(tin: &Tin, lv: &Level) -> bool {
         // convex up to rounding: a raster build's boundary vertex on a
         // hull edge of the pixel lattice may lie a hair inside it
         let v = |i: usize| &tin.verts[i];
-        if !crate::tin::left_or_on_rounded(v(prev), v(cur), v(nx as usize)) {
+        if !crate::geom::left_or_on_rounded(v(prev), v(cur), v(nx as usize)) {
             return false;
         }
         if cur == start {
@@ -514,9 +506,9 @@ pub fn overlay_faces(
     level_a: usize,
     b: &Tin,
     level_b: usize,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, Refused> {
-    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut tk = Ticker::new(interrupt);
     let (la, lb) = (&a.levels[level_a], &b.levels[level_b]);
     let mut bd = Builder {
         a,
@@ -646,7 +638,7 @@ pub fn overlay_faces(
             fill[b] += 1;
         }
         for b in 0..nb {
-            (tk.f)()?;
+            tk.check()?;
             out[start[b]..start[b + 1]].sort_unstable_by_key(|e| e.0);
         }
         out

@@ -49,27 +49,13 @@
 //! }
 //! ```
 
+use crate::geom::{co, dist, vco, P2};
+use crate::interrupt::Interrupt;
 use crate::tin::locate;
 use crate::tin::{interpolate, Level, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 
 /// A point in the plane.
-pub type P2 = [f64; 2];
-
-#[inline]
-fn c(p: P2) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
-
-#[inline]
-fn v2(v: &[f64; 3]) -> Coord<f64> {
-    Coord { x: v[0], y: v[1] }
-}
-
-#[inline]
-fn dist(a: P2, b: P2) -> f64 {
-    (b[0] - a[0]).hypot(b[1] - a[1])
-}
 
 /// A polyline as the walker reads it: vertices and the planar distance of
 /// each from the first. Reads may fail (a stored line tree is checked as it
@@ -177,7 +163,7 @@ pub struct Walker<'a, S: Sink> {
     open: bool,
     /// Hull edges as (triangle, edge), found on first need.
     hull: Option<Vec<(u32, usize)>>,
-    interrupt: &'a mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &'a mut Interrupt<'a>,
     ticks: u32,
 }
 
@@ -186,7 +172,7 @@ impl<'a, S: Sink> Walker<'a, S> {
         tin: &'a Tin,
         level: usize,
         sink: &'a mut S,
-        interrupt: &'a mut dyn FnMut() -> Result<(), TinError>,
+        interrupt: &'a mut Interrupt<'a>,
     ) -> Self {
         Walker {
             tin,
@@ -216,7 +202,7 @@ impl<'a, S: Sink> Walker<'a, S> {
     #[inline]
     fn corners(&self, t: u32) -> [Coord<f64>; 3] {
         let cs = self.tin.corners(self.level, t);
-        [v2(&cs[0]), v2(&cs[1]), v2(&cs[2])]
+        [vco(&cs[0]), vco(&cs[1]), vco(&cs[2])]
     }
 
     #[inline]
@@ -327,7 +313,7 @@ impl<'a, S: Sink> Walker<'a, S> {
                 None => return Ok(()),
             },
         };
-        let (cp, cq) = (c(p), c(q));
+        let (cp, cq) = (co(p), co(q));
         // steps left before the walk is declared broken
         let mut budget = 2 * self.tin.levels[self.level].tris.len() + 64;
         loop {
@@ -391,7 +377,7 @@ impl<'a, S: Sink> Walker<'a, S> {
     /// triangle `t` holding p (None: the segment leaves the domain at p).
     fn start_in(&mut self, t: u32, p: P2, q: P2) -> Result<Option<u32>, TinError> {
         let tc = self.corners(t);
-        let (cp, cq) = (c(p), c(q));
+        let (cp, cq) = (co(p), co(q));
         match spot(&tc, cp) {
             None => Err(corrupt("current point is not in its triangle")),
             Some(Spot::Inside) => Ok(Some(t)),
@@ -423,7 +409,7 @@ impl<'a, S: Sink> Walker<'a, S> {
     fn fan(&self, t0: u32, vid: u32, q: Coord<f64>) -> Result<Option<u32>, TinError> {
         let tin = self.tin;
         let lv = &tin.levels[self.level];
-        let v = v2(&tin.verts[vid as usize]);
+        let v = vco(&tin.verts[vid as usize]);
         let limit = lv.tris.len() + 1;
         // first counter-clockwise from t0, then (if the fan is open, on the
         // hull) clockwise
@@ -435,8 +421,8 @@ impl<'a, S: Sink> Walker<'a, S> {
                     .iter()
                     .position(|&x| x == vid)
                     .ok_or_else(|| corrupt("vertex fan is inconsistent"))?;
-                let b = v2(&tin.verts[tri[(i + 1) % 3] as usize]);
-                let cc = v2(&tin.verts[tri[(i + 2) % 3] as usize]);
+                let b = vco(&tin.verts[tri[(i + 1) % 3] as usize]);
+                let cc = vco(&tin.verts[tri[(i + 2) % 3] as usize]);
                 let ob = orient2d(v, b, q);
                 let oc = orient2d(v, cc, q);
                 if ob >= 0.0 && oc <= 0.0 {
@@ -482,7 +468,7 @@ impl<'a, S: Sink> Walker<'a, S> {
         {
             return Ok(None);
         }
-        let (cp, cq) = (c(p), c(q));
+        let (cp, cq) = (co(p), co(q));
         if self.hull.is_none() {
             self.hull = Some(hull_edges(&self.tin.levels[self.level]));
         }
@@ -708,7 +694,7 @@ pub fn walk_parts<S: Sink, L: Polyline>(
     parts: &[L],
     sink: &mut S,
     on_part: &mut dyn FnMut(&mut S, usize),
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
     // one walker for all parts: the hull (for parts entering from outside
     // the domain) is found once

@@ -21,8 +21,12 @@
 //! [`View`], which checks every value it reads: a stored tree is not
 //! decoded, so a merge costs what it visits, not the size of the line.
 
-use super::line::{Polyline, Sink, Walker, P2};
-use super::widened::{point_segment_distance as seg_dist, walk_near, Near, Visited};
+use super::line::{Polyline, Sink, Walker};
+use super::widened::{walk_near, Near, Visited};
+use crate::geom::co;
+use crate::geom::point_segment_distance as seg_dist;
+use crate::geom::P2;
+use crate::interrupt::Interrupt;
 use crate::tin::{Tin, TinError};
 use robust::{orient2d, Coord};
 
@@ -497,11 +501,6 @@ impl Polyline for PartView<'_, '_> {
     }
 }
 
-#[inline]
-fn co(p: P2) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
-
 /// Whether the capsule of radius `r` around segment pq lies strictly
 /// inside triangle `t` (conservative: a margin covers rounding).
 fn capsule_inside(tin: &Tin, level: usize, t: u32, p: P2, q: P2, r: f64) -> bool {
@@ -634,7 +633,7 @@ pub fn walk_tree<S: Sink>(
     tree: &View,
     sink: &mut S,
     on_part: &mut dyn FnMut(&mut S, usize),
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
     for pi in 0..tree.header.num_parts {
         on_part(sink, pi as usize);
@@ -663,7 +662,7 @@ pub fn near_tree(
     level: usize,
     tree: &View,
     half_width: f64,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<u32>, TinError> {
     let mut near = Near::new(tin, level, half_width);
     let mut base: u64 = 0;

@@ -16,22 +16,3 @@ pub mod polygon;
 pub mod raster;
 pub mod surface;
 pub mod widened;
-
-use crate::tin::TinError;
-
-/// Calls the caller's interrupt check every 4096 ticks of a long loop.
-pub(crate) struct Ticker<'a> {
-    pub(crate) n: u32,
-    pub(crate) f: &'a mut dyn FnMut() -> Result<(), TinError>,
-}
-
-impl Ticker<'_> {
-    #[inline]
-    pub(crate) fn tick(&mut self) -> Result<(), TinError> {
-        self.n = self.n.wrapping_add(1);
-        if self.n.is_multiple_of(4096) {
-            (self.f)()?;
-        }
-        Ok(())
-    }
-}

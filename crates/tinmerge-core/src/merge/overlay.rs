@@ -41,9 +41,11 @@
 //! assert!((area - 7.5).abs() < 1e-9);
 //! ```
 
-use crate::merge::{faces, Ticker};
+use crate::geom::{co, crossing, xy};
+use crate::interrupt::{Interrupt, Ticker};
+use crate::merge::faces;
 use crate::tin::{interpolate, locate, Tin, TinError, NONE};
-use robust::{orient2d, Coord};
+use robust::orient2d;
 use spade::handles::FixedVertexHandle;
 use spade::{
     ConstrainedDelaunayTriangulation, Intersection, LineIntersectionIterator, Point2,
@@ -98,14 +100,6 @@ impl Overlay {
     }
 }
 
-fn co(p: [f64; 2]) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
-
-fn xy(v: &[f64; 3]) -> [f64; 2] {
-    [v[0], v[1]]
-}
-
 /// The edges of one level, each once: (smaller vertex id, larger).
 fn level_edges(tin: &Tin, level: usize) -> Vec<[u32; 2]> {
     let lv = &tin.levels[level];
@@ -154,17 +148,6 @@ fn load(tin: &Tin, level: usize, which: &str) -> Result<Cdt, TinError> {
     Ok(cdt)
 }
 
-/// Crossing point of edge (p, q) of A with edge (u, v) of B, known to cross
-/// properly (all four orientations non-zero). Give the ends of both edges
-/// in a canonical order (by vertex id) so the point does not depend on who
-/// asks.
-pub(crate) fn crossing(p: [f64; 2], q: [f64; 2], u: [f64; 2], v: [f64; 2]) -> [f64; 2] {
-    let op = orient2d(co(u), co(v), co(p));
-    let oq = orient2d(co(u), co(v), co(q));
-    let t = (op / (op - oq)).clamp(0.0, 1.0);
-    [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
-}
-
 /// Output vertices as they are found.
 struct Points {
     pts: Vec<Point2<f64>>,
@@ -193,7 +176,7 @@ pub fn overlay(
     level_a: usize,
     b: &Tin,
     level_b: usize,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
     guarded(interrupt, |check| {
         overlay_dispatch(a, level_a, b, level_b, check)
@@ -207,7 +190,7 @@ pub fn overlay_constrained(
     level_a: usize,
     b: &Tin,
     level_b: usize,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
     guarded(interrupt, |check| {
         overlay_cdt(a, level_a, b, level_b, check)
@@ -218,8 +201,8 @@ pub fn overlay_constrained(
 /// the caller's interrupt check (a cancel, through the host's error
 /// handling) goes on unwinding untouched.
 fn guarded(
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
-    f: impl FnOnce(&mut dyn FnMut() -> Result<(), TinError>) -> Result<Overlay, TinError>,
+    interrupt: &mut Interrupt<'_>,
+    f: impl FnOnce(&mut Interrupt<'_>) -> Result<Overlay, TinError>,
 ) -> Result<Overlay, TinError> {
     let in_check = std::cell::Cell::new(false);
     let mut check = || {
@@ -248,7 +231,7 @@ fn overlay_dispatch(
     level_a: usize,
     b: &Tin,
     level_b: usize,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
     let (ba, bb) = (&a.bbox, &b.bbox);
     if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
@@ -275,9 +258,9 @@ fn overlay_cdt(
     level_a: usize,
     b: &Tin,
     level_b: usize,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
-    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut tk = Ticker::new(interrupt);
     let (ba, bb) = (&a.bbox, &b.bbox);
     if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
         return Ok(Overlay::default()); // disjoint domains

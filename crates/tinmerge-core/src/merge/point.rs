@@ -28,6 +28,8 @@
 //! assert_eq!(footprint(&tin, 0, &r, &mut || Ok(())).unwrap(), vec![0, 1]);
 //! ```
 
+use crate::geom::{co, segments_intersect};
+use crate::interrupt::Interrupt;
 use crate::tin::locate;
 use crate::tin::{interpolate, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
@@ -129,34 +131,6 @@ impl Rect {
     }
 }
 
-#[inline]
-fn co(p: [f64; 2]) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
-
-/// Whether p, known to be collinear with a and b, lies on the closed segment.
-#[inline]
-fn on_segment(a: Coord<f64>, b: Coord<f64>, p: Coord<f64>) -> bool {
-    p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
-}
-
-/// Exact test: do the closed segments p1p2 and q1q2 meet?
-pub fn segments_intersect(p1: Coord<f64>, p2: Coord<f64>, q1: Coord<f64>, q2: Coord<f64>) -> bool {
-    let d1 = orient2d(q1, q2, p1);
-    let d2 = orient2d(q1, q2, p2);
-    let d3 = orient2d(p1, p2, q1);
-    let d4 = orient2d(p1, p2, q2);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
-        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
-    {
-        return true;
-    }
-    (d1 == 0.0 && on_segment(q1, q2, p1))
-        || (d2 == 0.0 && on_segment(q1, q2, p2))
-        || (d3 == 0.0 && on_segment(p1, p2, q1))
-        || (d4 == 0.0 && on_segment(p1, p2, q2))
-}
-
 /// Whether the closed counter-clockwise triangle `t` contains p.
 #[inline]
 fn triangle_contains(t: &[Coord<f64>; 3], p: Coord<f64>) -> bool {
@@ -191,7 +165,7 @@ pub fn footprint(
     tin: &Tin,
     level: usize,
     rect: &Rect,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<u32>, TinError> {
     let lv = &tin.levels[level];
     let r = rect.corners.map(co);

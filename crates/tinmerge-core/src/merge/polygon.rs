@@ -27,8 +27,9 @@
 //! assert_eq!(a.locate([9.0, 2.0]), Where::Outside);
 //! ```
 
-use crate::merge::line::P2;
-use robust::{orient2d, Coord};
+use crate::geom::co;
+use crate::geom::P2;
+use robust::orient2d;
 
 /// Where a point lies relative to the area (closed: the boundary belongs to
 /// it).
@@ -37,11 +38,6 @@ pub enum Where {
     Inside,
     Outside,
     Boundary,
-}
-
-#[inline]
-pub(crate) fn c(p: P2) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
 }
 
 /// Twice the signed area of a closed ring (positive counter-clockwise),
@@ -210,7 +206,7 @@ impl Area {
         }
         let k = self.strip_of(p[1]);
         let (s, e) = (self.offsets[k] as usize, self.offsets[k + 1] as usize);
-        let cp = c(p);
+        let cp = co(p);
         let mut inside = false;
         for &(r, i) in &self.entries[s..e] {
             let ring = &self.rings[r as usize];
@@ -218,7 +214,7 @@ impl Area {
             if (a[1] > p[1] && b[1] > p[1]) || (a[1] < p[1] && b[1] < p[1]) {
                 continue;
             }
-            let o = orient2d(c(a), c(b), cp);
+            let o = orient2d(co(a), co(b), cp);
             if o == 0.0 && a[0].min(b[0]) <= p[0] && p[0] <= a[0].max(b[0]) {
                 return Where::Boundary;
             }
@@ -239,8 +235,8 @@ impl Area {
 /// counter-clockwise triangle `t` (exact: separating axes among the
 /// triangle's edges and the segment's line).
 pub fn segment_meets_open_triangle(t: &[P2; 3], a: P2, b: P2) -> bool {
-    let tc = t.map(c);
-    let (ca, cb) = (c(a), c(b));
+    let tc = t.map(co);
+    let (ca, cb) = (co(a), co(b));
     for j in 0..3 {
         let (u, v) = (tc[j], tc[(j + 1) % 3]);
         if orient2d(u, v, ca) <= 0.0 && orient2d(u, v, cb) <= 0.0 {
@@ -288,7 +284,7 @@ mod tests {
             for j in -2..=42 {
                 let p = [i as f64 * 0.25, j as f64 * 0.25];
                 let on = r.windows(2).any(|w| {
-                    orient2d(c(w[0]), c(w[1]), c(p)) == 0.0
+                    orient2d(co(w[0]), co(w[1]), co(p)) == 0.0
                         && w[0][0].min(w[1][0]) <= p[0]
                         && p[0] <= w[0][0].max(w[1][0])
                         && w[0][1].min(w[1][1]) <= p[1]

@@ -39,11 +39,12 @@
 //! assert!(per_tri.contains(&6) && per_tri.contains(&10));
 //! ```
 
+use crate::geom::{co, xy};
+use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
 use crate::merge::coverage::{check_grid, coverage_of};
-use crate::merge::Ticker;
 use crate::tin::{Tin, TinError, NONE};
-use robust::{orient2d, Coord};
+use robust::orient2d;
 
 /// The pixel centres of a north-up (unrotated) raster: `xs[col]`, `ys[row]`,
 /// computed exactly as [`GeoTransform::centre`] does.
@@ -122,11 +123,6 @@ impl PixelGrid {
     }
 }
 
-#[inline]
-fn c(p: [f64; 2]) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
-
 /// Whether the point on the line u -> v, moved by (ε, ε²), is left of it.
 #[inline]
 fn tie_left(u: [f64; 2], v: [f64; 2]) -> bool {
@@ -143,16 +139,12 @@ fn tie_left(u: [f64; 2], v: [f64; 2]) -> bool {
 pub fn owns(t: &[[f64; 2]; 3], p: [f64; 2]) -> bool {
     for j in 0..3 {
         let (u, v) = (t[j], t[(j + 1) % 3]);
-        let o = orient2d(c(u), c(v), c(p));
+        let o = orient2d(co(u), co(v), co(p));
         if o < 0.0 || (o == 0.0 && !tie_left(u, v)) {
             return false;
         }
     }
     true
-}
-
-fn xy(v: &[f64; 3]) -> [f64; 2] {
-    [v[0], v[1]]
 }
 
 /// A triangle in the sweep's cut, with what each row needs precomputed:
@@ -242,7 +234,7 @@ fn hull_extras(tin: &Tin, level: usize, g: &PixelGrid) -> Result<Vec<(u32, u32, 
         let (r0, r1) = g.ys.range(u[1], u[1]);
         if c0 < c1 && r0 < r1 {
             let w = vert(*prev.get(ui as usize).ok_or_else(bad)?)?;
-            let inside = if orient2d(c(w), c(u), c(v)) >= 0.0 {
+            let inside = if orient2d(co(w), co(u), co(v)) >= 0.0 {
                 tie_left(w, u) && tie_left(u, v)
             } else {
                 tie_left(w, u) || tie_left(u, v)
@@ -279,7 +271,7 @@ fn hull_extras(tin: &Tin, level: usize, g: &PixelGrid) -> Result<Vec<(u32, u32, 
                     continue;
                 }
                 let within = p[0] >= u[0].min(v[0]) && p[0] <= u[0].max(v[0]);
-                if within && orient2d(c(u), c(v), c(p)) == 0.0 {
+                if within && orient2d(co(u), co(v), co(p)) == 0.0 {
                     out.push((r as u32, col as u32, t));
                 }
             }
@@ -301,10 +293,10 @@ pub fn sweep(
     level: usize,
     g: &PixelGrid,
     ordered: bool,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
     on_span: &mut dyn FnMut(u32, usize, usize, usize),
 ) -> Result<(), TinError> {
-    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut tk = Ticker::new(interrupt);
     let ev = Events::new(tin, level, g, &mut tk)?;
     ev.run(0..g.height, ordered, &mut tk, on_span)
 }
@@ -323,11 +315,11 @@ pub fn sweep_par<S: Send>(
     tin: &Tin,
     level: usize,
     g: &PixelGrid,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
     span: &(dyn Fn(u32, usize, usize, usize) -> S + Sync),
     consume: &mut dyn FnMut(S),
 ) -> Result<(), TinError> {
-    let mut tk = Ticker { n: 0, f: interrupt };
+    let mut tk = Ticker::new(interrupt);
     let ev = Events::new(tin, level, g, &mut tk)?;
     if crate::tin::par::threads() <= 1 {
         return ev.run(0..g.height, false, &mut tk, &mut |t, r, c0, c1| {
@@ -344,13 +336,13 @@ pub fn sweep_par<S: Send>(
         |b| {
             let mut out = Vec::new();
             let mut none = || Ok(());
-            let mut quiet = Ticker { n: 0, f: &mut none };
+            let mut quiet = Ticker::new(&mut none);
             ev.run(b.clone(), false, &mut quiet, &mut |t, r, c0, c1| {
                 out.push(span(t, r, c0, c1))
             })
             .map(|()| out)
         },
-        &mut *tk.f,
+        tk.callback(),
         &mut |band| {
             for v in band? {
                 consume(v);
@@ -572,7 +564,7 @@ pub fn zonal_stats(
     values: &[f64],
     nodata: Option<f64>,
     want_mode: bool,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<ZoneStats>, TinError> {
     if values.len() != g.width * g.height {
         return Err(TinError::InvalidParameter(format!(
@@ -700,7 +692,7 @@ pub fn weighted_stats(
     values: &[f64],
     nodata: Option<f64>,
     want_mode: bool,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<ZoneStats>, TinError> {
     if values.len() != width * height {
         return Err(TinError::InvalidParameter(format!(
@@ -753,7 +745,7 @@ pub fn weighted_stats(
     };
     let n = super::coverage::num_triangles(tin, level)?;
     if crate::tin::par::threads() <= 1 {
-        return run(0..n, &mut Ticker { n: 0, f: interrupt });
+        return run(0..n, &mut Ticker::new(interrupt));
     }
     check_grid(gt)?;
     // on threads: runs of triangles covering about ITEM_PIXELS pixels
@@ -779,7 +771,7 @@ pub fn weighted_stats(
         &items,
         |r| {
             let mut none = || Ok(());
-            run(r.clone(), &mut Ticker { n: 0, f: &mut none })
+            run(r.clone(), &mut Ticker::new(&mut none))
         },
         interrupt,
         &mut |part| {
@@ -820,7 +812,7 @@ pub fn paint(
     g: &PixelGrid,
     bands: [&[f64]; 3],
     nodata: [Option<f64>; 3],
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<(u32, u64, [f64; 3])>, TinError> {
     if bands.iter().any(|b| b.len() != g.width * g.height) {
         return Err(TinError::InvalidParameter(format!(

@@ -29,10 +29,12 @@
 //! assert!((cut - 0.125).abs() < 1e-12 && (fill - 0.125).abs() < 1e-12);
 //! ```
 
-use crate::merge::area::{descendants, Sweep};
+use crate::geom::P2;
+use crate::interrupt::{Interrupt, Ticker};
+use crate::merge::area::Sweep;
 use crate::merge::clip::{clip_chains, clip_convex, clipped_moments, Chain, Moments};
-use crate::merge::line::P2;
 use crate::merge::polygon::{Area, Where};
+use crate::tin::hierarchy::descendants;
 use crate::tin::{Tin, TinError};
 
 /// Statistics of the clipped surface.
@@ -86,20 +88,17 @@ struct Part<'a> {
 fn each_part(
     tin: &Tin,
     s: &Sweep,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
     f: &mut dyn FnMut(Part) -> Result<(), TinError>,
 ) -> Result<(), TinError> {
-    let mut n = 0u32;
+    let mut tk = Ticker::new(interrupt);
     let mut d = Vec::new();
     for (l, ts) in s.inside.iter().enumerate() {
         for &t in ts {
             d.clear();
             descendants(tin, l, t, s.level, &mut d)?;
             for &u in &d {
-                n = n.wrapping_add(1);
-                if n.is_multiple_of(4096) {
-                    interrupt()?;
-                }
+                tk.tick()?;
                 f(Part {
                     corners: tin.corners(s.level, u),
                     chains: None,
@@ -110,10 +109,7 @@ fn each_part(
     let mut k = 0;
     let mut owned: Vec<Chain> = Vec::new();
     for &t in &s.boundary {
-        n = n.wrapping_add(1);
-        if n.is_multiple_of(4096) {
-            interrupt()?;
-        }
+        tk.tick()?;
         while k < s.chains.len() && s.chains[k].0 < t {
             k += 1;
         }
@@ -135,7 +131,7 @@ pub fn stats(
     tin: &Tin,
     area: &Area,
     s: &Sweep,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<SurfaceStats, TinError> {
     let mut st = SurfaceStats {
         area2d: 0.0,
@@ -200,7 +196,7 @@ pub fn volume(
     area: &Area,
     s: &Sweep,
     base: f64,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<(f64, f64), TinError> {
     let (mut cut, mut fill) = (0.0, 0.0);
     each_part(tin, s, interrupt, &mut |p| {

@@ -10,30 +10,17 @@
 //! tolerance, not a topological decision); a triangle touched exactly at
 //! the distance counts.
 
-use super::line::{hull_edges, Polyline, Sink, Walker, P2};
+use super::line::{hull_edges, Polyline, Sink, Walker};
+use crate::geom::P2;
+use crate::geom::{co, point_segment_distance};
+use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::{Tin, TinError, NONE};
-use robust::{orient2d, Coord};
+use robust::orient2d;
 use std::collections::HashMap;
-
-/// Distance from p to the closed segment ab.
-pub fn point_segment_distance(p: P2, a: P2, b: P2) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let l2 = dx * dx + dy * dy;
-    let s = if l2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - s * dx).hypot(p[1] - a[1] - s * dy)
-}
-
-fn co(p: P2) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
 
 /// Exact: do the closed segments ab and cd meet?
 fn seg_meet(a: P2, b: P2, c: P2, d: P2) -> bool {
-    crate::merge::point::segments_intersect(co(a), co(b), co(c), co(d))
+    crate::geom::segments_intersect(co(a), co(b), co(c), co(d))
 }
 
 /// Distance in the plane between the closed triangle `t` (counter-clockwise)
@@ -147,7 +134,7 @@ impl<'a> Near<'a> {
         p: P2,
         q: P2,
         seeds: &[u32],
-        interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+        interrupt: &mut Interrupt<'_>,
     ) -> Result<(), TinError> {
         let lv = &self.tin.levels[self.level];
         self.queue.clear();
@@ -182,13 +169,12 @@ impl<'a> Near<'a> {
                 }
             }
         }
+        let mut tk = Ticker::new(interrupt);
         let mut head = 0;
         while head < self.queue.len() {
             let t = self.queue[head];
             head += 1;
-            if head % 4096 == 0 {
-                interrupt()?;
-            }
+            tk.tick()?;
             if !self.found.contains_key(&t) {
                 let s = first_approach(&self.tri(t), p, q, self.r);
                 self.found.insert(t, (seg, s));
@@ -246,7 +232,7 @@ impl<'a> Near<'a> {
         key: u64,
         p0: P2,
         start: Option<u32>,
-        interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+        interrupt: &mut Interrupt<'_>,
     ) -> Result<(), TinError> {
         let seeds: Vec<u32> = start.into_iter().collect();
         self.segment(key, p0, p0, &seeds, interrupt)
@@ -287,7 +273,7 @@ pub fn near_line<L: Polyline>(
     level: usize,
     parts: &[L],
     half_width: f64,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<u32>, TinError> {
     let mut near = Near::new(tin, level, half_width);
     // a segment's key is the global index of its first vertex

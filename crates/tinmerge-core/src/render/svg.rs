@@ -12,6 +12,7 @@
 //! assert_eq!(svg.matches("<polygon").count(), 2);
 //! ```
 
+use crate::interrupt::{Interrupt, Ticker};
 use std::collections::HashMap;
 use std::fmt::Write;
 
@@ -352,7 +353,7 @@ pub fn tin_svg(
     tin: &Tin,
     level: usize,
     opts: &SvgOptions,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<String, TinError> {
     if !(16..=16384).contains(&opts.width) {
         return Err(TinError::InvalidParameter(format!(
@@ -392,10 +393,9 @@ pub fn tin_svg(
             "shape-rendering=\"crispEdges\""
         }
     );
+    let mut tk = Ticker::new(interrupt);
     for t in 0..n as u32 {
-        if t % 4096 == 0 {
-            interrupt()?;
-        }
+        tk.tick()?;
         let c = tin.corners(level, t);
         let p: Vec<(f64, f64)> = c.iter().map(|q| view.px(q)).collect();
         let _ = write!(

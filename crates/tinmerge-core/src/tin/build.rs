@@ -26,9 +26,11 @@
 //! tin.sanity_check().unwrap();
 //! ```
 
+use super::hierarchy::{child_starts, compute_neighbours};
 use super::lattice::Lattice;
 use super::samples::{c2, SampleGrid};
 use super::{grid, interpolate, locate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
+use crate::interrupt::Interrupt;
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
@@ -159,7 +161,7 @@ fn convex_hull(pts: &[[f64; 3]]) -> Vec<usize> {
 fn border_samples(
     pts: &[[f64; 3]],
     hull: &[usize],
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<usize>, TinError> {
     let mut out = Vec::new();
     for k in 0..hull.len() {
@@ -245,7 +247,7 @@ impl Builder {
         let inserted = &self.inserted;
         // a sliver's plane says nothing about the samples in it (and
         // `snapshot` leaves slivers out): they must all become vertices
-        let sliver = super::is_sliver(&c[0], &c[1], &c[2]);
+        let sliver = crate::geom::is_sliver(&c[0], &c[1], &c[2]);
         self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
             if inserted[i] {
                 return;
@@ -352,11 +354,7 @@ impl Builder {
     }
 
     /// Refine until every face is within `tol`; returns the measured max error.
-    fn refine(
-        &mut self,
-        tol: f64,
-        interrupt: &mut dyn FnMut() -> Result<(), TinError>,
-    ) -> Result<f64, TinError> {
+    fn refine(&mut self, tol: f64, interrupt: &mut Interrupt<'_>) -> Result<f64, TinError> {
         self.heap.clear();
         // every face measured (on threads, in chunks, interrupts between
         // batches), then recorded in face order
@@ -437,11 +435,11 @@ impl Builder {
                     continue;
                 };
                 let ov = other.vertices().map(|v| self.vert3(v.fix()));
-                if super::is_sliver(&ov[0], &ov[1], &ov[2]) {
+                if crate::geom::is_sliver(&ov[0], &ov[1], &ov[2]) {
                     continue;
                 }
                 let (a, b) = (opp.from().fix(), opp.to().fix());
-                if super::is_sliver(&self.vert3(a), &self.vert3(b), &pv) {
+                if crate::geom::is_sliver(&self.vert3(a), &self.vert3(b), &pv) {
                     found = Some((a, b, opp.as_undirected().fix()));
                     break;
                 }
@@ -482,7 +480,7 @@ impl Builder {
             .inner_faces()
             .filter(|f| {
                 let v = f.vertices().map(|v| self.vert3(v.fix()));
-                !super::is_sliver(&v[0], &v[1], &v[2])
+                !crate::geom::is_sliver(&v[0], &v[1], &v[2])
             })
             .map(|f| {
                 let v = f.vertices();
@@ -513,7 +511,7 @@ pub fn build(
     samples: Vec<[f64; 3]>,
     tolerances: &[f64],
     srid: i32,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     build_with(
         samples,
@@ -530,7 +528,7 @@ pub fn build_with(
     tolerances: &[f64],
     srid: i32,
     opts: BuildOptions,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
     let pts = prepare_samples(samples)?;
@@ -599,7 +597,7 @@ pub fn build_lattice(
     tolerances: &[f64],
     srid: i32,
     opts: BuildOptions,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     if !lattice.is_valid() {
         return Err(TinError::InvalidParameter(format!(
@@ -635,43 +633,6 @@ fn morton(b: &Bbox, x: f64, y: f64) -> u32 {
         v
     }
     spread(nx) | (spread(ny) << 1)
-}
-
-/// Neighbour links of a triangle list (edge matching by sort).
-pub fn compute_neighbours(tris: &[[u32; 3]]) -> Result<Vec<[u32; 3]>, TinError> {
-    let mut e: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(tris.len() * 3);
-    for (t, tri) in tris.iter().enumerate() {
-        for j in 0..3 {
-            let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
-            e.push((a.min(b), a.max(b), t as u32, j as u8));
-        }
-    }
-    e.sort_unstable();
-    let mut nbrs = vec![[NONE; 3]; tris.len()];
-    let mut i = 0;
-    while i < e.len() {
-        let mut k = i + 1;
-        while k < e.len() && e[k].0 == e[i].0 && e[k].1 == e[i].1 {
-            k += 1;
-        }
-        match k - i {
-            1 => {}
-            2 => {
-                nbrs[e[i].2 as usize][e[i].3 as usize] = e[i + 1].2;
-                nbrs[e[i + 1].2 as usize][e[i + 1].3 as usize] = e[i].2;
-            }
-            _ => {
-                return Err(TinError::Corrupt(format!(
-                    "edge {}-{} is shared by {} triangles",
-                    e[i].0,
-                    e[i].1,
-                    k - i
-                )))
-            }
-        }
-        i = k;
-    }
-    Ok(nbrs)
 }
 
 /// Sort each level's block of new vertices (`num_vertices` of the previous
@@ -714,7 +675,7 @@ fn assemble(
     verts: Vec<[f64; 3]>,
     mut raw: Vec<(f64, f64, u32, Vec<[u32; 3]>)>,
     srid: i32,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     let verts = reorder_vertices(verts, &mut raw);
     let bbox = Bbox::of(&verts);
@@ -804,7 +765,7 @@ fn find_parent(tin: &Tin, level: usize, t: &[u32; 3], cx: f64, cy: f64) -> Optio
         let c = pt.map(|v| tin.verts[v as usize]);
         t.iter().all(|&v| {
             let q = &tin.verts[v as usize];
-            (0..3).all(|j| super::left_or_on_rounded(&c[j], &c[(j + 1) % 3], q))
+            (0..3).all(|j| crate::geom::left_or_on_rounded(&c[j], &c[(j + 1) % 3], q))
         })
     };
     let lv = &tin.levels[level];
@@ -821,20 +782,6 @@ fn find_parent(tin: &Tin, level: usize, t: &[u32; 3], cx: f64, cy: f64) -> Optio
     (0..lv.tris.len() as u32).find(|&p| holds(p))
 }
 
-/// CSR offsets of children from a parent array sorted ascending.
-pub fn child_starts(parent: &[u32], num_parents: usize) -> Vec<u32> {
-    let mut cs = vec![0u32; num_parents + 1];
-    for &p in parent {
-        if (p as usize) < num_parents {
-            cs[p as usize + 1] += 1;
-        }
-    }
-    for i in 0..num_parents {
-        cs[i + 1] += cs[i];
-    }
-    cs
-}
-
 /// A single-level tin from a triangulation given as vertices and
 /// counter-clockwise triangles (an overlay, for instance). Tolerance and
 /// maximum error of the level are 0: the triangles are the surface.
@@ -842,7 +789,7 @@ pub fn from_triangles(
     verts: Vec<[f64; 3]>,
     tris: Vec<[u32; 3]>,
     srid: i32,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     if tris.is_empty() {
         return Err(TinError::Degenerate("no triangles to make a tin of".into()));

@@ -21,11 +21,9 @@
 //! two sides of that edge disagrees).
 
 use super::{Tin, TinError, MAX_LEVELS, NONE};
-use robust::{incircle, orient2d, Coord};
-
-fn xy(p: &[f64; 3]) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
+use crate::geom::vco;
+use crate::interrupt::Interrupt;
+use robust::{incircle, orient2d};
 
 fn bad(msg: String) -> TinError {
     TinError::Corrupt(msg)
@@ -40,7 +38,7 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
 /// 16384 triangles (a stored value of 15 MB takes about 20 ms).
 pub fn validate_structure_checked(
     tin: &Tin,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
     let nl = tin.levels.len();
     if nl == 0 || nl > MAX_LEVELS {
@@ -103,9 +101,9 @@ pub fn validate_structure_checked(
                 )));
             }
             let o = orient2d(
-                xy(&tin.verts[tri[0] as usize]),
-                xy(&tin.verts[tri[1] as usize]),
-                xy(&tin.verts[tri[2] as usize]),
+                vco(&tin.verts[tri[0] as usize]),
+                vco(&tin.verts[tri[1] as usize]),
+                vco(&tin.verts[tri[2] as usize]),
             );
             if o <= 0.0 {
                 return Err(bad(format!(
@@ -162,7 +160,7 @@ pub fn validate_structure_checked(
                         // frame the build decided topology in (the pixel
                         // lattice) may lie a hair beside it in world
                         // coordinates
-                        if !super::left_or_on_rounded(&pt[j], &pt[(j + 1) % 3], q) {
+                        if !crate::geom::left_or_on_rounded(&pt[j], &pt[(j + 1) % 3], q) {
                             return Err(bad(format!(
                                 "level {l}: triangle {t} is not inside its parent {p}"
                             )));
@@ -171,7 +169,7 @@ pub fn validate_structure_checked(
                 }
             }
             if pl.child_start.len() != pl.tris.len() + 1
-                || pl.child_start != super::build::child_starts(&lv.parent, pl.tris.len())
+                || pl.child_start != super::hierarchy::child_starts(&lv.parent, pl.tris.len())
             {
                 return Err(bad(format!(
                     "level {}: child offsets are inconsistent",
@@ -208,7 +206,7 @@ fn area2(tin: &Tin, tri: &[u32; 3]) -> (f64, f64) {
     ];
     let (p, q) = ((b[0] - a[0]) * (c[1] - a[1]), (c[0] - a[0]) * (b[1] - a[1]));
     // each coordinate difference is off by at most an ulp of the magnitude
-    let mag = super::max_abs_xy(&a, &b, &c);
+    let mag = crate::geom::max_abs_xy(&a, &b, &c);
     let m = (b[0] - a[0])
         .abs()
         .max((b[1] - a[1]).abs())
@@ -264,7 +262,7 @@ impl Tin {
                 let a = self.verts[cycle[i] as usize];
                 let b = self.verts[cycle[(i + 1) % k] as usize];
                 let c = self.verts[cycle[(i + 2) % k] as usize];
-                if !super::left_or_on_rounded(&a, &b, &c) {
+                if !crate::geom::left_or_on_rounded(&a, &b, &c) {
                     return Err(bad(format!(
                         "level {l}: domain is not convex at vertex {}",
                         cycle[(i + 1) % k]
@@ -303,7 +301,7 @@ impl Tin {
                         sum += a;
                         // a child corner may be a hair outside (see
                         // validate_structure)
-                        err += e + super::orient_slack(&c[0], &c[1], &c[2]);
+                        err += e + crate::geom::orient_slack(&c[0], &c[1], &c[2]);
                     }
                     let (pa, pe) = area2(self, tri);
                     if e == s || (sum - pa).abs() > err + pe + 1e-12 * pa {
@@ -335,7 +333,7 @@ impl Tin {
                         self.verts[tri[1] as usize],
                         self.verts[tri[2] as usize],
                     ];
-                    if incircle(xy(&a), xy(&b), xy(&c), xy(&d)) > 0.0 {
+                    if incircle(vco(&a), vco(&b), vco(&c), vco(&d)) > 0.0 {
                         return Err(bad(format!(
                             "level {l}: edge between triangles {t} and {nb} is not locally Delaunay"
                         )));
@@ -363,10 +361,7 @@ pub struct Problem {
 /// that edge, which the triangle on the other side has whole: a hidden
 /// T-junction. `kind` is `"crack"` when the corner's height differs from
 /// the edge's height there (the sliver is a wall), `"sliver"` otherwise.
-pub fn problems(
-    tin: &Tin,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
-) -> Result<Vec<Problem>, TinError> {
+pub fn problems(tin: &Tin, interrupt: &mut Interrupt<'_>) -> Result<Vec<Problem>, TinError> {
     let mut out = Vec::new();
     let zspan = (tin.bbox.max_z - tin.bbox.min_z).abs();
     for (l, lv) in tin.levels.iter().enumerate() {
@@ -375,7 +370,7 @@ pub fn problems(
                 interrupt()?;
             }
             let c = tri.map(|v| tin.verts[v as usize]);
-            if !super::is_sliver(&c[0], &c[1], &c[2]) {
+            if !crate::geom::is_sliver(&c[0], &c[1], &c[2]) {
                 continue;
             }
             // the longest edge (j+1, j+2) and its opposite corner j
@@ -405,7 +400,7 @@ pub fn problems(
                     tri[j],
                     tri[(j + 1) % 3],
                     tri[(j + 2) % 3],
-                    super::orient(&c[0], &c[1], &c[2]).abs() / d.max(f64::MIN_POSITIVE),
+                    crate::geom::orient(&c[0], &c[1], &c[2]).abs() / d.max(f64::MIN_POSITIVE),
                     d,
                     wall
                 ),

@@ -24,9 +24,10 @@
 //! checks `total length == computed length` before it allocates anything,
 //! then [`super::check::validate_structure`] before the value is used.
 
-use super::build::child_starts;
 use super::check::validate_structure_checked;
+use super::hierarchy::child_starts;
 use super::{Bbox, Grid, Level, Tin, TinError, MAX_LEVELS, NONE};
+use crate::interrupt::Interrupt;
 use xxhash_rust::xxh3::Xxh3;
 
 pub const MAGIC: &[u8; 4] = b"TINM";
@@ -285,10 +286,7 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
 
 /// [`decode`] calling `interrupt` between its phases and regularly inside
 /// the validation (a cancel does not wait for a whole 15 MB value).
-pub fn decode_checked(
-    b: &[u8],
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
-) -> Result<Tin, TinError> {
+pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, TinError> {
     let h = read_header(b)?;
     let expect = body_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
     if h.total_len != b.len() as u64 || expect != b.len() as u64 {

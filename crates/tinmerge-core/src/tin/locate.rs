@@ -15,6 +15,7 @@
 //! the path of the walk.
 
 use super::{Level, Tin, NONE};
+use crate::geom::vco;
 use robust::{orient2d, Coord};
 
 /// Outcome of a walk.
@@ -25,11 +26,6 @@ pub enum Walk {
     /// The point is outside the (convex) domain; the last triangle visited,
     /// on the hull, is the nearest the walk got.
     Outside(u32),
-}
-
-#[inline]
-fn xy(p: &[f64; 3]) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
 }
 
 /// Grid-index start triangle for (x, y) at `level`.
@@ -90,8 +86,8 @@ pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> W
             if nb == came_from && nb != NONE {
                 continue;
             }
-            let a = xy(&verts[tri[(j + 1) % 3] as usize]);
-            let b = xy(&verts[tri[(j + 2) % 3] as usize]);
+            let a = vco(&verts[tri[(j + 1) % 3] as usize]);
+            let b = vco(&verts[tri[(j + 2) % 3] as usize]);
             if orient2d(a, b, p) < 0.0 {
                 if nb == NONE {
                     return Walk::Outside(t);
@@ -123,8 +119,8 @@ fn contains_raw(verts: &[[f64; 3]], lv: &Level, t: u32, x: f64, y: f64) -> bool 
     let p = Coord { x, y };
     (0..3).all(|j| {
         orient2d(
-            xy(&verts[tri[j] as usize]),
-            xy(&verts[tri[(j + 1) % 3] as usize]),
+            vco(&verts[tri[j] as usize]),
+            vco(&verts[tri[(j + 1) % 3] as usize]),
             p,
         ) >= 0.0
     })
@@ -141,8 +137,8 @@ fn across_edges_through(tin: &Tin, lv: &Level, u: u32, p: Coord<f64>) -> [u32; 3
     let tri = lv.tris[u as usize];
     let mut out = [NONE; 3];
     for j in 0..3 {
-        let a = xy(&tin.verts[tri[(j + 1) % 3] as usize]);
-        let b = xy(&tin.verts[tri[(j + 2) % 3] as usize]);
+        let a = vco(&tin.verts[tri[(j + 1) % 3] as usize]);
+        let b = vco(&tin.verts[tri[(j + 2) % 3] as usize]);
         if orient2d(a, b, p) == 0.0 {
             out[j] = lv.nbrs[u as usize][j];
         }

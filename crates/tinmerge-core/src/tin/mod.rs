@@ -15,6 +15,7 @@
 pub mod build;
 pub mod check;
 pub mod grid;
+pub mod hierarchy;
 pub mod lattice;
 pub mod layout;
 pub mod locate;
@@ -54,60 +55,6 @@ pub fn check_xy(what: &str, x: f64, y: f64) -> Result<(), TinError> {
         )));
     }
     Ok(())
-}
-
-/// How far from zero `orient2d(a, b, c)` (twice the signed area of a, b, c)
-/// can be pushed by rounding the coordinates of the three points to
-/// doubles: a generous bound (64 ulps of the largest coordinate, times the
-/// side lengths). A triangle whose area is within it is degenerate up to
-/// rounding (a *sliver*: its third corner lies on the opposite edge); a
-/// point within it of an edge is on that edge up to rounding.
-///
-/// ```
-/// use tinmerge_core::tin::{orient_slack, is_sliver};
-/// let (a, b) = ([67072.33979011845, 118745.07014525152, 0.0], [68672.33979011845, 117145.07014525152, 0.0]);
-/// let c = [65472.33979011844, 120345.07014525152, 0.0];  // collinear on the pixel lattice
-/// assert!(is_sliver(&a, &b, &c));
-/// assert!(!is_sliver(&a, &b, &[65472.0, 120346.0, 0.0]));
-/// assert!(orient_slack(&a, &b, &c) < 1e-3);
-/// ```
-#[inline]
-pub fn orient_slack(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
-    let m = max_abs_xy(a, b, c);
-    let d = |p: &[f64; 3], q: &[f64; 3]| (p[0] - q[0]).abs().max((p[1] - q[1]).abs());
-    64.0 * f64::EPSILON * m * (d(a, b) + d(b, c) + d(c, a))
-}
-
-/// Largest |x| or |y| of three points: the magnitude their rounding is
-/// relative to.
-#[inline]
-pub(crate) fn max_abs_xy(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
-    a[0].abs()
-        .max(a[1].abs())
-        .max(b[0].abs())
-        .max(b[1].abs())
-        .max(c[0].abs())
-        .max(c[1].abs())
-}
-
-/// `orient2d(a, b, c)` by the exact predicate, as a plain number.
-#[inline]
-pub fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
-    let co = |p: &[f64; 3]| robust::Coord { x: p[0], y: p[1] };
-    robust::orient2d(co(a), co(b), co(c))
-}
-
-/// Whether triangle a, b, c has zero area up to rounding (see
-/// [`orient_slack`]).
-#[inline]
-pub fn is_sliver(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    orient(a, b, c).abs() <= orient_slack(a, b, c)
-}
-
-/// Whether c is left of or on the line a -> b, up to rounding.
-#[inline]
-pub fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    orient(a, b, c) >= -orient_slack(a, b, c)
 }
 
 /// Axis-aligned bounding box of the vertices (x, y and z).

@@ -21,6 +21,7 @@
 //! assert_eq!(squares, vec![1, 4, 9]);
 //! ```
 
+use crate::interrupt::Interrupt;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::sync::{Arc, Mutex};
@@ -114,7 +115,7 @@ pub fn map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> 
 pub fn map_batched<T: Sync, R: Send>(
     items: &[T],
     f: impl Fn(&T) -> R + Sync + Send,
-    interrupt: &mut dyn FnMut() -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
     consume: &mut dyn FnMut(R) -> Result<(), TinError>,
 ) -> Result<(), TinError> {
     let per = 4 * threads();

@@ -1,0 +1,146 @@
+//! Geometric primitives shared by every algorithm, in one place (as spade's
+//! `math.rs`): the 2D point type, the adapter to the `robust` crate's exact
+//! predicates, orientation with and without the slack rounding can explain,
+//! triangle area, segment tests and crossings.
+//!
+//! ```
+//! use tinmerge_core::geom::{co, orient, tri_area, segments_intersect};
+//! let (a, b, c) = ([0.0, 0.0, 5.0], [2.0, 0.0, 1.0], [0.0, 2.0, 0.0]);
+//! assert!(orient(&a, &b, &c) > 0.0); // counter-clockwise
+//! assert_eq!(tri_area(&[[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 2.0);
+//! assert!(segments_intersect(co([0.0, 0.0]), co([2.0, 2.0]), co([0.0, 2.0]), co([2.0, 0.0])));
+//! ```
+
+use robust::{orient2d, Coord};
+
+/// A point in the plane (x, y).
+pub type P2 = [f64; 2];
+
+/// A plane point as the `robust` crate's coordinate.
+#[inline]
+pub fn co(p: P2) -> Coord<f64> {
+    Coord { x: p[0], y: p[1] }
+}
+
+/// A vertex (x, y, z) as the `robust` crate's coordinate (z dropped).
+#[inline]
+pub fn vco(v: &[f64; 3]) -> Coord<f64> {
+    Coord { x: v[0], y: v[1] }
+}
+
+/// The plane point of a vertex (x, y, z).
+#[inline]
+pub fn xy(v: &[f64; 3]) -> P2 {
+    [v[0], v[1]]
+}
+
+/// Planar distance.
+#[inline]
+pub fn dist(a: P2, b: P2) -> f64 {
+    (b[0] - a[0]).hypot(b[1] - a[1])
+}
+
+/// Signed area of a triangle (positive counter-clockwise), rounded.
+#[inline]
+pub fn tri_area(t: &[P2; 3]) -> f64 {
+    ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1])) / 2.0
+}
+
+/// How far from zero `orient2d(a, b, c)` (twice the signed area of a, b, c)
+/// can be pushed by rounding the coordinates of the three points to
+/// doubles: a generous bound (64 ulps of the largest coordinate, times the
+/// side lengths). A triangle whose area is within it is degenerate up to
+/// rounding (a *sliver*: its third corner lies on the opposite edge); a
+/// point within it of an edge is on that edge up to rounding.
+///
+/// ```
+/// use tinmerge_core::geom::{is_sliver, orient_slack};
+/// let (a, b) = ([67072.33979011845, 118745.07014525152, 0.0], [68672.33979011845, 117145.07014525152, 0.0]);
+/// let c = [65472.33979011844, 120345.07014525152, 0.0];  // collinear on the pixel lattice
+/// assert!(is_sliver(&a, &b, &c));
+/// assert!(!is_sliver(&a, &b, &[65472.0, 120346.0, 0.0]));
+/// assert!(orient_slack(&a, &b, &c) < 1e-3);
+/// ```
+#[inline]
+pub fn orient_slack(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    let m = max_abs_xy(a, b, c);
+    let d = |p: &[f64; 3], q: &[f64; 3]| (p[0] - q[0]).abs().max((p[1] - q[1]).abs());
+    64.0 * f64::EPSILON * m * (d(a, b) + d(b, c) + d(c, a))
+}
+
+/// Largest |x| or |y| of three points: the magnitude their rounding is
+/// relative to.
+#[inline]
+pub fn max_abs_xy(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    a[0].abs()
+        .max(a[1].abs())
+        .max(b[0].abs())
+        .max(b[1].abs())
+        .max(c[0].abs())
+        .max(c[1].abs())
+}
+
+/// `orient2d(a, b, c)` by the exact predicate, as a plain number.
+#[inline]
+pub fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    orient2d(vco(a), vco(b), vco(c))
+}
+
+/// Whether triangle a, b, c has zero area up to rounding (see
+/// [`orient_slack`]).
+#[inline]
+pub fn is_sliver(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    orient(a, b, c).abs() <= orient_slack(a, b, c)
+}
+
+/// Whether c is left of or on the line a -> b, up to rounding.
+#[inline]
+pub fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    orient(a, b, c) >= -orient_slack(a, b, c)
+}
+
+/// Distance from p to the closed segment ab.
+pub fn point_segment_distance(p: P2, a: P2, b: P2) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let s = if l2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - s * dx).hypot(p[1] - a[1] - s * dy)
+}
+
+/// Whether p, known to be collinear with a and b, lies on the closed segment.
+#[inline]
+fn on_segment(a: Coord<f64>, b: Coord<f64>, p: Coord<f64>) -> bool {
+    p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+}
+
+/// Exact test: do the closed segments p1p2 and q1q2 meet?
+pub fn segments_intersect(p1: Coord<f64>, p2: Coord<f64>, q1: Coord<f64>, q2: Coord<f64>) -> bool {
+    let d1 = orient2d(q1, q2, p1);
+    let d2 = orient2d(q1, q2, p2);
+    let d3 = orient2d(p1, p2, q1);
+    let d4 = orient2d(p1, p2, q2);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    (d1 == 0.0 && on_segment(q1, q2, p1))
+        || (d2 == 0.0 && on_segment(q1, q2, p2))
+        || (d3 == 0.0 && on_segment(p1, p2, q1))
+        || (d4 == 0.0 && on_segment(p1, p2, q2))
+}
+
+/// Crossing point of segment pq with segment uv, known to cross properly
+/// (all four orientations non-zero). Callers that need the same point
+/// whoever asks (the overlay) give the ends of both segments in a canonical
+/// order.
+pub fn crossing(p: P2, q: P2, u: P2, v: P2) -> P2 {
+    let op = orient2d(co(u), co(v), co(p));
+    let oq = orient2d(co(u), co(v), co(q));
+    let t = (op / (op - oq)).clamp(0.0, 1.0);
+    [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
+}
