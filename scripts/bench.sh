@@ -4,6 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh >/dev/null
+# the benchmark-only SQL entry points (_tin_area_examined) need a bench build
+TINMERGE_FEATURES=bench scripts/install.sh >/dev/null
 scripts/cluster.sh start >/dev/null
 q() { scripts/cluster.sh psql -qAt -d tinmerge_bench "$@"; }
 scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS tinmerge_bench" -c "CREATE DATABASE tinmerge_bench"

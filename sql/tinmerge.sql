@@ -187,7 +187,6 @@ COMMENT ON FUNCTION _tin_line_climb(tin, bytea, int) IS 'Internal: use tin_line_
 COMMENT ON FUNCTION _tin_area_triangles(tin, bytea, int, boolean, text) IS 'Internal: use tin_area_triangles(tin, geometry, int, boolean).';
 COMMENT ON FUNCTION _tin_area_stats(tin, bytea, int, text, boolean) IS 'Internal: use tin_area_stats(tin, geometry, int).';
 COMMENT ON FUNCTION _tin_volume(tin, bytea, float8, int, text, boolean) IS 'Internal: use tin_volume(tin, geometry, float8, int).';
-COMMENT ON FUNCTION _tin_area_examined(tin, bytea, int, text) IS 'Internal (benchmark): triangles examined and rows given by the area sweep with method hierarchy, flat or scan.';
 COMMENT ON FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean) IS 'Internal: use tin_raster_stats(tin, raster, int, int, boolean).';
 COMMENT ON FUNCTION _tin_paint(tin, bytea, int) IS 'Internal: use tin_paint(tin, raster, int).';
 COMMENT ON FUNCTION _tin_raster_pixels(tin, bytea, int, int) IS 'Internal: use tin_raster_pixels(tin, raster, int, int).';
@@ -279,8 +278,8 @@ CREATE OPERATOR CLASS tin_hash_ops DEFAULT FOR TYPE tin USING hash AS
 -- Planner costs (0.2.0; 0.1.0 had the defaults), in PostGIS's tiers (COST 1 default, 50 low, 500
 -- medium, 10000 high; measured per call on the DEM: a height ~1.5 us, a
 -- footprint or a linetree well under 1 ms, a contour line or polygon merge
--- 0.5-5 ms, builds and whole-raster merges 10 ms and up), on the public functions and on the internal ones an
--- inlined SQL wrapper exposes to the planner; ROWS for set-returning
+-- 0.5-5 ms, builds and whole-raster merges 10 ms and up), on the public functions and on the internal ones the
+-- SQL wrappers call (the wrappers are not inlined: see the search_path block below); ROWS for set-returning
 -- functions. They let a join of a large feature table with a terrain use
 -- parallel workers (docs/scaling.md).
 ALTER FUNCTION tin_height(tin, geometry, integer) COST 50;
@@ -311,7 +310,6 @@ ALTER FUNCTION tin_area_triangles(tin, geometry, integer, boolean) COST 10000 RO
 ALTER FUNCTION _tin_area_triangles(tin, bytea, integer, boolean, text) COST 10000 ROWS 1000;
 ALTER FUNCTION tin_area_stats(tin, geometry, integer) COST 10000 ROWS 1;
 ALTER FUNCTION _tin_area_stats(tin, bytea, integer, text, boolean) COST 10000 ROWS 1;
-ALTER FUNCTION _tin_area_examined(tin, bytea, integer, text) COST 10000 ROWS 1;
 ALTER FUNCTION tin_volume(tin, geometry, float8, integer) COST 10000 ROWS 1;
 ALTER FUNCTION _tin_volume(tin, bytea, float8, integer, text, boolean) COST 10000 ROWS 1;
 ALTER FUNCTION tin_from_raster(raster, float8, integer, integer, boolean) COST 10000;

@@ -13,9 +13,9 @@ use super::interrupt::interrupt;
 use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::io::ewkb::{self, Geom};
+use tinmerge_core::merge::area::polygon::Area;
+use tinmerge_core::merge::area::surface::{stats, volume};
 use tinmerge_core::merge::area::{area_rows, sweep, Method};
-use tinmerge_core::merge::polygon::Area;
-use tinmerge_core::merge::surface::{stats, volume};
 
 /// The area of a POLYGON or MULTIPOLYGON argument: SRID checked, validity
 /// (PostGIS's verdict) checked, coordinates finite.
@@ -183,7 +183,9 @@ fn _tin_volume(
 }
 
 /// The sweep's work for the benchmark: triangles examined by a method
-/// ('hierarchy', 'flat' or 'scan') and the rows it gives.
+/// ('hierarchy', 'flat' or 'scan') and the rows it gives. Only in builds
+/// with the `bench` feature (`make bench` installs one); never in an install.
+#[cfg(feature = "bench")]
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
 fn _tin_area_examined(
     t: TinArg,
@@ -206,3 +208,13 @@ fn _tin_area_examined(
     let rows = area_rows(&tin, &area, &s, m == Method::Hierarchy, &mut interrupt).or_raise();
     TableIterator::new(vec![(s.examined as i64, rows.len() as i64)])
 }
+
+#[cfg(feature = "bench")]
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_area_examined(tin, bytea, integer, text) COST 10000 ROWS 1;
+COMMENT ON FUNCTION _tin_area_examined(tin, bytea, integer, text) IS 'Internal (benchmark builds only): triangles examined and rows given by the area sweep with method hierarchy, flat or scan.';
+"#,
+    name = "tin_area_examined_comment",
+    requires = [_tin_area_examined]
+);

@@ -12,9 +12,9 @@ use super::interrupt::interrupt;
 use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::io::ewkb::{self, Geom};
-use tinmerge_core::merge::drape::drape;
+use tinmerge_core::merge::line::drape::drape;
+use tinmerge_core::merge::line::widened::near_line;
 use tinmerge_core::merge::line::{runs, walk_parts, Part, PieceSink, TriangleSink};
-use tinmerge_core::merge::widened::near_line;
 use tinmerge_core::tin::{Tin, TinError};
 
 /// The parts of a LINESTRING or MULTILINESTRING argument (SRID checked,

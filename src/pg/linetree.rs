@@ -1,5 +1,5 @@
 //! The `linetree` SQL type (a multi-scale line tree stored flat, see
-//! [`tinmerge_core::merge::linetree`]) and the line-merge functions taking it.
+//! [`tinmerge_core::merge::line::tree`]) and the line-merge functions taking it.
 //! Values are read in place: a merge detoasts the value, checks its header,
 //! size and hash, and reads only the nodes and points it visits.
 
@@ -17,8 +17,8 @@ use super::line::{check_width, part_offsets, profile, seq_rows};
 use super::tin_type::TinArg;
 use std::sync::Arc;
 use tinmerge_core::io::ewkb::{self, Geom};
+use tinmerge_core::merge::line::tree::{self, near_tree, walk_tree, View};
 use tinmerge_core::merge::line::{PieceSink, TriangleSink};
-use tinmerge_core::merge::linetree::{self, near_tree, walk_tree, View};
 use tinmerge_core::tin::Tin;
 
 raw_datum_arg!(
@@ -131,7 +131,7 @@ fn _tin_linetree(geom: &[u8]) -> Option<LineTreeOut> {
     if parts.is_empty() {
         return None;
     }
-    Some(LineTreeOut(linetree::encode(g.srid, &parts).or_raise()))
+    Some(LineTreeOut(tree::encode(g.srid, &parts).or_raise()))
 }
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["linetree_type"])]

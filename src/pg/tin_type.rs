@@ -56,7 +56,17 @@ impl TinArg {
     /// in, and what this transaction remembers of it.
     fn remembered(&self) -> Option<(cache::ToastKey, i64, Option<cache::Alias>)> {
         let key = self.toast_key()?;
-        let epoch = unsafe { pg_sys::GetCurrentTransactionStartTimestamp() };
+        // The backend's local transaction id: unique per transaction in this
+        // backend (read-only ones included), unlike the start timestamp,
+        // which two quick transactions can share.
+        let epoch = unsafe {
+            let proc_ = pg_sys::MyProc;
+            if proc_.is_null() {
+                pg_sys::GetCurrentTransactionStartTimestamp()
+            } else {
+                i64::from((*proc_).lxid)
+            }
+        };
         Some((key, epoch, cache::alias_for(&key, epoch)))
     }
 

@@ -13,10 +13,10 @@ mod common;
 
 use std::time::Instant;
 use tinmerge_core::interrupt::Interrupt;
+use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::{sweep, Method};
 use tinmerge_core::merge::line::{walk_parts, Part, TriangleSink};
 use tinmerge_core::merge::overlay::{overlay, overlay_constrained};
-use tinmerge_core::merge::polygon::Area;
 use tinmerge_core::merge::raster::{weighted_stats, zonal_stats, PixelGrid};
 use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::{Tin, TinError};

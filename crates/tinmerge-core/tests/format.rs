@@ -10,7 +10,7 @@
 mod common;
 
 use common::{data_path, read_dem};
-use tinmerge_core::merge::linetree;
+use tinmerge_core::merge::line::tree;
 use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::layout;
 
@@ -74,7 +74,7 @@ fn tin_stored_by_format_1_still_reads() {
 #[test]
 fn linetree_stored_by_format_1_still_reads() {
     let stored = std::fs::read(fixture("line.linetree")).expect("fixture");
-    let v = linetree::View::new(&stored).unwrap();
+    let v = tree::View::new(&stored).unwrap();
     v.validate().unwrap();
     assert_eq!(v.header.srid, 32616);
     assert_eq!(v.header.num_points as usize, LINE.len());
@@ -82,7 +82,7 @@ fn linetree_stored_by_format_1_still_reads() {
         let q = v.point(i as u32).unwrap();
         assert_eq!((q[0], q[1]), (p[0], p[1]));
     }
-    let again = linetree::encode(32616, &[LINE.to_vec()]).unwrap();
+    let again = tree::encode(32616, &[LINE.to_vec()]).unwrap();
     assert_eq!(
         again, stored,
         "the writer no longer writes format 1 as it did"
@@ -104,7 +104,7 @@ fn write_fixtures() {
     std::fs::write(fixture("window.tin"), layout::encode(&tin)).unwrap();
     std::fs::write(
         fixture("line.linetree"),
-        linetree::encode(32616, &[LINE.to_vec()]).unwrap(),
+        tree::encode(32616, &[LINE.to_vec()]).unwrap(),
     )
     .unwrap();
 }

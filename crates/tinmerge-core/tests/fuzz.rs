@@ -13,11 +13,12 @@ mod common;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use tinmerge_core::io::ewkb::{self, Geom};
 use tinmerge_core::io::{gserialized, raster};
+use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::{sweep, Method};
+use tinmerge_core::merge::line::drape;
+use tinmerge_core::merge::line::tree::{self, View};
 use tinmerge_core::merge::line::{self, Part};
-use tinmerge_core::merge::linetree::{self, View};
-use tinmerge_core::merge::polygon::Area;
-use tinmerge_core::merge::{drape, overlay};
+use tinmerge_core::merge::overlay;
 use tinmerge_core::tin::build::build;
 use tinmerge_core::tin::{check_xy, layout, locate, Tin};
 
@@ -210,13 +211,13 @@ fn linetree_values() {
                     l
                 })
                 .collect();
-            linetree::encode(32616, &parts).unwrap()
+            tree::encode(32616, &parts).unwrap()
         })
         .collect();
     run("linetree", 3, &valid, iters(), &mut |m| {
         let mut m = m.to_vec();
         if r.below(2) == 0 {
-            linetree::rehash(&mut m);
+            tree::rehash(&mut m);
         }
         let Ok(v) = View::new(&m) else { return false };
         if v.validate().is_err() {
@@ -224,7 +225,7 @@ fn linetree_values() {
         }
         // a tree that validates is walked through the tin
         let mut sink = line::TriangleSink::default();
-        let _ = linetree::walk_tree(&t, 1, &v, &mut sink, &mut |_, _| {}, &mut || Ok(()));
+        let _ = tree::walk_tree(&t, 1, &v, &mut sink, &mut |_, _| {}, &mut || Ok(()));
         true
     });
 }

@@ -485,15 +485,15 @@ fn fractal(a: [f64; 2], b: [f64; 2], depth: u32, rough: f64, seed: u64) -> Vec<[
 }
 
 fn tree_of(parts: &[Vec<[f64; 2]>]) -> Vec<u8> {
-    tinmerge_core::merge::linetree::encode(0, parts).unwrap()
+    tinmerge_core::merge::line::tree::encode(0, parts).unwrap()
 }
 
 /// The line tree gives exactly what the plain walk gives: pieces, triangle
 /// sequences and widened-line triangles.
 fn same_through_tree(tin: &Tin, level: usize, parts: &[Vec<[f64; 2]>], width: f64) {
+    use tinmerge_core::merge::line::tree::{near_tree, walk_tree, View};
+    use tinmerge_core::merge::line::widened::near_line;
     use tinmerge_core::merge::line::{walk_parts, PieceSink, TriangleSink};
-    use tinmerge_core::merge::linetree::{near_tree, walk_tree, View};
-    use tinmerge_core::merge::widened::near_line;
     let bytes = tree_of(parts);
     let view = View::new(&bytes).unwrap();
     view.validate().unwrap();
@@ -587,7 +587,7 @@ fn line_tree_merges_equal_the_plain_walk() {
 
 #[test]
 fn line_tree_error_bounds_hold_and_damage_is_caught() {
-    use tinmerge_core::merge::linetree::View;
+    use tinmerge_core::merge::line::tree::View;
     let river = fractal([0.0, 0.0], [1000.0, 50.0], 10, 0.35, 3);
     let bytes = tree_of(&[river.clone(), vec![[5.0, 5.0], [6.0, 7.0]]]);
     let v = View::new(&bytes).unwrap();
@@ -630,7 +630,7 @@ fn line_tree_error_bounds_hold_and_damage_is_caught() {
             let i = rng.random_range(0..m.len());
             m[i] ^= 1 << rng.random_range(0..8);
         }
-        tinmerge_core::merge::linetree::rehash(&mut m);
+        tinmerge_core::merge::line::tree::rehash(&mut m);
         let Ok(v) = View::new(&m) else {
             refused += 1;
             continue;
@@ -639,7 +639,7 @@ fn line_tree_error_bounds_hold_and_damage_is_caught() {
             refused += 1;
         }
         let mut sink = tinmerge_core::merge::line::PieceSink::new(&tin, 0);
-        let _ = tinmerge_core::merge::linetree::walk_tree(
+        let _ = tinmerge_core::merge::line::tree::walk_tree(
             &tin,
             0,
             &v,
@@ -647,7 +647,7 @@ fn line_tree_error_bounds_hold_and_damage_is_caught() {
             &mut |_, _| {},
             &mut || Ok(()),
         );
-        let _ = tinmerge_core::merge::linetree::near_tree(&tin, 0, &v, 0.3, &mut || Ok(()));
+        let _ = tinmerge_core::merge::line::tree::near_tree(&tin, 0, &v, 0.3, &mut || Ok(()));
     }
     assert!(refused > 1000, "{refused}");
     // truncated and empty

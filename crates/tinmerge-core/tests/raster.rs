@@ -390,7 +390,7 @@ fn skewed_raster_refused() {
 
 use common::clip_half;
 use std::collections::BTreeMap;
-use tinmerge_core::merge::coverage::coverage;
+use tinmerge_core::merge::raster::coverage::coverage;
 use tinmerge_core::merge::raster::weighted_stats;
 
 fn shoelace(p: &[[f64; 2]]) -> f64 {

@@ -4,15 +4,7 @@
 //! resolved with [`crate::tin::Tin::level_index`].
 
 pub mod area;
-pub mod clip;
-pub mod coverage;
-pub mod drape;
-pub mod faces;
 pub mod line;
-pub mod linetree;
 pub mod overlay;
 pub mod point;
-pub mod polygon;
 pub mod raster;
-pub mod surface;
-pub mod widened;

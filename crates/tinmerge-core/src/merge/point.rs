@@ -234,6 +234,7 @@ pub fn footprint(
 /// finer level test only the children of the triangle found. An alternative
 /// to the per-level grid (kept for comparison in the benchmarks and for
 /// callers that want every level at once).
+#[cfg(feature = "bench")]
 pub fn locate_descend(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
     let mut t = locate::locate(tin, 0, x, y)?;
     for l in 1..=level {

@@ -28,12 +28,12 @@
 //! ([`Method::Flat`], the plain sweep without the hierarchy).
 //!
 //! Coverage (the fraction of a boundary triangle inside the polygon) comes
-//! from the boundary pieces in the triangle ([`crate::merge::clip`]).
+//! from the boundary pieces in the triangle ([`crate::merge::area::clip`]).
 //!
 //! ```
 //! use tinmerge_core::tin::build::build;
 //! use tinmerge_core::merge::area::{area_rows, sweep, Method, Relation};
-//! use tinmerge_core::merge::polygon::Area;
+//! use tinmerge_core::merge::area::polygon::Area;
 //! // a paraboloid on a 5 x 5 grid: 32 triangles of area 0.5
 //! let mut pts = Vec::new();
 //! for i in 0..5 { for j in 0..5 { pts.push([i as f64, j as f64, (i * i + j * j) as f64]); } }
@@ -51,12 +51,16 @@
 //! assert!((covered - 4.0).abs() < 1e-12);
 //! ```
 
+pub mod clip;
+pub mod polygon;
+pub mod surface;
+
 use crate::geom::P2;
 use crate::geom::{co, tri_area};
 use crate::interrupt::{Interrupt, Ticker};
-use crate::merge::clip::{clipped_moments, Chain};
+use crate::merge::area::clip::{clipped_moments, Chain};
+use crate::merge::area::polygon::{segment_meets_open_triangle, Area, Where};
 use crate::merge::line::{Sink, Walker};
-use crate::merge::polygon::{segment_meets_open_triangle, Area, Where};
 use crate::tin::hierarchy::{children, descendants};
 use crate::tin::{Tin, TinError, NONE};
 use robust::orient2d;
@@ -275,7 +279,7 @@ pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
         for j in 0..3 {
             let (a, b) = (t[j], t[(j + 1) % 3]);
             let h = |p: P2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-            poly = crate::merge::clip::clip_convex(&poly, &h);
+            poly = crate::merge::area::clip::clip_convex(&poly, &h);
             if poly.len() < 3 {
                 break;
             }
@@ -283,7 +287,7 @@ pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
         if poly.len() < 3 {
             continue;
         }
-        sum += crate::merge::clip::Moments::of_polygon(o, &poly).a;
+        sum += crate::merge::area::clip::Moments::of_polygon(o, &poly).a;
     }
     sum / tri_area(t)
 }

@@ -39,10 +39,12 @@
 //! assert!(per_tri.contains(&6) && per_tri.contains(&10));
 //! ```
 
+pub mod coverage;
+
 use crate::geom::{co, xy};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
-use crate::merge::coverage::{check_grid, coverage_of};
+use crate::merge::raster::coverage::{check_grid, coverage_of};
 use crate::tin::{Tin, TinError, NONE};
 use robust::orient2d;
 
@@ -743,7 +745,7 @@ pub fn weighted_stats(
         finish(&mut cur, &mut pairs);
         Ok(out)
     };
-    let n = super::coverage::num_triangles(tin, level)?;
+    let n = coverage::num_triangles(tin, level)?;
     if crate::tin::par::threads() <= 1 {
         return run(0..n, &mut Ticker::new(interrupt));
     }

@@ -20,7 +20,7 @@
 //! The walk reports to a [`Sink`]: every point of the cut line with the
 //! triangle of the piece it belongs to (a crossing point is reported twice:
 //! as the end of one piece and the start of the next) and its distance along
-//! the line. [`crate::merge::linetree`] drives the same walker from a
+//! the line. [`crate::merge::line::tree`] drives the same walker from a
 //! multi-scale line tree and skips the stretches that cannot leave a
 //! triangle.
 //!
@@ -48,6 +48,10 @@
 //!     }
 //! }
 //! ```
+
+pub mod drape;
+pub mod tree;
+pub mod widened;
 
 use crate::geom::{co, dist, vco, P2};
 use crate::interrupt::Interrupt;

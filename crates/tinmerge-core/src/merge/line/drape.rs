@@ -11,9 +11,9 @@
 //! - collections are draped member by member; members with nothing left are
 //!   dropped, and `None` means nothing at all is left.
 
-use super::line::{pieces, runs, Part};
-use super::point;
+use super::{pieces, runs, Part};
 use crate::io::ewkb::Geom;
+use crate::merge::point;
 use crate::tin::{Tin, TinError};
 
 fn parts_of(lines: &[Vec<[f64; 3]>]) -> Vec<Part> {

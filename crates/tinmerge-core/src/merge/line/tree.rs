@@ -21,8 +21,8 @@
 //! [`View`], which checks every value it reads: a stored tree is not
 //! decoded, so a merge costs what it visits, not the size of the line.
 
-use super::line::{Polyline, Sink, Walker};
 use super::widened::{walk_near, Near, Visited};
+use super::{Polyline, Sink, Walker};
 use crate::geom::co;
 use crate::geom::point_segment_distance as seg_dist;
 use crate::geom::P2;
@@ -180,7 +180,7 @@ pub fn encode(srid: i32, parts: &[Vec<P2>]) -> Result<Vec<u8>, TinError> {
     let mut total = 0.0;
     let mut cums: Vec<Vec<f64>> = Vec::new();
     for p in parts {
-        let part = super::line::Part::new(p.clone());
+        let part = super::Part::new(p.clone());
         total += part.length();
         cums.push(part.cum);
     }
@@ -225,6 +225,7 @@ pub fn encode(srid: i32, parts: &[Vec<P2>]) -> Result<Vec<u8>, TinError> {
 }
 
 /// Recompute the stored hash (for tests that craft values).
+#[cfg(feature = "bench")]
 pub fn rehash(b: &mut [u8]) {
     if b.len() >= HEADER_LEN {
         let h = hash(b);
@@ -626,7 +627,7 @@ impl PartView<'_, '_> {
 }
 
 /// The line merge through a stored tree: the same reports to `sink` as
-/// [`super::line::walk_parts`] on the same line.
+/// [`super::walk_parts`] on the same line.
 pub fn walk_tree<S: Sink>(
     tin: &Tin,
     level: usize,

@@ -3,7 +3,7 @@
 //!
 //! Inside triangles count whole (their descendants at the target level, for
 //! inside triangles found at coarser levels); boundary triangles count
-//! through their boundary pieces ([`crate::merge::clip`]). The surface is
+//! through their boundary pieces ([`crate::merge::area::clip`]). The surface is
 //! linear on each triangle, so every integral is exact up to rounding: the
 //! integral of z over a region of a triangle is its area times the plane's
 //! value at its centroid (from the first moments), and the volume above or
@@ -13,8 +13,8 @@
 //! ```
 //! use tinmerge_core::tin::build::build;
 //! use tinmerge_core::merge::area::{sweep, Method};
-//! use tinmerge_core::merge::polygon::Area;
-//! use tinmerge_core::merge::surface::{stats, volume};
+//! use tinmerge_core::merge::area::polygon::Area;
+//! use tinmerge_core::merge::area::surface::{stats, volume};
 //! // the plane z = x on a 3 x 3 grid
 //! let mut pts = Vec::new();
 //! for i in 0..3 { for j in 0..3 { pts.push([i as f64, j as f64, i as f64]); } }
@@ -31,9 +31,9 @@
 
 use crate::geom::P2;
 use crate::interrupt::{Interrupt, Ticker};
+use crate::merge::area::clip::{clip_chains, clip_convex, clipped_moments, Chain, Moments};
+use crate::merge::area::polygon::{Area, Where};
 use crate::merge::area::Sweep;
-use crate::merge::clip::{clip_chains, clip_convex, clipped_moments, Chain, Moments};
-use crate::merge::polygon::{Area, Where};
 use crate::tin::hierarchy::descendants;
 use crate::tin::{Tin, TinError};
 

@@ -14,8 +14,8 @@
 //! pieces, not the whole polygon, and no polygon clipping library is needed.
 //!
 //! ```
-//! use tinmerge_core::merge::clip::{clipped_moments, Chain};
-//! use tinmerge_core::merge::polygon::{Area, Where};
+//! use tinmerge_core::merge::area::clip::{clipped_moments, Chain};
+//! use tinmerge_core::merge::area::polygon::{Area, Where};
 //! // the triangle (0,0) (2,0) (0,2) cut by the area x <= 1
 //! let area = Area::new(vec![vec![vec![[-5.0, -5.0], [1.0, -5.0], [1.0, 5.0], [-5.0, 5.0]]]]);
 //! let tri = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]];
@@ -26,7 +26,7 @@
 //! ```
 
 use crate::geom::P2;
-use crate::merge::polygon::Where;
+use crate::merge::area::polygon::Where;
 
 /// A piece of the area's boundary inside the convex polygon, in ring
 /// order (interior on its left). `enters`: its first point is where it comes
@@ -366,7 +366,7 @@ pub fn clip_chains(chains: &[Chain], h: &dyn Fn(P2) -> f64) -> Vec<Chain> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::merge::polygon::Area;
+    use crate::merge::area::polygon::Area;
 
     fn tri() -> [P2; 3] {
         [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]

@@ -1,49 +1,14 @@
-//! TIN/TIN overlay (seed 6.2, second problem): one triangulation of the
-//! common domain of two TINs that holds every vertex and every edge of both,
-//! edges cut where they cross, each output triangle labelled with the
-//! triangle of A and of B that contains it.
-//!
-//! The crossings are found by walking every edge of A through B (spade's
-//! [`LineIntersectionIterator`] over B's triangulation, loaded as a CDT whose
-//! constraints are B's own edges, so the walk sees exactly B). Every
-//! decision of the walk is an exact orientation test; a crossing point is
-//! computed once, from the pair of edges, and shared by both edges' lists.
-//! A's vertices are located in B exactly (on a vertex of B: the same output
-//! vertex; on an edge of B: a point of that edge), B's vertices in A.
-//! Every edge of A and of B is then a chain of pieces between consecutive
-//! points along it; all points lie in the closed common domain, which is
-//! convex, so every piece does too. The pieces go into one bulk-loaded
-//! constrained Delaunay triangulation (spade); pieces that rounding of
-//! crossing points made cross again (near-parallel edges) are added
-//! afterwards with spade's splitting insertion, so the result is always a
-//! valid triangulation with strictly positive (exact) orientation.
-//!
-//! Cost: O(N + M + K) for the walks and the lists plus the CDT bulk load
-//! (O(V log V) for V = output vertices), against the naive method
-//! ([`naive`]): every edge of both inserted into one CDT with splitting.
-//!
-//! ```
-//! use tinmerge_core::tin::build::build;
-//! use tinmerge_core::merge::overlay::overlay;
-//! let grid = |dx: f64| {
-//!     let mut pts = Vec::new();
-//!     for i in 0..4 {
-//!         for j in 0..4 {
-//!             pts.push([i as f64 + dx, j as f64, (i * j) as f64]);
-//!         }
-//!     }
-//!     build(pts, &[0.0], 0, &mut || Ok(())).unwrap()
-//! };
-//! let (a, b) = (grid(0.0), grid(0.5));
-//! let o = overlay(&a, 0, &b, 0, &mut || Ok(())).unwrap();
-//! // the common domain is [0.5, 3] x [0, 3]
-//! let area: f64 = (0..o.tris.len()).map(|t| o.area(t)).sum();
-//! assert!((area - 7.5).abs() < 1e-9);
-//! ```
+//! The robust path of the overlay: B loaded as a constrained triangulation of
+//! its own edges, every edge of A walked through it (spade's
+//! `LineIntersectionIterator`, exact), crossing points computed once per
+//! pair of edges, pieces of every edge bulk-loaded into one CDT (spade;
+//! pieces that rounding made cross again inserted with splitting), output
+//! triangles labelled by locating their centroids. Used when B's domain is
+//! not convex or the face-by-face path ([`super::faces`]) refuses.
 
+use super::output::Overlay;
 use crate::geom::{co, crossing, xy};
 use crate::interrupt::{Interrupt, Ticker};
-use crate::merge::faces;
 use crate::tin::{interpolate, locate, Tin, TinError, NONE};
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
@@ -53,52 +18,6 @@ use spade::{
 };
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
-
-/// The overlay of two TINs.
-#[derive(Clone, Debug, Default)]
-pub struct Overlay {
-    /// Output vertices (x, y).
-    pub pts: Vec<[f64; 2]>,
-    /// Height of each output vertex on surface A and on surface B.
-    pub za: Vec<f64>,
-    pub zb: Vec<f64>,
-    /// Output triangles, counter-clockwise.
-    pub tris: Vec<[u32; 3]>,
-    /// Triangle of A (at its level) and of B containing each output triangle.
-    pub tri_a: Vec<u32>,
-    pub tri_b: Vec<u32>,
-    /// Proper crossings of an edge of A with an edge of B.
-    pub crossings: usize,
-    /// Pieces that had to be inserted with splitting (rounding of crossing
-    /// points made them cross another piece; constrained-triangulation path
-    /// only).
-    pub resplit: usize,
-    /// Why the face-by-face path ([`crate::merge::faces`]) was not used and
-    /// the constrained triangulation built instead (None: faces path).
-    pub fallback: Option<String>,
-}
-
-impl Overlay {
-    /// Planar area of output triangle `t`.
-    pub fn area(&self, t: usize) -> f64 {
-        let [a, b, c] = self.tris[t].map(|v| self.pts[v as usize]);
-        0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
-    }
-
-    /// Corners of output triangle `t` with heights from A (`from_b` false)
-    /// or from B.
-    pub fn corners(&self, t: usize, from_b: bool) -> [[f64; 3]; 3] {
-        self.tris[t].map(|v| {
-            let p = self.pts[v as usize];
-            let z = if from_b {
-                self.zb[v as usize]
-            } else {
-                self.za[v as usize]
-            };
-            [p[0], p[1], z]
-        })
-    }
-}
 
 /// The edges of one level, each once: (smaller vertex id, larger).
 fn level_edges(tin: &Tin, level: usize) -> Vec<[u32; 2]> {
@@ -165,95 +84,9 @@ impl Points {
     }
 }
 
-/// Overlay of A at `level_a` and B at `level_b`: face by face
-/// ([`crate::merge::faces`]) when B's domain is convex and rounding never
-/// gets in the way, else the constrained triangulation
-/// ([`overlay_constrained`]); [`Overlay::fallback`] says which.
-///
-/// A panic inside spade (its internal assertions) is reported as an error.
-pub fn overlay(
-    a: &Tin,
-    level_a: usize,
-    b: &Tin,
-    level_b: usize,
-    interrupt: &mut Interrupt<'_>,
-) -> Result<Overlay, TinError> {
-    guarded(interrupt, |check| {
-        overlay_dispatch(a, level_a, b, level_b, check)
-    })
-}
-
-/// The overlay always built as one constrained triangulation (the robust
-/// path; for tests and benchmarks of the two paths).
-pub fn overlay_constrained(
-    a: &Tin,
-    level_a: usize,
-    b: &Tin,
-    level_b: usize,
-    interrupt: &mut Interrupt<'_>,
-) -> Result<Overlay, TinError> {
-    guarded(interrupt, |check| {
-        overlay_cdt(a, level_a, b, level_b, check)
-    })
-}
-
-/// Runs `f`, turning a panic inside spade into an error; a panic raised by
-/// the caller's interrupt check (a cancel, through the host's error
-/// handling) goes on unwinding untouched.
-fn guarded(
-    interrupt: &mut Interrupt<'_>,
-    f: impl FnOnce(&mut Interrupt<'_>) -> Result<Overlay, TinError>,
-) -> Result<Overlay, TinError> {
-    let in_check = std::cell::Cell::new(false);
-    let mut check = || {
-        in_check.set(true);
-        let r = interrupt();
-        in_check.set(false);
-        r
-    };
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&mut check))).map_err(|payload| {
-        if in_check.get() {
-            std::panic::resume_unwind(payload);
-        }
-        TinError::Degenerate(
-            "overlay: the triangulation library failed on these inputs (edges crossing too \
-                 near each other for double precision)"
-                .into(),
-        )
-    })?
-}
-
-/// The face-by-face overlay when B's domain is convex and rounding never
-/// gets in the way (checked exactly); otherwise the constrained
-/// triangulation.
-fn overlay_dispatch(
-    a: &Tin,
-    level_a: usize,
-    b: &Tin,
-    level_b: usize,
-    interrupt: &mut Interrupt<'_>,
-) -> Result<Overlay, TinError> {
-    let (ba, bb) = (&a.bbox, &b.bbox);
-    if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
-        return Ok(Overlay::default()); // disjoint domains
-    }
-    let why = if faces::convex_domain(b, &b.levels[level_b]) {
-        match faces::overlay_faces(a, level_a, b, level_b, interrupt) {
-            Ok(o) => return Ok(o),
-            Err(faces::Refused::Error(e)) => return Err(e),
-            Err(faces::Refused::Rounding(why)) => why,
-        }
-    } else {
-        "b's domain is not convex"
-    };
-    let mut o = overlay_cdt(a, level_a, b, level_b, interrupt)?;
-    o.fallback = Some(why.to_string());
-    Ok(o)
-}
-
 /// The overlay as one constrained Delaunay triangulation of all vertices
 /// and edge pieces (see the module comment).
-fn overlay_cdt(
+pub fn overlay_cdt(
     a: &Tin,
     level_a: usize,
     b: &Tin,
@@ -492,6 +325,7 @@ fn owner(tin: &Tin, level: usize, x: f64, y: f64, c: &[[f64; 2]; 3]) -> Result<u
     }
 }
 
+#[cfg(feature = "bench")]
 /// The naive method, for comparison: all vertices of both levels in one
 /// CDT, then every edge of A and of B inserted with splitting where it
 /// crosses. Returns (vertices, triangles) of the triangulation of the union
@@ -502,6 +336,7 @@ pub fn naive(a: &Tin, level_a: usize, b: &Tin, level_b: usize) -> Result<(usize,
     })?
 }
 
+#[cfg(feature = "bench")]
 fn naive_inner(
     a: &Tin,
     level_a: usize,
@@ -533,69 +368,4 @@ fn naive_inner(
         }
     }
     Ok((cdt.num_vertices(), cdt.num_inner_faces()))
-}
-
-/// Cut and fill between surfaces A and B over the overlay: (volume where A
-/// is above B, volume where A is below B, planar area where they differ).
-/// Exact for the piecewise linear surfaces: within an output triangle both
-/// are linear, and the triangle is split at the zero line of A - B.
-pub fn difference(o: &Overlay) -> (f64, f64, f64) {
-    let (mut cut, mut fill, mut changed) = (0.0, 0.0, 0.0);
-    for t in 0..o.tris.len() {
-        let area = o.area(t);
-        let d = o.tris[t].map(|v| o.za[v as usize] - o.zb[v as usize]);
-        if d.iter().all(|&x| x == 0.0) {
-            continue;
-        }
-        changed += area;
-        let pos = positive_part(area, d);
-        let neg = positive_part(area, d.map(|x| -x));
-        cut += pos;
-        fill += neg;
-    }
-    (cut, fill, changed)
-}
-
-/// Integral over a triangle of area `area` of max(f, 0) for the linear f
-/// with corner values `d`.
-fn positive_part(area: f64, d: [f64; 3]) -> f64 {
-    let total = area * (d[0] + d[1] + d[2]) / 3.0;
-    let pos: Vec<f64> = d.iter().copied().filter(|&x| x > 0.0).collect();
-    let non: Vec<f64> = d.iter().copied().filter(|&x| x <= 0.0).collect();
-    match (pos.as_slice(), non.as_slice()) {
-        ([], _) => 0.0,
-        (_, []) => total,
-        // one corner above: a corner triangle, scaled by t1 * t2, mean d0 / 3
-        ([p], [n1, n2]) => area * p * p * p / (3.0 * (p - n1) * (p - n2)),
-        // two corners above: everything minus the negative corner triangle
-        ([p1, p2], [n]) => total + area * (-n) * (-n) * (-n) / (3.0 * (p1 - n) * (p2 - n)),
-        _ => 0.0,
-    }
-}
-
-/// Least heap an overlay of `tris_a` and `tris_b` triangles needs: the
-/// output has at least one triangle per input triangle met, each with its
-/// vertices, labels and heights. Crossing edges make it larger; that part is
-/// bounded while the overlay runs, not here.
-pub fn overlay_bytes(tris_a: usize, tris_b: usize) -> usize {
-    tris_a.saturating_add(tris_b).saturating_mul(96)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn positive_part_of_linear_functions() {
-        // f = x on the triangle (0,0), (1,0), (0,1): integral of max(x - 0.5, 0)
-        // = integral over x in [0.5, 1] of (x - 0.5)(1 - x) dx = 1/48
-        let v = positive_part(0.5, [-0.5, 0.5, -0.5]);
-        assert!((v - 1.0 / 48.0).abs() < 1e-15, "{v}");
-        // and the other side: integral of max(0.5 - x, 0) = 1/48 + 1/4 - 1/6 ... = total + pos
-        let total = 0.5 * (-0.5 + 0.5 - 0.5) / 3.0;
-        let n = positive_part(0.5, [0.5, -0.5, 0.5]);
-        assert!((n - (v - total)).abs() < 1e-15);
-        assert_eq!(positive_part(2.0, [1.0, 1.0, 1.0]), 2.0);
-        assert_eq!(positive_part(2.0, [-1.0, 0.0, -1.0]), 0.0);
-    }
 }

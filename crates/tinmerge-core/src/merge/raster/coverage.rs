@@ -13,7 +13,7 @@
 //!
 //! ```
 //! use tinmerge_core::io::raster::GeoTransform;
-//! use tinmerge_core::merge::coverage::coverage;
+//! use tinmerge_core::merge::raster::coverage::coverage;
 //! use tinmerge_core::tin::build::build;
 //! // two triangles over the square (0,0)-(4,4), split along a diagonal
 //! let pts = vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]];

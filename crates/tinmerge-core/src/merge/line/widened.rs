@@ -10,7 +10,7 @@
 //! tolerance, not a topological decision); a triangle touched exactly at
 //! the distance counts.
 
-use super::line::{hull_edges, Polyline, Sink, Walker};
+use super::{hull_edges, Polyline, Sink, Walker};
 use crate::geom::P2;
 use crate::geom::{co, point_segment_distance};
 use crate::interrupt::{Interrupt, Ticker};

@@ -37,8 +37,8 @@
 // corners and edges are indexed 0..3 in several arrays at once
 #![allow(clippy::needless_range_loop)]
 
+use super::output::Overlay;
 use crate::geom::{co, crossing, xy};
-use crate::merge::overlay::Overlay;
 
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::{interpolate, locate, Level, Tin, TinError, NONE};
