@@ -11,7 +11,8 @@ use super::memory;
 use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::io::raster::{self, Band, GeoTransform};
-use tinmerge_core::merge::raster::{is_data, paint, sweep, weighted_stats, zonal_stats, PixelGrid};
+use tinmerge_core::merge::raster::stats::{is_data, paint, weighted_stats, zonal_stats};
+use tinmerge_core::merge::raster::{sweep, PixelGrid};
 use tinmerge_core::tin::Tin;
 
 /// ERROR unless the raster and the tin both have an SRID and it is the same.

@@ -8,7 +8,8 @@ mod common;
 
 use std::hint::black_box;
 use std::time::Instant;
-use tinmerge_core::merge::raster::{sweep, weighted_stats, zonal_stats, PixelGrid};
+use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
+use tinmerge_core::merge::raster::{sweep, PixelGrid};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);

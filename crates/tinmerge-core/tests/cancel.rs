@@ -17,7 +17,8 @@ use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::{sweep, Method};
 use tinmerge_core::merge::line::{walk_parts, Part, TriangleSink};
 use tinmerge_core::merge::overlay::{overlay, overlay_constrained};
-use tinmerge_core::merge::raster::{weighted_stats, zonal_stats, PixelGrid};
+use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
+use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::{Tin, TinError};
 

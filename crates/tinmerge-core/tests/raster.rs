@@ -11,7 +11,8 @@ mod common;
 use common::{dem_tin, read_dem};
 use robust::{orient2d, Coord};
 use tinmerge_core::io::raster::GeoTransform;
-use tinmerge_core::merge::raster::{sweep, zonal_stats, PixelGrid};
+use tinmerge_core::merge::raster::stats::zonal_stats;
+use tinmerge_core::merge::raster::{sweep, PixelGrid};
 use tinmerge_core::tin::{Tin, NONE};
 
 const UNOWNED: u32 = u32::MAX;
@@ -391,7 +392,7 @@ fn skewed_raster_refused() {
 use common::clip_half;
 use std::collections::BTreeMap;
 use tinmerge_core::merge::raster::coverage::coverage;
-use tinmerge_core::merge::raster::weighted_stats;
+use tinmerge_core::merge::raster::stats::weighted_stats;
 
 fn shoelace(p: &[[f64; 2]]) -> f64 {
     let mut s = 0.0;
@@ -615,7 +616,8 @@ fn coverage_of_a_partial_raster_with_nodata() {
 /// fine levels.
 #[test]
 fn threads_give_identical_answers() {
-    use tinmerge_core::merge::raster::{sweep_par, weighted_stats};
+    use tinmerge_core::merge::raster::stats::weighted_stats;
+    use tinmerge_core::merge::raster::sweep_par;
     use tinmerge_core::tin::par;
     let tin = dem_tin();
     let d = dem_raster();
