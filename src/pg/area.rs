@@ -218,3 +218,18 @@ COMMENT ON FUNCTION _tin_area_examined(tin, bytea, integer, text) IS 'Internal (
     name = "tin_area_examined_comment",
     requires = [_tin_area_examined]
 );
+
+/// Installs without the `bench` feature keep only the symbol of
+/// `_tin_area_examined`: the frozen install scripts of 0.1.0 to 0.3.0 declare
+/// the function (run by `CREATE EXTENSION tinmerge VERSION '0.x'` and by the
+/// upgrade chain), and PostgreSQL checks the symbol exists when they do.
+/// 0.4.0 drops the SQL function (`tinmerge--0.3.0--0.4.0.sql`); a database
+/// still on an older version gets this error if it calls it.
+#[cfg(not(feature = "bench"))]
+#[pg_extern(sql = false)]
+fn _tin_area_examined(_t: TinArg, _area: &[u8], _level: Option<i32>, _method: &str) -> i64 {
+    raise(
+        PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
+        "_tin_area_examined is a benchmark entry point, only in builds with the bench feature (make bench); ALTER EXTENSION tinmerge UPDATE removes it",
+    )
+}
