@@ -69,6 +69,12 @@ pub struct Bbox {
 }
 
 impl Bbox {
+    /// Whether the two boxes share no point in the plane (x, y; touching
+    /// boxes are not disjoint).
+    pub fn disjoint_xy(&self, o: &Bbox) -> bool {
+        self.max_x < o.min_x || o.max_x < self.min_x || self.max_y < o.min_y || o.max_y < self.min_y
+    }
+
     /// Bounding box of a non-empty vertex list.
     pub fn of(verts: &[[f64; 3]]) -> Bbox {
         let mut b = Bbox {

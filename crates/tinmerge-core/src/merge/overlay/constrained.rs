@@ -94,8 +94,7 @@ pub fn overlay_cdt(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
     let mut tk = Ticker::new(interrupt);
-    let (ba, bb) = (&a.bbox, &b.bbox);
-    if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
+    if a.bbox.disjoint_xy(&b.bbox) {
         return Ok(Overlay::default()); // disjoint domains
     }
     let cdt_b = load(b, level_b, "b")?;

@@ -119,8 +119,7 @@ fn overlay_dispatch(
     level_b: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
-    let (ba, bb) = (&a.bbox, &b.bbox);
-    if ba.max_x < bb.min_x || bb.max_x < ba.min_x || ba.max_y < bb.min_y || bb.max_y < ba.min_y {
+    if a.bbox.disjoint_xy(&b.bbox) {
         return Ok(Overlay::default()); // disjoint domains
     }
     let why = if faces::convex_domain(b, &b.levels[level_b]) {
