@@ -62,6 +62,7 @@ SELECT 'function ' || p.oid::regprocedure || ' returns ' || pg_get_function_resu
        || ' args ' || pg_get_function_arguments(p.oid)
        || ' ' || p.provolatile::text || p.proisstrict::text || p.proparallel::text || ' cost ' || p.procost || ' rows ' || p.prorows
        || ' lang ' || l.lanname || ' src ' || md5(p.prosrc) || ' bin ' || coalesce(p.probin, '-')
+       || ' config ' || coalesce(array_to_string(p.proconfig, ';'), '-')
        || ' comment ' || coalesce(md5(obj_description(p.oid, 'pg_proc')), 'NONE')
 FROM members m JOIN pg_proc p ON m.classid = 'pg_proc'::regclass AND p.oid = m.objid
 JOIN pg_language l ON l.oid = p.prolang

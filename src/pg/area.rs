@@ -73,7 +73,7 @@ fn refuse_geographic(geographic: Option<bool>, srid: i32, func: &str) {
     }
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_area_triangles(
     t: Option<TinArg>,
     area: Option<&[u8]>,
@@ -106,6 +106,15 @@ fn _tin_area_triangles(
     }))
 }
 
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_area_triangles(tin, bytea, int, boolean, text) ROWS 1000;
+COMMENT ON FUNCTION _tin_area_triangles(tin, bytea, int, boolean, text) IS 'Internal: use tin_area_triangles(tin, geometry, int, boolean).';
+"#,
+    name = "tin_area_triangles_sql",
+    requires = [_tin_area_triangles]
+);
+
 type StatsRow = (
     f64,
     f64,
@@ -117,7 +126,7 @@ type StatsRow = (
 );
 
 #[allow(clippy::type_complexity)]
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_area_stats(
     t: Option<TinArg>,
     area: Option<&[u8]>,
@@ -156,7 +165,16 @@ fn _tin_area_stats(
     )])
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_area_stats(tin, bytea, int, text, boolean) ROWS 1;
+COMMENT ON FUNCTION _tin_area_stats(tin, bytea, int, text, boolean) IS 'Internal: use tin_area_stats(tin, geometry, int).';
+"#,
+    name = "tin_area_stats_sql",
+    requires = [_tin_area_stats]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_volume(
     t: Option<TinArg>,
     area: Option<&[u8]>,
@@ -181,6 +199,15 @@ fn _tin_volume(
     let (cut, fill) = volume(&tin, &area, &s, base, &mut interrupt).or_raise();
     TableIterator::new(vec![(cut, fill)])
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_volume(tin, bytea, float8, int, text, boolean) ROWS 1;
+COMMENT ON FUNCTION _tin_volume(tin, bytea, float8, int, text, boolean) IS 'Internal: use tin_volume(tin, geometry, float8, int).';
+"#,
+    name = "tin_volume_sql",
+    requires = [_tin_volume]
+);
 
 /// The sweep's work for the benchmark: triangles examined by a method
 /// ('hierarchy', 'flat' or 'scan') and the rows it gives. Only in builds

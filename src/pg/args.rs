@@ -5,6 +5,9 @@ use pgrx::pg_sys;
 use pgrx::prelude::*;
 
 use super::errors::{raise, OrRaise};
+use super::varlena::varlena_datum;
+use pgrx::callconv::{BoxRet, FcInfo};
+use pgrx::datum::Datum as RetDatum;
 use tinmerge_core::io::gserialized;
 
 raw_datum_arg!(
@@ -46,6 +49,18 @@ impl GeomArg {
         }
     }
 }
+
+/// A `geometry` result: PostGIS's serialisation after the varlena header,
+/// as [`gserialized::write`] gives it.
+pub struct GeomOut(pub Vec<u8>);
+
+unsafe impl BoxRet for GeomOut {
+    unsafe fn box_into<'fcx>(self, fcinfo: &mut FcInfo<'fcx>) -> RetDatum<'fcx> {
+        unsafe { fcinfo.return_raw_datum(varlena_datum(&self.0, "geometry")) }
+    }
+}
+
+pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(GeomOut, "geometry");
 
 fn not_a_point(func: &str, type_name: &str) -> ! {
     raise(

@@ -68,7 +68,7 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
     (pts, r.gt.lattice(), r.srid)
 }
 
-#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_from_raster(
     rast: &[u8],
     tolerance: f64,
@@ -80,7 +80,15 @@ fn _tin_from_raster(
     build_raster(rast, &tols, band, keep_border)
 }
 
-#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Internal: use tin_from_raster(raster, ...).';
+"#,
+    name = "tin_from_raster_sql",
+    requires = [_tin_from_raster]
+);
+
+#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_from_raster_tolerances(
     rast: &[u8],
     tolerances: Vec<Option<f64>>,
@@ -102,6 +110,14 @@ fn _tin_from_raster_tolerances(
     build_raster(rast, &tols, band, keep_border)
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int, boolean) IS 'Internal: use tin_from_raster(raster, float8[], ...).';
+"#,
+    name = "tin_from_raster_tolerances_sql",
+    requires = [_tin_from_raster_tolerances]
+);
+
 /// The build behind both `tin_from_raster` forms.
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
     let (pts, lattice, srid) = raster_samples(rast, band);
@@ -110,7 +126,7 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
     TinOut::from_tin(&build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise())
 }
 
-#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     let tols = default_tolerances(tolerance, levels).or_raise();
     let g = ewkb::read(pts).or_raise();
@@ -134,3 +150,11 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     reserve_build("tin_from_points", samples.len(), tols.len());
     TinOut::from_tin(&build(samples, &tols, g.srid, &mut interrupt).or_raise())
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_from_points(bytea, float8, int) IS 'Internal: use tin_from_points(geometry, ...).';
+"#,
+    name = "tin_from_points_sql",
+    requires = [_tin_from_points]
+);

@@ -234,3 +234,12 @@ fn tin_cache_stats() -> TableIterator<
     let (h, m, e, b) = stats();
     TableIterator::once((h as i64, m as i64, e as i32, b as i64))
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION tin_cache_stats() ROWS 1;
+COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes (see tinmerge.cache_size).';
+"#,
+    name = "tin_cache_stats_sql",
+    requires = [tin_cache_stats]
+);

@@ -16,10 +16,26 @@ fn tin_srid(t: TinArg) -> i32 {
     t.header().srid
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_srid(tin) IS 'SRID of the tin (header only).';
+"#,
+    name = "tin_srid_sql",
+    requires = [tin_srid]
+);
+
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn tin_num_levels(t: TinArg) -> i32 {
     t.header().num_levels() as i32
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_num_levels(tin) IS 'Number of levels of detail (header only).';
+"#,
+    name = "tin_num_levels_sql",
+    requires = [tin_num_levels]
+);
 
 /// The header's record for a level (None = finest).
 fn level_info(t: &TinArg, level: Option<i32>) -> tinmerge_core::tin::layout::LevelInfo {
@@ -33,15 +49,39 @@ fn tin_num_triangles(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) ->
     t.map(|t| level_info(&t, level).num_triangles as i32)
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_num_triangles(tin, int) IS 'Triangles at a level (NULL = finest; header only).';
+"#,
+    name = "tin_num_triangles_sql",
+    requires = [tin_num_triangles]
+);
+
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_num_vertices(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<i32> {
     t.map(|t| level_info(&t, level).num_vertices as i32)
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_num_vertices(tin, int) IS 'Vertices used by a level (NULL = finest; header only).';
+"#,
+    name = "tin_num_vertices_sql",
+    requires = [tin_num_vertices]
+);
+
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_tolerance(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<f64> {
     t.map(|t| level_info(&t, level).tolerance)
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_tolerance(tin, int) IS 'Vertical error bound a level was built to (NULL = finest; header only).';
+"#,
+    name = "tin_tolerance_sql",
+    requires = [tin_tolerance]
+);
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn tin_info(t: TinArg) -> JsonB {
@@ -72,6 +112,14 @@ fn tin_info(t: TinArg) -> JsonB {
     }))
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes and per level: tolerance, triangles, vertices and the max error measured at the source samples (header only).';
+"#,
+    name = "tin_info_sql",
+    requires = [tin_info]
+);
+
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn _tin_envelope(t: TinArg) -> Vec<u8> {
     let h = t.header();
@@ -85,3 +133,11 @@ fn _tin_envelope(t: TinArg) -> Vec<u8> {
     ];
     ewkb::Writer::write(h.srid, false, &ewkb::Geom::Polygon(vec![ring]))
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_envelope(tin) IS 'Internal: use tin_envelope(tin).';
+"#,
+    name = "tin_envelope_sql",
+    requires = [_tin_envelope]
+);

@@ -36,7 +36,16 @@ fn tin_validate(
     }))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION tin_validate(tin) ROWS 10;
+COMMENT ON FUNCTION tin_validate(tin) IS 'Problems of a stored tin, one row each: level, problem (''crack'': a triangle of zero area up to rounding whose corner lies on the opposite edge while the surfaces on the two sides disagree there, a vertical wall; ''sliver'': the same where they agree), triangle id (as in tin_triangles) and a detail. No rows for a sound tin. Tins built by tinmerge 0.2.0 from rasters whose pixel centres do not round exactly (geographic grids, fractional origins) have them: rebuild those (docs/upgrading.md).';
+"#,
+    name = "tin_validate_sql",
+    requires = [tin_validate]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_triangles(
     t: Option<TinArg>,
     level: default!(Option<i32>, "NULL"),
@@ -65,7 +74,16 @@ fn _tin_triangles(
     }))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_triangles(tin, int) ROWS 10000;
+COMMENT ON FUNCTION _tin_triangles(tin, int) IS 'Internal: use tin_triangles(tin, int).';
+"#,
+    name = "tin_triangles_sql",
+    requires = [_tin_triangles]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_as_geometry(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<Vec<u8>> {
     let t = t?;
     let tin = t.tin();
@@ -76,3 +94,11 @@ fn _tin_as_geometry(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> 
         (0..n).map(|i| tin.corners(l, i)),
     ))
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_as_geometry(tin, int) IS 'Internal: use tin_as_geometry(tin, int).';
+"#,
+    name = "tin_as_geometry_sql",
+    requires = [_tin_as_geometry]
+);

@@ -1,21 +1,24 @@
 //! SQL functions of the line merge: `tin_line_triangles`,
 //! `tin_line_segments`, `tin_line_profile`, `tin_line_climb`, and
 //! `tin_drape` for every geometry type. Lines arrive as EWKB (the SQL
-//! wrappers cast `geometry` to `bytea`). Not STRICT (a NULL level means
+//! wrappers cast `geometry` to `bytea`); `tin_drape` reads and writes
+//! `geometry` directly. Not STRICT (a NULL level means
 //! finest): a NULL tin or line gives no rows / NULL.
 
 use pgrx::prelude::*;
 
-use super::args::check_srid;
+use super::args::{check_srid, GeomArg, GeomOut};
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::io::ewkb::{self, Geom};
+use tinmerge_core::io::gserialized;
 use tinmerge_core::merge::line::drape::drape;
 use tinmerge_core::merge::line::widened::near_line;
 use tinmerge_core::merge::line::{runs, walk_parts, Part, PieceSink, TriangleSink};
-use tinmerge_core::tin::{Tin, TinError};
+use tinmerge_core::merge::point;
+use tinmerge_core::tin::{check_xy, Tin, TinError};
 
 /// The parts of a LINESTRING or MULTILINESTRING argument (SRID checked,
 /// coordinates finite); an ERROR naming the type for anything else.
@@ -75,7 +78,7 @@ pub(crate) fn line_triangles<L: tinmerge_core::merge::line::Polyline>(
     }
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_line_triangles(
     t: Option<TinArg>,
     line: Option<&[u8]>,
@@ -91,6 +94,15 @@ fn _tin_line_triangles(
     let tris = line_triangles(&tin, l, &parts, width);
     TableIterator::new(seq_rows(tris))
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_line_triangles(tin, bytea, int, float8) ROWS 100;
+COMMENT ON FUNCTION _tin_line_triangles(tin, bytea, int, float8) IS 'Internal: use tin_line_triangles(tin, geometry, int, float8).';
+"#,
+    name = "tin_line_triangles_sql",
+    requires = [_tin_line_triangles]
+);
 
 /// Triangle ids as (seq from 1, triangle) rows.
 pub(crate) fn seq_rows(tris: Vec<u32>) -> Vec<(i32, i32)> {
@@ -129,7 +141,7 @@ pub(crate) fn segment_rows(
         .collect()
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_line_segments(
     t: Option<TinArg>,
     line: Option<&[u8]>,
@@ -162,6 +174,15 @@ fn _tin_line_segments(
     });
     TableIterator::new(rows)
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_line_segments(tin, bytea, int) ROWS 100;
+COMMENT ON FUNCTION _tin_line_segments(tin, bytea, int) IS 'Internal: use tin_line_segments(tin, geometry, int).';
+"#,
+    name = "tin_line_segments_sql",
+    requires = [_tin_line_segments]
+);
 
 /// Profile points (distance along the whole line, z) and the climb.
 pub(crate) fn profile(sink: PieceSink, part_offsets: &[f64]) -> (Vec<(f64, f64)>, Option<f64>) {
@@ -215,7 +236,7 @@ fn profile_of(
     profile(sink, &part_offsets(parts.iter().map(|p| p.length())))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_line_profile(
     t: Option<TinArg>,
     line: Option<&[u8]>,
@@ -227,7 +248,16 @@ fn _tin_line_profile(
     TableIterator::new(profile_of(&t, line, level, "tin_line_profile").0)
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_line_profile(tin, bytea, int) ROWS 100;
+COMMENT ON FUNCTION _tin_line_profile(tin, bytea, int) IS 'Internal: use tin_line_profile(tin, geometry, int).';
+"#,
+    name = "tin_line_profile_sql",
+    requires = [_tin_line_profile]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_line_climb(
     t: Option<TinArg>,
     line: Option<&[u8]>,
@@ -237,7 +267,60 @@ fn _tin_line_climb(
     profile_of(&t, line, level, "tin_line_climb").1
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_line_climb(tin, bytea, int) IS 'Internal: use tin_line_climb(tin, geometry, int).';
+"#,
+    name = "tin_line_climb_sql",
+    requires = [_tin_line_climb]
+);
+
+/// `tin_drape`: the argument is read and the result written in PostGIS's own
+/// serialisation ([`gserialized`]), with no EWKB conversion either way; a
+/// POINT, the common per-row form, takes the point merge's path directly.
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn tin_drape(
+    t: Option<TinArg>,
+    geom: Option<GeomArg>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<GeomOut> {
+    let (t, geom) = (t?, geom?);
+    let (tin, l) = tin_level(&t, level);
+    let bytes = geom.bytes();
+    let p = gserialized::peek(bytes).or_raise();
+    if let (Some(Some([x, y])), false) = (p.point, p.has_m) {
+        if !(x.is_nan() && y.is_nan()) {
+            check_srid(p.srid, tin.srid, "tin_drape");
+            check_xy("tin_drape: the geometry", x, y).or_raise();
+            let z = point::height(&tin, l, x, y)?;
+            let out = Geom::Point(Some([x, y, z]));
+            return Some(GeomOut(gserialized::write(p.srid, true, &out)));
+        }
+    }
+    let g = gserialized::read(bytes).or_raise();
+    let out = drape_checked(&tin, l, &g)?;
+    Some(GeomOut(gserialized::write(g.srid, true, &out)))
+}
+
+/// Drape a decoded geometry after the SRID and coordinate checks.
+fn drape_checked(tin: &Tin, l: usize, g: &ewkb::Ewkb) -> Option<Geom> {
+    check_srid(g.srid, tin.srid, "tin_drape");
+    let mut bad = None;
+    g.geom.for_each_coord(&mut |c| {
+        if bad.is_none() && check_xy("", c[0], c[1]).is_err() {
+            bad = Some(*c);
+        }
+    });
+    if let Some(c) = bad {
+        check_xy("tin_drape: the geometry", c[0], c[1]).or_raise();
+    }
+    drape(tin, l, &g.geom).or_raise()
+}
+
+/// The EWKB form that `tin_drape` was a SQL wrapper over until 0.4.0. The
+/// install scripts of 0.1.0 to 0.4.0 declare it, so the symbol stays (and
+/// works, for a database not yet updated); 0.5.0 drops the SQL function.
+#[pg_extern(sql = false)]
 fn _tin_drape(
     t: Option<TinArg>,
     geom: Option<&[u8]>,
@@ -246,16 +329,14 @@ fn _tin_drape(
     let (t, geom) = (t?, geom?);
     let (tin, l) = tin_level(&t, level);
     let g = ewkb::read(geom).or_raise();
-    check_srid(g.srid, tin.srid, "tin_drape");
-    let mut bad = None;
-    g.geom.for_each_coord(&mut |c| {
-        if bad.is_none() && tinmerge_core::tin::check_xy("", c[0], c[1]).is_err() {
-            bad = Some(*c);
-        }
-    });
-    if let Some(c) = bad {
-        tinmerge_core::tin::check_xy("tin_drape: the geometry", c[0], c[1]).or_raise();
-    }
-    let out = drape(&tin, l, &g.geom).or_raise()?;
+    let out = drape_checked(&tin, l, &g)?;
     Some(ewkb::Writer::write(g.srid, true, &out))
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS 'The geometry with Z from the surface of a level (NULL = finest) and a vertex added wherever a line or ring crosses a triangle edge (as ArcGIS Interpolate Shape or H2GIS ST_Drape). Any type, multi* and collections included. Points outside the domain are dropped; lines keep their stretches inside (a line leaving and coming back becomes a MULTILINESTRING); a polygon with a vertex outside is an error. NULL when nothing is left.';
+"#,
+    name = "tin_drape_sql",
+    requires = [tin_drape]
+);

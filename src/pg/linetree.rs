@@ -76,10 +76,26 @@ fn linetree_in(input: &CStr) -> LineTreeOut {
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION)
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION linetree_in(cstring) IS 'Text input of linetree: hex of the binary form, fully validated (every error bound recomputed).';
+"#,
+    name = "linetree_in_sql",
+    requires = [linetree_in]
+);
+
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_out(t: LineTreeArg) -> CString {
     CString::new(tinmerge_core::tin::layout::to_hex(t.bytes())).unwrap_or_default()
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION linetree_out(linetree) IS 'Text output of linetree: hex of the binary form.';
+"#,
+    name = "linetree_out_sql",
+    requires = [linetree_out]
+);
 
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_recv(mut buf: pgrx::datum::Internal) -> LineTreeOut {
@@ -87,10 +103,26 @@ fn linetree_recv(mut buf: pgrx::datum::Internal) -> LineTreeOut {
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION)
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION linetree_recv(internal) IS 'Binary input of linetree, fully validated.';
+"#,
+    name = "linetree_recv_sql",
+    requires = [linetree_recv]
+);
+
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn linetree_send(t: LineTreeArg) -> Vec<u8> {
     t.bytes().to_vec()
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION linetree_send(linetree) IS 'Binary output of linetree.';
+"#,
+    name = "linetree_send_sql",
+    requires = [linetree_send]
+);
 
 extension_sql!(
     r#"
@@ -109,7 +141,7 @@ COMMENT ON TYPE linetree IS 'A line (LINESTRING or MULTILINESTRING) with its mul
     requires = [linetree_in, linetree_out, linetree_recv, linetree_send]
 );
 
-#[pg_extern(immutable, strict, parallel_safe, requires = ["linetree_type"])]
+#[pg_extern(immutable, strict, parallel_safe, cost = 500, requires = ["linetree_type"])]
 fn _tin_linetree(geom: &[u8]) -> Option<LineTreeOut> {
     let g = ewkb::read(geom).or_raise();
     let lines: Vec<&Vec<[f64; 3]>> = match &g.geom {
@@ -134,6 +166,14 @@ fn _tin_linetree(geom: &[u8]) -> Option<LineTreeOut> {
     Some(LineTreeOut(tree::encode(g.srid, &parts).or_raise()))
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_linetree(bytea) IS 'Internal: use tin_linetree(geometry).';
+"#,
+    name = "tin_linetree_sql",
+    requires = [_tin_linetree]
+);
+
 #[pg_extern(immutable, strict, parallel_safe, requires = ["linetree_type"])]
 fn tin_linetree_info(t: LineTreeArg) -> pgrx::JsonB {
     let v = t.view();
@@ -148,6 +188,14 @@ fn tin_linetree_info(t: LineTreeArg) -> pgrx::JsonB {
     }))
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_linetree_info(linetree) IS 'SRID, parts, points, tree nodes, planar length and size in bytes of a linetree.';
+"#,
+    name = "tin_linetree_info_sql",
+    requires = [tin_linetree_info]
+);
+
 fn tin_level_tree<'a>(
     t: &TinArg,
     lt: &'a LineTreeArg,
@@ -161,7 +209,7 @@ fn tin_level_tree<'a>(
     (tin, l, v)
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
 fn tin_line_triangles(
     t: Option<TinArg>,
     line: Option<LineTreeArg>,
@@ -183,7 +231,16 @@ fn tin_line_triangles(
     TableIterator::new(seq_rows(tris))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION tin_line_triangles(tin, linetree, int, float8) ROWS 100;
+COMMENT ON FUNCTION tin_line_triangles(tin, linetree, int, float8) IS 'tin_line_triangles through a stored line tree: the same rows as for its geometry, visiting only the stretches near triangle edges.';
+"#,
+    name = "tin_line_triangles_tree_sql",
+    requires = [tin_line_triangles]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 500, requires = ["linetree_type", "tin_type"])]
 fn _tin_line_segments_tree(
     t: Option<TinArg>,
     line: Option<LineTreeArg>,
@@ -208,6 +265,15 @@ fn _tin_line_segments_tree(
     });
     TableIterator::new(rows)
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_line_segments_tree(tin, linetree, int) ROWS 100;
+COMMENT ON FUNCTION _tin_line_segments_tree(tin, linetree, int) IS 'Internal: use tin_line_segments(tin, linetree, int).';
+"#,
+    name = "tin_line_segments_tree_sql",
+    requires = [_tin_line_segments_tree]
+);
 
 fn tree_profile(
     t: &TinArg,
@@ -237,7 +303,7 @@ fn tree_profile(
     profile(sink, &part_offsets(lengths.into_iter()))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
 fn tin_line_profile(
     t: Option<TinArg>,
     line: Option<LineTreeArg>,
@@ -249,7 +315,16 @@ fn tin_line_profile(
     TableIterator::new(tree_profile(&t, &line, level, "tin_line_profile").0)
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["linetree_type", "tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION tin_line_profile(tin, linetree, int) ROWS 100;
+COMMENT ON FUNCTION tin_line_profile(tin, linetree, int) IS 'tin_line_profile through a stored line tree: the same rows as for its geometry.';
+"#,
+    name = "tin_line_profile_tree_sql",
+    requires = [tin_line_profile]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
 fn tin_line_climb(
     t: Option<TinArg>,
     line: Option<LineTreeArg>,
@@ -258,3 +333,11 @@ fn tin_line_climb(
     let (t, line) = (t?, line?);
     tree_profile(&t, &line, level, "tin_line_climb").1
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_line_climb(tin, linetree, int) IS 'tin_line_climb through a stored line tree: the same value as for its geometry.';
+"#,
+    name = "tin_line_climb_tree_sql",
+    requires = [tin_line_climb]
+);

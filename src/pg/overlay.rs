@@ -46,7 +46,7 @@ fn overlay_args(
 type OverlayRow = (i32, i32, i32, Vec<u8>, Vec<u8>);
 
 #[allow(clippy::type_complexity)]
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_overlay(
     a: Option<TinArg>,
     b: Option<TinArg>,
@@ -77,7 +77,16 @@ fn _tin_overlay(
     }))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_overlay(tin, tin, int, int) ROWS 100000;
+COMMENT ON FUNCTION _tin_overlay(tin, tin, int, int) IS 'Internal: use tin_overlay(tin, tin, int, int).';
+"#,
+    name = "tin_overlay_sql",
+    requires = [_tin_overlay]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_overlay_tin(
     a: Option<TinArg>,
     b: Option<TinArg>,
@@ -108,7 +117,15 @@ fn _tin_overlay_tin(
     Some(TinOut::from_tin(&tin))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_overlay_tin(tin, tin, int, int) IS 'Internal: use tin_overlay_tin(tin, tin, int, int).';
+"#,
+    name = "tin_overlay_tin_sql",
+    requires = [_tin_overlay_tin]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_difference(
     a: Option<TinArg>,
     b: Option<TinArg>,
@@ -124,3 +141,12 @@ fn _tin_difference(
     }
     TableIterator::new(vec![difference(&o)])
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_difference(tin, tin, int, int) ROWS 1;
+COMMENT ON FUNCTION _tin_difference(tin, tin, int, int) IS 'Internal: use tin_difference(tin, tin, int, int).';
+"#,
+    name = "tin_difference_sql",
+    requires = [_tin_difference]
+);

@@ -12,7 +12,7 @@ use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::merge::point::{self, Rect};
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
 fn tin_locate(
     t: Option<TinArg>,
     pt: Option<GeomArg>,
@@ -24,7 +24,15 @@ fn tin_locate(
     point::locate(&tin, l, x, y).map(|i| i as i32)
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_locate(tin, geometry, int) IS 'Id (as in tin_triangles) of the triangle of a level (NULL = finest) containing a POINT; on a shared edge or vertex, the smallest id; NULL outside the domain. Grid index + exact walk: constant time per point.';
+"#,
+    name = "tin_locate_sql",
+    requires = [tin_locate]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
 fn tin_height(
     t: Option<TinArg>,
     pt: Option<GeomArg>,
@@ -36,7 +44,15 @@ fn tin_height(
     point::height(&tin, l, x, y)
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_height(tin, geometry, int) IS 'Height of the surface of a level (NULL = finest) at a POINT, by linear interpolation on the triangle containing it; NULL outside the domain. The point''s own Z, if any, is ignored.';
+"#,
+    name = "tin_height_sql",
+    requires = [tin_height]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 500, requires = ["tin_type"])]
 fn tin_footprint(
     t: Option<TinArg>,
     pt: Option<GeomArg>,
@@ -58,3 +74,12 @@ fn tin_footprint(
     let ids = point::footprint(&tin, l, &rect, &mut interrupt).or_raise();
     SetOfIterator::new(ids.into_iter().map(|i| i as i32))
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION tin_footprint(tin, geometry, float8, float8, float8, int) ROWS 20;
+COMMENT ON FUNCTION tin_footprint(tin, geometry, float8, float8, float8, int) IS 'Ids of the triangles of a level (NULL = finest) meeting the closed rectangle centred on a POINT, width across and length along angle (degrees clockwise from north), in increasing id order. Width and length >= 0 (0 gives a segment or a point).';
+"#,
+    name = "tin_footprint_sql",
+    requires = [tin_footprint]
+);

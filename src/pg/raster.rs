@@ -70,7 +70,7 @@ fn raster_arg(
 type StatsRow = (i32, i64, f64, f64, f64, f64, Option<f64>);
 
 #[allow(clippy::type_complexity)]
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_raster_stats(
     t: Option<TinArg>,
     rast: Option<&[u8]>,
@@ -126,7 +126,16 @@ fn _tin_raster_stats(
     }))
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean) ROWS 10000;
+COMMENT ON FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean) IS 'Internal: use tin_raster_stats(tin, raster, int, int, boolean).';
+"#,
+    name = "tin_raster_stats_sql",
+    requires = [_tin_raster_stats]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_raster_pixels(
     t: Option<TinArg>,
     rast: Option<&[u8]>,
@@ -170,7 +179,16 @@ fn _tin_raster_pixels(
     TableIterator::new(rows)
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_raster_pixels(tin, bytea, int, int) ROWS 100000;
+COMMENT ON FUNCTION _tin_raster_pixels(tin, bytea, int, int) IS 'Internal: use tin_raster_pixels(tin, raster, int, int).';
+"#,
+    name = "tin_raster_pixels_sql",
+    requires = [_tin_raster_pixels]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_paint(
     t: Option<TinArg>,
     rast: Option<&[u8]>,
@@ -221,3 +239,12 @@ fn _tin_paint(
             .map(|(t, _, c)| (t as i32, c[0], c[1], c[2])),
     )
 }
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_paint(tin, bytea, int) ROWS 10000;
+COMMENT ON FUNCTION _tin_paint(tin, bytea, int) IS 'Internal: use tin_paint(tin, raster, int).';
+"#,
+    name = "tin_paint_sql",
+    requires = [_tin_paint]
+);

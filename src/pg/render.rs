@@ -31,7 +31,7 @@ fn no_nulls<T: Copy>(a: &[Option<T>], what: &str) -> Vec<T> {
 }
 
 #[allow(clippy::too_many_arguments)]
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_as_svg(
     t: Option<TinArg>,
     level: Option<i32>,
@@ -99,7 +99,15 @@ fn _tin_as_svg(
     Some(tin_svg(&tin, l, &opts, &mut interrupt).or_raise())
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_as_svg(tin, int, int[], float8[], text[], bytea, text, int) IS 'Internal: use tin_as_svg(tin, ...).';
+"#,
+    name = "tin_as_svg_sql",
+    requires = [_tin_as_svg]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_as_gltf(
     t: Option<TinArg>,
     level: Option<i32>,
@@ -134,3 +142,11 @@ fn _tin_as_gltf(
     );
     Some(tin_glb(&tin, l, &opts).or_raise())
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_as_gltf(tin, int, bytea, float8) IS 'Internal: use tin_as_gltf(tin, ...).';
+"#,
+    name = "tin_as_gltf_sql",
+    requires = [_tin_as_gltf]
+);

@@ -195,11 +195,27 @@ fn tin_in(input: &CStr) -> TinOut {
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_TEXT_REPRESENTATION)
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_in(cstring) IS 'Text input of tin: hex of the binary form, fully validated.';
+"#,
+    name = "tin_in_sql",
+    requires = [tin_in]
+);
+
 /// Text output: upper-case hex of the storage bytes.
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn tin_out(t: TinArg) -> CString {
     CString::new(layout::to_hex(t.bytes())).unwrap_or_default()
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_out(tin) IS 'Text output of tin: hex of the binary form.';
+"#,
+    name = "tin_out_sql",
+    requires = [tin_out]
+);
 
 /// Binary input: the storage bytes, fully validated.
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
@@ -208,11 +224,27 @@ fn tin_recv(mut buf: pgrx::datum::Internal) -> TinOut {
     validated(bytes, PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION)
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_recv(internal) IS 'Binary input of tin, fully validated.';
+"#,
+    name = "tin_recv_sql",
+    requires = [tin_recv]
+);
+
 /// Binary output: the storage bytes.
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_shell"])]
 fn tin_send(t: TinArg) -> Vec<u8> {
     t.bytes().to_vec()
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_send(tin) IS 'Binary output of tin.';
+"#,
+    name = "tin_send_sql",
+    requires = [tin_send]
+);
 
 extension_sql!(
     r#"
@@ -247,11 +279,27 @@ fn tin_eq(a: TinArg, b: TinArg) -> bool {
     ha.hash == hb.hash && ha.total_len == hb.total_len && a.bytes() == b.bytes()
 }
 
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_eq(tin, tin) IS 'True when two tins are the same value (the same bytes; header hashes and lengths compared first). The function behind the = operator.';
+"#,
+    name = "tin_eq_sql",
+    requires = [tin_eq]
+);
+
 /// `<>` on tin.
 #[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn tin_ne(a: TinArg, b: TinArg) -> bool {
     !tin_eq(a, b)
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_ne(tin, tin) IS 'True when two tins are different values. The function behind the <> operator.';
+"#,
+    name = "tin_ne_sql",
+    requires = [tin_ne]
+);
 
 /// Hash support for `=` (GROUP BY, DISTINCT, hash joins): the header's
 /// content hash folded to 32 bits; equal values have equal headers.
@@ -260,6 +308,14 @@ fn tin_hash(t: TinArg) -> i32 {
     let h = t.header().hash;
     (h ^ (h >> 32)) as u32 as i32
 }
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_hash(tin) IS '32-bit hash of a tin (its stored content hash): hash operator class support for =.';
+"#,
+    name = "tin_hash_sql",
+    requires = [tin_hash]
+);
 
 /// The decoded tin of an argument and a level resolved against it (one
 /// cache look-up per row).

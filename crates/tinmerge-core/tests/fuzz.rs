@@ -282,6 +282,34 @@ fn ewkb_values_and_drape() {
         }
         Err(_) => false,
     });
+    // the same geometries in PostGIS's own serialisation (tin_drape reads
+    // and writes it): every accepted mutant drapes and writes back
+    let valid: Vec<Vec<u8>> = geoms
+        .iter()
+        .flat_map(|g| {
+            [
+                gserialized::write(32616, true, g),
+                gserialized::write(0, false, g),
+            ]
+        })
+        .collect();
+    run(
+        "gserialized-read",
+        6,
+        &valid,
+        iters(),
+        &mut |m| match gserialized::read(m) {
+            Ok(e) => {
+                for l in 0..t.levels.len() {
+                    if let Ok(Some(d)) = drape::drape(&t, l, &e.geom) {
+                        let _ = gserialized::write(e.srid, true, &d);
+                    }
+                }
+                true
+            }
+            Err(_) => false,
+        },
+    );
 }
 
 #[test]

@@ -174,6 +174,44 @@ FROM (SELECT tin_drape(t, g) d, g FROM terrain,
       (SELECT ST_Buffer('SRID=32616;POINT(747000 4052000)'::geometry, 900, 2) g) s) s;
 SELECT ST_AsText(tin_drape(t, 'SRID=32616;GEOMETRYCOLLECTION(POINT(747000 4052000), POINT(0 0), LINESTRING(0 0, 1 1))'::geometry), 3)
 FROM terrain;
+-- tin_drape writes PostGIS's own serialisation (no EWKB on the way): byte
+-- for byte what PostGIS makes of the same geometry when it parses it
+-- (bounding box, its float4 rounding, polygon padding), read from the heap
+-- page with pageinspect; every row small enough to sit on page 0 uncompressed
+CREATE EXTENSION IF NOT EXISTS pageinspect;
+CREATE TEMP TABLE drape_bytes AS
+SELECT name, d AS ours, ST_GeomFromEWKB(ST_AsEWKB(d)) AS postgis
+FROM (SELECT name, tin_drape(t, g, 0) AS d FROM terrain, (VALUES
+  ('point', 'SRID=32616;POINT(747000.3 4052000.7)'::geometry),
+  ('point z', 'SRID=32616;POINT Z(747000.3 4052000.7 99)'),
+  ('two-point line', 'SRID=32616;LINESTRING(747000 4052000, 747010 4052003)'),
+  ('line', 'SRID=32616;LINESTRING(746000 4051000, 747500 4052400, 748000 4052000)'),
+  ('polygon with hole', 'SRID=32616;POLYGON((746000 4051000, 748000 4051000, 748000 4053000, 746000 4051000), (747000 4051500, 747500 4051500, 747500 4052000, 747000 4051500))'),
+  ('one-point multipoint', 'SRID=32616;MULTIPOINT(747000 4052000)'),
+  ('multipoint', 'SRID=32616;MULTIPOINT(747000 4052000, 746000 4051000)'),
+  ('one short multiline', 'SRID=32616;MULTILINESTRING((747000 4052000, 747001 4052001))'),
+  ('multipolygon', 'SRID=32616;MULTIPOLYGON(((746000 4051000, 746500 4051000, 746500 4051500, 746000 4051000)), ((747000 4052000, 747300 4052000, 747300 4052300, 747000 4052000)))'),
+  ('collection', 'SRID=32616;GEOMETRYCOLLECTION(POINT(747000 4052000), LINESTRING(746000 4051000, 746100 4051050), GEOMETRYCOLLECTION(POINT(746500 4051500)))')
+) v(name, g)) s;
+SELECT v.name, ST_AsEWKT(v.ours) = ST_AsEWKT(v.postgis) AS same_geometry,
+       i.t_attrs[2] = i.t_attrs[3] AS same_bytes, length(i.t_attrs[2]) AS bytes
+FROM (SELECT row_number() OVER () AS lp, name, ours, postgis FROM drape_bytes) v
+JOIN heap_page_item_attrs(get_raw_page('drape_bytes', 0), 'drape_bytes'::regclass) i ON i.lp = v.lp
+ORDER BY v.lp;
+SELECT count(*) AS rows_on_page_0 FROM heap_page_items(get_raw_page('drape_bytes', 0));
+-- per row on points: the point with the height of tin_height at every
+-- level, NULL outside the domain; the same for a point with Z or an EMPTY one
+SELECT count(*) AS points,
+       count(*) FILTER (WHERE tin_drape(t, p, l) IS NOT DISTINCT FROM
+         CASE WHEN tin_height(t, p, l) IS NOT NULL
+              THEN ST_SetSRID(ST_MakePoint(ST_X(p), ST_Y(p), tin_height(t, p, l)), 32616) END) AS same_as_tin_height,
+       count(*) FILTER (WHERE tin_drape(t, p, l) IS NULL) AS outside
+FROM terrain, generate_series(0, 4) l,
+     (SELECT ST_SetSRID(ST_MakePoint(740000 + 300.7 * i, 4045000 + 211.3 * i), 32616) p FROM generate_series(0, 99) i) s;
+SELECT tin_drape(t, 'SRID=32616;POINT EMPTY'::geometry) IS NULL AS empty_is_null,
+       ST_Z(tin_drape(t, 'SRID=32616;POINT Z(747000 4052000 -5)'::geometry)) = tin_height(t, 'SRID=32616;POINT(747000 4052000)'::geometry) AS own_z_replaced,
+       tin_drape(t, NULL::geometry) IS NULL AS null_geometry, tin_drape(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin
+FROM terrain;
 -- widened lines: every triangle within width/2 (oracle: ST_DWithin), once each
 SELECT e.name,
        (SELECT count(*) FROM tin_line_triangles(t, e.geom, 1, 500)) AS near_triangles,
