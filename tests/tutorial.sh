@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
 # Runs docs/tutorial.md: every ```sh and ```sql block, in order, against a
 # fresh database on the running test cluster (libpq environment variables,
-# as the tutorial says), stopping at the first error. Output goes to
-# target/tutorial.log; the test fails if any block fails, so the tutorial
-# cannot drift from the code.
+# as the tutorial says), stopping at the first error, and compares each
+# block's output (stdout) with tests/tutorial/NNN.out, so neither the
+# tutorial nor the answers it shows can drift from the code. Everything
+# (stderr too) also goes to target/tutorial.log.
+#
+#   tests/tutorial.sh            run and compare
+#   tests/tutorial.sh --accept   run and write the expected files (after
+#                                editing the tutorial: review the git diff)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 db=tinmerge_tutorial
@@ -11,6 +16,11 @@ scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREA
 export PGHOST="$PWD/target/pg" PGPORT="${TINMERGE_PORT:-28815}" PGUSER=postgres PGDATABASE=$db
 log=target/tutorial.log
 : > "$log"
+accept=false
+[ "${1:-}" = "--accept" ] && accept=true
+expected=tests/tutorial
+out=target/tutorial
+rm -rf "$out" && mkdir -p "$out" "$expected"
 blocks=$(mktemp -d)
 python3 - docs/tutorial.md "$blocks" <<'PY'
 import re, sys
@@ -23,17 +33,39 @@ for m in re.finditer(r"^```(sh|sql)\n(.*?)^```", text, re.S | re.M):
 print(f"{n} blocks")
 PY
 count=0
+failed=0
 for f in "$blocks"/*; do
   count=$((count + 1))
-  echo "== block $(basename "$f")" >> "$log"
+  b=$(basename "$f"); n=${b%.*}
+  echo "== block $b" >> "$log"
   case "$f" in
-    *.sql) psql -X -v ON_ERROR_STOP=1 -f "$f" >> "$log" 2>&1 || { echo "tutorial: SQL block $(basename "$f") failed:"; cat "$f"; tail -20 "$log"; exit 1; } ;;
-    *.sh) bash -euo pipefail "$f" >> "$log" 2>&1 || { echo "tutorial: shell block $(basename "$f") failed:"; cat "$f"; tail -20 "$log"; exit 1; } ;;
+    *.sql) run=(psql -X -v ON_ERROR_STOP=1) ;;
+    *.sh) run=(bash -euo pipefail) ;;
   esac
+  # the block on stdin, so messages name <stdin>, not a temporary path
+  "${run[@]}" < "$f" > "$out/$n.out" 2> "$out/$n.err" || {
+    cat "$out/$n.out" "$out/$n.err" >> "$log"
+    echo "tutorial: block $b failed:"; cat "$f"; tail -20 "$out/$n.err"; exit 1; }
+  cat "$out/$n.out" "$out/$n.err" >> "$log"
+  if $accept; then
+    cp "$out/$n.out" "$expected/$n.out"
+  elif [ ! -f "$expected/$n.out" ]; then
+    echo "tutorial: no expected output $expected/$n.out for block $b (tests/tutorial.sh --accept writes it)"; failed=1
+  elif ! diff -u "$expected/$n.out" "$out/$n.out" > "$out/$n.diff"; then
+    echo "tutorial: block $b gave a different output:"; cat "$f"; cat "$out/$n.diff"; failed=1
+  fi
 done
+# an expected file for a block the tutorial no longer has is stale
+for e in "$expected"/*.out; do
+  n=$(basename "$e" .out)
+  if [ ! -f "$out/$n.out" ]; then
+    if $accept; then rm "$e"; else echo "tutorial: $e has no block (the tutorial has $count)"; failed=1; fi
+  fi
+done
+[ "$failed" = 0 ] || exit 1
 rm -rf "$blocks"
 # the clean-up at the end left nothing of the tutorial behind
 left=$(psql -XAtc "SELECT count(*) FROM pg_class WHERE relname LIKE 'tut\_%' AND relkind IN ('r', 'v')")
 [ "$left" = 0 ] || { echo "tutorial: $left tables/views left after the clean-up"; exit 1; }
 scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE $db"
-echo "tutorial: $count blocks of docs/tutorial.md ran (output in $log)"
+echo "tutorial: $count blocks of docs/tutorial.md ran, every output as in $expected/ (log in $log)"
