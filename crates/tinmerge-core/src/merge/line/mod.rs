@@ -59,8 +59,6 @@ use crate::tin::locate;
 use crate::tin::{interpolate, Level, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 
-/// A point in the plane.
-
 /// A polyline as the walker reads it: vertices and the planar distance of
 /// each from the first. Reads may fail (a stored line tree is checked as it
 /// is read).
