@@ -81,6 +81,8 @@ q -F ' | ' <<'SQL'
 SET max_parallel_workers_per_gather = 0;
 SELECT * FROM bench('tinmerge: sum(tin_height(t, geom)), finest level (162k triangles)', 'SELECT sum(tin_height(t, geom)) FROM rpts, terrain', 5)
 UNION ALL SELECT * FROM bench('tinmerge: count(tin_locate(t, geom)), finest level', 'SELECT count(tin_locate(t, geom)) FROM rpts, terrain', 5)
+UNION ALL SELECT * FROM bench('tinmerge: count(tin_drape(t, geom)), finest level (POINT Z out)', 'SELECT count(tin_drape(t, geom)) FROM rpts, terrain', 5)
+UNION ALL SELECT * FROM bench('PostGIS: count(ST_Force3D(geom)) (reading and writing the points alone)', 'SELECT count(ST_Force3D(geom)) FROM rpts', 5)
 UNION ALL SELECT * FROM bench('PostGIS (a): sum(ST_Value(rast, 1, geom)), 64x64 tiles + GiST', 'SELECT sum(ST_Value(rast, 1, geom)) FROM rpts p JOIN dem_tiles r ON ST_Intersects(r.rast, p.geom)', 3)
 UNION ALL SELECT * FROM bench('PostGIS (b): sum(plane_z(tri, geom)), POLYGON Z rows + GiST', 'SELECT sum(plane_z(t.geom, p.geom)) FROM rpts p JOIN LATERAL (SELECT geom FROM tri_rows t WHERE ST_Intersects(t.geom, p.geom) ORDER BY id LIMIT 1) t ON true', 3)
 UNION ALL SELECT * FROM bench('PostGIS (b''): count(*) of the ST_Intersects join alone', 'SELECT count(*) FROM rpts p JOIN tri_rows t ON ST_Intersects(t.geom, p.geom)', 3)
