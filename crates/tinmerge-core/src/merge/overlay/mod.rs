@@ -22,6 +22,13 @@
 //! (O(V log V) for V = output vertices), against the naive method
 //! ([`constrained::naive`], with the `bench` feature): every edge of both inserted into one CDT with splitting.
 //!
+//! Invariants of the output, for both paths (tests/overlay.rs against
+//! independent oracles, tests/pg_regress/sql/overlay.sql against PostGIS):
+//! triangles strictly counter-clockwise, no directed edge twice, areas summing
+//! to the common domain's, every input vertex in the common domain an output
+//! vertex, every clipped input edge a chain of output edges, every output
+//! triangle inside its `tri_a` and `tri_b`.
+//!
 //! ```
 //! use tinmerge_core::tin::build::build;
 //! use tinmerge_core::merge::overlay::overlay;

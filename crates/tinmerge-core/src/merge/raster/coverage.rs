@@ -11,6 +11,10 @@
 //! the strip polygon clipped to the column. O(pixels touched + rows
 //! spanned) per triangle, no allocation.
 //!
+//! Invariant (tests/raster.rs, and against exactextract in
+//! tests/properties/check_raster_exactextract.py): the fractions of a pixel
+//! wholly inside the domain sum to 1 (within 1e-12).
+//!
 //! ```
 //! use tinmerge_core::io::raster::GeoTransform;
 //! use tinmerge_core::merge::raster::coverage::coverage;
