@@ -65,10 +65,15 @@ fn tin_stored_by_format_1_still_reads() {
         );
     }
     assert_eq!(
-        layout::encode(&tin),
+        layout::encode_v1(&tin),
         stored,
         "the writer no longer writes format 1 as it did"
     );
+    // the same tin in the current format: blocked, every block checksummed,
+    // and it decodes to the same value
+    let v3 = layout::encode(&tin);
+    assert_eq!(layout::read_header(&v3).unwrap().version, layout::VERSION);
+    assert_eq!(layout::decode(&v3).unwrap(), tin);
 }
 
 #[test]

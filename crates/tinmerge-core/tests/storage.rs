@@ -2,7 +2,7 @@
 //! values get a recomputed content hash so that structural validation (not
 //! the hash) has to catch them.
 use tinmerge_core::tin::build::build;
-use tinmerge_core::tin::layout::{content_hash, decode, encode, HEADER_LEN};
+use tinmerge_core::tin::layout::{body_offset, decode, encode, read_header, reseal};
 use tinmerge_core::tin::{locate, TinError};
 
 fn sample_tin() -> Vec<u8> {
@@ -27,8 +27,7 @@ fn sample_tin() -> Vec<u8> {
 }
 
 fn rehash(b: &mut [u8]) {
-    let h = content_hash(b);
-    b[32..40].copy_from_slice(&h.to_le_bytes());
+    reseal(b);
 }
 
 #[test]
@@ -41,9 +40,10 @@ fn roundtrip_is_exact() {
 #[test]
 fn crafted_values_with_valid_hash_are_rejected() {
     let b = sample_tin();
-    let body = HEADER_LEN;
+    let h = read_header(&b).unwrap();
+    let body = body_offset(&h, 0);
     let nv = u32::from_le_bytes(b[20..24].try_into().unwrap()) as usize;
-    let tris = body + nv * 24; // first triangle of level 0
+    let tris = body_offset(&h, nv * 24); // first triangle of level 0
     type Damage<'a> = Box<dyn Fn(&mut Vec<u8>) + 'a>;
     let cases: Vec<(&str, Damage)> = vec![
         (
@@ -129,4 +129,39 @@ fn random_mutations_never_panic() {
     }
     eprintln!("{ok} mutated values still valid, {err} rejected");
     assert!(err > 0);
+}
+
+#[test]
+fn damaged_blocks_and_headers_are_errors_naming_them() {
+    let b = sample_tin();
+    let h = read_header(&b).unwrap();
+    // a flipped bit anywhere in a block's payload or checksum: that block
+    let blocks = (b.len() - tinmerge_core::tin::layout::HEADER_LEN)
+        .div_ceil(tinmerge_core::tin::layout::BLOCK_LEN);
+    assert!(blocks >= 3, "the sample spans several blocks");
+    for k in 0..blocks {
+        let at = body_offset(&h, k * tinmerge_core::tin::layout::BLOCK_PAYLOAD) + 17;
+        let mut m = b.clone();
+        m[at.min(b.len() - 1)] ^= 0x10;
+        // with the whole value's hash recomputed, the block's own checksum
+        // must catch it (a sliced read sees only that)
+        let c = tinmerge_core::tin::layout::content_hash(&m);
+        m[32..40].copy_from_slice(&c.to_le_bytes());
+        match decode(&m) {
+            Err(TinError::Corrupt(msg)) => {
+                assert!(msg.contains(&format!("block {k}")), "{msg}")
+            }
+            other => panic!("block {k}: expected Corrupt, got {other:?}"),
+        }
+    }
+    // a flipped bit in the header: the header hash, even with the whole
+    // value's hash recomputed
+    let mut m = b.clone();
+    m[45] ^= 1;
+    let c = tinmerge_core::tin::layout::content_hash(&m);
+    m[32..40].copy_from_slice(&c.to_le_bytes());
+    match read_header(&m) {
+        Err(TinError::Corrupt(msg)) => assert!(msg.contains("header hash"), "{msg}"),
+        other => panic!("expected a header hash error, got {other:?}"),
+    }
 }

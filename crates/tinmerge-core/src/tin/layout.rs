@@ -4,9 +4,9 @@
 //! ```text
 //! offset size  field
 //!      0    4  magic "TINM"
-//!      4    2  format version (1)
+//!      4    2  format version (3 written; 1 still read)
 //!      6    2  flags (0)
-//!      8    4  header length (856)
+//!      8    4  header length (version 1: 856, version 3: 864)
 //!     12    4  SRID (i32)
 //!     16    4  number of levels L (1..16)
 //!     20    4  number of vertices V (all levels)
@@ -16,13 +16,28 @@
 //!     88  768  16 level records of 48 bytes (unused ones zero):
 //!              tolerance f64, max error f64, triangles u32, vertices u32,
 //!              grid nx u32, grid ny u32, grid cell size f64, reserved 8
-//!    856       vertices: V x (x, y, z) f64
-//!              per level: triangles T x 3 u32, neighbours T x 3 u32,
-//!              parents T x u32, padding to 8, grid cells nx*ny u32, padding to 8
+//!    856    8  (version 3) header hash: xxh3-64 of bytes 0..856 with the
+//!              content hash zeroed
 //! ```
-//! Every section's offset follows from the header's counts, so a reader
-//! checks `total length == computed length` before it allocates anything,
-//! then [`super::check::validate_structure`] before the value is used.
+//! Then the body, the same sections in both versions (each section's offset
+//! follows from the header's counts):
+//! ```text
+//!   vertices: V x (x, y, z) f64
+//!   per level: triangles T x 3 u32, neighbours T x 3 u32, parents T x u32,
+//!              padding to 8, grid cells nx*ny u32, padding to 8
+//! ```
+//! Version 1 stores the body as it is, after the 856-byte header. Version 3
+//! cuts it into blocks of [`BLOCK_PAYLOAD`] bytes, each followed by its
+//! 8-byte checksum (xxh3-64 of the payload, seeded with the header hash plus
+//! the block number, so a block from another value or another place fails).
+//! The payload size is a multiple of 24, so no vertex, triangle, neighbour
+//! triple, parent or grid cell straddles two blocks: a reader that holds the
+//! header can fetch and verify just the blocks a merge touches
+//! ([`super::sliced`]), which the whole-value hash cannot allow.
+//!
+//! A reader checks `total length == length implied by the counts` before it
+//! allocates anything; a full decode checks every hash, then
+//! [`super::check::validate_structure`] before the value is used.
 
 use super::check::validate_structure_checked;
 use super::hierarchy::child_starts;
@@ -31,9 +46,20 @@ use crate::interrupt::Interrupt;
 use xxhash_rust::xxh3::Xxh3;
 
 pub const MAGIC: &[u8; 4] = b"TINM";
-pub const VERSION: u16 = 1;
+/// The format version [`encode`] writes.
+pub const VERSION: u16 = 3;
+/// The first format: the body unblocked, one hash for the whole value.
+pub const VERSION_1: u16 = 1;
 pub const LEVEL_RECORD: usize = 48;
-pub const HEADER_LEN: usize = 88 + MAX_LEVELS * LEVEL_RECORD;
+/// Length of the version-1 header (the fields common to every version).
+pub const FIXED_LEN: usize = 88 + MAX_LEVELS * LEVEL_RECORD;
+/// Bytes that hold the header of any version (version 3: the fixed fields
+/// and the header hash). Every value is longer than this.
+pub const HEADER_LEN: usize = FIXED_LEN + 8;
+/// Body bytes per version-3 block (a multiple of 24, 12 and 4).
+pub const BLOCK_PAYLOAD: usize = 4080;
+/// A version-3 block as stored: payload and checksum.
+pub const BLOCK_LEN: usize = BLOCK_PAYLOAD + 8;
 
 /// Per-level summary stored in the header.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,6 +76,8 @@ pub struct LevelInfo {
 /// The fixed header, readable from the first [`HEADER_LEN`] bytes alone.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Header {
+    /// Format version (1 or 3).
+    pub version: u16,
     pub srid: i32,
     pub num_vertices: u32,
     pub total_len: u64,
@@ -113,11 +141,14 @@ impl<'a> Rd<'a> {
     }
 }
 
-/// Parse and check the fixed header (needs at least [`HEADER_LEN`] bytes).
+/// Parse and check the header (needs at least [`HEADER_LEN`] bytes for
+/// version 3, [`FIXED_LEN`] for version 1). A version-3 header is checked
+/// against its own hash, so a damaged header is an error even when nothing
+/// else of the value is read.
 pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
-    if b.len() < HEADER_LEN {
+    if b.len() < FIXED_LEN {
         return Err(corrupt(format!(
-            "truncated: {} bytes, the header alone is {HEADER_LEN}",
+            "truncated: {} bytes, the header alone is {FIXED_LEN}",
             b.len()
         )));
     }
@@ -126,17 +157,33 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         return Err(corrupt("bad magic number (not a tin value)"));
     }
     let version = r.u16()?;
-    if version != VERSION {
-        return Err(corrupt(format!(
-            "format version {version} is not supported (this build reads version {VERSION})"
-        )));
-    }
+    let want_len = match version {
+        VERSION_1 => FIXED_LEN,
+        VERSION => HEADER_LEN,
+        v => {
+            return Err(corrupt(format!(
+                "format version {v} is not supported (this build reads versions {VERSION_1} and {VERSION})"
+            )))
+        }
+    };
     let _flags = r.u16()?;
     let hl = r.u32()?;
-    if hl as usize != HEADER_LEN {
+    if hl as usize != want_len {
         return Err(corrupt(format!(
-            "header length {hl}, expected {HEADER_LEN}"
+            "header length {hl}, expected {want_len} for format version {version}"
         )));
+    }
+    if version == VERSION {
+        if b.len() < HEADER_LEN {
+            return Err(corrupt(format!(
+                "truncated: {} bytes, the header alone is {HEADER_LEN}",
+                b.len()
+            )));
+        }
+        let stored = u64::from_le_bytes(b[FIXED_LEN..HEADER_LEN].try_into().unwrap_or([0; 8]));
+        if header_hash(b) != stored {
+            return Err(corrupt("header hash mismatch (the header is corrupted)"));
+        }
     }
     let srid = r.u32()? as i32;
     let nl = r.u32()?;
@@ -170,6 +217,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         r.take(8)?;
     }
     Ok(Header {
+        version,
         srid,
         num_vertices,
         total_len,
@@ -179,23 +227,105 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
     })
 }
 
-/// Length of a value with these counts, or None on overflow.
-fn body_len(h: &Header) -> Option<u64> {
+/// Logical offsets (within the body) of one level's sections.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelSections {
+    pub tris: u64,
+    pub nbrs: u64,
+    pub parents: u64,
+    pub cells: u64,
+}
+
+/// Length of the body with these counts and where each level's sections
+/// start (vertices start at 0), or None on overflow.
+pub fn sections(h: &Header) -> Option<(u64, Vec<LevelSections>)> {
     let pad8 = |x: u64| x.checked_add(7).map(|v| v / 8 * 8);
-    let mut len = HEADER_LEN as u64;
-    len = len.checked_add((h.num_vertices as u64).checked_mul(24)?)?;
+    let mut len = (h.num_vertices as u64).checked_mul(24)?;
+    let mut out = Vec::with_capacity(h.levels.len());
     for lv in &h.levels {
         let t = lv.num_triangles as u64;
-        len = len.checked_add(t.checked_mul(28)?)?;
-        len = pad8(len)?;
-        len = len.checked_add(
-            (lv.grid_nx as u64)
-                .checked_mul(lv.grid_ny as u64)?
-                .checked_mul(4)?,
+        let tris = len;
+        let nbrs = tris.checked_add(t.checked_mul(12)?)?;
+        let parents = nbrs.checked_add(t.checked_mul(12)?)?;
+        let cells = pad8(parents.checked_add(t.checked_mul(4)?)?)?;
+        len = pad8(
+            cells.checked_add(
+                (lv.grid_nx as u64)
+                    .checked_mul(lv.grid_ny as u64)?
+                    .checked_mul(4)?,
+            )?,
         )?;
-        len = pad8(len)?;
+        out.push(LevelSections {
+            tris,
+            nbrs,
+            parents,
+            cells,
+        });
     }
-    Some(len)
+    Some((len, out))
+}
+
+/// Number of version-3 blocks of a body of `body` bytes.
+pub fn num_blocks(body: u64) -> u64 {
+    body.div_ceil(BLOCK_PAYLOAD as u64)
+}
+
+/// Length of a whole value with these counts, or None on overflow.
+fn value_len(h: &Header) -> Option<u64> {
+    let (body, _) = sections(h)?;
+    if h.version == VERSION_1 {
+        body.checked_add(FIXED_LEN as u64)
+    } else {
+        body.checked_add(HEADER_LEN as u64)?
+            .checked_add(num_blocks(body).checked_mul(8)?)
+    }
+}
+
+/// Where version-3 block `k` starts in the value, and its payload length.
+pub fn block_at(h: &Header, body: u64, k: u64) -> (u64, usize) {
+    let _ = h;
+    let start = HEADER_LEN as u64 + k * BLOCK_LEN as u64;
+    let payload = (body - k * BLOCK_PAYLOAD as u64).min(BLOCK_PAYLOAD as u64) as usize;
+    (start, payload)
+}
+
+/// The payload of version-3 block `k` of the value with header hash
+/// `hh`, from `b` = payload and checksum as stored; an error when the
+/// checksum does not match.
+pub fn check_block(hh: u64, k: u64, b: &[u8]) -> Result<&[u8], TinError> {
+    if b.len() < 8 {
+        return Err(corrupt(format!("block {k} truncated")));
+    }
+    let (payload, sum) = b.split_at(b.len() - 8);
+    let stored = u64::from_le_bytes(sum.try_into().unwrap_or([0; 8]));
+    if block_checksum(hh, k, payload) != stored {
+        return Err(corrupt(format!(
+            "checksum mismatch in block {k} (the value is corrupted)"
+        )));
+    }
+    Ok(payload)
+}
+
+fn block_checksum(hh: u64, k: u64, payload: &[u8]) -> u64 {
+    xxhash_rust::xxh3::xxh3_64_with_seed(payload, hh.wrapping_add(k))
+}
+
+/// The stored header hash of a version-3 header, computed: xxh3 of bytes
+/// 0..856 with the content hash (32..40) zeroed.
+fn header_hash(b: &[u8]) -> u64 {
+    let mut h = Xxh3::new();
+    h.update(&b[..32]);
+    h.update(&[0u8; 8]);
+    h.update(&b[40..FIXED_LEN]);
+    h.digest()
+}
+
+/// The header hash of a version-3 header (checked by [`read_header`]).
+pub fn stored_header_hash(b: &[u8]) -> u64 {
+    b.get(FIXED_LEN..HEADER_LEN)
+        .and_then(|s| s.try_into().ok())
+        .map(u64::from_le_bytes)
+        .unwrap_or(0)
 }
 
 /// Content hash of a value (hash field taken as zero).
@@ -209,18 +339,91 @@ pub fn content_hash(b: &[u8]) -> u64 {
     h.digest()
 }
 
-/// Serialise a tin (whose structure is valid) to its storage bytes.
+/// Recompute every hash of a value after its bytes were changed (tests that
+/// craft values: structural validation, not the hashes, must reject them).
+#[cfg(feature = "bench")]
+pub fn reseal(b: &mut [u8]) {
+    if b.len() >= HEADER_LEN && b[4..6] == VERSION.to_le_bytes() {
+        let hh = header_hash(b);
+        b[FIXED_LEN..HEADER_LEN].copy_from_slice(&hh.to_le_bytes());
+        let mut at = HEADER_LEN;
+        let mut k = 0u64;
+        while at < b.len() {
+            let end = (at + BLOCK_LEN).min(b.len());
+            if end - at <= 8 {
+                break;
+            }
+            let sum = block_checksum(hh, k, &b[at..end - 8]);
+            b[end - 8..end].copy_from_slice(&sum.to_le_bytes());
+            at = end;
+            k += 1;
+        }
+    }
+    if b.len() >= 40 {
+        let h = content_hash(b);
+        b[32..40].copy_from_slice(&h.to_le_bytes());
+    }
+}
+
+/// Offset in a value of byte `logical` of its body.
+pub fn body_offset(h: &Header, logical: usize) -> usize {
+    if h.version == VERSION_1 {
+        FIXED_LEN + logical
+    } else {
+        HEADER_LEN + logical / BLOCK_PAYLOAD * BLOCK_LEN + logical % BLOCK_PAYLOAD
+    }
+}
+
+/// Serialise a tin (whose structure is valid) to its storage bytes, in the
+/// current format version ([`VERSION`]).
 pub fn encode(tin: &Tin) -> Vec<u8> {
-    let mut out: Vec<u8> = Vec::new();
+    let (mut out, body) = header_and_body(tin, VERSION);
+    let hh = header_hash(&out);
+    out.extend_from_slice(&hh.to_le_bytes());
+    out.reserve(body.len() + body.len() / BLOCK_PAYLOAD * 8 + 8);
+    for (k, payload) in body.chunks(BLOCK_PAYLOAD).enumerate() {
+        out.extend_from_slice(payload);
+        out.extend_from_slice(&block_checksum(hh, k as u64, payload).to_le_bytes());
+    }
+    seal(out)
+}
+
+/// Serialise in format version 1 (the test fixtures were written so; kept
+/// to check that reading version 1 is exact).
+pub fn encode_v1(tin: &Tin) -> Vec<u8> {
+    let (mut out, body) = header_and_body(tin, VERSION_1);
+    out.extend_from_slice(&body);
+    seal(out)
+}
+
+/// Patch the total length and the content hash.
+fn seal(mut out: Vec<u8>) -> Vec<u8> {
+    let total = out.len() as u64;
+    out[24..32].copy_from_slice(&total.to_le_bytes());
+    let h = content_hash(&out);
+    out[32..40].copy_from_slice(&h.to_le_bytes());
+    out
+}
+
+/// The fixed header (total length and content hash still zero; the total
+/// length is filled in for version 3, whose header hash covers it) and the
+/// body.
+fn header_and_body(tin: &Tin, version: u16) -> (Vec<u8>, Vec<u8>) {
+    let mut out: Vec<u8> = Vec::with_capacity(HEADER_LEN);
     out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&VERSION.to_le_bytes());
+    out.extend_from_slice(&version.to_le_bytes());
     out.extend_from_slice(&0u16.to_le_bytes());
-    out.extend_from_slice(&(HEADER_LEN as u32).to_le_bytes());
+    let hl = if version == VERSION_1 {
+        FIXED_LEN
+    } else {
+        HEADER_LEN
+    };
+    out.extend_from_slice(&(hl as u32).to_le_bytes());
     out.extend_from_slice(&tin.srid.to_le_bytes());
     out.extend_from_slice(&(tin.levels.len() as u32).to_le_bytes());
     out.extend_from_slice(&(tin.verts.len() as u32).to_le_bytes());
     out.extend_from_slice(&0u64.to_le_bytes()); // total length, patched below
-    out.extend_from_slice(&0u64.to_le_bytes()); // hash, patched below
+    out.extend_from_slice(&0u64.to_le_bytes()); // hash, patched at the end
     let b = &tin.bbox;
     for v in [b.min_x, b.min_y, b.max_x, b.max_y, b.min_z, b.max_z] {
         out.extend_from_slice(&v.to_le_bytes());
@@ -240,10 +443,11 @@ pub fn encode(tin: &Tin) -> Vec<u8> {
             None => out.extend_from_slice(&[0u8; LEVEL_RECORD]),
         }
     }
-    debug_assert_eq!(out.len(), HEADER_LEN);
+    debug_assert_eq!(out.len(), FIXED_LEN);
+    let mut body: Vec<u8> = Vec::new();
     for v in &tin.verts {
         for c in v {
-            out.extend_from_slice(&c.to_le_bytes());
+            body.extend_from_slice(&c.to_le_bytes());
         }
     }
     let pad = |out: &mut Vec<u8>| {
@@ -254,28 +458,28 @@ pub fn encode(tin: &Tin) -> Vec<u8> {
     for lv in &tin.levels {
         for t in &lv.tris {
             for v in t {
-                out.extend_from_slice(&v.to_le_bytes());
+                body.extend_from_slice(&v.to_le_bytes());
             }
         }
         for t in &lv.nbrs {
             for v in t {
-                out.extend_from_slice(&v.to_le_bytes());
+                body.extend_from_slice(&v.to_le_bytes());
             }
         }
         for p in &lv.parent {
-            out.extend_from_slice(&p.to_le_bytes());
+            body.extend_from_slice(&p.to_le_bytes());
         }
-        pad(&mut out);
+        pad(&mut body);
         for c in &lv.grid.cells {
-            out.extend_from_slice(&c.to_le_bytes());
+            body.extend_from_slice(&c.to_le_bytes());
         }
-        pad(&mut out);
+        pad(&mut body);
     }
-    let total = out.len() as u64;
-    out[24..32].copy_from_slice(&total.to_le_bytes());
-    let h = content_hash(&out);
-    out[32..40].copy_from_slice(&h.to_le_bytes());
-    out
+    if version != VERSION_1 {
+        let total = (HEADER_LEN + body.len()) as u64 + num_blocks(body.len() as u64) * 8;
+        out[24..32].copy_from_slice(&total.to_le_bytes());
+    }
+    (out, body)
 }
 
 /// Parse and fully validate storage bytes. The length implied by the header's
@@ -288,7 +492,7 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
 /// the validation (a cancel does not wait for a whole 15 MB value).
 pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, TinError> {
     let h = read_header(b)?;
-    let expect = body_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
+    let expect = value_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
     if h.total_len != b.len() as u64 || expect != b.len() as u64 {
         return Err(corrupt(format!(
             "length mismatch: value has {} bytes, header says {} and its counts need {}",
@@ -301,7 +505,19 @@ pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, Ti
         return Err(corrupt("content hash mismatch (value is corrupted)"));
     }
     interrupt()?;
-    let mut r = Rd { b, pos: HEADER_LEN };
+    let unblocked;
+    let body: &[u8] = if h.version == VERSION_1 {
+        &b[FIXED_LEN..]
+    } else {
+        let hh = stored_header_hash(b);
+        let mut v = Vec::with_capacity(b.len());
+        for (k, blk) in b[HEADER_LEN..].chunks(BLOCK_LEN).enumerate() {
+            v.extend_from_slice(check_block(hh, k as u64, blk)?);
+        }
+        unblocked = v;
+        &unblocked
+    };
+    let mut r = Rd { b: body, pos: 0 };
     let mut verts = Vec::with_capacity(h.num_vertices as usize);
     for _ in 0..h.num_vertices {
         verts.push([r.f64()?, r.f64()?, r.f64()?]);
