@@ -31,6 +31,7 @@
 use crate::geom::{co, segments_intersect};
 use crate::interrupt::Interrupt;
 use crate::tin::locate;
+use crate::tin::mesh::{infallible, Indexed};
 use crate::tin::{interpolate, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 use std::collections::HashSet;
@@ -46,8 +47,17 @@ pub fn locate(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
 /// containing triangle; None outside the domain.
 #[inline]
 pub fn height(tin: &Tin, level: usize, x: f64, y: f64) -> Option<f64> {
-    let t = locate::locate(tin, level, x, y)?;
-    Some(interpolate(&tin.corners(level, t), x, y))
+    infallible(height_in(tin, level, x, y))
+}
+
+/// [`height`] on any indexed mesh (a stored value read in slices:
+/// [`crate::tin::sliced`]).
+#[inline]
+pub fn height_in<M: Indexed>(m: &M, level: usize, x: f64, y: f64) -> Result<Option<f64>, M::Err> {
+    Ok(match locate::locate_in(m, level, x, y)? {
+        Some(t) => Some(interpolate(&m.corners(level, t)?, x, y)),
+        None => None,
+    })
 }
 
 /// A rectangle `width` across and `length` along the direction `angle`

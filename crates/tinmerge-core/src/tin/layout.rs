@@ -30,10 +30,9 @@
 //! cuts it into blocks of [`BLOCK_PAYLOAD`] bytes, each followed by its
 //! 8-byte checksum (xxh3-64 of the payload, seeded with the header hash plus
 //! the block number, so a block from another value or another place fails).
-//! The payload size is a multiple of 24, so no vertex, triangle, neighbour
-//! triple, parent or grid cell straddles two blocks: a reader that holds the
-//! header can fetch and verify just the blocks a merge touches
-//! ([`super::sliced`]), which the whole-value hash cannot allow.
+//! A reader that holds the header can fetch and verify just the blocks a
+//! merge touches ([`super::sliced`]), which the whole-value hash cannot
+//! allow (an element at a block boundary takes two).
 //!
 //! A reader checks `total length == length implied by the counts` before it
 //! allocates anything; a full decode checks every hash, then
@@ -56,7 +55,7 @@ pub const FIXED_LEN: usize = 88 + MAX_LEVELS * LEVEL_RECORD;
 /// Bytes that hold the header of any version (version 3: the fixed fields
 /// and the header hash). Every value is longer than this.
 pub const HEADER_LEN: usize = FIXED_LEN + 8;
-/// Body bytes per version-3 block (a multiple of 24, 12 and 4).
+/// Body bytes per version-3 block (two PostgreSQL TOAST chunks, about).
 pub const BLOCK_PAYLOAD: usize = 4080;
 /// A version-3 block as stored: payload and checksum.
 pub const BLOCK_LEN: usize = BLOCK_PAYLOAD + 8;
@@ -281,9 +280,9 @@ fn value_len(h: &Header) -> Option<u64> {
     }
 }
 
-/// Where version-3 block `k` starts in the value, and its payload length.
-pub fn block_at(h: &Header, body: u64, k: u64) -> (u64, usize) {
-    let _ = h;
+/// Where version-3 block `k` of a body of `body` bytes starts in the value,
+/// and its payload length.
+pub fn block_at(body: u64, k: u64) -> (u64, usize) {
     let start = HEADER_LEN as u64 + k * BLOCK_LEN as u64;
     let payload = (body - k * BLOCK_PAYLOAD as u64).min(BLOCK_PAYLOAD as u64) as usize;
     (start, payload)

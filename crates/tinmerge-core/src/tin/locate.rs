@@ -14,6 +14,13 @@
 //! is always the smallest triangle id among them, so it does not depend on
 //! the path of the walk.
 
+//!
+//! Every function is written once, over [`Mesh`]/[`Indexed`]: the same walk
+//! runs on a decoded [`Tin`] (the `*_in` functions with `Err = Infallible`,
+//! wrapped by [`locate`], [`walk`], ...) and on a stored value read block by
+//! block ([`super::sliced`]).
+
+use super::mesh::{infallible, Indexed, LevelRef, Mesh};
 use super::{Level, Tin, NONE};
 use crate::geom::vco;
 use robust::{orient2d, Coord};
@@ -30,34 +37,44 @@ pub enum Walk {
 
 /// Grid-index start triangle for (x, y) at `level`.
 #[inline]
-pub fn start_triangle(tin: &Tin, level: usize, x: f64, y: f64) -> u32 {
-    let g = &tin.levels[level].grid;
-    if g.cells.is_empty() {
-        return 0;
+pub fn start_in<M: Indexed>(m: &M, level: usize, x: f64, y: f64) -> Result<u32, M::Err> {
+    let (cell, nx, ny) = m.grid(level);
+    if nx == 0 || ny == 0 {
+        return Ok(0);
     }
+    let b = m.bbox();
     // `as u32` truncates (towards zero) and saturates (negative and NaN give
     // 0), which is floor for the non-negative values that matter here; the
     // `min` clamps points right of or above the grid.
-    let cx = (((x - tin.bbox.min_x) / g.cell) as u32).min(g.nx - 1);
-    let cy = (((y - tin.bbox.min_y) / g.cell) as u32).min(g.ny - 1);
-    g.cells[(cy * g.nx + cx) as usize]
+    let cx = (((x - b.min_x) / cell) as u32).min(nx - 1);
+    let cy = (((y - b.min_y) / cell) as u32).min(ny - 1);
+    m.cell(level, cy * nx + cx)
+}
+
+/// [`start_in`] on a decoded tin.
+#[inline]
+pub fn start_triangle(tin: &Tin, level: usize, x: f64, y: f64) -> u32 {
+    infallible(start_in(tin, level, x, y))
 }
 
 /// Walk from `start` towards (x, y) at `level`.
 pub fn walk(tin: &Tin, level: usize, start: u32, x: f64, y: f64) -> Walk {
-    walk_raw(&tin.verts, &tin.levels[level], start, x, y)
+    infallible(walk_in(tin, level, start, x, y))
 }
 
 /// [`walk`] on a level given with its vertex array (used while building).
-///
-/// Edges are tried in a fixed order (starting after the edge just crossed)
-/// for the first steps, which is fastest in practice; if the walk has not
-/// arrived after `4 * sqrt(n) + 64` steps (possible in a constrained
+pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> Walk {
+    infallible(walk_in(&LevelRef { verts, level: lv }, 0, start, x, y))
+}
+
+/// The walk. Edges are tried in a fixed order (starting after the edge just
+/// crossed) for the first steps, which is fastest in practice; if the walk
+/// has not arrived after `4 * sqrt(n) + 64` steps (possible in a constrained
 /// triangulation, where a deterministic walk may cycle) it continues as a
 /// remembering stochastic walk, which terminates; a final step limit falls
 /// back to an exhaustive scan.
-pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> Walk {
-    let n = lv.tris.len();
+pub fn walk_in<M: Mesh>(m: &M, level: usize, start: u32, x: f64, y: f64) -> Result<Walk, M::Err> {
+    let n = m.num_triangles(level);
     let p = Coord { x, y };
     let mut t = start;
     let mut came_from = NONE;
@@ -65,8 +82,8 @@ pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> W
     let fixed_steps = 4 * (n as f64).sqrt() as usize + 64;
     let limit = 2 * n + 64 + fixed_steps;
     for step in 0..limit {
-        let tri = lv.tris[t as usize];
-        let nbrs = lv.nbrs[t as usize];
+        let tri = m.tri(level, t)?;
+        let nbrs = m.nbrs(level, t)?;
         let r = if step < fixed_steps {
             // start with the edge after the one we came through
             match nbrs.iter().position(|&b| b == came_from && b != NONE) {
@@ -86,11 +103,11 @@ pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> W
             if nb == came_from && nb != NONE {
                 continue;
             }
-            let a = vco(&verts[tri[(j + 1) % 3] as usize]);
-            let b = vco(&verts[tri[(j + 2) % 3] as usize]);
+            let a = vco(&m.vert(tri[(j + 1) % 3])?);
+            let b = vco(&m.vert(tri[(j + 2) % 3])?);
             if orient2d(a, b, p) < 0.0 {
                 if nb == NONE {
-                    return Walk::Outside(t);
+                    return Ok(Walk::Outside(t));
                 }
                 came_from = t;
                 t = nb;
@@ -101,55 +118,63 @@ pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> W
         if !crossed {
             // The skipped edge (the one we came through) has p on its inner
             // side by construction, so t contains p.
-            return Walk::Inside(t);
+            return Ok(Walk::Inside(t));
         }
     }
-    brute_force(verts, lv, x, y).map_or(Walk::Outside(t), Walk::Inside)
+    Ok(brute_force(m, level, x, y)?.map_or(Walk::Outside(t), Walk::Inside))
 }
 
 /// Whether the closed triangle `t` contains (x, y).
 #[inline]
 pub fn contains(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> bool {
-    contains_raw(&tin.verts, &tin.levels[level], t, x, y)
+    infallible(contains_in(tin, level, t, x, y))
 }
 
+/// [`contains`] on any mesh.
 #[inline]
-fn contains_raw(verts: &[[f64; 3]], lv: &Level, t: u32, x: f64, y: f64) -> bool {
-    let tri = lv.tris[t as usize];
+pub fn contains_in<M: Mesh>(m: &M, level: usize, t: u32, x: f64, y: f64) -> Result<bool, M::Err> {
+    let c = m.corners(level, t)?;
     let p = Coord { x, y };
-    (0..3).all(|j| {
-        orient2d(
-            vco(&verts[tri[j] as usize]),
-            vco(&verts[tri[(j + 1) % 3] as usize]),
-            p,
-        ) >= 0.0
-    })
+    Ok((0..3).all(|j| orient2d(vco(&c[j]), vco(&c[(j + 1) % 3]), p) >= 0.0))
 }
 
-fn brute_force(verts: &[[f64; 3]], lv: &Level, x: f64, y: f64) -> Option<u32> {
-    (0..lv.tris.len() as u32).find(|&t| contains_raw(verts, lv, t, x, y))
+fn brute_force<M: Mesh>(m: &M, level: usize, x: f64, y: f64) -> Result<Option<u32>, M::Err> {
+    for t in 0..m.num_triangles(level) as u32 {
+        if contains_in(m, level, t, x, y)? {
+            return Ok(Some(t));
+        }
+    }
+    Ok(None)
 }
 
 /// The neighbours of triangle `u` across its edges passing through `p`
 /// (NONE for the others).
 #[inline]
-fn across_edges_through(tin: &Tin, lv: &Level, u: u32, p: Coord<f64>) -> [u32; 3] {
-    let tri = lv.tris[u as usize];
+fn across_edges_through<M: Mesh>(
+    m: &M,
+    level: usize,
+    u: u32,
+    p: Coord<f64>,
+) -> Result<[u32; 3], M::Err> {
+    let c = m.corners(level, u)?;
+    let nbrs = m.nbrs(level, u)?;
     let mut out = [NONE; 3];
     for j in 0..3 {
-        let a = vco(&tin.verts[tri[(j + 1) % 3] as usize]);
-        let b = vco(&tin.verts[tri[(j + 2) % 3] as usize]);
-        if orient2d(a, b, p) == 0.0 {
-            out[j] = lv.nbrs[u as usize][j];
+        if orient2d(vco(&c[(j + 1) % 3]), vco(&c[(j + 2) % 3]), p) == 0.0 {
+            out[j] = nbrs[j];
         }
     }
-    out
+    Ok(out)
 }
 
 /// Among the closed triangles containing (x, y), the smallest id, found by
 /// visiting the triangles across edges that pass through the point.
 pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
-    let lv = &tin.levels[level];
+    infallible(canonical_in(tin, level, t, x, y))
+}
+
+/// [`canonical`] on any mesh.
+pub fn canonical_in<M: Mesh>(m: &M, level: usize, t: u32, x: f64, y: f64) -> Result<u32, M::Err> {
     let p = Coord { x, y };
     let mut best = t;
     // fixed lists first (no allocation on the common path)
@@ -162,7 +187,7 @@ pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
         sp -= 1;
         let u = stack[sp];
         best = best.min(u);
-        for nb in across_edges_through(tin, lv, u, p) {
+        for nb in across_edges_through(m, level, u, p)? {
             if nb != NONE && !seen[..ns].contains(&nb) && ns < seen.len() && sp < stack.len() {
                 seen[ns] = nb;
                 ns += 1;
@@ -178,7 +203,7 @@ pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
         let mut seen = vec![t];
         while let Some(u) = stack.pop() {
             best = best.min(u);
-            for nb in across_edges_through(tin, lv, u, p) {
+            for nb in across_edges_through(m, level, u, p)? {
                 if nb != NONE && !seen.contains(&nb) {
                     seen.push(nb);
                     stack.push(nb);
@@ -186,22 +211,27 @@ pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
             }
         }
     }
-    best
+    Ok(best)
 }
 
 /// Triangle at `level` containing (x, y), or None outside the domain or for
 /// non-finite coordinates.
 pub fn locate(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
+    infallible(locate_in(tin, level, x, y))
+}
+
+/// [`locate`] on any indexed mesh.
+pub fn locate_in<M: Indexed>(m: &M, level: usize, x: f64, y: f64) -> Result<Option<u32>, M::Err> {
     if !(x.is_finite() && y.is_finite()) {
-        return None;
+        return Ok(None);
     }
-    let b = &tin.bbox;
+    let b = m.bbox();
     if x < b.min_x || x > b.max_x || y < b.min_y || y > b.max_y {
-        return None;
+        return Ok(None);
     }
-    let s = start_triangle(tin, level, x, y);
-    match walk(tin, level, s, x, y) {
-        Walk::Inside(t) => Some(canonical(tin, level, t, x, y)),
+    let s = start_in(m, level, x, y)?;
+    Ok(match walk_in(m, level, s, x, y)? {
+        Walk::Inside(t) => Some(canonical_in(m, level, t, x, y)?),
         Walk::Outside(_) => None,
-    }
+    })
 }

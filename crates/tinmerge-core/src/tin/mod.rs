@@ -20,8 +20,10 @@ pub mod lattice;
 pub mod layout;
 pub mod locate;
 pub mod memory;
+pub mod mesh;
 pub mod par;
 pub mod samples;
+pub mod sliced;
 
 use thiserror::Error;
 

@@ -1,0 +1,115 @@
+//! What point location reads of a triangulation, as a trait, so the same
+//! exact walk runs on a decoded [`Tin`], on one level being built
+//! ([`LevelRef`]), and on a stored value read block by block
+//! ([`super::sliced::SlicedTin`], whose reads can fail on a damaged block).
+//!
+//! A decoded value never fails (`Err = Infallible`), and its accessors are
+//! the same array reads as before, so the decoded path costs nothing extra.
+
+use super::{Bbox, Level, Tin};
+use std::convert::Infallible;
+
+/// Triangles, neighbours and vertices of the levels of a triangulation.
+pub trait Mesh {
+    type Err;
+    fn num_triangles(&self, level: usize) -> usize;
+    /// Vertex ids of triangle `t`, counter-clockwise.
+    fn tri(&self, level: usize, t: u32) -> Result<[u32; 3], Self::Err>;
+    /// Neighbours of `t` (across the edge opposite each corner; `NONE` on
+    /// the hull).
+    fn nbrs(&self, level: usize, t: u32) -> Result<[u32; 3], Self::Err>;
+    fn vert(&self, v: u32) -> Result<[f64; 3], Self::Err>;
+    /// The three corners of triangle `t`.
+    #[inline]
+    fn corners(&self, level: usize, t: u32) -> Result<[[f64; 3]; 3], Self::Err> {
+        let [a, b, c] = self.tri(level, t)?;
+        Ok([self.vert(a)?, self.vert(b)?, self.vert(c)?])
+    }
+}
+
+/// A [`Mesh`] with the bounding box and the grid index (what
+/// [`super::locate::locate_in`] starts from).
+pub trait Indexed: Mesh {
+    fn bbox(&self) -> &Bbox;
+    /// Cell size, columns and rows of the grid of `level` (0 columns: no
+    /// grid).
+    fn grid(&self, level: usize) -> (f64, u32, u32);
+    /// Start triangle of grid cell `i` (row-major).
+    fn cell(&self, level: usize, i: u32) -> Result<u32, Self::Err>;
+}
+
+/// Unwrap a result that cannot be an error.
+#[inline]
+pub fn infallible<T>(r: Result<T, Infallible>) -> T {
+    match r {
+        Ok(v) => v,
+        Err(e) => match e {},
+    }
+}
+
+impl Mesh for Tin {
+    type Err = Infallible;
+    #[inline]
+    fn num_triangles(&self, level: usize) -> usize {
+        self.levels[level].tris.len()
+    }
+    #[inline]
+    fn tri(&self, level: usize, t: u32) -> Result<[u32; 3], Infallible> {
+        Ok(self.levels[level].tris[t as usize])
+    }
+    #[inline]
+    fn nbrs(&self, level: usize, t: u32) -> Result<[u32; 3], Infallible> {
+        Ok(self.levels[level].nbrs[t as usize])
+    }
+    #[inline]
+    fn vert(&self, v: u32) -> Result<[f64; 3], Infallible> {
+        Ok(self.verts[v as usize])
+    }
+}
+
+impl Indexed for Tin {
+    #[inline]
+    fn bbox(&self) -> &Bbox {
+        &self.bbox
+    }
+    #[inline]
+    fn grid(&self, level: usize) -> (f64, u32, u32) {
+        let g = &self.levels[level].grid;
+        if g.cells.is_empty() {
+            (g.cell, 0, 0)
+        } else {
+            (g.cell, g.nx, g.ny)
+        }
+    }
+    #[inline]
+    fn cell(&self, level: usize, i: u32) -> Result<u32, Infallible> {
+        Ok(self.levels[level].grid.cells[i as usize])
+    }
+}
+
+/// One level and its vertex array, outside a [`Tin`] (while building); the
+/// `level` arguments are ignored.
+pub struct LevelRef<'a> {
+    pub verts: &'a [[f64; 3]],
+    pub level: &'a Level,
+}
+
+impl Mesh for LevelRef<'_> {
+    type Err = Infallible;
+    #[inline]
+    fn num_triangles(&self, _: usize) -> usize {
+        self.level.tris.len()
+    }
+    #[inline]
+    fn tri(&self, _: usize, t: u32) -> Result<[u32; 3], Infallible> {
+        Ok(self.level.tris[t as usize])
+    }
+    #[inline]
+    fn nbrs(&self, _: usize, t: u32) -> Result<[u32; 3], Infallible> {
+        Ok(self.level.nbrs[t as usize])
+    }
+    #[inline]
+    fn vert(&self, v: u32) -> Result<[f64; 3], Infallible> {
+        Ok(self.verts[v as usize])
+    }
+}
