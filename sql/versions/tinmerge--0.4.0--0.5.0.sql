@@ -1,9 +1,26 @@
--- tinmerge 0.4.0 -> 0.5.0: no stored value changes and no answer changes.
+-- tinmerge 0.4.0 -> 0.5.0: no answer changes. New values are stored in
+-- format 3 (blocks with their own checksums, so the per-row point functions
+-- read a stored terrain in slices); values stored before keep reading as
+-- they are, and tin_rewrite converts them.
+CREATE FUNCTION tin_rewrite(t tin) RETURNS tin
+IMMUTABLE STRICT PARALLEL SAFE COST 10000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_rewrite_wrapper';
+COMMENT ON FUNCTION tin_rewrite(tin) IS 'The same tin in the current storage format (format 3: blocks with their own checksums, read in slices by the per-row point functions); a value already in it is returned as it is. Answers do not change. UPDATE terrain SET t = tin_rewrite(t) converts stored values (docs/upgrading.md).';
+COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes, storage format version and per level: tolerance, triangles, vertices and the max error measured at the source samples (header only).';
+
+-- tin_cache_stats also reports the values read in slices
+DROP FUNCTION tin_cache_stats();
+CREATE FUNCTION tin_cache_stats()
+RETURNS TABLE(hits bigint, misses bigint, entries int, bytes bigint, sliced_values int, sliced_blocks bigint, sliced_bytes bigint)
+VOLATILE PARALLEL SAFE
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_cache_stats_wrapper';
+ALTER FUNCTION tin_cache_stats() ROWS 1;
+COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes; and the stored values it reads in slices (per-row point functions on a value it has not decoded): values, blocks held, bytes held (see tinmerge.cache_size).';
 --
 -- tin_drape is a Rust function that reads its geometry and writes its result
 -- in PostGIS's own serialisation (it was a SQL wrapper over _tin_drape,
 -- converting to EWKB and back on every row): the same function, arguments,
--- defaults and comment, about 3x faster per row on points.
+-- defaults and comment, about 4x faster per row on points.
 CREATE OR REPLACE FUNCTION tin_drape(t tin, geom geometry, level int DEFAULT NULL)
 RETURNS geometry
 IMMUTABLE PARALLEL SAFE COST 10000

@@ -12,6 +12,7 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::rc::Rc;
 use std::sync::{Arc, Weak};
 
 use pgrx::prelude::*;
@@ -20,6 +21,7 @@ use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
 use super::errors::raise_tin;
 use super::memory;
 use tinmerge_core::tin::layout::Header;
+use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{Tin, TinError};
 
 /// Identity of an on-disk TOAST value: `varatt_external`'s fields.
@@ -202,6 +204,131 @@ pub fn get_or_decode(
     tin
 }
 
+/// The decoded value for (hash, len) when the cache holds it (no decode).
+pub fn peek(hash: u64, len: u64) -> Option<Arc<Tin>> {
+    CACHE.with(|c| {
+        let mut c = c.borrow_mut();
+        c.clock += 1;
+        let now = c.clock;
+        let hit = c
+            .entries
+            .iter_mut()
+            .find(|e| e.hash == hash && e.len == len)
+            .map(|e| {
+                e.last = now;
+                e.tin.clone()
+            });
+        if hit.is_some() {
+            c.hits += 1;
+        }
+        hit
+    })
+}
+
+/// Per-row point calls on one stored value read in slices before the value
+/// is decoded whole: a join of many rows with one terrain then pays one
+/// decode, as before, while a query touching a few points never does.
+pub const SLICED_CALLS: u64 = 2000;
+/// Most stored values read in slices at once per backend.
+const MAX_SLICED: usize = 64;
+
+struct SlicedEntry {
+    hash: u64,
+    len: u64,
+    tin: Rc<SlicedTin>,
+    calls: u64,
+    last: u64,
+}
+
+#[derive(Default)]
+struct Sliced {
+    entries: Vec<SlicedEntry>,
+    clock: u64,
+}
+
+thread_local! {
+    static SLICED: RefCell<Sliced> = RefCell::new(Sliced::default());
+}
+
+/// The stored value (hash, len) read in slices, made from its header bytes
+/// with `make` on first use; `None` once it has served [`SLICED_CALLS`]
+/// calls or holds an eighth of its blocks (the caller then decodes it
+/// whole), or when `make` gives none (format 1). The blocks held by every
+/// such value together stay within `tinmerge.cache_size`, least recently
+/// used first out.
+pub fn sliced(
+    hash: u64,
+    len: u64,
+    make: impl FnOnce() -> Result<Option<SlicedTin>, TinError>,
+) -> Option<Rc<SlicedTin>> {
+    let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;
+    if limit == 0 {
+        return None;
+    }
+    let found = SLICED.with(|c| {
+        let mut c = c.borrow_mut();
+        c.clock += 1;
+        let now = c.clock;
+        let i = c.entries.iter().position(|e| e.hash == hash && e.len == len)?;
+        let e = &mut c.entries[i];
+        e.calls += 1;
+        e.last = now;
+        let (held, total) = e.tin.blocks();
+        if e.calls > SLICED_CALLS || held as u64 * 8 > total {
+            c.entries.swap_remove(i);
+            return Some(None);
+        }
+        Some(Some(e.tin.clone()))
+    });
+    let tin = match found {
+        Some(found) => found?,
+        None => {
+            // made outside the borrow: an ERROR must not leave it borrowed
+            let t = Rc::new(make().unwrap_or_else(|e| raise_tin(e))?);
+            SLICED.with(|c| {
+                let mut c = c.borrow_mut();
+                if c.entries.len() >= MAX_SLICED {
+                    if let Some(i) = (0..c.entries.len()).min_by_key(|&i| c.entries[i].last) {
+                        c.entries.swap_remove(i);
+                    }
+                }
+                let last = c.clock;
+                c.entries.push(SlicedEntry {
+                    hash,
+                    len,
+                    tin: t.clone(),
+                    calls: 1,
+                    last,
+                });
+            });
+            t
+        }
+    };
+    SLICED.with(|c| {
+        let mut c = c.borrow_mut();
+        let mut used: usize = c.entries.iter().map(|e| e.tin.cached_bytes()).sum();
+        while used > limit && c.entries.len() > 1 {
+            let Some(i) = (0..c.entries.len()).min_by_key(|&i| c.entries[i].last) else {
+                break;
+            };
+            used -= c.entries.swap_remove(i).tin.cached_bytes();
+        }
+    });
+    Some(tin)
+}
+
+/// (values, blocks, bytes) read in slices and held by this backend.
+pub fn sliced_stats() -> (usize, usize, usize) {
+    SLICED.with(|c| {
+        let c = c.borrow();
+        (
+            c.entries.len(),
+            c.entries.iter().map(|e| e.tin.blocks().0).sum(),
+            c.entries.iter().map(|e| e.tin.cached_bytes()).sum(),
+        )
+    })
+}
+
 /// Count a hit served through a TOAST-key alias (bypassing the LRU scan).
 pub fn count_alias_hit() {
     CACHE.with(|c| c.borrow_mut().hits += 1);
@@ -229,16 +356,28 @@ fn tin_cache_stats() -> TableIterator<
         name!(misses, i64),
         name!(entries, i32),
         name!(bytes, i64),
+        name!(sliced_values, i32),
+        name!(sliced_blocks, i64),
+        name!(sliced_bytes, i64),
     ),
 > {
     let (h, m, e, b) = stats();
-    TableIterator::once((h as i64, m as i64, e as i32, b as i64))
+    let (sv, sb, sn) = sliced_stats();
+    TableIterator::once((
+        h as i64,
+        m as i64,
+        e as i32,
+        b as i64,
+        sv as i32,
+        sb as i64,
+        sn as i64,
+    ))
 }
 
 extension_sql!(
     r#"
 ALTER FUNCTION tin_cache_stats() ROWS 1;
-COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes (see tinmerge.cache_size).';
+COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes; and the stored values it reads in slices (per-row point functions on a value it has not decoded): values, blocks held, bytes held (see tinmerge.cache_size).';
 "#,
     name = "tin_cache_stats_sql",
     requires = [tin_cache_stats]

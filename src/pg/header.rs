@@ -106,6 +106,7 @@ fn tin_info(t: TinArg) -> JsonB {
         "bbox": [b.min_x, b.min_y, b.max_x, b.max_y],
         "z_range": [b.min_z, b.max_z],
         "bytes": h.total_len,
+        "format": h.version,
         "num_levels": h.num_levels(),
         "num_vertices": h.num_vertices,
         "levels": levels,
@@ -114,7 +115,7 @@ fn tin_info(t: TinArg) -> JsonB {
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes and per level: tolerance, triangles, vertices and the max error measured at the source samples (header only).';
+COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes, storage format version and per level: tolerance, triangles, vertices and the max error measured at the source samples (header only).';
 "#,
     name = "tin_info_sql",
     requires = [tin_info]

@@ -10,6 +10,7 @@ use pgrx::prelude::*;
 use super::args::{check_srid, GeomArg, GeomOut};
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
+use super::point::on_point;
 use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::io::ewkb::{self, Geom};
@@ -285,18 +286,18 @@ fn tin_drape(
     level: default!(Option<i32>, "NULL"),
 ) -> Option<GeomOut> {
     let (t, geom) = (t?, geom?);
-    let (tin, l) = tin_level(&t, level);
     let bytes = geom.bytes();
     let p = gserialized::peek(bytes).or_raise();
     if let (Some(Some([x, y])), false) = (p.point, p.has_m) {
         if !(x.is_nan() && y.is_nan()) {
-            check_srid(p.srid, tin.srid, "tin_drape");
-            check_xy("tin_drape: the geometry", x, y).or_raise();
-            let z = point::height(&tin, l, x, y)?;
+            let z = on_point(&t, level, &geom, "tin_drape", point::height, |r, l, x, y| {
+                point::height_in(r, l, x, y)
+            })?;
             let out = Geom::Point(Some([x, y, z]));
             return Some(GeomOut(gserialized::write(p.srid, true, &out)));
         }
     }
+    let (tin, l) = tin_level(&t, level);
     let g = gserialized::read(bytes).or_raise();
     let out = drape_checked(&tin, l, &g)?;
     Some(GeomOut(gserialized::write(g.srid, true, &out)))

@@ -9,8 +9,40 @@ use super::args::GeomArg;
 use super::errors::OrRaise;
 use super::interrupt::interrupt;
 use super::tin_type::tin_level;
-use super::tin_type::TinArg;
+use super::tin_type::{PointSource, TinArg};
 use tinmerge_core::merge::point::{self, Rect};
+use tinmerge_core::tin::locate;
+use tinmerge_core::tin::sliced::Reader;
+use tinmerge_core::tin::{resolve_level, Tin, TinError};
+
+/// A per-row point query: the point's x, y (SRID checked against the tin),
+/// then `decoded` on the decoded value or `sliced` on the stored value read
+/// in slices ([`TinArg::point_source`]), at the resolved level. Both run the
+/// same exact location.
+pub(crate) fn on_point<R>(
+    t: &TinArg,
+    level: Option<i32>,
+    pt: &GeomArg,
+    func: &str,
+    decoded: impl FnOnce(&Tin, usize, f64, f64) -> Option<R>,
+    sliced: impl FnOnce(&Reader, usize, f64, f64) -> Result<Option<R>, TinError>,
+) -> Option<R> {
+    match t.point_source() {
+        PointSource::Decoded(tin) => {
+            let l = tin.level_index(level).or_raise();
+            let [x, y] = pt.point_xy(tin.srid, func)?;
+            decoded(&tin, l, x, y)
+        }
+        PointSource::Sliced(s) => {
+            let h = s.header();
+            let l = resolve_level(level, h.levels.len()).or_raise();
+            let [x, y] = pt.point_xy(h.srid, func)?;
+            let mut fetch = t.fetch();
+            let r = s.reader(&mut fetch);
+            sliced(&r, l, x, y).or_raise()
+        }
+    }
+}
 
 #[pg_extern(immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
 fn tin_locate(
@@ -19,9 +51,15 @@ fn tin_locate(
     level: default!(Option<i32>, "NULL"),
 ) -> Option<i32> {
     let (t, pt) = (t?, pt?);
-    let (tin, l) = tin_level(&t, level);
-    let [x, y] = pt.point_xy(tin.srid, "tin_locate")?;
-    point::locate(&tin, l, x, y).map(|i| i as i32)
+    on_point(
+        &t,
+        level,
+        &pt,
+        "tin_locate",
+        |tin, l, x, y| point::locate(tin, l, x, y),
+        |r, l, x, y| locate::locate_in(r, l, x, y),
+    )
+    .map(|i| i as i32)
 }
 
 extension_sql!(
@@ -39,9 +77,14 @@ fn tin_height(
     level: default!(Option<i32>, "NULL"),
 ) -> Option<f64> {
     let (t, pt) = (t?, pt?);
-    let (tin, l) = tin_level(&t, level);
-    let [x, y] = pt.point_xy(tin.srid, "tin_height")?;
-    point::height(&tin, l, x, y)
+    on_point(
+        &t,
+        level,
+        &pt,
+        "tin_height",
+        point::height,
+        |r, l, x, y| point::height_in(r, l, x, y),
+    )
 }
 
 extension_sql!(

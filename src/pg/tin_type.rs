@@ -8,6 +8,7 @@ use pgrx::pg_sys;
 use pgrx::prelude::*;
 use pgrx::IntoDatum;
 use std::ffi::{CStr, CString};
+use std::rc::Rc;
 use std::sync::{Arc, Weak};
 
 use super::cache;
@@ -16,7 +17,15 @@ use super::interrupt::interrupt;
 use super::memory;
 use super::varlena::{hex_input, recv_bytes, varlena_datum};
 use tinmerge_core::tin::layout::{self, Header, HEADER_LEN};
-use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::sliced::SlicedTin;
+use tinmerge_core::tin::{Tin, TinError};
+
+/// What a per-row point function reads: the decoded value, or the stored
+/// value read block by block (see [`TinArg::point_source`]).
+pub enum PointSource {
+    Decoded(Arc<Tin>),
+    Sliced(Rc<SlicedTin>),
+}
 
 raw_datum_arg!(
     /// A `tin` argument: the Datum as passed, not detoasted.
@@ -94,11 +103,7 @@ impl TinArg {
     }
 
     fn read_header(&self) -> Header {
-        let bytes = unsafe {
-            let s = pg_sys::pg_detoast_datum_slice(self.ptr(), 0, HEADER_LEN as i32);
-            pgrx::varlena::varlena_to_byte_slice(s)
-        };
-        layout::read_header(bytes).or_raise()
+        layout::read_header(self.slice(0, HEADER_LEN)).or_raise()
     }
 
     /// The whole value's bytes (detoasted into the current memory context).
@@ -106,6 +111,72 @@ impl TinArg {
         unsafe {
             let v = pg_sys::pg_detoast_datum(self.ptr());
             pgrx::varlena::varlena_to_byte_slice(v)
+        }
+    }
+
+    /// For the per-row point functions: the decoded value when this backend
+    /// holds it (or the value is not stored out of line, or is in format
+    /// 1), otherwise the stored value read in slices, so a query that
+    /// touches a few points of a large terrain reads a few blocks, not the
+    /// whole value. After [`cache::SLICED_CALLS`] calls on one value it is
+    /// decoded whole, as before.
+    pub fn point_source(&self) -> PointSource {
+        let Some((key, epoch, alias)) = self.remembered() else {
+            return PointSource::Decoded(self.tin());
+        };
+        let header = match alias {
+            Some(a) => {
+                if let Some(t) = a.tin.upgrade() {
+                    cache::count_alias_hit();
+                    return PointSource::Decoded(t);
+                }
+                a.header
+            }
+            None => {
+                let header = Arc::new(self.read_header());
+                cache::remember(
+                    key,
+                    epoch,
+                    cache::Alias {
+                        header: header.clone(),
+                        tin: Weak::new(),
+                    },
+                );
+                header
+            }
+        };
+        if header.version == layout::VERSION_1 {
+            return PointSource::Decoded(self.tin());
+        }
+        if let Some(t) = cache::peek(header.hash, header.total_len) {
+            return PointSource::Decoded(t);
+        }
+        match cache::sliced(header.hash, header.total_len, || {
+            SlicedTin::new(self.slice(0, HEADER_LEN))
+        }) {
+            Some(s) => PointSource::Sliced(s),
+            None => PointSource::Decoded(self.tin()),
+        }
+    }
+
+    /// Bytes `at..at + len` of the stored value, fetching only the TOAST
+    /// chunks that cover them (fewer when the value is shorter).
+    fn slice(&self, at: u64, len: usize) -> &[u8] {
+        unsafe {
+            let s = pg_sys::pg_detoast_datum_slice(self.ptr(), at as i32, len as i32);
+            pgrx::varlena::varlena_to_byte_slice(s)
+        }
+    }
+
+    /// The fetch a [`SlicedTin`] reads its blocks with.
+    pub fn fetch(&self) -> impl FnMut(u64, usize) -> Result<Vec<u8>, TinError> + '_ {
+        move |at, len| {
+            if at.saturating_add(len as u64) > i32::MAX as u64 {
+                return Err(TinError::Corrupt(format!(
+                    "block at {at} lies beyond the largest value"
+                )));
+            }
+            Ok(self.slice(at, len).to_vec())
         }
     }
 
@@ -261,6 +332,25 @@ COMMENT ON TYPE tin IS 'A terrain surface as an adaptive hierarchical triangulat
 "#,
     name = "tin_type",
     requires = [tin_in, tin_out, tin_recv, tin_send]
+);
+
+/// `tin_rewrite`: the same terrain in the current storage format (a value
+/// stored by an older version keeps reading as it is; rewriting it lets the
+/// per-row point functions read it in slices).
+#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn tin_rewrite(t: TinArg) -> TinOut {
+    if t.header().version == layout::VERSION {
+        return TinOut(t.bytes().to_vec());
+    }
+    TinOut::from_tin(&t.tin())
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_rewrite(tin) IS 'The same tin in the current storage format (format 3: blocks with their own checksums, read in slices by the per-row point functions); a value already in it is returned as it is. Answers do not change. UPDATE terrain SET t = tin_rewrite(t) converts stored values (docs/upgrading.md).';
+"#,
+    name = "tin_rewrite_sql",
+    requires = [tin_rewrite]
 );
 
 /// `=` on tin: the same stored bytes. Two pointers to the same on-disk

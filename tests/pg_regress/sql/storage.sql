@@ -1,0 +1,55 @@
+-- Storage format 3: the per-row point functions read a stored terrain in
+-- slices (a few blocks, each checked against its own checksum) until they
+-- have been called often enough on it to decode it whole. Answers are the
+-- same either way; format 1 values still read and tin_rewrite converts them.
+SET extra_float_digits = 0;
+CREATE TABLE store_terrain (id int, t tin);
+INSERT INTO store_terrain SELECT 1, t FROM terrain;
+SELECT tin_info(t)->>'format' AS format, pg_column_size(t) = (tin_info(t)->>'bytes')::int + 4 AS stored_uncompressed
+FROM store_terrain;
+-- points and their heights from the decoded value (this session decodes it:
+-- more calls than the slicing limit)
+CREATE TABLE store_pts AS
+SELECT i, ST_SetSRID(ST_MakePoint(740000 + (i * 7919) % 20000 + 0.37, 4045000 + (i * 104729) % 20000 + 0.61), 32616) AS p
+FROM generate_series(1, 3000) i;
+CREATE TABLE store_want AS
+SELECT i, l, tin_height(t, p, l) AS z, tin_locate(t, p, l) AS tri
+FROM store_pts, store_terrain, generate_series(0, 4) l;
+SELECT count(*) AS answers, count(z) AS inside FROM store_want;
+SELECT sliced_values, entries >= 1 AS decoded FROM tin_cache_stats();
+-- a new session: a few points read the value in slices, decoding nothing
+\c
+SET extra_float_digits = 0;
+SELECT count(*) FILTER (WHERE tin_height(t, p, l) IS NOT DISTINCT FROM w.z
+                          AND tin_locate(t, p, l) IS NOT DISTINCT FROM w.tri) AS same_answers,
+       count(*) AS asked
+FROM store_want w JOIN store_pts USING (i), store_terrain WHERE i <= 5;
+SELECT entries AS decoded_values, sliced_values, sliced_blocks > 0 AS read_blocks,
+       sliced_bytes * 20 < (SELECT (tin_info(t)->>'bytes')::bigint FROM store_terrain) AS read_under_5_percent
+FROM tin_cache_stats();
+-- tin_drape of a point takes the same path
+SELECT ST_Z(tin_drape(t, p, 2)) = w.z AS drape_same
+FROM store_want w JOIN store_pts USING (i), store_terrain WHERE i = 7 AND l = 2;
+-- past the slicing limit the value is decoded whole and answers stay the same
+SELECT count(*) FILTER (WHERE tin_height(t, p, l) IS NOT DISTINCT FROM w.z) AS same_answers, count(*) AS asked
+FROM store_want w JOIN store_pts USING (i), store_terrain;
+SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
+-- a value stored in format 1 (a fixture written by 0.2.0): read whole, the
+-- same answers after tin_rewrite, which gives format 3
+\getenv abs_srcdir PG_ABS_SRCDIR
+\set fixture :abs_srcdir '/../data/format-v1/geo-0.2.0.tin'
+CREATE TABLE store_old AS SELECT encode(pg_read_binary_file(:'fixture'), 'hex')::tin AS t;
+SELECT tin_info(t)->>'format' AS old_format, tin_info(tin_rewrite(t))->>'format' AS new_format,
+       tin_rewrite(t) = t AS same_bytes, tin_rewrite(tin_rewrite(t)) = tin_rewrite(t) AS rewrite_is_idempotent,
+       tin_info(tin_rewrite(t)) - 'bytes' - 'format' = tin_info(t) - 'bytes' - 'format' AS same_header
+FROM store_old;
+INSERT INTO store_old SELECT tin_rewrite(t) FROM store_old;
+\c
+SELECT count(DISTINCT (SELECT array_agg(tin_height(o.t, ST_SetSRID(ST_MakePoint(ST_XMin(e) + (ST_XMax(e) - ST_XMin(e)) * k / 37.0,
+                                                                          ST_YMin(e) + (ST_YMax(e) - ST_YMin(e)) * ((k * 17) % 37) / 37.0), 4326)) ORDER BY k)
+                       FROM generate_series(0, 36) k)) AS distinct_height_lists,
+       count(DISTINCT (SELECT array_agg(geom ORDER BY id) FROM tin_triangles(o.t, 2))) AS distinct_triangle_lists
+FROM store_old o, LATERAL (SELECT tin_envelope(o.t)::box2d AS e) b;
+SELECT sliced_values FROM tin_cache_stats();
+SELECT tin_rewrite(NULL::tin) IS NULL AS strict;
+DROP TABLE store_terrain, store_pts, store_want, store_old;
