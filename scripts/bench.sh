@@ -234,3 +234,5 @@ echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs
 cargo bench -p tinmerge-core --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"
 scripts/bench-parallel.sh
+echo "== first call in a fresh backend: stored values read in slices (docs/performance.md)"
+scripts/bench-cold.sh

@@ -12,7 +12,7 @@ COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes, storage
 DROP FUNCTION tin_cache_stats();
 CREATE FUNCTION tin_cache_stats()
 RETURNS TABLE(hits bigint, misses bigint, entries int, bytes bigint, sliced_values int, sliced_blocks bigint, sliced_bytes bigint)
-VOLATILE PARALLEL SAFE
+VOLATILE STRICT PARALLEL SAFE
 LANGUAGE c AS 'MODULE_PATHNAME', 'tin_cache_stats_wrapper';
 ALTER FUNCTION tin_cache_stats() ROWS 1;
 COMMENT ON FUNCTION tin_cache_stats() IS 'This backend''s decoded-tin cache: hits, misses, entries and bytes; and the stored values it reads in slices (per-row point functions on a value it has not decoded): values, blocks held, bytes held (see tinmerge.cache_size).';

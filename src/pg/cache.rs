@@ -206,8 +206,11 @@ pub fn get_or_decode(
 
 /// The decoded value for (hash, len) when the cache holds it (no decode).
 pub fn peek(hash: u64, len: u64) -> Option<Arc<Tin>> {
+    let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;
     CACHE.with(|c| {
         let mut c = c.borrow_mut();
+        // the setting may have been lowered since values were kept
+        c.trim(limit, 0);
         c.clock += 1;
         let now = c.clock;
         let hit = c
@@ -269,7 +272,10 @@ pub fn sliced(
         let mut c = c.borrow_mut();
         c.clock += 1;
         let now = c.clock;
-        let i = c.entries.iter().position(|e| e.hash == hash && e.len == len)?;
+        let i = c
+            .entries
+            .iter()
+            .position(|e| e.hash == hash && e.len == len)?;
         let e = &mut c.entries[i];
         e.calls += 1;
         e.last = now;
@@ -364,13 +370,7 @@ fn tin_cache_stats() -> TableIterator<
     let (h, m, e, b) = stats();
     let (sv, sb, sn) = sliced_stats();
     TableIterator::once((
-        h as i64,
-        m as i64,
-        e as i32,
-        b as i64,
-        sv as i32,
-        sb as i64,
-        sn as i64,
+        h as i64, m as i64, e as i32, b as i64, sv as i32, sb as i64, sn as i64,
     ))
 }
 

@@ -290,9 +290,14 @@ fn tin_drape(
     let p = gserialized::peek(bytes).or_raise();
     if let (Some(Some([x, y])), false) = (p.point, p.has_m) {
         if !(x.is_nan() && y.is_nan()) {
-            let z = on_point(&t, level, &geom, "tin_drape", point::height, |r, l, x, y| {
-                point::height_in(r, l, x, y)
-            })?;
+            let z = on_point(
+                &t,
+                level,
+                &geom,
+                "tin_drape",
+                point::height,
+                |r, l, x, y| point::height_in(r, l, x, y),
+            )?;
             let out = Geom::Point(Some([x, y, z]));
             return Some(GeomOut(gserialized::write(p.srid, true, &out)));
         }

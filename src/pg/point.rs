@@ -77,14 +77,9 @@ fn tin_height(
     level: default!(Option<i32>, "NULL"),
 ) -> Option<f64> {
     let (t, pt) = (t?, pt?);
-    on_point(
-        &t,
-        level,
-        &pt,
-        "tin_height",
-        point::height,
-        |r, l, x, y| point::height_in(r, l, x, y),
-    )
+    on_point(&t, level, &pt, "tin_height", point::height, |r, l, x, y| {
+        point::height_in(r, l, x, y)
+    })
 }
 
 extension_sql!(
