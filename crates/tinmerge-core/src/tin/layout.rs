@@ -613,7 +613,10 @@ pub fn from_hex(s: &str) -> Result<Vec<u8>, TinError> {
 }
 
 /// Upper bound of the heap used to decode a stored value of `len` bytes
-/// (the decoded arrays and the grid index are about the stored size).
+/// (the decoded arrays and the grid index are about the stored size; a
+/// format-3 body is first copied out of its blocks, another stored size).
 pub fn decode_bytes(len: usize) -> usize {
-    len.saturating_mul(2).saturating_add(1 << 16)
+    len.saturating_mul(5)
+        .saturating_div(2)
+        .saturating_add(1 << 16)
 }
