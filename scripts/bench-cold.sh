@@ -25,6 +25,7 @@ CREATE TABLE dem_x4_tiles AS SELECT ST_Tile(rast, 64, 64) AS rast FROM dem_x4;
 CREATE INDEX ON dem_x4_tiles USING gist (ST_ConvexHull(rast));
 CREATE TABLE terrains (name text, t tin);
 INSERT INTO terrains SELECT 'small', tin_from_raster(rast, 2.0, 5) FROM dem;
+SET tinmerge.max_memory = '4GB';
 INSERT INTO terrains SELECT 'large', tin_from_raster(rast, 2.0, 5) FROM dem_x4;
 ANALYZE;
 SQL
