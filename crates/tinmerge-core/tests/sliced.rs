@@ -157,3 +157,86 @@ fn format_1_is_not_read_in_slices() {
         Err(TinError::Corrupt(_))
     ));
 }
+
+#[test]
+fn lines_read_in_slices_cut_as_on_the_decoded_value() {
+    use tinmerge_core::merge::line::{pieces, pieces_in, walk_parts, Part, TriangleSink};
+    let mut r = StdRng::seed_from_u64(0x11e5);
+    for (name, tin) in tins() {
+        let stored = layout::encode(&tin);
+        let b = tin.bbox;
+        let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
+        // random polylines, some starting or ending outside the domain, and
+        // one through vertices and along edges (grid-aligned steps from a
+        // vertex)
+        let mut lines: Vec<Vec<Part>> = (0..30)
+            .map(|_| {
+                let n = 2 + r.random_range(0..6);
+                vec![Part::new(
+                    (0..n)
+                        .map(|_| {
+                            [
+                                b.min_x - 0.05 * w + r.random::<f64>() * 1.1 * w,
+                                b.min_y - 0.05 * h + r.random::<f64>() * 1.1 * h,
+                            ]
+                        })
+                        .collect(),
+                )]
+            })
+            .collect();
+        let c = tin.corners(tin.levels.len() - 1, 17);
+        lines.push(vec![Part::new(vec![
+            [c[0][0], c[0][1]],
+            [c[1][0], c[1][1]],
+            [c[2][0], c[2][1]],
+            [b.max_x + 1.0, c[2][1]],
+        ])]);
+        for l in 0..tin.levels.len() {
+            for parts in &lines {
+                let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                    Ok(stored[at as usize..at as usize + len].to_vec())
+                };
+                let reader = s.reader(&mut fetch);
+                let got = pieces_in(&reader, l, parts, &mut || Ok(())).unwrap();
+                let want = pieces(&tin, l, parts).unwrap();
+                assert_eq!(got.len(), want.len(), "{name} level {l}");
+                for (a, b) in got.iter().zip(&want) {
+                    assert_eq!(a.triangle, b.triangle);
+                    let bits = |p: &Vec<[f64; 3]>| {
+                        p.iter()
+                            .flat_map(|c| c.map(f64::to_bits))
+                            .collect::<Vec<_>>()
+                    };
+                    assert_eq!(bits(&a.points), bits(&b.points), "{name} level {l}");
+                }
+                let mut ts = TriangleSink::default();
+                walk_parts(&reader, l, parts, &mut ts, &mut |_, _| {}, &mut || Ok(())).unwrap();
+                let mut td = TriangleSink::default();
+                walk_parts(&tin, l, parts, &mut td, &mut |_, _| {}, &mut || Ok(())).unwrap();
+                assert_eq!(ts.tris, td.tris);
+            }
+        }
+        // a 2 km line inside the UTM domain reads a small part of the value
+        if name == "utm" {
+            let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+            let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                Ok(stored[at as usize..at as usize + len].to_vec())
+            };
+            let reader = s.reader(&mut fetch);
+            let line = [Part::new(vec![
+                [757000.0, 4052000.0],
+                [759000.0, 4052100.0],
+            ])];
+            let n = pieces_in(&reader, tin.levels.len() - 1, &line, &mut || Ok(()))
+                .unwrap()
+                .len();
+            eprintln!(
+                "2 km line, finest level: {n} pieces, {} of {} bytes read",
+                s.cached_bytes(),
+                stored.len()
+            );
+            assert!(n > 20 && s.cached_bytes() * 20 < stored.len());
+        }
+    }
+}

@@ -233,3 +233,9 @@ pub enum TinError {
     #[error("interrupted")]
     Interrupted,
 }
+
+impl From<std::convert::Infallible> for TinError {
+    fn from(e: std::convert::Infallible) -> TinError {
+        match e {}
+    }
+}

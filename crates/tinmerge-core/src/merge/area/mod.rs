@@ -194,7 +194,7 @@ fn walk_rings(
     let mut w = Walker::new(tin, level, &mut sink, interrupt);
     for (ri, ring) in area.rings.iter().enumerate() {
         w.sink.ring = ri as u32;
-        w.start_part(ring[0]);
+        w.start_part(ring[0])?;
         for k in 0..ring.len() - 1 {
             w.sink.seg = k as u32;
             w.walk_segment(ring[k], ring[k + 1], 0.0)?;

@@ -56,6 +56,7 @@ pub mod widened;
 use crate::geom::{co, dist, vco, P2};
 use crate::interrupt::Interrupt;
 use crate::tin::locate;
+use crate::tin::mesh::{Indexed, Mesh};
 use crate::tin::{interpolate, Level, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 
@@ -154,9 +155,14 @@ fn corrupt(what: &str) -> TinError {
     TinError::Corrupt(format!("line walk: {what}"))
 }
 
-/// Follows lines through the triangles of one level.
-pub struct Walker<'a, S: Sink> {
-    tin: &'a Tin,
+/// Follows lines through the triangles of one level of a mesh: a decoded
+/// [`Tin`] (the default) or a stored value read in slices
+/// ([`crate::tin::sliced`]), whose read errors end the walk.
+pub struct Walker<'a, S: Sink, M: Indexed = Tin>
+where
+    TinError: From<M::Err>,
+{
+    tin: &'a M,
     level: usize,
     pub sink: &'a mut S,
     /// Triangle whose closed area holds the current point (None: outside).
@@ -169,9 +175,12 @@ pub struct Walker<'a, S: Sink> {
     ticks: u32,
 }
 
-impl<'a, S: Sink> Walker<'a, S> {
+impl<'a, S: Sink, M: Indexed> Walker<'a, S, M>
+where
+    TinError: From<M::Err>,
+{
     pub fn new(
-        tin: &'a Tin,
+        tin: &'a M,
         level: usize,
         sink: &'a mut S,
         interrupt: &'a mut Interrupt<'a>,
@@ -202,14 +211,21 @@ impl<'a, S: Sink> Walker<'a, S> {
     }
 
     #[inline]
-    fn corners(&self, t: u32) -> [Coord<f64>; 3] {
-        let cs = self.tin.corners(self.level, t);
-        [vco(&cs[0]), vco(&cs[1]), vco(&cs[2])]
+    fn corners(&self, t: u32) -> Result<[Coord<f64>; 3], TinError> {
+        let cs = self.tin.corners(self.level, t)?;
+        Ok([vco(&cs[0]), vco(&cs[1]), vco(&cs[2])])
     }
 
     #[inline]
-    fn nbr(&self, t: u32, j: usize) -> u32 {
-        self.tin.levels[self.level].nbrs[t as usize][j]
+    fn nbr(&self, t: u32, j: usize) -> Result<u32, TinError> {
+        Ok(self.tin.nbrs(self.level, t)?[j])
+    }
+
+    /// Corner `j` of triangle `t`: its vertex id and position.
+    #[inline]
+    fn corner(&self, t: u32, j: usize) -> Result<(u32, [f64; 3]), TinError> {
+        let vid = self.tin.tri(self.level, t)?[j];
+        Ok((vid, self.tin.vert(vid)?))
     }
 
     #[inline]
@@ -219,9 +235,10 @@ impl<'a, S: Sink> Walker<'a, S> {
     }
 
     /// Start a part at its first vertex.
-    pub fn start_part(&mut self, p: P2) {
-        self.cur = locate::locate(self.tin, self.level, p[0], p[1]);
+    pub fn start_part(&mut self, p: P2) -> Result<(), TinError> {
+        self.cur = locate::locate_in(self.tin, self.level, p[0], p[1])?;
         self.open = false;
+        Ok(())
     }
 
     /// End a part: a part that never moved but lies in the domain is
@@ -246,16 +263,17 @@ impl<'a, S: Sink> Walker<'a, S> {
     /// Move to p without reporting anything (the widened-line merge skipping
     /// a stretch whose triangles are all known): the current triangle
     /// becomes one holding p, found by a walk from the current one.
-    pub fn jump_to(&mut self, p: P2) {
+    pub fn jump_to(&mut self, p: P2) -> Result<(), TinError> {
         let start = match self.cur {
             Some(t) => t,
-            None => locate::start_triangle(self.tin, self.level, p[0], p[1]),
+            None => locate::start_in(self.tin, self.level, p[0], p[1])?,
         };
-        self.cur = match locate::walk(self.tin, self.level, start, p[0], p[1]) {
+        self.cur = match locate::walk_in(self.tin, self.level, start, p[0], p[1])? {
             locate::Walk::Inside(t) => Some(t),
             locate::Walk::Outside(_) => None,
         };
         self.open = false;
+        Ok(())
     }
 
     /// Report original vertices known to lie strictly inside the current
@@ -317,13 +335,13 @@ impl<'a, S: Sink> Walker<'a, S> {
         };
         let (cp, cq) = (co(p), co(q));
         // steps left before the walk is declared broken
-        let mut budget = 2 * self.tin.levels[self.level].tris.len() + 64;
+        let mut budget = 2 * self.tin.num_triangles(self.level) + 64;
         loop {
             if budget == 0 {
                 return Err(corrupt("the walk did not end"));
             }
             budget -= 1;
-            let tc = self.corners(t);
+            let tc = self.corners(t)?;
             if (0..3).all(|j| orient2d(tc[(j + 1) % 3], tc[(j + 2) % 3], cq) >= 0.0) {
                 self.emit(t, q, along + dist(p, q));
                 self.cur = Some(t);
@@ -338,7 +356,7 @@ impl<'a, S: Sink> Walker<'a, S> {
                     let x = [a.x + r * (b.x - a.x), a.y + r * (b.y - a.y)];
                     let ax = along + dist(p, x);
                     self.emit(t, x, ax);
-                    let n = self.nbr(t, j);
+                    let n = self.nbr(t, j)?;
                     if n == NONE {
                         self.leave();
                         return Ok(());
@@ -347,8 +365,7 @@ impl<'a, S: Sink> Walker<'a, S> {
                     t = n;
                 }
                 Exit::Corner(j) => {
-                    let vid = self.tin.levels[self.level].tris[t as usize][j];
-                    let v = self.tin.verts[vid as usize];
+                    let (vid, v) = self.corner(t, j)?;
                     let x = [v[0], v[1]];
                     let ax = along + dist(p, x);
                     self.emit(t, x, ax);
@@ -378,14 +395,14 @@ impl<'a, S: Sink> Walker<'a, S> {
     /// The triangle holding the first stretch of p -> q, given a closed
     /// triangle `t` holding p (None: the segment leaves the domain at p).
     fn start_in(&mut self, t: u32, p: P2, q: P2) -> Result<Option<u32>, TinError> {
-        let tc = self.corners(t);
+        let tc = self.corners(t)?;
         let (cp, cq) = (co(p), co(q));
         match spot(&tc, cp) {
             None => Err(corrupt("current point is not in its triangle")),
             Some(Spot::Inside) => Ok(Some(t)),
             Some(Spot::Edge(j)) => {
                 let (a, b) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
-                let n = self.nbr(t, j);
+                let n = self.nbr(t, j)?;
                 let o = orient2d(a, b, cq);
                 Ok(if o > 0.0 {
                     Some(t)
@@ -398,7 +415,7 @@ impl<'a, S: Sink> Walker<'a, S> {
                 })
             }
             Some(Spot::Corner(j)) => {
-                let vid = self.tin.levels[self.level].tris[t as usize][j];
+                let vid = self.tin.tri(self.level, t)?[j];
                 self.fan(t, vid, cq)
             }
         }
@@ -409,38 +426,38 @@ impl<'a, S: Sink> Walker<'a, S> {
     /// direction runs along an edge); None when the direction leaves the
     /// domain.
     fn fan(&self, t0: u32, vid: u32, q: Coord<f64>) -> Result<Option<u32>, TinError> {
-        let tin = self.tin;
-        let lv = &tin.levels[self.level];
-        let v = vco(&tin.verts[vid as usize]);
-        let limit = lv.tris.len() + 1;
+        let (m, l) = (self.tin, self.level);
+        let v = vco(&m.vert(vid)?);
+        let limit = m.num_triangles(l) + 1;
         // first counter-clockwise from t0, then (if the fan is open, on the
         // hull) clockwise
         for ccw in [true, false] {
             let mut u = t0;
             for _ in 0..limit {
-                let tri = lv.tris[u as usize];
+                let tri = m.tri(l, u)?;
+                let nb = m.nbrs(l, u)?;
                 let i = tri
                     .iter()
                     .position(|&x| x == vid)
                     .ok_or_else(|| corrupt("vertex fan is inconsistent"))?;
-                let b = vco(&tin.verts[tri[(i + 1) % 3] as usize]);
-                let cc = vco(&tin.verts[tri[(i + 2) % 3] as usize]);
+                let b = vco(&m.vert(tri[(i + 1) % 3])?);
+                let cc = vco(&m.vert(tri[(i + 2) % 3])?);
                 let ob = orient2d(v, b, q);
                 let oc = orient2d(v, cc, q);
                 if ob >= 0.0 && oc <= 0.0 {
                     let other = if ob == 0.0 {
-                        lv.nbrs[u as usize][(i + 2) % 3]
+                        nb[(i + 2) % 3]
                     } else if oc == 0.0 {
-                        lv.nbrs[u as usize][(i + 1) % 3]
+                        nb[(i + 1) % 3]
                     } else {
                         NONE
                     };
                     return Ok(Some(if other == NONE { u } else { u.min(other) }));
                 }
                 let next = if ccw {
-                    lv.nbrs[u as usize][(i + 1) % 3]
+                    nb[(i + 1) % 3]
                 } else {
-                    lv.nbrs[u as usize][(i + 2) % 3]
+                    nb[(i + 2) % 3]
                 };
                 if next == NONE {
                     break;
@@ -462,7 +479,7 @@ impl<'a, S: Sink> Walker<'a, S> {
     /// the first stretch inside, and the entry point), or None if it
     /// does not (touching the hull at a single point does not count).
     fn enter(&mut self, p: P2, q: P2) -> Result<Option<(u32, P2)>, TinError> {
-        let b = &self.tin.bbox;
+        let b = self.tin.bbox();
         if p[0].max(q[0]) < b.min_x
             || p[0].min(q[0]) > b.max_x
             || p[1].max(q[1]) < b.min_y
@@ -472,10 +489,24 @@ impl<'a, S: Sink> Walker<'a, S> {
         }
         let (cp, cq) = (co(p), co(q));
         if self.hull.is_none() {
-            self.hull = Some(hull_edges(&self.tin.levels[self.level]));
+            self.hull = Some(hull_edges_in(self.tin, self.level)?);
         }
-        for &(t, j) in self.hull.as_deref().unwrap_or(&[]) {
-            let tc = self.corners(t);
+        let hull = self.hull.take().unwrap_or_default();
+        let r = self.enter_through(&hull, q, cp, cq);
+        self.hull = Some(hull);
+        r
+    }
+
+    /// [`Self::enter`] over the hull edges.
+    fn enter_through(
+        &mut self,
+        hull: &[(u32, usize)],
+        q: P2,
+        cp: Coord<f64>,
+        cq: Coord<f64>,
+    ) -> Result<Option<(u32, P2)>, TinError> {
+        for &(t, j) in hull {
+            let tc = self.corners(t)?;
             let (a, bb) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
             // p strictly outside this edge's half-plane, q on or inside it
             if !(orient2d(a, bb, cp) < 0.0 && orient2d(a, bb, cq) >= 0.0) {
@@ -500,8 +531,7 @@ impl<'a, S: Sink> Walker<'a, S> {
                 if o == 0.0 {
                     // through a hull vertex: it lies on the segment (p and q
                     // are on either side of the edge's line)
-                    let vid = self.tin.levels[self.level].tris[t as usize][k];
-                    let vv = self.tin.verts[vid as usize];
+                    let (vid, vv) = self.corner(t, k)?;
                     let x = [vv[0], vv[1]];
                     if x == q {
                         self.cur = Some(t);
@@ -516,6 +546,19 @@ impl<'a, S: Sink> Walker<'a, S> {
         }
         Ok(None)
     }
+}
+
+/// [`hull_edges`] of any mesh (reads every triangle's neighbours).
+pub fn hull_edges_in<M: Mesh>(m: &M, level: usize) -> Result<Vec<(u32, usize)>, M::Err> {
+    let mut h = Vec::new();
+    for t in 0..m.num_triangles(level) as u32 {
+        for (j, &x) in m.nbrs(level, t)?.iter().enumerate() {
+            if x == NONE {
+                h.push((t, j));
+            }
+        }
+    }
+    Ok(h)
 }
 
 /// The hull edges of a level, as (triangle, edge opposite corner j), by
@@ -615,30 +658,54 @@ impl Piece {
     }
 }
 
-/// Collects [`Piece`]s (repeated points dropped).
-pub struct PieceSink<'a> {
-    tin: &'a Tin,
+/// Collects [`Piece`]s (repeated points dropped), heights from the mesh.
+pub struct PieceSink<'a, M: Mesh = Tin> {
+    tin: &'a M,
     level: usize,
     pub part: usize,
     pub pieces: Vec<Piece>,
     open: bool,
+    /// The first read error of the mesh (a damaged block of a value read in
+    /// slices); the pieces are not to be used when it is set.
+    pub err: Option<TinError>,
 }
 
-impl<'a> PieceSink<'a> {
-    pub fn new(tin: &'a Tin, level: usize) -> Self {
+impl<'a, M: Mesh> PieceSink<'a, M>
+where
+    TinError: From<M::Err>,
+{
+    pub fn new(tin: &'a M, level: usize) -> Self {
         PieceSink {
             tin,
             level,
             part: 0,
             pieces: Vec::new(),
             open: false,
+            err: None,
+        }
+    }
+
+    /// The pieces, or the first read error.
+    pub fn finish(self) -> Result<Vec<Piece>, TinError> {
+        match self.err {
+            Some(e) => Err(e),
+            None => Ok(self.pieces),
         }
     }
 }
 
-impl Sink for PieceSink<'_> {
+impl<M: Mesh> Sink for PieceSink<'_, M>
+where
+    TinError: From<M::Err>,
+{
     fn point(&mut self, tri: u32, p: P2, along: f64) {
-        let z = interpolate(&self.tin.corners(self.level, tri), p[0], p[1]);
+        let z = match self.tin.corners(self.level, tri) {
+            Ok(c) => interpolate(&c, p[0], p[1]),
+            Err(e) => {
+                self.err.get_or_insert(e.into());
+                f64::NAN
+            }
+        };
         if self.open {
             if let Some(last) = self.pieces.last_mut() {
                 if last.triangle == tri {
@@ -690,14 +757,17 @@ impl Sink for TriangleSink {
 }
 
 /// Walk every segment of every part (the plain walk of the seed: O(N + M)).
-pub fn walk_parts<S: Sink, L: Polyline>(
-    tin: &Tin,
+pub fn walk_parts<S: Sink, L: Polyline, M: Indexed>(
+    tin: &M,
     level: usize,
     parts: &[L],
     sink: &mut S,
     on_part: &mut dyn FnMut(&mut S, usize),
     interrupt: &mut Interrupt<'_>,
-) -> Result<(), TinError> {
+) -> Result<(), TinError>
+where
+    TinError: From<M::Err>,
+{
     // one walker for all parts: the hull (for parts entering from outside
     // the domain) is found once
     let mut w = Walker::new(tin, level, sink, interrupt);
@@ -707,7 +777,7 @@ pub fn walk_parts<S: Sink, L: Polyline>(
             continue;
         }
         let p0 = part.pt(0)?;
-        w.start_part(p0);
+        w.start_part(p0)?;
         let mut moved = false;
         for k in 0..part.len() - 1 {
             moved |= part.pt(k)? != part.pt(k + 1)?;
@@ -720,16 +790,29 @@ pub fn walk_parts<S: Sink, L: Polyline>(
 
 /// The line cut into pieces, one per triangle crossed (plain walk).
 pub fn pieces(tin: &Tin, level: usize, parts: &[Part]) -> Result<Vec<Piece>, TinError> {
-    let mut sink = PieceSink::new(tin, level);
+    pieces_in(tin, level, parts, &mut || Ok(()))
+}
+
+/// [`pieces`] on any mesh (a stored value read in slices).
+pub fn pieces_in<M: Indexed>(
+    m: &M,
+    level: usize,
+    parts: &[Part],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<Piece>, TinError>
+where
+    TinError: From<M::Err>,
+{
+    let mut sink = PieceSink::new(m, level);
     walk_parts(
-        tin,
+        m,
         level,
         parts,
         &mut sink,
         &mut |s, i| s.part = i,
-        &mut || Ok(()),
+        interrupt,
     )?;
-    Ok(sink.pieces)
+    sink.finish()
 }
 
 /// Triangles the line passes through, in travel order (plain walk).

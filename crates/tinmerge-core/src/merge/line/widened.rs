@@ -285,7 +285,7 @@ pub fn near_line<L: Polyline>(
         let mut vis = Visited::default();
         let mut w = Walker::new(tin, level, &mut vis, interrupt);
         let p0 = part.pt(0)?;
-        w.start_part(p0);
+        w.start_part(p0)?;
         let start = w.current();
         let mut moved = false;
         for k in 0..part.len() - 1 {

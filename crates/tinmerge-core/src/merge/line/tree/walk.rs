@@ -103,7 +103,7 @@ fn descend<S: Sink, V: Visit<S>>(
             return w.run_inside(part, f, l);
         }
         if l > f + 1 && visit.pass_over(t, p, q, nd.err) {
-            w.jump_to(q);
+            w.jump_to(q)?;
             return Ok(());
         }
     }
@@ -151,7 +151,7 @@ pub fn walk_tree<S: Sink>(
         let part = tree.part_line(pi)?;
         let mut w = Walker::new(tin, level, sink, interrupt);
         let p0 = part.pt(0)?;
-        w.start_part(p0);
+        w.start_part(p0)?;
         let root = part.root()?;
         descend(tin, level, &part, &mut w, root, &mut Cut, 0)?;
         w.end_part(p0, moves(&part, root.1)?);
@@ -182,7 +182,7 @@ pub fn near_tree(
         let mut w = Walker::new(tin, level, &mut vis, interrupt);
         w.interrupt_now()?;
         let p0 = part.pt(0)?;
-        w.start_part(p0);
+        w.start_part(p0)?;
         let start = w.current();
         let root = part.root()?;
         let mut visit = Widen {
