@@ -17,8 +17,11 @@ use tinmerge_core::io::ewkb::{self, Geom};
 use tinmerge_core::io::gserialized;
 use tinmerge_core::merge::line::drape::drape;
 use tinmerge_core::merge::line::widened::near_line;
-use tinmerge_core::merge::line::{runs, walk_parts, Part, PieceSink, TriangleSink};
+use tinmerge_core::merge::line::{
+    pieces_in, runs, walk_parts, Part, Piece, PieceSink, TriangleSink,
+};
 use tinmerge_core::merge::point;
+use tinmerge_core::tin::mesh::Indexed;
 use tinmerge_core::tin::{check_xy, Tin, TinError};
 
 /// The parts of a LINESTRING or MULTILINESTRING argument (SRID checked,
@@ -90,9 +93,18 @@ fn _tin_line_triangles(
         return TableIterator::new(Vec::new());
     };
     let width = check_width(width.unwrap_or(0.0));
-    let (tin, l) = tin_level(&t, level);
-    let parts = line_parts(line, tin.srid, "tin_line_triangles");
-    let tris = line_triangles(&tin, l, &parts, width);
+    let tris = if width > 0.0 {
+        let (tin, l) = tin_level(&t, level);
+        let parts = line_parts(line, tin.srid, "tin_line_triangles");
+        line_triangles(&tin, l, &parts, width)
+    } else {
+        with_mesh!(t, level, |m, l, srid| {
+            let parts = line_parts(line, srid, "tin_line_triangles");
+            let mut sink = TriangleSink::default();
+            walk_parts(m, l, &parts, &mut sink, &mut |_, _| {}, &mut interrupt).or_raise();
+            sink.tris
+        })
+    };
     TableIterator::new(seq_rows(tris))
 }
 
@@ -115,14 +127,19 @@ pub(crate) fn seq_rows(tris: Vec<u32>) -> Vec<(i32, i32)> {
 
 type SegmentRow = (i32, i32, Vec<u8>, f64, f64, f64);
 
-pub(crate) fn segment_rows(
-    tin: &Tin,
+pub(crate) fn segment_rows<M: Indexed>(
+    tin: &M,
+    srid: i32,
     l: usize,
-    drive: impl FnOnce(&mut PieceSink) -> Result<(), TinError>,
-) -> Vec<SegmentRow> {
+    drive: impl FnOnce(&mut PieceSink<M>) -> Result<(), TinError>,
+) -> Vec<SegmentRow>
+where
+    TinError: From<M::Err>,
+{
     let mut sink = PieceSink::new(tin, l);
     drive(&mut sink).or_raise();
-    sink.pieces
+    let pieces = sink.finish().or_raise();
+    pieces
         .iter()
         .enumerate()
         .map(|(i, p)| {
@@ -133,7 +150,7 @@ pub(crate) fn segment_rows(
             (
                 i as i32 + 1,
                 p.triangle as i32,
-                ewkb::Writer::write(tin.srid, true, &Geom::LineString(pts)),
+                ewkb::Writer::write(srid, true, &Geom::LineString(pts)),
                 p.length2d(),
                 p.length3d(),
                 p.rise(),
@@ -161,17 +178,11 @@ fn _tin_line_segments(
     let (Some(t), Some(line)) = (t, line) else {
         return TableIterator::new(Vec::new());
     };
-    let (tin, l) = tin_level(&t, level);
-    let parts = line_parts(line, tin.srid, "tin_line_segments");
-    let rows = segment_rows(&tin, l, |sink| {
-        walk_parts(
-            &tin,
-            l,
-            &parts,
-            sink,
-            &mut |s, i| s.part = i,
-            &mut interrupt,
-        )
+    let rows = with_mesh!(t, level, |m, l, srid| {
+        let parts = line_parts(line, srid, "tin_line_segments");
+        segment_rows(m, srid, l, |sink| {
+            walk_parts(m, l, &parts, sink, &mut |s, i| s.part = i, &mut interrupt)
+        })
     });
     TableIterator::new(rows)
 }
@@ -186,10 +197,10 @@ COMMENT ON FUNCTION _tin_line_segments(tin, bytea, int) IS 'Internal: use tin_li
 );
 
 /// Profile points (distance along the whole line, z) and the climb.
-pub(crate) fn profile(sink: PieceSink, part_offsets: &[f64]) -> (Vec<(f64, f64)>, Option<f64>) {
+pub(crate) fn profile(pieces: &[Piece], part_offsets: &[f64]) -> (Vec<(f64, f64)>, Option<f64>) {
     let mut pts = Vec::new();
     let mut climb: Option<f64> = None;
-    for (part, p, along) in runs(&sink.pieces) {
+    for (part, p, along) in runs(pieces) {
         let off = part_offsets.get(part).copied().unwrap_or(0.0);
         for (i, (q, a)) in p.iter().zip(along.iter()).enumerate() {
             pts.push((off + a, q[2]));
@@ -222,19 +233,11 @@ fn profile_of(
     level: Option<i32>,
     func: &str,
 ) -> (Vec<(f64, f64)>, Option<f64>) {
-    let (tin, l) = tin_level(t, level);
-    let parts = line_parts(line, tin.srid, func);
-    let mut sink = PieceSink::new(&tin, l);
-    walk_parts(
-        &tin,
-        l,
-        &parts,
-        &mut sink,
-        &mut |s, i| s.part = i,
-        &mut interrupt,
-    )
-    .or_raise();
-    profile(sink, &part_offsets(parts.iter().map(|p| p.length())))
+    with_mesh!(t, level, |m, l, srid| {
+        let parts = line_parts(line, srid, func);
+        let pieces = pieces_in(m, l, &parts, &mut interrupt).or_raise();
+        profile(&pieces, &part_offsets(parts.iter().map(|p| p.length())))
+    })
 }
 
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]

@@ -260,8 +260,9 @@ fn _tin_line_segments_tree(
         return TableIterator::new(Vec::new());
     };
     let (tin, l, v) = tin_level_tree(&t, &line, level, "tin_line_segments");
-    let rows = super::line::segment_rows(&tin, l, |sink| {
-        walk_tree(&tin, l, &v, sink, &mut |s, i| s.part = i, &mut interrupt)
+    let tin: &Tin = &tin;
+    let rows = super::line::segment_rows(tin, tin.srid, l, |sink| {
+        walk_tree(tin, l, &v, sink, &mut |s, i| s.part = i, &mut interrupt)
     });
     TableIterator::new(rows)
 }
@@ -283,9 +284,10 @@ fn tree_profile(
 ) -> (Vec<(f64, f64)>, Option<f64>) {
     use tinmerge_core::merge::line::Polyline;
     let (tin, l, v) = tin_level_tree(t, lt, level, func);
-    let mut sink = PieceSink::new(&tin, l);
+    let tin: &Tin = &tin;
+    let mut sink = PieceSink::new(tin, l);
     walk_tree(
-        &tin,
+        tin,
         l,
         &v,
         &mut sink,
@@ -300,7 +302,10 @@ fn tree_profile(
         })
         .collect::<Result<_, _>>()
         .or_raise();
-    profile(sink, &part_offsets(lengths.into_iter()))
+    profile(
+        &sink.finish().or_raise(),
+        &part_offsets(lengths.into_iter()),
+    )
 }
 
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]

@@ -37,6 +37,36 @@ macro_rules! raw_datum_arg {
     };
 }
 
+/// Run `$body` with `$m` bound to the tin's mesh: the decoded value, or the
+/// stored value read in slices ([`tin_type::TinArg::mesh_source`]), and
+/// `$l` to the resolved level, `$srid` to the tin's SRID. The body is
+/// compiled for both, so a merge written over `tin::mesh::Indexed` runs on
+/// either.
+macro_rules! with_mesh {
+    ($t:expr, $level:expr, |$m:ident, $l:ident, $srid:ident| $body:expr) => {
+        match $t.mesh_source() {
+            $crate::pg::tin_type::MeshSource::Decoded(tin) => {
+                let $l = $crate::pg::errors::OrRaise::or_raise(tin.level_index($level));
+                let $srid = tin.srid;
+                let $m: &tinmerge_core::tin::Tin = &tin;
+                $body
+            }
+            $crate::pg::tin_type::MeshSource::Sliced(s) => {
+                let h = s.header();
+                let $l = $crate::pg::errors::OrRaise::or_raise(tinmerge_core::tin::resolve_level(
+                    $level,
+                    h.levels.len(),
+                ));
+                let $srid = h.srid;
+                let mut fetch = $t.fetch();
+                let reader = s.reader(&mut fetch);
+                let $m = &reader;
+                $body
+            }
+        }
+    };
+}
+
 mod area;
 mod args;
 mod build;

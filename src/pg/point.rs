@@ -9,7 +9,7 @@ use super::args::GeomArg;
 use super::errors::OrRaise;
 use super::interrupt::interrupt;
 use super::tin_type::tin_level;
-use super::tin_type::{PointSource, TinArg};
+use super::tin_type::{MeshSource, TinArg};
 use tinmerge_core::merge::point::{self, Rect};
 use tinmerge_core::tin::locate;
 use tinmerge_core::tin::sliced::Reader;
@@ -17,7 +17,7 @@ use tinmerge_core::tin::{resolve_level, Tin, TinError};
 
 /// A per-row point query: the point's x, y (SRID checked against the tin),
 /// then `decoded` on the decoded value or `sliced` on the stored value read
-/// in slices ([`TinArg::point_source`]), at the resolved level. Both run the
+/// in slices ([`TinArg::mesh_source`]), at the resolved level. Both run the
 /// same exact location.
 pub(crate) fn on_point<R>(
     t: &TinArg,
@@ -27,13 +27,13 @@ pub(crate) fn on_point<R>(
     decoded: impl FnOnce(&Tin, usize, f64, f64) -> Option<R>,
     sliced: impl FnOnce(&Reader, usize, f64, f64) -> Result<Option<R>, TinError>,
 ) -> Option<R> {
-    match t.point_source() {
-        PointSource::Decoded(tin) => {
+    match t.mesh_source() {
+        MeshSource::Decoded(tin) => {
             let l = tin.level_index(level).or_raise();
             let [x, y] = pt.point_xy(tin.srid, func)?;
             decoded(&tin, l, x, y)
         }
-        PointSource::Sliced(s) => {
+        MeshSource::Sliced(s) => {
             let h = s.header();
             let l = resolve_level(level, h.levels.len()).or_raise();
             let [x, y] = pt.point_xy(h.srid, func)?;

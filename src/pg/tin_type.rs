@@ -20,9 +20,9 @@ use tinmerge_core::tin::layout::{self, Header, HEADER_LEN};
 use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{Tin, TinError};
 
-/// What a per-row point function reads: the decoded value, or the stored
-/// value read block by block (see [`TinArg::point_source`]).
-pub enum PointSource {
+/// What the point and line functions read: the decoded value, or the
+/// stored value read block by block (see [`TinArg::mesh_source`]).
+pub enum MeshSource {
     Decoded(Arc<Tin>),
     Sliced(Rc<SlicedTin>),
 }
@@ -114,21 +114,21 @@ impl TinArg {
         }
     }
 
-    /// For the per-row point functions: the decoded value when this backend
+    /// For the point and line functions: the decoded value when this backend
     /// holds it (or the value is not stored out of line, or is in format
     /// 1), otherwise the stored value read in slices, so a query that
-    /// touches a few points of a large terrain reads a few blocks, not the
-    /// whole value. After [`cache::SLICED_CALLS`] calls on one value it is
-    /// decoded whole, as before.
-    pub fn point_source(&self) -> PointSource {
+    /// touches a few points or lines of a large terrain reads a few blocks,
+    /// not the whole value. After [`cache::SLICED_CALLS`] calls on one value,
+    /// or once it holds an eighth of the blocks, it is decoded whole.
+    pub fn mesh_source(&self) -> MeshSource {
         let Some((key, epoch, alias)) = self.remembered() else {
-            return PointSource::Decoded(self.tin());
+            return MeshSource::Decoded(self.tin());
         };
         let header = match alias {
             Some(a) => {
                 if let Some(t) = a.tin.upgrade() {
                     cache::count_alias_hit();
-                    return PointSource::Decoded(t);
+                    return MeshSource::Decoded(t);
                 }
                 a.header
             }
@@ -146,16 +146,16 @@ impl TinArg {
             }
         };
         if header.version == layout::VERSION_1 {
-            return PointSource::Decoded(self.tin());
+            return MeshSource::Decoded(self.tin());
         }
         if let Some(t) = cache::peek(header.hash, header.total_len) {
-            return PointSource::Decoded(t);
+            return MeshSource::Decoded(t);
         }
         match cache::sliced(header.hash, header.total_len, || {
             SlicedTin::new(self.slice(0, HEADER_LEN))
         }) {
-            Some(s) => PointSource::Sliced(s),
-            None => PointSource::Decoded(self.tin()),
+            Some(s) => MeshSource::Sliced(s),
+            None => MeshSource::Decoded(self.tin()),
         }
     }
 

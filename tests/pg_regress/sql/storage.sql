@@ -16,6 +16,17 @@ CREATE TABLE store_want AS
 SELECT i, l, tin_height(t, p, l) AS z, tin_locate(t, p, l) AS tri
 FROM store_pts, store_terrain, generate_series(0, 4) l;
 SELECT count(*) AS answers, count(z) AS inside FROM store_want;
+-- and lines: a 2 km line and a contour cut per triangle, with profile and climb
+CREATE TABLE store_lines AS
+SELECT 1 AS id, 'SRID=32616;LINESTRING(757000 4052000, 759000 4052100)'::geometry AS geom
+UNION ALL SELECT 2, geom FROM contours WHERE id = 100;
+CREATE TABLE store_cut AS
+SELECT sl.id, g.l, s.* FROM store_lines sl, store_terrain st, generate_series(0, 4) g(l), tin_line_segments(st.t, sl.geom, g.l) s;
+CREATE TABLE store_prof AS
+SELECT sl.id, g.l, (SELECT array_agg(array[distance, z] ORDER BY distance, z) FROM tin_line_profile(st.t, sl.geom, g.l)) AS prof,
+       tin_line_climb(st.t, sl.geom, g.l) AS climb,
+       (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(st.t, sl.geom, g.l)) AS tris
+FROM store_lines sl, store_terrain st, generate_series(0, 4) g(l);
 SELECT sliced_values, entries >= 1 AS decoded FROM tin_cache_stats();
 -- a new session: a few points read the value in slices, decoding nothing
 \c
@@ -27,6 +38,21 @@ FROM store_want w JOIN store_pts USING (i), store_terrain WHERE i <= 5;
 SELECT entries AS decoded_values, sliced_values, sliced_blocks > 0 AS read_blocks,
        sliced_bytes * 20 < (SELECT (tin_info(t)->>'bytes')::bigint FROM store_terrain) AS read_under_5_percent
 FROM tin_cache_stats();
+-- a new session: the same lines read in slices
+\c
+SET extra_float_digits = 0;
+WITH now AS (SELECT sl.id, g.l, s.* FROM store_lines sl, store_terrain st, generate_series(0, 4) g(l),
+               tin_line_segments(st.t, sl.geom, g.l) s WHERE sl.id = 1)
+SELECT (SELECT count(*) FROM now) AS pieces, (SELECT count(*) FROM store_cut WHERE id = 1) AS pieces_decoded,
+       count(*) AS same_pieces
+FROM now n JOIN store_cut c USING (id, l, seq)
+WHERE n.triangle = c.triangle AND ST_AsEWKB(n.geom) = ST_AsEWKB(c.geom) AND n.length3d = c.length3d AND n.rise = c.rise;
+SELECT count(*) FILTER (WHERE (SELECT array_agg(array[distance, z] ORDER BY distance, z) FROM tin_line_profile(st.t, sl.geom, p.l)) = p.prof
+                          AND tin_line_climb(st.t, sl.geom, p.l) IS NOT DISTINCT FROM p.climb
+                          AND (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(st.t, sl.geom, p.l)) = p.tris) AS same_profiles,
+       count(*) AS asked
+FROM store_prof p JOIN store_lines sl USING (id), store_terrain st WHERE p.id = 1;
+SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
 -- tin_drape of a point takes the same path
 SELECT ST_Z(tin_drape(t, p, 2)) = w.z AS drape_same
 FROM store_want w JOIN store_pts USING (i), store_terrain WHERE i = 7 AND l = 2;
@@ -55,4 +81,4 @@ SELECT count(DISTINCT (SELECT array_agg(tin_height(o.t, ST_SetSRID(ST_MakePoint(
        count(DISTINCT (SELECT array_agg(geom ORDER BY id) FROM tin_triangles(o.t, 2))) AS distinct_triangle_lists
 FROM store_old o, LATERAL (SELECT tin_envelope(o.t)::box2d AS e) b;
 SELECT tin_rewrite(NULL::tin) IS NULL AS strict;
-DROP TABLE store_terrain, store_pts, store_want, store_old;
+DROP TABLE store_terrain, store_pts, store_want, store_old, store_lines, store_cut, store_prof;
