@@ -10,7 +10,6 @@ use pgrx::prelude::*;
 use super::args::check_srid;
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
-use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::io::ewkb::{self, Geom};
 use tinmerge_core::merge::area::polygon::Area;
@@ -92,10 +91,11 @@ fn _tin_area_triangles(
     let (Some(t), Some(area)) = (t, area) else {
         return TableIterator::new(Vec::new());
     };
-    let (tin, l) = tin_level(&t, level);
-    let area = area_arg(area, validity, tin.srid, "tin_area_triangles");
-    let s = sweep(&tin, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
-    let rows = area_rows(&tin, &area, &s, compact.unwrap_or(false), &mut interrupt).or_raise();
+    let rows = with_mesh!(t, level, |m, l, srid| {
+        let area = area_arg(area, validity, srid, "tin_area_triangles");
+        let s = sweep(m, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+        area_rows(m, &area, &s, compact.unwrap_or(false), &mut interrupt).or_raise()
+    });
     TableIterator::new(rows.into_iter().map(|r| {
         (
             r.triangle as i32,
@@ -148,11 +148,12 @@ fn _tin_area_stats(
     let (Some(t), Some(area)) = (t, area) else {
         return TableIterator::new(Vec::<StatsRow>::new());
     };
-    let (tin, l) = tin_level(&t, level);
-    refuse_geographic(geographic, tin.srid, "tin_area_stats");
-    let area = area_arg(area, validity, tin.srid, "tin_area_stats");
-    let s = sweep(&tin, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
-    let st = stats(&tin, &area, &s, &mut interrupt).or_raise();
+    let st = with_mesh!(t, level, |m, l, srid| {
+        refuse_geographic(geographic, srid, "tin_area_stats");
+        let area = area_arg(area, validity, srid, "tin_area_stats");
+        let s = sweep(m, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+        stats(m, &area, &s, &mut interrupt).or_raise()
+    });
     let some = |v: f64| (st.area2d > 0.0).then_some(v);
     TableIterator::new(vec![(
         st.area2d,
@@ -192,11 +193,12 @@ fn _tin_volume(
             format!("tin_volume: base_z must be a finite height, got {base}"),
         );
     }
-    let (tin, l) = tin_level(&t, level);
-    refuse_geographic(geographic, tin.srid, "tin_volume");
-    let area = area_arg(area, validity, tin.srid, "tin_volume");
-    let s = sweep(&tin, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
-    let (cut, fill) = volume(&tin, &area, &s, base, &mut interrupt).or_raise();
+    let (cut, fill) = with_mesh!(t, level, |m, l, srid| {
+        refuse_geographic(geographic, srid, "tin_volume");
+        let area = area_arg(area, validity, srid, "tin_volume");
+        let s = sweep(m, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+        volume(m, &area, &s, base, &mut interrupt).or_raise()
+    });
     TableIterator::new(vec![(cut, fill)])
 }
 
@@ -220,7 +222,8 @@ fn _tin_area_examined(
     level: Option<i32>,
     method: &str,
 ) -> TableIterator<'static, (name!(examined, i64), name!(rows, i64))> {
-    let (tin, l) = tin_level(&t, level);
+    let (tin, l) = super::tin_type::tin_level(&t, level);
+    let tin: &tinmerge_core::tin::Tin = &tin;
     let area = area_arg(area, None, tin.srid, "_tin_area_examined");
     let m = match method {
         "hierarchy" => Method::Hierarchy,
@@ -231,8 +234,8 @@ fn _tin_area_examined(
             format!("method must be 'hierarchy', 'flat' or 'scan', got '{other}'"),
         ),
     };
-    let s = sweep(&tin, l, &area, m, &mut interrupt).or_raise();
-    let rows = area_rows(&tin, &area, &s, m == Method::Hierarchy, &mut interrupt).or_raise();
+    let s = sweep(tin, l, &area, m, &mut interrupt).or_raise();
+    let rows = area_rows(tin, &area, &s, m == Method::Hierarchy, &mut interrupt).or_raise();
     TableIterator::new(vec![(s.examined as i64, rows.len() as i64)])
 }
 

@@ -9,7 +9,8 @@ mod common;
 
 use std::hint::black_box;
 use std::time::Instant;
-use tinmerge_core::merge::overlay::{difference, naive, overlay, overlay_constrained};
+use tinmerge_core::merge::overlay::constrained::naive;
+use tinmerge_core::merge::overlay::{difference, overlay, overlay_constrained};
 use tinmerge_core::tin::build::{build, default_tolerances};
 
 fn median(mut v: Vec<f64>) -> f64 {

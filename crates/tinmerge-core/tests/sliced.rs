@@ -240,3 +240,68 @@ fn lines_read_in_slices_cut_as_on_the_decoded_value() {
         }
     }
 }
+
+#[test]
+fn areas_read_in_slices_sweep_as_on_the_decoded_value() {
+    use tinmerge_core::merge::area::polygon::Area;
+    use tinmerge_core::merge::area::surface::{stats, volume};
+    use tinmerge_core::merge::area::{area_rows, sweep, Method};
+    let mut r = StdRng::seed_from_u64(0xa4ea);
+    for (name, tin) in tins() {
+        let stored = layout::encode(&tin);
+        let b = tin.bbox;
+        let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
+        // star polygons with a hole, some crossing the domain's edge
+        let polys: Vec<Area> = (0..8)
+            .map(|i| {
+                let c = [
+                    b.min_x + r.random::<f64>() * w,
+                    b.min_y + r.random::<f64>() * h,
+                ];
+                let rad = (0.03 + 0.2 * r.random::<f64>()) * w.min(h);
+                let ring = |scale: f64, rev: bool, r: &mut StdRng| {
+                    let n = 7 + (i % 5);
+                    let mut pts: Vec<[f64; 2]> = (0..n)
+                        .map(|k| {
+                            let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                            let rr = scale * rad * (0.6 + 0.4 * r.random::<f64>());
+                            [c[0] + rr * a.cos(), c[1] + rr * a.sin()]
+                        })
+                        .collect();
+                    if rev {
+                        pts.reverse();
+                    }
+                    pts
+                };
+                let outer = ring(1.0, false, &mut r);
+                let hole = ring(0.2, true, &mut r);
+                Area::new(vec![vec![outer, hole]])
+            })
+            .collect();
+        for l in 0..tin.levels.len() {
+            for (pi, a) in polys.iter().enumerate() {
+                let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                    Ok(stored[at as usize..at as usize + len].to_vec())
+                };
+                let reader = s.reader(&mut fetch);
+                let sw_s = sweep(&reader, l, a, Method::Hierarchy, &mut || Ok(())).unwrap();
+                let sw_d = sweep(&tin, l, a, Method::Hierarchy, &mut || Ok(())).unwrap();
+                assert_eq!(sw_s.inside, sw_d.inside, "{name} level {l} polygon {pi}");
+                assert_eq!(sw_s.boundary, sw_d.boundary);
+                for compact in [false, true] {
+                    let rs = area_rows(&reader, a, &sw_s, compact, &mut || Ok(())).unwrap();
+                    let rd = area_rows(&tin, a, &sw_d, compact, &mut || Ok(())).unwrap();
+                    assert_eq!(rs, rd, "{name} level {l} polygon {pi} compact {compact}");
+                }
+                let ss = stats(&reader, a, &sw_s, &mut || Ok(())).unwrap();
+                let sd = stats(&tin, a, &sw_d, &mut || Ok(())).unwrap();
+                assert_eq!(format!("{ss:?}"), format!("{sd:?}"));
+                let vs = volume(&reader, a, &sw_s, 500.0, &mut || Ok(())).unwrap();
+                let vd = volume(&tin, a, &sw_d, 500.0, &mut || Ok(())).unwrap();
+                assert_eq!(vs.0.to_bits(), vd.0.to_bits());
+                assert_eq!(vs.1.to_bits(), vd.1.to_bits());
+            }
+        }
+    }
+}

@@ -16,7 +16,8 @@
 //! assert_eq!(child_starts(&[0, 0, 1], 2), vec![0, 2, 3]);
 //! ```
 
-use super::{Tin, TinError, NONE};
+use super::mesh::Mesh;
+use super::{TinError, NONE};
 
 /// Neighbour links of a triangle list (edge matching by sort).
 pub fn compute_neighbours(tris: &[[u32; 3]]) -> Result<Vec<[u32; 3]>, TinError> {
@@ -70,30 +71,30 @@ pub fn child_starts(parent: &[u32], num_parents: usize) -> Vec<u32> {
 }
 
 /// Children of triangle p (level l) at level l + 1.
-pub fn children(tin: &Tin, l: usize, p: u32) -> Result<std::ops::Range<u32>, TinError> {
-    let cs = &tin.levels[l].child_start;
-    match (cs.get(p as usize), cs.get(p as usize + 1)) {
-        (Some(&s), Some(&e)) if s <= e => Ok(s..e),
-        _ => Err(TinError::Corrupt(format!(
-            "triangle {p} of level {l} has no valid child range"
-        ))),
-    }
+pub fn children<M: Mesh>(m: &M, l: usize, p: u32) -> Result<std::ops::Range<u32>, TinError>
+where
+    TinError: From<M::Err>,
+{
+    Ok(m.children(l, p)?)
 }
 
 /// Descendants of triangle t (level l) at level `to`, appended to out.
-pub fn descendants(
-    tin: &Tin,
+pub fn descendants<M: Mesh>(
+    m: &M,
     l: usize,
     t: u32,
     to: usize,
     out: &mut Vec<u32>,
-) -> Result<(), TinError> {
+) -> Result<(), TinError>
+where
+    TinError: From<M::Err>,
+{
     if l == to {
         out.push(t);
         return Ok(());
     }
-    for ch in children(tin, l, t)? {
-        descendants(tin, l + 1, ch, to, out)?;
+    for ch in m.children(l, t)? {
+        descendants(m, l + 1, ch, to, out)?;
     }
     Ok(())
 }

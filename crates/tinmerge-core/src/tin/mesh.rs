@@ -6,19 +6,27 @@
 //! A decoded value never fails (`Err = Infallible`), and its accessors are
 //! the same array reads as before, so the decoded path costs nothing extra.
 
-use super::{Bbox, Level, Tin};
+use super::{Bbox, Level, Tin, NONE};
 use std::convert::Infallible;
 
 /// Triangles, neighbours and vertices of the levels of a triangulation.
 pub trait Mesh {
     type Err;
+    fn num_levels(&self) -> usize;
     fn num_triangles(&self, level: usize) -> usize;
+    /// Vertices of all levels (level ids index a prefix).
+    fn num_vertices(&self) -> usize;
     /// Vertex ids of triangle `t`, counter-clockwise.
     fn tri(&self, level: usize, t: u32) -> Result<[u32; 3], Self::Err>;
     /// Neighbours of `t` (across the edge opposite each corner; `NONE` on
     /// the hull).
     fn nbrs(&self, level: usize, t: u32) -> Result<[u32; 3], Self::Err>;
     fn vert(&self, v: u32) -> Result<[f64; 3], Self::Err>;
+    /// Parent of `t` at the previous level (`NONE` at level 0).
+    fn parent(&self, level: usize, t: u32) -> Result<u32, Self::Err>;
+    /// Children of `t` at the next level (contiguous: triangles are sorted
+    /// by parent).
+    fn children(&self, level: usize, t: u32) -> Result<std::ops::Range<u32>, Self::Err>;
     /// The three corners of triangle `t`.
     #[inline]
     fn corners(&self, level: usize, t: u32) -> Result<[[f64; 3]; 3], Self::Err> {
@@ -50,6 +58,10 @@ pub fn infallible<T>(r: Result<T, Infallible>) -> T {
 impl Mesh for Tin {
     type Err = Infallible;
     #[inline]
+    fn num_levels(&self) -> usize {
+        self.levels.len()
+    }
+    #[inline]
     fn num_triangles(&self, level: usize) -> usize {
         self.levels[level].tris.len()
     }
@@ -64,6 +76,24 @@ impl Mesh for Tin {
     #[inline]
     fn vert(&self, v: u32) -> Result<[f64; 3], Infallible> {
         Ok(self.verts[v as usize])
+    }
+    #[inline]
+    fn num_vertices(&self) -> usize {
+        self.verts.len()
+    }
+    #[inline]
+    fn parent(&self, level: usize, t: u32) -> Result<u32, Infallible> {
+        Ok(self.levels[level].parent[t as usize])
+    }
+    #[inline]
+    fn children(&self, level: usize, t: u32) -> Result<std::ops::Range<u32>, Infallible> {
+        // validated values have a child range for every triangle but the
+        // finest level's
+        let cs = &self.levels[level].child_start;
+        Ok(match (cs.get(t as usize), cs.get(t as usize + 1)) {
+            (Some(&s), Some(&e)) if s <= e => s..e,
+            _ => 0..0,
+        })
     }
 }
 
@@ -97,6 +127,10 @@ pub struct LevelRef<'a> {
 impl Mesh for LevelRef<'_> {
     type Err = Infallible;
     #[inline]
+    fn num_levels(&self) -> usize {
+        1
+    }
+    #[inline]
     fn num_triangles(&self, _: usize) -> usize {
         self.level.tris.len()
     }
@@ -111,5 +145,17 @@ impl Mesh for LevelRef<'_> {
     #[inline]
     fn vert(&self, v: u32) -> Result<[f64; 3], Infallible> {
         Ok(self.verts[v as usize])
+    }
+    #[inline]
+    fn num_vertices(&self) -> usize {
+        self.verts.len()
+    }
+    #[inline]
+    fn parent(&self, _: usize, t: u32) -> Result<u32, Infallible> {
+        Ok(self.level.parent.get(t as usize).copied().unwrap_or(NONE))
+    }
+    #[inline]
+    fn children(&self, _: usize, _: u32) -> Result<std::ops::Range<u32>, Infallible> {
+        Ok(0..0)
     }
 }

@@ -198,6 +198,10 @@ impl Reader<'_> {
 impl Mesh for Reader<'_> {
     type Err = TinError;
 
+    fn num_levels(&self) -> usize {
+        self.s.header.levels.len()
+    }
+
     fn num_triangles(&self, level: usize) -> usize {
         self.s
             .header
@@ -225,6 +229,50 @@ impl Mesh for Reader<'_> {
             )));
         }
         Ok(n)
+    }
+
+    fn num_vertices(&self) -> usize {
+        self.s.header.num_vertices as usize
+    }
+
+    fn parent(&self, level: usize, t: u32) -> Result<u32, TinError> {
+        self.check_tri(level, t)?;
+        let [p] = self.u32s::<1, 4>(self.level(level)?.parents + 4 * t as u64)?;
+        let ok = match level.checked_sub(1) {
+            None => p == NONE,
+            Some(up) => (p as usize) < self.num_triangles(up),
+        };
+        if !ok {
+            return Err(corrupt(format!("parent of triangle {t} out of range")));
+        }
+        Ok(p)
+    }
+
+    /// By binary search in the next level's parents (sorted): O(log n)
+    /// reads, a few blocks.
+    fn children(&self, level: usize, t: u32) -> Result<std::ops::Range<u32>, TinError> {
+        self.check_tri(level, t)?;
+        let next = level + 1;
+        if next >= self.s.sections.len() {
+            return Ok(0..0);
+        }
+        let n = self.num_triangles(next) as u32;
+        let at = self.level(next)?.parents;
+        // first child whose parent is >= p
+        let lower = |p: u32| -> Result<u32, TinError> {
+            let (mut lo, mut hi) = (0u32, n);
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                let [q] = self.u32s::<1, 4>(at + 4 * mid as u64)?;
+                if q < p {
+                    lo = mid + 1;
+                } else {
+                    hi = mid;
+                }
+            }
+            Ok(lo)
+        };
+        Ok(lower(t)?..lower(t + 1)?)
     }
 
     fn vert(&self, v: u32) -> Result<[f64; 3], TinError> {

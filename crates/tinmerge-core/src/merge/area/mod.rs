@@ -70,7 +70,8 @@ use crate::merge::area::clip::{clipped_moments, Chain};
 use crate::merge::area::polygon::{segment_meets_open_triangle, Area, Where};
 use crate::merge::line::{Sink, Walker};
 use crate::tin::hierarchy::{children, descendants};
-use crate::tin::{Tin, TinError, NONE};
+use crate::tin::mesh::{Indexed, Mesh};
+use crate::tin::{TinError, NONE};
 use robust::orient2d;
 
 /// How the inside triangles are found (the last two are the baselines the
@@ -174,13 +175,16 @@ impl Sink for RingSink {
     }
 }
 
-fn walk_rings(
-    tin: &Tin,
+fn walk_rings<M: Indexed>(
+    tin: &M,
     level: usize,
     area: &Area,
     want_pieces: bool,
     interrupt: &mut Interrupt<'_>,
-) -> Result<RingSink, TinError> {
+) -> Result<RingSink, TinError>
+where
+    TinError: From<M::Err>,
+{
     let mut sink = RingSink {
         ring: 0,
         seg: 0,
@@ -207,37 +211,43 @@ fn walk_rings(
 
 /// Corners of triangle t of a level in the plane.
 #[inline]
-pub fn corners2(tin: &Tin, level: usize, t: u32) -> [P2; 3] {
-    tin.corners(level, t).map(|v| [v[0], v[1]])
+pub fn corners2<M: Mesh>(tin: &M, level: usize, t: u32) -> Result<[P2; 3], TinError>
+where
+    TinError: From<M::Err>,
+{
+    Ok(tin.corners(level, t)?.map(|v| [v[0], v[1]]))
 }
 
 /// Whether a triangle that is not a boundary triangle lies inside (exact:
 /// a corner not on the polygon's boundary decides; else the centroid; else
 /// the clipped area).
-struct Status<'a> {
-    tin: &'a Tin,
+struct Status<'a, M: Mesh> {
+    tin: &'a M,
     area: &'a Area,
     /// per vertex: 0 unknown, else 1 + Where as u8
     vert: Vec<u8>,
 }
 
-impl<'a> Status<'a> {
-    fn new(tin: &'a Tin, area: &'a Area) -> Self {
+impl<'a, M: Mesh> Status<'a, M>
+where
+    TinError: From<M::Err>,
+{
+    fn new(tin: &'a M, area: &'a Area) -> Self {
         Status {
             tin,
             area,
-            vert: vec![0; tin.verts.len()],
+            vert: vec![0; tin.num_vertices()],
         }
     }
 
-    fn vertex(&mut self, v: u32) -> Where {
+    fn vertex(&mut self, v: u32) -> Result<Where, TinError> {
         let i = v as usize;
-        match self.vert.get(i).copied() {
+        Ok(match self.vert.get(i).copied() {
             Some(1) => Where::Inside,
             Some(2) => Where::Outside,
             Some(3) => Where::Boundary,
             _ => {
-                let p = self.tin.verts[i];
+                let p = self.tin.vert(v)?;
                 let w = self.area.locate([p[0], p[1]]);
                 if let Some(s) = self.vert.get_mut(i) {
                     *s = match w {
@@ -248,31 +258,31 @@ impl<'a> Status<'a> {
                 }
                 w
             }
-        }
+        })
     }
 
-    fn inside(&mut self, level: usize, t: u32) -> bool {
-        let tri = self.tin.levels[level].tris[t as usize];
+    fn inside(&mut self, level: usize, t: u32) -> Result<bool, TinError> {
+        let tri = self.tin.tri(level, t)?;
         for v in tri {
-            match self.vertex(v) {
-                Where::Inside => return true,
-                Where::Outside => return false,
+            match self.vertex(v)? {
+                Where::Inside => return Ok(true),
+                Where::Outside => return Ok(false),
                 Where::Boundary => {}
             }
         }
-        let cs = corners2(self.tin, level, t);
+        let cs = corners2(self.tin, level, t)?;
         let g = [
             (cs[0][0] + cs[1][0] + cs[2][0]) / 3.0,
             (cs[0][1] + cs[1][1] + cs[2][1]) / 3.0,
         ];
         if (0..3).all(|j| orient2d(co(cs[j]), co(cs[(j + 1) % 3]), co(g)) > 0.0) {
             match self.area.locate(g) {
-                Where::Inside => return true,
-                Where::Outside => return false,
+                Where::Inside => return Ok(true),
+                Where::Outside => return Ok(false),
                 Where::Boundary => {}
             }
         }
-        clipped_fraction(self.area, &cs) > 0.5
+        Ok(clipped_fraction(self.area, &cs) > 0.5)
     }
 }
 
@@ -306,17 +316,21 @@ fn corrupt(what: &str) -> TinError {
 
 /// Find the boundary and the inside triangles down to `level` (see the
 /// module documentation).
-pub fn sweep(
-    tin: &Tin,
+pub fn sweep<M: Indexed>(
+    tin: &M,
     level: usize,
     area: &Area,
     method: Method,
     interrupt: &mut Interrupt<'_>,
-) -> Result<Sweep, TinError> {
-    if level >= tin.levels.len() {
+) -> Result<Sweep, TinError>
+where
+    TinError: From<M::Err>,
+{
+    let num_levels = tin.num_levels();
+    if level >= num_levels {
         return Err(TinError::LevelOutOfRange {
             level: level as i64,
-            num_levels: tin.levels.len(),
+            num_levels,
         });
     }
     let mut out = Sweep {
@@ -341,7 +355,7 @@ pub fn sweep(
     let mut flags: Vec<Vec<u8>> = (0..=level)
         .map(|l| {
             if l >= first {
-                vec![0u8; tin.levels[l].tris.len()]
+                vec![0u8; tin.num_triangles(l)]
             } else {
                 Vec::new()
             }
@@ -361,7 +375,7 @@ pub fn sweep(
         if *f & BOUNDARY == 0 {
             let ring = &area.rings[r as usize];
             let (a, b) = (ring[s as usize], ring[s as usize + 1]);
-            if segment_meets_open_triangle(&corners2(tin, level, t), a, b) {
+            if segment_meets_open_triangle(&corners2(tin, level, t)?, a, b) {
                 *f |= BOUNDARY;
                 boundary_at[level].push(t);
             }
@@ -377,10 +391,13 @@ pub fn sweep(
         .copied()
         .collect();
     for l in (first..level).rev() {
-        let parent = &tin.levels[l + 1].parent;
+        let nl = tin.num_triangles(l);
         let up = |c: u32| -> Result<u32, TinError> {
-            let p = *parent.get(c as usize).ok_or_else(|| corrupt("parent"))?;
-            if (p as usize) < tin.levels[l].tris.len() {
+            if c as usize >= tin.num_triangles(l + 1) {
+                return Err(corrupt("parent"));
+            }
+            let p = tin.parent(l + 1, c)?;
+            if (p as usize) < nl {
                 Ok(p)
             } else {
                 Err(corrupt("parent id"))
@@ -406,7 +423,7 @@ pub fn sweep(
             }
             let ring = &area.rings[r as usize];
             let (a, b) = (ring[s as usize], ring[s as usize + 1]);
-            if segment_meets_open_triangle(&corners2(tin, l, p), a, b) {
+            if segment_meets_open_triangle(&corners2(tin, l, p)?, a, b) {
                 flags[l][p as usize] |= BOUNDARY;
                 boundary_at[l].push(p);
             } else {
@@ -420,8 +437,7 @@ pub fn sweep(
     let mut chains_at_level = Some(walk.pieces);
     let mut prev_boundary: Vec<u32> = Vec::new();
     for l in first..=level {
-        let lv = &tin.levels[l];
-        let n = lv.tris.len();
+        let n = tin.num_triangles(l);
         let walked = std::mem::take(&mut walked_at[l]);
         let mut boundary = std::mem::take(&mut boundary_at[l]);
         let mut flags = std::mem::take(&mut flags[l]);
@@ -433,14 +449,14 @@ pub fn sweep(
                 tk.tick()?;
                 if flags[t as usize] & BOUNDARY == 0 {
                     out.examined += 1;
-                    if status.inside(l, t) {
+                    if status.inside(l, t)? {
                         inside.push(t);
                     }
                 }
             }
         } else if open_sweep && walked.is_empty() {
             // no ring enters the domain: all in or all out
-            if n > 0 && status.inside(l, 0) {
+            if n > 0 && status.inside(l, 0)? {
                 inside.extend(0..n as u32);
                 out.examined += n;
             }
@@ -463,7 +479,7 @@ pub fn sweep(
             if open_sweep {
                 for &t in &walked {
                     mark(t, &mut flags)?;
-                    for nb in lv.nbrs[t as usize] {
+                    for nb in tin.nbrs(l, t)? {
                         if nb != NONE {
                             mark(nb, &mut flags)?;
                         }
@@ -490,14 +506,14 @@ pub fn sweep(
                 flags[s0 as usize] |= SEEN;
                 out.examined += 1;
                 tk.tick()?;
-                let st = status.inside(l, s0);
+                let st = status.inside(l, s0)?;
                 if st {
                     inside.push(s0);
                 }
                 stack.push((s0, st));
                 while let Some((u, su)) = stack.pop() {
                     let uw = flags[u as usize] & WALKED != 0;
-                    for nb in lv.nbrs[u as usize] {
+                    for nb in tin.nbrs(l, u)? {
                         if nb == NONE {
                             continue;
                         }
@@ -514,7 +530,11 @@ pub fn sweep(
                         let nw = *fnb & WALKED != 0;
                         out.examined += 1;
                         tk.tick()?;
-                        let sn = if !uw && !nw { su } else { status.inside(l, nb) };
+                        let sn = if !uw && !nw {
+                            su
+                        } else {
+                            status.inside(l, nb)?
+                        };
                         if sn {
                             inside.push(nb);
                         }
@@ -603,7 +623,10 @@ fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &[u8], area: &Area) -> Vec<(u
 }
 
 /// Coverage of each boundary triangle of the sweep, in `boundary` order.
-pub fn coverages(tin: &Tin, area: &Area, s: &Sweep) -> Vec<f64> {
+pub fn coverages<M: Mesh>(tin: &M, area: &Area, s: &Sweep) -> Result<Vec<f64>, TinError>
+where
+    TinError: From<M::Err>,
+{
     let mut out = Vec::with_capacity(s.boundary.len());
     let mut k = 0;
     for &t in &s.boundary {
@@ -614,25 +637,28 @@ pub fn coverages(tin: &Tin, area: &Area, s: &Sweep) -> Vec<f64> {
         while e < s.chains.len() && s.chains[e].0 == t {
             e += 1;
         }
-        let cs = corners2(tin, s.level, t);
+        let cs = corners2(tin, s.level, t)?;
         let ch: Vec<Chain> = s.chains[k..e].iter().map(|(_, c)| c.clone()).collect();
         let m = clipped_moments(&cs, cs[0], &ch, &mut |p| area.locate(p));
         out.push((m.a / tri_area(&cs)).clamp(0.0, 1.0));
         k = e;
     }
-    out
+    Ok(out)
 }
 
 /// The rows of `tin_area_triangles`: compact (inside triangles at the
 /// coarsest level wholly inside, sorted by level then id) or full (every
 /// triangle of the target level, sorted by id).
-pub fn area_rows(
-    tin: &Tin,
+pub fn area_rows<M: Mesh>(
+    tin: &M,
     area: &Area,
     s: &Sweep,
     compact: bool,
     interrupt: &mut Interrupt<'_>,
-) -> Result<Vec<AreaRow>, TinError> {
+) -> Result<Vec<AreaRow>, TinError>
+where
+    TinError: From<M::Err>,
+{
     let mut rows = Vec::new();
     let inside_row = |t: u32, level: usize| AreaRow {
         triangle: t,
@@ -653,7 +679,7 @@ pub fn area_rows(
             rows.extend(d.into_iter().map(|t| inside_row(t, s.level)));
         }
     }
-    for (&t, cov) in s.boundary.iter().zip(coverages(tin, area, s)) {
+    for (&t, cov) in s.boundary.iter().zip(coverages(tin, area, s)?) {
         rows.push(AreaRow {
             triangle: t,
             level: s.level,

@@ -35,7 +35,8 @@ use crate::merge::area::clip::{clip_chains, clip_convex, clipped_moments, Chain,
 use crate::merge::area::polygon::{Area, Where};
 use crate::merge::area::Sweep;
 use crate::tin::hierarchy::descendants;
-use crate::tin::{Tin, TinError};
+use crate::tin::mesh::Mesh;
+use crate::tin::TinError;
 
 /// Statistics of the clipped surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,12 +86,15 @@ struct Part<'a> {
 
 /// Visit every triangle of the target level with area inside: inside ones
 /// (descendants of coarser inside ones included) and boundary ones.
-fn each_part(
-    tin: &Tin,
+fn each_part<M: Mesh>(
+    tin: &M,
     s: &Sweep,
     interrupt: &mut Interrupt<'_>,
     f: &mut dyn FnMut(Part) -> Result<(), TinError>,
-) -> Result<(), TinError> {
+) -> Result<(), TinError>
+where
+    TinError: From<M::Err>,
+{
     let mut tk = Ticker::new(interrupt);
     let mut d = Vec::new();
     for (l, ts) in s.inside.iter().enumerate() {
@@ -100,7 +104,7 @@ fn each_part(
             for &u in &d {
                 tk.tick()?;
                 f(Part {
-                    corners: tin.corners(s.level, u),
+                    corners: tin.corners(s.level, u)?,
                     chains: None,
                 })?;
             }
@@ -119,7 +123,7 @@ fn each_part(
             k += 1;
         }
         f(Part {
-            corners: tin.corners(s.level, t),
+            corners: tin.corners(s.level, t)?,
             chains: Some(&owned),
         })?;
     }
@@ -127,12 +131,15 @@ fn each_part(
 }
 
 /// Statistics of the surface clipped to the area.
-pub fn stats(
-    tin: &Tin,
+pub fn stats<M: Mesh>(
+    tin: &M,
     area: &Area,
     s: &Sweep,
     interrupt: &mut Interrupt<'_>,
-) -> Result<SurfaceStats, TinError> {
+) -> Result<SurfaceStats, TinError>
+where
+    TinError: From<M::Err>,
+{
     let mut st = SurfaceStats {
         area2d: 0.0,
         area3d: 0.0,
@@ -191,13 +198,16 @@ pub fn stats(
 /// Volume between the clipped surface and the height `base`: (cut, fill) =
 /// (volume of surface above base, volume of space below base down to the
 /// surface).
-pub fn volume(
-    tin: &Tin,
+pub fn volume<M: Mesh>(
+    tin: &M,
     area: &Area,
     s: &Sweep,
     base: f64,
     interrupt: &mut Interrupt<'_>,
-) -> Result<(f64, f64), TinError> {
+) -> Result<(f64, f64), TinError>
+where
+    TinError: From<M::Err>,
+{
     let (mut cut, mut fill) = (0.0, 0.0);
     each_part(tin, s, interrupt, &mut |p| {
         let cs = p.corners;
