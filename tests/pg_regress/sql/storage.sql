@@ -27,6 +27,16 @@ SELECT sl.id, g.l, (SELECT array_agg(array[distance, z] ORDER BY distance, z) FR
        tin_line_climb(st.t, sl.geom, g.l) AS climb,
        (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(st.t, sl.geom, g.l)) AS tris
 FROM store_lines sl, store_terrain st, generate_series(0, 4) g(l);
+-- and areas: a 1 km square and a contour band with holes
+CREATE TABLE store_polys AS
+SELECT 1 AS id, 'SRID=32616;POLYGON((757500 4051500, 758500 4051500, 758500 4052500, 757500 4052500, 757500 4051500))'::geometry AS geom
+UNION ALL (SELECT 2, geom FROM contour_bands WHERE lo = 400);
+CREATE TABLE store_area AS
+SELECT p.id, g.l, (SELECT array_agg(array[triangle, level] ORDER BY level, triangle) FROM tin_area_triangles(st.t, p.geom, g.l, true)) AS tris,
+       (SELECT array_agg(coverage ORDER BY triangle) FROM tin_area_triangles(st.t, p.geom, g.l)) AS cov,
+       (SELECT row(a.*)::text FROM tin_area_stats(st.t, p.geom, g.l) a) AS stats,
+       (SELECT row(v.*)::text FROM tin_volume(st.t, p.geom, 500, g.l) v) AS vol
+FROM store_polys p, store_terrain st, generate_series(0, 4) g(l);
 SELECT sliced_values, entries >= 1 AS decoded FROM tin_cache_stats();
 -- a new session: a few points read the value in slices, decoding nothing
 \c
@@ -52,6 +62,14 @@ SELECT count(*) FILTER (WHERE (SELECT array_agg(array[distance, z] ORDER BY dist
                           AND (SELECT array_agg(triangle ORDER BY seq) FROM tin_line_triangles(st.t, sl.geom, p.l)) = p.tris) AS same_profiles,
        count(*) AS asked
 FROM store_prof p JOIN store_lines sl USING (id), store_terrain st WHERE p.id = 1;
+SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
+-- the square read in slices: the same rows, coverages, statistics and volumes
+SELECT count(*) FILTER (WHERE (SELECT array_agg(array[triangle, level] ORDER BY level, triangle) FROM tin_area_triangles(st.t, p.geom, a.l, true)) = a.tris
+                          AND (SELECT array_agg(coverage ORDER BY triangle) FROM tin_area_triangles(st.t, p.geom, a.l)) = a.cov
+                          AND (SELECT row(x.*)::text FROM tin_area_stats(st.t, p.geom, a.l) x) = a.stats
+                          AND (SELECT row(v.*)::text FROM tin_volume(st.t, p.geom, 500, a.l) v) = a.vol) AS same_areas,
+       count(*) AS asked
+FROM store_area a JOIN store_polys p USING (id), store_terrain st WHERE a.id = 1;
 SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
 -- tin_drape of a point takes the same path
 SELECT ST_Z(tin_drape(t, p, 2)) = w.z AS drape_same
@@ -81,4 +99,4 @@ SELECT count(DISTINCT (SELECT array_agg(tin_height(o.t, ST_SetSRID(ST_MakePoint(
        count(DISTINCT (SELECT array_agg(geom ORDER BY id) FROM tin_triangles(o.t, 2))) AS distinct_triangle_lists
 FROM store_old o, LATERAL (SELECT tin_envelope(o.t)::box2d AS e) b;
 SELECT tin_rewrite(NULL::tin) IS NULL AS strict;
-DROP TABLE store_terrain, store_pts, store_want, store_old, store_lines, store_cut, store_prof;
+DROP TABLE store_terrain, store_pts, store_want, store_old, store_lines, store_cut, store_prof, store_polys, store_area;
