@@ -71,6 +71,14 @@ SELECT count(*) FILTER (WHERE (SELECT array_agg(array[triangle, level] ORDER BY 
        count(*) AS asked
 FROM store_area a JOIN store_polys p USING (id), store_terrain st WHERE a.id = 1;
 SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
+-- a contour band with holes (large: read in slices until an eighth of the
+-- blocks are held, then decoded): the same answers
+SELECT count(*) FILTER (WHERE (SELECT array_agg(array[triangle, level] ORDER BY level, triangle) FROM tin_area_triangles(st.t, p.geom, a.l, true)) = a.tris
+                          AND (SELECT array_agg(coverage ORDER BY triangle) FROM tin_area_triangles(st.t, p.geom, a.l)) = a.cov
+                          AND (SELECT row(x.*)::text FROM tin_area_stats(st.t, p.geom, a.l) x) = a.stats
+                          AND (SELECT row(v.*)::text FROM tin_volume(st.t, p.geom, 500, a.l) v) = a.vol) AS same_areas,
+       count(*) AS asked
+FROM store_area a JOIN store_polys p USING (id), store_terrain st WHERE a.id = 2;
 -- tin_drape of a point takes the same path
 SELECT ST_Z(tin_drape(t, p, 2)) = w.z AS drape_same
 FROM store_want w JOIN store_pts USING (i), store_terrain WHERE i = 7 AND l = 2;
