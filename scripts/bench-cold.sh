@@ -3,8 +3,8 @@
 # new connection, loads PostGIS (SELECT postgis_version()), then times one
 # query with \timing; medians of 7. On two terrains: the bundled UTM DEM
 # (tin_from_raster(rast, 2.0, 5)) and the same DEM upsampled x4 with
-# ST_Rescale (22.5 m pixels). "sliced" is the default (per-row point
-# functions read the stored value in slices); "whole" sets
+# ST_Rescale (22.5 m pixels). "sliced" is the default (point, line and area
+# functions read the stored value in slices); "whole value" sets
 # tinmerge.cache_size = 0, which makes every call decode the whole value, as
 # every first call did before format 3. PostGIS: ST_Value on the raster
 # tiled 64 x 64 with a GiST index, also in a fresh backend.
@@ -49,8 +49,10 @@ for name in small large; do
   cold "$name: tin_height, sliced" "SET tinmerge.cache_size = 256" "SELECT tin_height($t, $centre)"
   cold "$name: tin_height, whole value (cache_size = 0)" "SET tinmerge.cache_size = 0" "SELECT tin_height($t, $centre)"
   cold "$name: tin_height at level 0, sliced" "SET tinmerge.cache_size = 256" "SELECT tin_height($t, $centre, 0)"
-  cold "$name: tin_line_segments of a 2 km line (whole value)" "SET tinmerge.cache_size = 256" "SELECT count(*) FROM tin_line_segments($t, $line)"
-  cold "$name: tin_area_stats of 1 km2 (whole value)" "SET tinmerge.cache_size = 256" "SELECT area3d FROM tin_area_stats($t, $square)"
+  cold "$name: tin_line_segments of a 2 km line, sliced" "SET tinmerge.cache_size = 256" "SELECT count(*) FROM tin_line_segments($t, $line)"
+  cold "$name: tin_line_segments of a 2 km line, whole value" "SET tinmerge.cache_size = 0" "SELECT count(*) FROM tin_line_segments($t, $line)"
+  cold "$name: tin_area_stats of 1 km2, sliced" "SET tinmerge.cache_size = 256" "SELECT area3d FROM tin_area_stats($t, $square)"
+  cold "$name: tin_area_stats of 1 km2, whole value" "SET tinmerge.cache_size = 0" "SELECT area3d FROM tin_area_stats($t, $square)"
 done
 cold "small: PostGIS ST_Value, 64x64 tiles + GiST" "SELECT 1" "SELECT ST_Value(rast, $centre) FROM dem_tiles WHERE ST_Intersects(rast, $centre)"
 cold "large: PostGIS ST_Value, 64x64 tiles + GiST" "SELECT 1" "SELECT ST_Value(rast, $centre) FROM dem_x4_tiles WHERE ST_Intersects(rast, $centre)"
