@@ -154,29 +154,8 @@ pub fn get_or_decode(
     len: u64,
     decode: impl FnOnce() -> Result<Tin, TinError>,
 ) -> Arc<Tin> {
-    let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;
-    let found = CACHE.with(|c| {
-        let mut c = c.borrow_mut();
-        // the setting may have been lowered since values were kept
-        c.trim(limit, 0);
-        c.clock += 1;
-        let now = c.clock;
-        let hit = c
-            .entries
-            .iter_mut()
-            .find(|e| e.hash == hash && e.len == len)
-            .map(|e| {
-                e.last = now;
-                e.tin.clone()
-            });
-        if hit.is_some() {
-            c.hits += 1;
-        } else {
-            c.misses += 1;
-        }
-        hit
-    });
-    if let Some(t) = found {
+    let limit = cache_limit();
+    if let Some(t) = lookup(hash, len, true) {
         return t;
     }
     memory::reserve(
@@ -206,7 +185,18 @@ pub fn get_or_decode(
 
 /// The decoded value for (hash, len) when the cache holds it (no decode).
 pub fn peek(hash: u64, len: u64) -> Option<Arc<Tin>> {
-    let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;
+    lookup(hash, len, false)
+}
+
+/// `tinmerge.cache_size` in bytes.
+fn cache_limit() -> usize {
+    CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024
+}
+
+/// The cached value for (hash, len), marked as just used; a hit is counted,
+/// and a miss when `count_miss` (the caller decodes next).
+fn lookup(hash: u64, len: u64, count_miss: bool) -> Option<Arc<Tin>> {
+    let limit = cache_limit();
     CACHE.with(|c| {
         let mut c = c.borrow_mut();
         // the setting may have been lowered since values were kept
@@ -223,6 +213,8 @@ pub fn peek(hash: u64, len: u64) -> Option<Arc<Tin>> {
             });
         if hit.is_some() {
             c.hits += 1;
+        } else if count_miss {
+            c.misses += 1;
         }
         hit
     })
@@ -264,7 +256,7 @@ pub fn sliced(
     len: u64,
     make: impl FnOnce() -> Result<Option<SlicedTin>, TinError>,
 ) -> Option<Rc<SlicedTin>> {
-    let limit = CACHE_SIZE_MB.get().max(0) as usize * 1024 * 1024;
+    let limit = cache_limit();
     if limit == 0 {
         return None;
     }

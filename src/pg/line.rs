@@ -10,7 +10,7 @@ use pgrx::prelude::*;
 use super::args::{check_srid, GeomArg, GeomOut};
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
-use super::point::on_point;
+use super::point::height_at;
 use super::tin_type::tin_level;
 use super::tin_type::TinArg;
 use tinmerge_core::io::ewkb::{self, Geom};
@@ -20,7 +20,6 @@ use tinmerge_core::merge::line::widened::near_line;
 use tinmerge_core::merge::line::{
     pieces_in, runs, walk_parts, Part, Piece, PieceSink, TriangleSink,
 };
-use tinmerge_core::merge::point;
 use tinmerge_core::tin::mesh::Indexed;
 use tinmerge_core::tin::{check_xy, Tin, TinError};
 
@@ -293,14 +292,7 @@ fn tin_drape(
     let p = gserialized::peek(bytes).or_raise();
     if let (Some(Some([x, y])), false) = (p.point, p.has_m) {
         if !(x.is_nan() && y.is_nan()) {
-            let z = on_point(
-                &t,
-                level,
-                &geom,
-                "tin_drape",
-                point::height,
-                |r, l, x, y| point::height_in(r, l, x, y),
-            )?;
+            let z = height_at(&t, level, &geom, "tin_drape")?;
             let out = Geom::Point(Some([x, y, z]));
             return Some(GeomOut(gserialized::write(p.srid, true, &out)));
         }

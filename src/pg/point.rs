@@ -77,9 +77,7 @@ fn tin_height(
     level: default!(Option<i32>, "NULL"),
 ) -> Option<f64> {
     let (t, pt) = (t?, pt?);
-    on_point(&t, level, &pt, "tin_height", point::height, |r, l, x, y| {
-        point::height_in(r, l, x, y)
-    })
+    height_at(&t, level, &pt, "tin_height")
 }
 
 extension_sql!(
@@ -89,6 +87,13 @@ COMMENT ON FUNCTION tin_height(tin, geometry, int) IS 'Height of the surface of 
     name = "tin_height_sql",
     requires = [tin_height]
 );
+
+/// The height at a point argument (what `tin_height` returns).
+pub(crate) fn height_at(t: &TinArg, level: Option<i32>, pt: &GeomArg, func: &str) -> Option<f64> {
+    on_point(t, level, pt, func, point::height, |r, l, x, y| {
+        point::height_in(r, l, x, y)
+    })
+}
 
 #[pg_extern(immutable, parallel_safe, cost = 500, requires = ["tin_type"])]
 fn tin_footprint(
