@@ -9,40 +9,10 @@ use super::args::GeomArg;
 use super::errors::OrRaise;
 use super::interrupt::interrupt;
 use super::tin_type::tin_level;
-use super::tin_type::{MeshSource, TinArg};
+use super::tin_type::TinArg;
 use tinmerge_core::merge::point::{self, Rect};
 use tinmerge_core::tin::locate;
-use tinmerge_core::tin::sliced::Reader;
-use tinmerge_core::tin::{resolve_level, Tin, TinError};
-
-/// A per-row point query: the point's x, y (SRID checked against the tin),
-/// then `decoded` on the decoded value or `sliced` on the stored value read
-/// in slices ([`TinArg::mesh_source`]), at the resolved level. Both run the
-/// same exact location.
-pub(crate) fn on_point<R>(
-    t: &TinArg,
-    level: Option<i32>,
-    pt: &GeomArg,
-    func: &str,
-    decoded: impl FnOnce(&Tin, usize, f64, f64) -> Option<R>,
-    sliced: impl FnOnce(&Reader, usize, f64, f64) -> Result<Option<R>, TinError>,
-) -> Option<R> {
-    match t.mesh_source() {
-        MeshSource::Decoded(tin) => {
-            let l = tin.level_index(level).or_raise();
-            let [x, y] = pt.point_xy(tin.srid, func)?;
-            decoded(&tin, l, x, y)
-        }
-        MeshSource::Sliced(s) => {
-            let h = s.header();
-            let l = resolve_level(level, h.levels.len()).or_raise();
-            let [x, y] = pt.point_xy(h.srid, func)?;
-            let mut fetch = t.fetch();
-            let r = s.reader(&mut fetch);
-            sliced(&r, l, x, y).or_raise()
-        }
-    }
-}
+use tinmerge_core::tin::TinError;
 
 #[pg_extern(immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
 fn tin_locate(
@@ -51,14 +21,12 @@ fn tin_locate(
     level: default!(Option<i32>, "NULL"),
 ) -> Option<i32> {
     let (t, pt) = (t?, pt?);
-    on_point(
-        &t,
-        level,
-        &pt,
-        "tin_locate",
-        |tin, l, x, y| point::locate(tin, l, x, y),
-        |r, l, x, y| locate::locate_in(r, l, x, y),
-    )
+    with_mesh!(t, level, |m, l, srid| {
+        let [x, y] = pt.point_xy(srid, "tin_locate")?;
+        locate::locate_in(m, l, x, y)
+            .map_err(TinError::from)
+            .or_raise()
+    })
     .map(|i| i as i32)
 }
 
@@ -88,10 +56,15 @@ COMMENT ON FUNCTION tin_height(tin, geometry, int) IS 'Height of the surface of 
     requires = [tin_height]
 );
 
-/// The height at a point argument (what `tin_height` returns).
+/// The height at a point argument (what `tin_height` returns), on the
+/// decoded value or the stored value read in slices
+/// ([`TinArg::mesh_source`]).
 pub(crate) fn height_at(t: &TinArg, level: Option<i32>, pt: &GeomArg, func: &str) -> Option<f64> {
-    on_point(t, level, pt, func, point::height, |r, l, x, y| {
-        point::height_in(r, l, x, y)
+    with_mesh!(t, level, |m, l, srid| {
+        let [x, y] = pt.point_xy(srid, func)?;
+        point::height_in(m, l, x, y)
+            .map_err(TinError::from)
+            .or_raise()
     })
 }
 

@@ -79,27 +79,55 @@ impl TinArg {
         Some((key, epoch, cache::alias_for(&key, epoch)))
     }
 
+    /// What this transaction knows of the value without decoding it: its
+    /// header (remembered from an earlier row for the same on-disk value,
+    /// or read through a prefix slice and remembered), the decoded value
+    /// when that is still at hand, and the TOAST key and transaction a
+    /// decode is to be remembered under (None for a value not on disk).
+    fn known(&self) -> Known {
+        let Some((key, epoch, alias)) = self.remembered() else {
+            return Known {
+                header: Arc::new(self.read_header()),
+                tin: None,
+                key: None,
+            };
+        };
+        let header = match alias {
+            Some(a) => {
+                if let Some(t) = a.tin.upgrade() {
+                    return Known {
+                        header: a.header,
+                        tin: Some(t),
+                        key: Some((key, epoch)),
+                    };
+                }
+                a.header
+            }
+            None => {
+                let header = Arc::new(self.read_header());
+                cache::remember(
+                    key,
+                    epoch,
+                    cache::Alias {
+                        header: header.clone(),
+                        tin: Weak::new(),
+                    },
+                );
+                header
+            }
+        };
+        Known {
+            header,
+            tin: None,
+            key: Some((key, epoch)),
+        }
+    }
+
     /// The fixed header, read through a prefix slice (no full detoast), or
     /// remembered from an earlier row of this transaction for the same
     /// on-disk value.
     pub fn header(&self) -> Arc<Header> {
-        let Some((key, epoch, alias)) = self.remembered() else {
-            return Arc::new(self.read_header());
-        };
-        if let Some(a) = alias {
-            return a.header;
-        }
-        let header = Arc::new(self.read_header());
-        let tin = Weak::new();
-        cache::remember(
-            key,
-            epoch,
-            cache::Alias {
-                header: header.clone(),
-                tin,
-            },
-        );
-        header
+        self.known().header
     }
 
     fn read_header(&self) -> Header {
@@ -121,41 +149,22 @@ impl TinArg {
     /// not the whole value. After [`cache::SLICED_CALLS`] calls on one value,
     /// or once it holds an eighth of the blocks, it is decoded whole.
     pub fn mesh_source(&self) -> MeshSource {
-        let Some((key, epoch, alias)) = self.remembered() else {
-            return MeshSource::Decoded(self.tin());
-        };
-        let header = match alias {
-            Some(a) => {
-                if let Some(t) = a.tin.upgrade() {
-                    cache::count_alias_hit();
-                    return MeshSource::Decoded(t);
-                }
-                a.header
-            }
-            None => {
-                let header = Arc::new(self.read_header());
-                cache::remember(
-                    key,
-                    epoch,
-                    cache::Alias {
-                        header: header.clone(),
-                        tin: Weak::new(),
-                    },
-                );
-                header
-            }
-        };
-        if header.version == layout::VERSION_1 {
-            return MeshSource::Decoded(self.tin());
-        }
-        if let Some(t) = cache::peek(header.hash, header.total_len) {
+        let k = self.known();
+        if let Some(t) = k.tin {
+            cache::count_alias_hit();
             return MeshSource::Decoded(t);
         }
-        match cache::sliced(header.hash, header.total_len, || {
+        if k.key.is_none() || k.header.version == layout::VERSION_1 {
+            return MeshSource::Decoded(self.decode(k));
+        }
+        if let Some(t) = cache::peek(k.header.hash, k.header.total_len) {
+            return MeshSource::Decoded(t);
+        }
+        match cache::sliced(k.header.hash, k.header.total_len, || {
             SlicedTin::new(self.slice(0, HEADER_LEN))
         }) {
             Some(s) => MeshSource::Sliced(s),
-            None => MeshSource::Decoded(self.tin()),
+            None => MeshSource::Decoded(self.decode(k)),
         }
     }
 
@@ -184,32 +193,40 @@ impl TinArg {
     /// content was decoded before. For a stored value met again in this
     /// transaction this is one look-up, with no read of the value at all.
     pub fn tin(&self) -> Arc<Tin> {
-        let Some((key, epoch, alias)) = self.remembered() else {
-            let h = self.read_header();
-            return cache::get_or_decode(h.hash, h.total_len, || {
-                layout::decode_checked(self.bytes(), &mut interrupt)
-            });
-        };
-        let header = match alias {
-            Some(a) => {
-                if let Some(t) = a.tin.upgrade() {
-                    cache::count_alias_hit();
-                    return t;
-                }
-                a.header
-            }
-            None => Arc::new(self.read_header()),
-        };
-        let tin = cache::get_or_decode(header.hash, header.total_len, || {
+        let k = self.known();
+        if let Some(t) = k.tin {
+            cache::count_alias_hit();
+            return t;
+        }
+        self.decode(k)
+    }
+
+    /// The decoded value for what is known of it (from the backend cache
+    /// when the same content was decoded before), remembered for the rest
+    /// of the transaction.
+    fn decode(&self, k: Known) -> Arc<Tin> {
+        let tin = cache::get_or_decode(k.header.hash, k.header.total_len, || {
             layout::decode_checked(self.bytes(), &mut interrupt)
         });
-        let alias = cache::Alias {
-            header,
-            tin: Arc::downgrade(&tin),
-        };
-        cache::remember(key, epoch, alias);
+        if let Some((key, epoch)) = k.key {
+            cache::remember(
+                key,
+                epoch,
+                cache::Alias {
+                    header: k.header,
+                    tin: Arc::downgrade(&tin),
+                },
+            );
+        }
         tin
     }
+}
+
+/// See [`TinArg::known`].
+struct Known {
+    header: Arc<Header>,
+    tin: Option<Arc<Tin>>,
+    key: Option<(cache::ToastKey, i64)>,
 }
 
 /// A `tin` result: storage bytes, copied into a palloc'd varlena on return.

@@ -64,19 +64,12 @@ fn bad(msg: &str) -> IoError {
     IoError::Geometry(format!("malformed geometry value: {msg}"))
 }
 
-/// Read the header, the type, and a point's coordinates from `b`, the bytes
-/// of a `geometry` value after its varlena header.
-pub fn peek(b: &[u8]) -> Result<Peek, IoError> {
-    if b.len() < 4 {
-        return Err(bad("shorter than its header"));
-    }
-    let raw = ((b[0] as u32) << 16) | ((b[1] as u32) << 8) | b[2] as u32;
-    let srid = ((raw << 11) as i32) >> 11;
-    let flags = b[3];
-    let v2 = flags & 0x40 != 0;
+/// Where the geometry starts after the header with these flags: past the
+/// extended flags (version 2) and the float4 bounding box, if present.
+fn payload_offset(flags: u8) -> usize {
     let (has_z, has_m) = (flags & 0x01 != 0, flags & 0x02 != 0);
     let mut at = 4;
-    if v2 && flags & 0x10 != 0 {
+    if flags & 0x40 != 0 && flags & 0x10 != 0 {
         at += 8;
     }
     if flags & 0x04 != 0 {
@@ -86,6 +79,20 @@ pub fn peek(b: &[u8]) -> Result<Peek, IoError> {
             4 * (4 + 2 * has_z as usize + 2 * has_m as usize)
         };
     }
+    at
+}
+
+/// Read the header, the type, and a point's coordinates from `b`, the bytes
+/// of a `geometry` value after its varlena header.
+pub fn peek(b: &[u8]) -> Result<Peek, IoError> {
+    if b.len() < 4 {
+        return Err(bad("shorter than its header"));
+    }
+    let raw = ((b[0] as u32) << 16) | ((b[1] as u32) << 8) | b[2] as u32;
+    let srid = ((raw << 11) as i32) >> 11;
+    let flags = b[3];
+    let (has_z, has_m) = (flags & 0x01 != 0, flags & 0x02 != 0);
+    let at = payload_offset(flags);
     let word = |i: usize| -> Result<u32, IoError> {
         let s = b.get(i..i + 4).ok_or_else(|| bad("truncated"))?;
         Ok(u32::from_ne_bytes([s[0], s[1], s[2], s[3]]))
@@ -286,21 +293,9 @@ pub fn read(b: &[u8]) -> Result<Ewkb, IoError> {
             "geometries with M coordinates are not supported; use ST_Force3DZ or ST_Force2D".into(),
         ));
     }
-    let flags = b[3];
-    let mut at = 4;
-    if flags & 0x40 != 0 && flags & 0x10 != 0 {
-        at += 8;
-    }
-    if flags & 0x04 != 0 {
-        at += if flags & 0x08 != 0 {
-            24
-        } else {
-            4 * (4 + 2 * p.has_z as usize)
-        };
-    }
     let mut c = Cursor {
         b,
-        at,
+        at: payload_offset(b[3]),
         stride: 2 + p.has_z as usize,
         has_z: p.has_z,
     };

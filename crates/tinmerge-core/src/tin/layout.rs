@@ -179,8 +179,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
                 b.len()
             )));
         }
-        let stored = u64::from_le_bytes(b[FIXED_LEN..HEADER_LEN].try_into().unwrap_or([0; 8]));
-        if header_hash(b) != stored {
+        if header_hash(b) != stored_header_hash(b) {
             return Err(corrupt("header hash mismatch (the header is corrupted)"));
         }
     }
@@ -345,17 +344,13 @@ pub fn reseal(b: &mut [u8]) {
     if b.len() >= HEADER_LEN && b[4..6] == VERSION.to_le_bytes() {
         let hh = header_hash(b);
         b[FIXED_LEN..HEADER_LEN].copy_from_slice(&hh.to_le_bytes());
-        let mut at = HEADER_LEN;
-        let mut k = 0u64;
-        while at < b.len() {
-            let end = (at + BLOCK_LEN).min(b.len());
-            if end - at <= 8 {
-                break;
+        // the blocks as decode reads them; a last piece of 8 bytes or less
+        // (a truncated value) has no payload to seal
+        for (k, blk) in b[HEADER_LEN..].chunks_mut(BLOCK_LEN).enumerate() {
+            if blk.len() > 8 {
+                let (payload, sum) = blk.split_at_mut(blk.len() - 8);
+                sum.copy_from_slice(&block_checksum(hh, k as u64, payload).to_le_bytes());
             }
-            let sum = block_checksum(hh, k, &b[at..end - 8]);
-            b[end - 8..end].copy_from_slice(&sum.to_le_bytes());
-            at = end;
-            k += 1;
         }
     }
     if b.len() >= 40 {

@@ -57,7 +57,7 @@ use crate::geom::{co, dist, vco, P2};
 use crate::interrupt::Interrupt;
 use crate::tin::locate;
 use crate::tin::mesh::{Indexed, Mesh};
-use crate::tin::{interpolate, Level, Tin, TinError, NONE};
+use crate::tin::{interpolate, Tin, TinError, NONE};
 use robust::{orient2d, Coord};
 
 /// A polyline as the walker reads it: vertices and the planar distance of
@@ -548,7 +548,8 @@ where
     }
 }
 
-/// [`hull_edges`] of any mesh (reads every triangle's neighbours).
+/// The hull edges of a level, as (triangle, edge opposite corner j), by
+/// increasing triangle id (reads every triangle's neighbours).
 pub fn hull_edges_in<M: Mesh>(m: &M, level: usize) -> Result<Vec<(u32, usize)>, M::Err> {
     let mut h = Vec::new();
     for t in 0..m.num_triangles(level) as u32 {
@@ -559,20 +560,6 @@ pub fn hull_edges_in<M: Mesh>(m: &M, level: usize) -> Result<Vec<(u32, usize)>, 
         }
     }
     Ok(h)
-}
-
-/// The hull edges of a level, as (triangle, edge opposite corner j), by
-/// increasing triangle id.
-pub fn hull_edges(lv: &Level) -> Vec<(u32, usize)> {
-    let mut h = Vec::new();
-    for (t, n) in lv.nbrs.iter().enumerate() {
-        for (j, &x) in n.iter().enumerate() {
-            if x == NONE {
-                h.push((t as u32, j));
-            }
-        }
-    }
-    h
 }
 
 /// Where the closed triangle holds p (None: outside it).

@@ -10,10 +10,11 @@
 //! tolerance, not a topological decision); a triangle touched exactly at
 //! the distance counts.
 
-use super::{hull_edges, Polyline, Sink, Walker};
+use super::{hull_edges_in, Polyline, Sink, Walker};
 use crate::geom::P2;
 use crate::geom::{co, point_segment_distance};
 use crate::interrupt::{Interrupt, Ticker};
+use crate::tin::mesh::infallible;
 use crate::tin::{Tin, TinError, NONE};
 use robust::orient2d;
 use std::collections::HashMap;
@@ -151,7 +152,10 @@ impl<'a> Near<'a> {
                 return Ok(());
             }
             if self.hull.is_none() {
-                let mut h: Vec<u32> = hull_edges(lv).into_iter().map(|(t, _)| t).collect();
+                let mut h: Vec<u32> = infallible(hull_edges_in(self.tin, self.level))
+                    .into_iter()
+                    .map(|(t, _)| t)
+                    .collect();
                 h.dedup();
                 self.hull = Some(h);
             }
