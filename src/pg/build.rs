@@ -123,7 +123,10 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
     let (pts, lattice, srid) = raster_samples(rast, band);
     reserve_build("tin_from_raster", pts.len(), tols.len());
     let opts = BuildOptions { keep_border };
-    TinOut::from_tin(&build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise())
+    TinOut::from_tin_on(
+        &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
+        &lattice,
+    )
 }
 
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]

@@ -152,16 +152,14 @@ thread_local! {
 pub fn get_or_decode(
     hash: u64,
     len: u64,
+    need: usize,
     decode: impl FnOnce() -> Result<Tin, TinError>,
 ) -> Arc<Tin> {
     let limit = cache_limit();
     if let Some(t) = lookup(hash, len, true) {
         return t;
     }
-    memory::reserve(
-        tinmerge_core::tin::layout::decode_bytes(len as usize),
-        || format!("decoding a stored tin of {} bytes", len),
-    );
+    memory::reserve(need, || format!("decoding a stored tin of {} bytes", len));
     // decode outside the borrow: an ERROR here must not leave it borrowed
     let tin = Arc::new(decode().unwrap_or_else(|e| raise_tin(e)));
     let bytes = tin.heap_bytes();

@@ -16,6 +16,7 @@ use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
 use super::varlena::{hex_input, recv_bytes, varlena_datum};
+use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::layout::{self, Header, HEADER_LEN};
 use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{Tin, TinError};
@@ -205,7 +206,8 @@ impl TinArg {
     /// when the same content was decoded before), remembered for the rest
     /// of the transaction.
     fn decode(&self, k: Known) -> Arc<Tin> {
-        let tin = cache::get_or_decode(k.header.hash, k.header.total_len, || {
+        let need = layout::decode_bytes(&k.header);
+        let tin = cache::get_or_decode(k.header.hash, k.header.total_len, need, || {
             layout::decode_checked(self.bytes(), &mut interrupt)
         });
         if let Some((key, epoch)) = k.key {
@@ -256,6 +258,12 @@ impl TinOut {
     pub fn from_tin(t: &Tin) -> TinOut {
         TinOut(layout::encode(t))
     }
+
+    /// A tin built on a raster's pixel lattice: vertices stored as lattice
+    /// indices and float32 heights when they are exactly that.
+    pub fn from_tin_on(t: &Tin, lattice: &Lattice) -> TinOut {
+        TinOut(layout::encode_on(t, Some(lattice)))
+    }
 }
 
 extension_sql!(
@@ -267,7 +275,7 @@ extension_sql!(
 /// Input bytes as a result value, once they decode and validate in full;
 /// otherwise an ERROR with `code`.
 fn validated(bytes: Vec<u8>, code: PgSqlErrorCode) -> TinOut {
-    memory::reserve(layout::decode_bytes(bytes.len()), || {
+    memory::reserve(layout::decode_bytes_of(&bytes), || {
         format!("reading a tin value of {} bytes", bytes.len())
     });
     if let Err(e) = layout::decode(&bytes) {
@@ -364,7 +372,7 @@ fn tin_rewrite(t: TinArg) -> TinOut {
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_rewrite(tin) IS 'The same tin in the current storage format (format 3: blocks with their own checksums, read in slices by the per-row point functions); a value already in it is returned as it is. Answers do not change. UPDATE terrain SET t = tin_rewrite(t) converts stored values (docs/upgrading.md).';
+COMMENT ON FUNCTION tin_rewrite(tin) IS 'The same tin in the current storage format (format 4: compressed groups with their own checksums, about a fifth of format 3, read in slices by the point, line and area functions); a value already in it is returned as it is. Answers do not change. UPDATE terrain SET t = tin_rewrite(t) converts stored values (docs/upgrading.md).';
 "#,
     name = "tin_rewrite_sql",
     requires = [tin_rewrite]

@@ -179,12 +179,37 @@ fn random_line(r: &mut Rng, t: &Tin) -> Vec<[f64; 2]> {
 #[test]
 fn tin_values() {
     let t = small_tin();
-    let valid = vec![layout::encode(&t)];
+    let valid = vec![layout::encode(&t), layout::encode_v3(&t)];
     let (ok, err) = run("tin", 1, &valid, iters(), &mut |m| {
         // mutants with a recomputed hash reach the structural checks
         let mut m = m.to_vec();
         if m.len() >= 40 && m[m.len() / 2] & 1 == 0 {
             layout::reseal(&mut m);
+        }
+        // read in slices: an error or an answer, never a panic
+        if m.len() >= layout::HEADER_LEN {
+            if let Ok(Some(s)) =
+                tinmerge_core::tin::sliced::SlicedTin::new(&m[..layout::HEADER_LEN])
+            {
+                let mut fetch = |at: u64, len: usize| {
+                    m.get(at as usize..at as usize + len)
+                        .map(|b| b.to_vec())
+                        .ok_or_else(|| tinmerge_core::tin::TinError::Corrupt("past the end".into()))
+                };
+                let reader = s.reader(&mut fetch);
+                let b = t.bbox;
+                for l in 0..t.levels.len() {
+                    for k in 0..4 {
+                        let f = k as f64 / 3.0;
+                        let _ = tinmerge_core::merge::point::height_in(
+                            &reader,
+                            l,
+                            b.min_x + f * (b.max_x - b.min_x),
+                            b.min_y + (1.0 - f) * (b.max_y - b.min_y),
+                        );
+                    }
+                }
+            }
         }
         match layout::decode(&m) {
             Ok(t) => {

@@ -116,7 +116,7 @@ fn estimates_bound_the_measured_peaks() {
     // decoding a stored value
     let stored = layout::encode(&tins[0]);
     let (peak, decoded) = peak_of(|| layout::decode(&stored).unwrap());
-    let est = layout::decode_bytes(stored.len());
+    let est = layout::decode_bytes_of(&stored);
     row("decode", format!("{} bytes", stored.len()), peak, est);
     upper_bound("decode", peak, est);
     drop(decoded);

@@ -14,6 +14,12 @@ use tinmerge_core::tin::locate::{locate, locate_in};
 use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{Tin, TinError};
 
+/// The value in the current format (4) and in format 3 (0.5.0's), which
+/// is read in slices too.
+fn formats(tin: &Tin) -> Vec<(&'static str, Vec<u8>)> {
+    vec![("v4", layout::encode(tin)), ("v3", layout::encode_v3(tin))]
+}
+
 fn tins() -> Vec<(&'static str, Tin)> {
     let geo = common::read_dem("jacksboro_fault_dem.tif");
     let geo_tin = build(
@@ -51,97 +57,120 @@ fn points(t: &Tin, r: &mut StdRng) -> Vec<[f64; 2]> {
 #[test]
 fn sliced_reads_answer_as_the_decoded_value() {
     let mut r = StdRng::seed_from_u64(0x511ce);
-    for (name, tin) in tins() {
-        let stored = layout::encode(&tin);
-        let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
-        let fetched = Cell::new(0usize);
-        let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
-            fetched.set(fetched.get() + len);
-            Ok(stored[at as usize..at as usize + len].to_vec())
-        };
-        let reader = s.reader(&mut fetch);
-        let pts = points(&tin, &mut r);
-        // the first point, finest level: a few blocks of a large value
-        let fin = tin.levels.len() - 1;
-        let c = tin.bbox;
-        let mid = [(c.min_x + c.max_x) / 2.0, (c.min_y + c.max_y) / 2.0];
-        assert_eq!(
-            height_in(&reader, fin, mid[0], mid[1]).unwrap(),
-            height(&tin, fin, mid[0], mid[1])
-        );
-        let first = fetched.get();
-        eprintln!(
-            "{name}: value {} bytes, first point at the finest level read {first} bytes",
-            stored.len()
-        );
-        assert!(
-            first * 50 < stored.len(),
-            "{name}: read {first} of {}",
-            stored.len()
-        );
-        for l in 0..tin.levels.len() {
-            for p in &pts {
-                let want_t = locate(&tin, l, p[0], p[1]);
-                assert_eq!(
-                    locate_in(&reader, l, p[0], p[1]).unwrap(),
-                    want_t,
-                    "{name} level {l} {p:?}"
-                );
-                let want_z = height(&tin, l, p[0], p[1]);
-                let got_z = height_in(&reader, l, p[0], p[1]).unwrap();
-                assert_eq!(
-                    got_z.map(f64::to_bits),
-                    want_z.map(f64::to_bits),
-                    "{name} level {l} {p:?}"
-                );
+    for (tname, tin) in tins() {
+        for (fmt, stored) in formats(&tin) {
+            let name = format!("{tname} {fmt}");
+            let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+            let fetched = Cell::new(0usize);
+            let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                fetched.set(fetched.get() + len);
+                Ok(stored[at as usize..at as usize + len].to_vec())
+            };
+            let reader = s.reader(&mut fetch);
+            let pts = points(&tin, &mut r);
+            // the first point, finest level: a few blocks of a large value
+            let fin = tin.levels.len() - 1;
+            let c = tin.bbox;
+            let mid = [(c.min_x + c.max_x) / 2.0, (c.min_y + c.max_y) / 2.0];
+            assert_eq!(
+                height_in(&reader, fin, mid[0], mid[1]).unwrap(),
+                height(&tin, fin, mid[0], mid[1])
+            );
+            let first = fetched.get();
+            eprintln!(
+                "{name}: value {} bytes, first point at the finest level read {first} bytes",
+                stored.len()
+            );
+            assert!(
+                first * 50 < stored.len(),
+                "{name}: read {first} of {}",
+                stored.len()
+            );
+            for l in 0..tin.levels.len() {
+                for p in &pts {
+                    let want_t = locate(&tin, l, p[0], p[1]);
+                    assert_eq!(
+                        locate_in(&reader, l, p[0], p[1]).unwrap(),
+                        want_t,
+                        "{name} level {l} {p:?}"
+                    );
+                    let want_z = height(&tin, l, p[0], p[1]);
+                    let got_z = height_in(&reader, l, p[0], p[1]).unwrap();
+                    assert_eq!(
+                        got_z.map(f64::to_bits),
+                        want_z.map(f64::to_bits),
+                        "{name} level {l} {p:?}"
+                    );
+                }
             }
-        }
-        let (held, total) = s.blocks();
-        eprintln!(
-            "{name}: {} points x {} levels read {held} of {total} blocks ({} bytes held)",
+            let (held, total) = s.blocks();
+            eprintln!(
+            "{name}: {} points x {} levels read {held} of {total} groups ({} bytes held, {} fetched)",
             pts.len(),
             tin.levels.len(),
-            s.cached_bytes()
+            s.cached_bytes(),
+            fetched.get()
         );
+        }
+    }
+}
+
+/// Places to damage: (byte offset, what the error names) for about 40
+/// groups of a format-4 value or blocks of a format-3 one.
+fn damage_sites(stored: &[u8]) -> Vec<(usize, String)> {
+    let h = layout::read_header(stored).unwrap();
+    if h.version == layout::VERSION {
+        let ranges = layout::group_ranges(stored, &layout::plan(&h)).unwrap();
+        let step = ranges.len() / 40 + 1;
+        (0..ranges.len())
+            .step_by(step)
+            .map(|k| ((ranges[k].start + ranges[k].end) / 2, format!("group {k}")))
+            .collect()
+    } else {
+        let hl = layout::HEADER_LEN_V3;
+        let nblocks = (stored.len() - hl).div_ceil(layout::BLOCK_LEN);
+        (0..nblocks)
+            .step_by(nblocks / 40 + 1)
+            .map(|k| (hl + k * layout::BLOCK_LEN + 100, format!("block {k}")))
+            .collect()
     }
 }
 
 #[test]
 fn a_damaged_block_is_an_error_never_an_answer() {
     let tin = common::dem_tin();
-    let stored = layout::encode(&tin);
-    let nblocks = (stored.len() - HEADER_LEN).div_ceil(layout::BLOCK_LEN);
     let mut r = StdRng::seed_from_u64(7);
     let pts = points(&tin, &mut r);
-    let (mut errors, mut answers) = (0, 0);
-    for k in (0..nblocks).step_by(nblocks / 40 + 1) {
-        let mut bad = stored.clone();
-        let at = HEADER_LEN + k * layout::BLOCK_LEN + 100;
-        bad[at] ^= 0x40;
-        let s = SlicedTin::new(&bad[..HEADER_LEN]).unwrap().unwrap();
-        for l in 0..tin.levels.len() {
-            for p in pts.iter().take(60) {
-                let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
-                    Ok(bad[at as usize..at as usize + len].to_vec())
-                };
-                let reader = s.reader(&mut fetch);
-                match height_in(&reader, l, p[0], p[1]) {
-                    Ok(z) => {
-                        answers += 1;
-                        let want = height(&tin, l, p[0], p[1]);
-                        assert_eq!(z.map(f64::to_bits), want.map(f64::to_bits));
+    for (fmt, stored) in formats(&tin) {
+        let (mut errors, mut answers) = (0, 0);
+        for (at, label) in damage_sites(&stored) {
+            let mut bad = stored.clone();
+            bad[at] ^= 0x40;
+            let s = SlicedTin::new(&bad[..HEADER_LEN]).unwrap().unwrap();
+            for l in 0..tin.levels.len() {
+                for p in pts.iter().take(60) {
+                    let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                        Ok(bad[at as usize..at as usize + len].to_vec())
+                    };
+                    let reader = s.reader(&mut fetch);
+                    match height_in(&reader, l, p[0], p[1]) {
+                        Ok(z) => {
+                            answers += 1;
+                            let want = height(&tin, l, p[0], p[1]);
+                            assert_eq!(z.map(f64::to_bits), want.map(f64::to_bits));
+                        }
+                        Err(TinError::Corrupt(m)) => {
+                            errors += 1;
+                            assert!(m.contains(&label), "{m}");
+                        }
+                        Err(e) => panic!("{e}"),
                     }
-                    Err(TinError::Corrupt(m)) => {
-                        errors += 1;
-                        assert!(m.contains(&format!("block {k}")), "{m}");
-                    }
-                    Err(e) => panic!("{e}"),
                 }
             }
         }
+        eprintln!("{fmt}: damaged groups or blocks: {errors} errors, {answers} right answers, no wrong one");
+        assert!(errors > 0 && answers > 0);
     }
-    eprintln!("damaged blocks: {errors} errors, {answers} right answers, no wrong one");
-    assert!(errors > 0 && answers > 0);
 }
 
 #[test]
@@ -150,93 +179,98 @@ fn format_1_is_not_read_in_slices() {
     let v1 = layout::encode_v1(&tin);
     assert!(SlicedTin::new(&v1[..HEADER_LEN]).unwrap().is_none());
     // a damaged header is an error before any block is read
-    let mut v3 = layout::encode(&tin);
-    v3[60] ^= 1;
-    assert!(matches!(
-        SlicedTin::new(&v3[..HEADER_LEN]),
-        Err(TinError::Corrupt(_))
-    ));
+    for (_, mut v) in formats(&tin) {
+        v[60] ^= 1;
+        assert!(matches!(
+            SlicedTin::new(&v[..HEADER_LEN]),
+            Err(TinError::Corrupt(_))
+        ));
+    }
 }
 
 #[test]
 fn lines_read_in_slices_cut_as_on_the_decoded_value() {
     use tinmerge_core::merge::line::{pieces, pieces_in, walk_parts, Part, TriangleSink};
     let mut r = StdRng::seed_from_u64(0x11e5);
-    for (name, tin) in tins() {
-        let stored = layout::encode(&tin);
-        let b = tin.bbox;
-        let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
-        // random polylines, some starting or ending outside the domain, and
-        // one through vertices and along edges (grid-aligned steps from a
-        // vertex)
-        let mut lines: Vec<Vec<Part>> = (0..30)
-            .map(|_| {
-                let n = 2 + r.random_range(0..6);
-                vec![Part::new(
-                    (0..n)
-                        .map(|_| {
-                            [
-                                b.min_x - 0.05 * w + r.random::<f64>() * 1.1 * w,
-                                b.min_y - 0.05 * h + r.random::<f64>() * 1.1 * h,
-                            ]
-                        })
-                        .collect(),
-                )]
-            })
-            .collect();
-        let c = tin.corners(tin.levels.len() - 1, 17);
-        lines.push(vec![Part::new(vec![
-            [c[0][0], c[0][1]],
-            [c[1][0], c[1][1]],
-            [c[2][0], c[2][1]],
-            [b.max_x + 1.0, c[2][1]],
-        ])]);
-        for l in 0..tin.levels.len() {
-            for parts in &lines {
+    for (tname, tin) in tins() {
+        for (fmt, stored) in formats(&tin) {
+            let name = format!("{tname} {fmt}");
+            let b = tin.bbox;
+            let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
+            // random polylines, some starting or ending outside the domain, and
+            // one through vertices and along edges (grid-aligned steps from a
+            // vertex)
+            let mut lines: Vec<Vec<Part>> = (0..30)
+                .map(|_| {
+                    let n = 2 + r.random_range(0..6);
+                    vec![Part::new(
+                        (0..n)
+                            .map(|_| {
+                                [
+                                    b.min_x - 0.05 * w + r.random::<f64>() * 1.1 * w,
+                                    b.min_y - 0.05 * h + r.random::<f64>() * 1.1 * h,
+                                ]
+                            })
+                            .collect(),
+                    )]
+                })
+                .collect();
+            let c = tin.corners(tin.levels.len() - 1, 17);
+            lines.push(vec![Part::new(vec![
+                [c[0][0], c[0][1]],
+                [c[1][0], c[1][1]],
+                [c[2][0], c[2][1]],
+                [b.max_x + 1.0, c[2][1]],
+            ])]);
+            for l in 0..tin.levels.len() {
+                for parts in &lines {
+                    let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                    let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                        Ok(stored[at as usize..at as usize + len].to_vec())
+                    };
+                    let reader = s.reader(&mut fetch);
+                    let got = pieces_in(&reader, l, parts, &mut || Ok(())).unwrap();
+                    let want = pieces(&tin, l, parts).unwrap();
+                    assert_eq!(got.len(), want.len(), "{name} level {l}");
+                    for (a, b) in got.iter().zip(&want) {
+                        assert_eq!(a.triangle, b.triangle);
+                        let bits = |p: &Vec<[f64; 3]>| {
+                            p.iter()
+                                .flat_map(|c| c.map(f64::to_bits))
+                                .collect::<Vec<_>>()
+                        };
+                        assert_eq!(bits(&a.points), bits(&b.points), "{name} level {l}");
+                    }
+                    let mut ts = TriangleSink::default();
+                    walk_parts(&reader, l, parts, &mut ts, &mut |_, _| {}, &mut || Ok(())).unwrap();
+                    let mut td = TriangleSink::default();
+                    walk_parts(&tin, l, parts, &mut td, &mut |_, _| {}, &mut || Ok(())).unwrap();
+                    assert_eq!(ts.tris, td.tris);
+                }
+            }
+            // a 2 km line inside the UTM domain reads a small part of the value
+            if tname == "utm" {
                 let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                let fetched = Cell::new(0usize);
                 let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                    fetched.set(fetched.get() + len);
                     Ok(stored[at as usize..at as usize + len].to_vec())
                 };
                 let reader = s.reader(&mut fetch);
-                let got = pieces_in(&reader, l, parts, &mut || Ok(())).unwrap();
-                let want = pieces(&tin, l, parts).unwrap();
-                assert_eq!(got.len(), want.len(), "{name} level {l}");
-                for (a, b) in got.iter().zip(&want) {
-                    assert_eq!(a.triangle, b.triangle);
-                    let bits = |p: &Vec<[f64; 3]>| {
-                        p.iter()
-                            .flat_map(|c| c.map(f64::to_bits))
-                            .collect::<Vec<_>>()
-                    };
-                    assert_eq!(bits(&a.points), bits(&b.points), "{name} level {l}");
-                }
-                let mut ts = TriangleSink::default();
-                walk_parts(&reader, l, parts, &mut ts, &mut |_, _| {}, &mut || Ok(())).unwrap();
-                let mut td = TriangleSink::default();
-                walk_parts(&tin, l, parts, &mut td, &mut |_, _| {}, &mut || Ok(())).unwrap();
-                assert_eq!(ts.tris, td.tris);
+                let line = [Part::new(vec![
+                    [757000.0, 4052000.0],
+                    [759000.0, 4052100.0],
+                ])];
+                let n = pieces_in(&reader, tin.levels.len() - 1, &line, &mut || Ok(()))
+                    .unwrap()
+                    .len();
+                eprintln!(
+                    "{name}: 2 km line, finest level: {n} pieces, {} of {} bytes read",
+                    fetched.get(),
+                    stored.len()
+                );
+                assert!(n > 20 && fetched.get() * 10 < stored.len());
             }
-        }
-        // a 2 km line inside the UTM domain reads a small part of the value
-        if name == "utm" {
-            let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
-            let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
-                Ok(stored[at as usize..at as usize + len].to_vec())
-            };
-            let reader = s.reader(&mut fetch);
-            let line = [Part::new(vec![
-                [757000.0, 4052000.0],
-                [759000.0, 4052100.0],
-            ])];
-            let n = pieces_in(&reader, tin.levels.len() - 1, &line, &mut || Ok(()))
-                .unwrap()
-                .len();
-            eprintln!(
-                "2 km line, finest level: {n} pieces, {} of {} bytes read",
-                s.cached_bytes(),
-                stored.len()
-            );
-            assert!(n > 20 && s.cached_bytes() * 20 < stored.len());
         }
     }
 }
@@ -247,60 +281,62 @@ fn areas_read_in_slices_sweep_as_on_the_decoded_value() {
     use tinmerge_core::merge::area::surface::{stats, volume};
     use tinmerge_core::merge::area::{area_rows, sweep, Method};
     let mut r = StdRng::seed_from_u64(0xa4ea);
-    for (name, tin) in tins() {
-        let stored = layout::encode(&tin);
-        let b = tin.bbox;
-        let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
-        // star polygons with a hole, some crossing the domain's edge
-        let polys: Vec<Area> = (0..8)
-            .map(|i| {
-                let c = [
-                    b.min_x + r.random::<f64>() * w,
-                    b.min_y + r.random::<f64>() * h,
-                ];
-                let rad = (0.03 + 0.2 * r.random::<f64>()) * w.min(h);
-                let ring = |scale: f64, rev: bool, r: &mut StdRng| {
-                    let n = 7 + (i % 5);
-                    let mut pts: Vec<[f64; 2]> = (0..n)
-                        .map(|k| {
-                            let a = k as f64 / n as f64 * std::f64::consts::TAU;
-                            let rr = scale * rad * (0.6 + 0.4 * r.random::<f64>());
-                            [c[0] + rr * a.cos(), c[1] + rr * a.sin()]
-                        })
-                        .collect();
-                    if rev {
-                        pts.reverse();
+    for (tname, tin) in tins() {
+        for (fmt, stored) in formats(&tin) {
+            let name = format!("{tname} {fmt}");
+            let b = tin.bbox;
+            let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
+            // star polygons with a hole, some crossing the domain's edge
+            let polys: Vec<Area> = (0..8)
+                .map(|i| {
+                    let c = [
+                        b.min_x + r.random::<f64>() * w,
+                        b.min_y + r.random::<f64>() * h,
+                    ];
+                    let rad = (0.03 + 0.2 * r.random::<f64>()) * w.min(h);
+                    let ring = |scale: f64, rev: bool, r: &mut StdRng| {
+                        let n = 7 + (i % 5);
+                        let mut pts: Vec<[f64; 2]> = (0..n)
+                            .map(|k| {
+                                let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                                let rr = scale * rad * (0.6 + 0.4 * r.random::<f64>());
+                                [c[0] + rr * a.cos(), c[1] + rr * a.sin()]
+                            })
+                            .collect();
+                        if rev {
+                            pts.reverse();
+                        }
+                        pts
+                    };
+                    let outer = ring(1.0, false, &mut r);
+                    let hole = ring(0.2, true, &mut r);
+                    Area::new(vec![vec![outer, hole]])
+                })
+                .collect();
+            for l in 0..tin.levels.len() {
+                for (pi, a) in polys.iter().enumerate() {
+                    let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                    let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                        Ok(stored[at as usize..at as usize + len].to_vec())
+                    };
+                    let reader = s.reader(&mut fetch);
+                    let sw_s = sweep(&reader, l, a, Method::Hierarchy, &mut || Ok(())).unwrap();
+                    let sw_d = sweep(&tin, l, a, Method::Hierarchy, &mut || Ok(())).unwrap();
+                    assert_eq!(sw_s.inside, sw_d.inside, "{name} level {l} polygon {pi}");
+                    assert_eq!(sw_s.boundary, sw_d.boundary);
+                    for compact in [false, true] {
+                        let rs = area_rows(&reader, a, &sw_s, compact, &mut || Ok(())).unwrap();
+                        let rd = area_rows(&tin, a, &sw_d, compact, &mut || Ok(())).unwrap();
+                        assert_eq!(rs, rd, "{name} level {l} polygon {pi} compact {compact}");
                     }
-                    pts
-                };
-                let outer = ring(1.0, false, &mut r);
-                let hole = ring(0.2, true, &mut r);
-                Area::new(vec![vec![outer, hole]])
-            })
-            .collect();
-        for l in 0..tin.levels.len() {
-            for (pi, a) in polys.iter().enumerate() {
-                let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
-                let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
-                    Ok(stored[at as usize..at as usize + len].to_vec())
-                };
-                let reader = s.reader(&mut fetch);
-                let sw_s = sweep(&reader, l, a, Method::Hierarchy, &mut || Ok(())).unwrap();
-                let sw_d = sweep(&tin, l, a, Method::Hierarchy, &mut || Ok(())).unwrap();
-                assert_eq!(sw_s.inside, sw_d.inside, "{name} level {l} polygon {pi}");
-                assert_eq!(sw_s.boundary, sw_d.boundary);
-                for compact in [false, true] {
-                    let rs = area_rows(&reader, a, &sw_s, compact, &mut || Ok(())).unwrap();
-                    let rd = area_rows(&tin, a, &sw_d, compact, &mut || Ok(())).unwrap();
-                    assert_eq!(rs, rd, "{name} level {l} polygon {pi} compact {compact}");
+                    let ss = stats(&reader, a, &sw_s, &mut || Ok(())).unwrap();
+                    let sd = stats(&tin, a, &sw_d, &mut || Ok(())).unwrap();
+                    assert_eq!(format!("{ss:?}"), format!("{sd:?}"));
+                    let vs = volume(&reader, a, &sw_s, 500.0, &mut || Ok(())).unwrap();
+                    let vd = volume(&tin, a, &sw_d, 500.0, &mut || Ok(())).unwrap();
+                    assert_eq!(vs.0.to_bits(), vd.0.to_bits());
+                    assert_eq!(vs.1.to_bits(), vd.1.to_bits());
                 }
-                let ss = stats(&reader, a, &sw_s, &mut || Ok(())).unwrap();
-                let sd = stats(&tin, a, &sw_d, &mut || Ok(())).unwrap();
-                assert_eq!(format!("{ss:?}"), format!("{sd:?}"));
-                let vs = volume(&reader, a, &sw_s, 500.0, &mut || Ok(())).unwrap();
-                let vd = volume(&tin, a, &sw_d, 500.0, &mut || Ok(())).unwrap();
-                assert_eq!(vs.0.to_bits(), vd.0.to_bits());
-                assert_eq!(vs.1.to_bits(), vd.1.to_bits());
             }
         }
     }

@@ -2,10 +2,22 @@
 //! values get a recomputed content hash so that structural validation (not
 //! the hash) has to catch them.
 use tinmerge_core::tin::build::build;
-use tinmerge_core::tin::layout::{body_offset, decode, encode, read_header, reseal};
-use tinmerge_core::tin::{locate, TinError};
+use tinmerge_core::tin::layout::{
+    self, body_offset, decode, encode, encode_v3, read_header, reseal,
+};
+use tinmerge_core::tin::{locate, Tin, TinError, NONE};
 
 fn sample_tin() -> Vec<u8> {
+    encode(&sample())
+}
+
+/// The sample in format 3, whose arrays sit at fixed places (the crafted
+/// cases below write into them).
+fn sample_v3() -> Vec<u8> {
+    encode_v3(&sample())
+}
+
+fn sample() -> Tin {
     // a seeded pseudo-random terrain on a 40 x 40 grid
     let mut s: u64 = 0x5eed;
     let mut rnd = || {
@@ -23,7 +35,7 @@ fn sample_tin() -> Vec<u8> {
     }
     let tin = build(pts, &[8.0, 4.0, 1.0], 32616, &mut || Ok(())).unwrap();
     tin.sanity_check().unwrap();
-    encode(&tin)
+    tin
 }
 
 fn rehash(b: &mut [u8]) {
@@ -37,9 +49,67 @@ fn roundtrip_is_exact() {
     assert_eq!(encode(&t), b);
 }
 
+/// Format 4 codes its arrays, so bad values are crafted as tins and then
+/// encoded: the decoder's checks, not the encoder's, must reject them.
+#[test]
+fn crafted_tins_in_format_4_are_rejected() {
+    let t = sample();
+    type Craft = Box<dyn Fn(&mut Tin)>;
+    let cases: Vec<(&str, Craft)> = vec![
+        (
+            "vertex index out of range",
+            Box::new(|t| t.levels[0].tris[0][1] = t.verts.len() as u32),
+        ),
+        (
+            "vertex index NONE",
+            Box::new(|t| t.levels[1].tris[3][0] = NONE),
+        ),
+        (
+            "non-finite coordinate",
+            Box::new(|t| t.verts[5][2] = f64::NAN),
+        ),
+        (
+            "swapped corners",
+            Box::new(|t| t.levels[2].tris[7].swap(0, 1)),
+        ),
+        (
+            "neighbour out of range",
+            Box::new(|t| t.levels[1].nbrs[2][0] = 1 << 30),
+        ),
+        (
+            "neighbour not symmetric",
+            Box::new(|t| {
+                let n = t.levels[2].nbrs[0];
+                let j = (0..3).find(|&j| n[j] != NONE).unwrap();
+                t.levels[2].nbrs[0][j] = (n[j] + 1) % t.levels[2].tris.len() as u32;
+            }),
+        ),
+        (
+            "parent out of range",
+            Box::new(|t| t.levels[1].parent[4] = 1 << 20),
+        ),
+        (
+            "parents not sorted",
+            Box::new(|t| t.levels[2].parent.swap(0, 9)),
+        ),
+        (
+            "grid cell out of range",
+            Box::new(|t| t.levels[0].grid.cells[0] = 1 << 25),
+        ),
+    ];
+    for (name, f) in cases {
+        let mut m = t.clone();
+        f(&mut m);
+        match decode(&encode(&m)) {
+            Err(TinError::Corrupt(msg)) => eprintln!("{name}: {msg}"),
+            other => panic!("{name}: expected a Corrupt error, got {other:?}"),
+        }
+    }
+}
+
 #[test]
 fn crafted_values_with_valid_hash_are_rejected() {
-    let b = sample_tin();
+    let b = sample_v3();
     let h = read_header(&b).unwrap();
     let body = body_offset(&h, 0);
     let nv = u32::from_le_bytes(b[20..24].try_into().unwrap()) as usize;
@@ -94,49 +164,88 @@ fn crafted_values_with_valid_hash_are_rejected() {
 
 #[test]
 fn random_mutations_never_panic() {
-    let b = sample_tin();
-    let mut s: u64 = 42;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
-    let (mut ok, mut err) = (0, 0);
-    for _ in 0..3000 {
-        let mut m = b.clone();
-        for _ in 0..(1 + next() % 4) {
-            let i = (next() as usize) % m.len();
-            m[i] ^= 1 << (next() % 8);
-        }
-        if next() % 8 == 0 {
-            let cut = (next() as usize) % m.len();
-            m.truncate(cut);
-        }
-        if m.len() >= 40 && next() % 2 == 0 {
-            rehash(&mut m);
-        }
-        match decode(&m) {
-            Ok(t) => {
-                ok += 1;
-                // a value that passes validation is safe to query
-                for l in 0..t.levels.len() {
-                    let _ = locate::locate(&t, l, t.bbox.min_x + 55.0, t.bbox.min_y + 77.0);
-                }
+    for b in [sample_tin(), sample_v3()] {
+        let mut s: u64 = 42;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let (mut ok, mut err) = (0, 0);
+        for _ in 0..3000 {
+            let mut m = b.clone();
+            for _ in 0..(1 + next() % 4) {
+                let i = (next() as usize) % m.len();
+                m[i] ^= 1 << (next() % 8);
             }
-            Err(_) => err += 1,
+            if next() % 8 == 0 {
+                let cut = (next() as usize) % m.len();
+                m.truncate(cut);
+            }
+            if m.len() >= 40 && next() % 2 == 0 {
+                rehash(&mut m);
+            }
+            match decode(&m) {
+                Ok(t) => {
+                    ok += 1;
+                    // a value that passes validation is safe to query
+                    for l in 0..t.levels.len() {
+                        let _ = locate::locate(&t, l, t.bbox.min_x + 55.0, t.bbox.min_y + 77.0);
+                    }
+                }
+                Err(_) => err += 1,
+            }
+        }
+        eprintln!("{ok} mutated values still valid, {err} rejected");
+        assert!(err > 0);
+    }
+}
+
+#[test]
+fn damaged_groups_are_errors_naming_them() {
+    let b = sample_tin();
+    let h = read_header(&b).unwrap();
+    let ranges = layout::group_ranges(&b, &layout::plan(&h)).unwrap();
+    assert!(ranges.len() >= 12, "the sample has groups for every array");
+    for (k, r) in ranges.iter().enumerate() {
+        // a flipped bit in the payload, then in the checksum
+        for at in [r.start, r.end - 1] {
+            let mut m = b.clone();
+            m[at] ^= 0x10;
+            let c = layout::content_hash(&m);
+            m[32..40].copy_from_slice(&c.to_le_bytes());
+            match decode(&m) {
+                Err(TinError::Corrupt(msg)) => {
+                    assert!(msg.contains(&format!("group {k}")), "{msg}")
+                }
+                other => panic!("group {k}: expected Corrupt, got {other:?}"),
+            }
         }
     }
-    eprintln!("{ok} mutated values still valid, {err} rejected");
-    assert!(err > 0);
+    // a damaged directory entry: the group it names no longer checks
+    let mut m = b.clone();
+    m[layout::HEADER_LEN_V4 + 8] ^= 1;
+    let c = layout::content_hash(&m);
+    m[32..40].copy_from_slice(&c.to_le_bytes());
+    assert!(matches!(decode(&m), Err(TinError::Corrupt(_))));
+    // a flipped bit in the header: the header hash
+    let mut m = b.clone();
+    m[870] ^= 1; // the lattice / vertex coding fields
+    let c = layout::content_hash(&m);
+    m[32..40].copy_from_slice(&c.to_le_bytes());
+    match read_header(&m) {
+        Err(TinError::Corrupt(msg)) => assert!(msg.contains("header hash"), "{msg}"),
+        other => panic!("expected a header hash error, got {other:?}"),
+    }
 }
 
 #[test]
 fn damaged_blocks_and_headers_are_errors_naming_them() {
-    let b = sample_tin();
+    let b = sample_v3();
     let h = read_header(&b).unwrap();
     // a flipped bit anywhere in a block's payload or checksum: that block
-    let blocks = (b.len() - tinmerge_core::tin::layout::HEADER_LEN)
+    let blocks = (b.len() - tinmerge_core::tin::layout::HEADER_LEN_V3)
         .div_ceil(tinmerge_core::tin::layout::BLOCK_LEN);
     assert!(blocks >= 3, "the sample spans several blocks");
     for k in 0..blocks {

@@ -4,9 +4,9 @@
 //! ```text
 //! offset size  field
 //!      0    4  magic "TINM"
-//!      4    2  format version (3 written; 1 still read)
+//!      4    2  format version (4 written; 1 and 3 still read)
 //!      6    2  flags (0)
-//!      8    4  header length (version 1: 856, version 3: 864)
+//!      8    4  header length (version 1: 856, version 3: 864, version 4: 920)
 //!     12    4  SRID (i32)
 //!     16    4  number of levels L (1..16)
 //!     20    4  number of vertices V (all levels)
@@ -18,9 +18,24 @@
 //!              grid nx u32, grid ny u32, grid cell size f64, reserved 8
 //!    856    8  (version 3) header hash: xxh3-64 of bytes 0..856 with the
 //!              content hash zeroed
+//!    856   48  (version 4) the raster lattice of the vertices: ip x, ip y,
+//!              scale x, scale y, skew x, skew y (f64; all 0: none)
+//!    904    4  (version 4) vertex coding (0 raw, 1 lattice + f32 z,
+//!              2 lattice + f64 z; [`super::compact::VertexCoding`])
+//!    908    4  (version 4) reserved (0)
+//!    912    8  (version 4) header hash: xxh3-64 of bytes 0..912 with the
+//!              content hash zeroed
 //! ```
-//! Then the body, the same sections in both versions (each section's offset
-//! follows from the header's counts):
+//! Version 4 is compact ([`super::compact`]): after the header, a directory
+//! of one u32 per group (where the group ends, counted from the end of the
+//! directory), then the groups, each a codec byte, its coded or
+//! zstd-compressed elements and an 8-byte checksum (xxh3-64 seeded with the
+//! header hash plus the group number). The groups are the vertices, then
+//! per level the triangles, neighbours, parents and grid cells, 1,024
+//! elements (4,096 cells) each.
+//!
+//! Versions 1 and 3 have this body (each section's offset follows from the
+//! header's counts):
 //! ```text
 //!   vertices: V x (x, y, z) f64
 //!   per level: triangles T x 3 u32, neighbours T x 3 u32, parents T x u32,
@@ -39,22 +54,32 @@
 //! [`super::check::validate_structure`] before the value is used.
 
 use super::check::validate_structure_checked;
+use super::compact::{self, Plan, Stream, VertexCoding};
 use super::hierarchy::child_starts;
+use super::lattice::Lattice;
+use super::par;
 use super::{Bbox, Grid, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
 use xxhash_rust::xxh3::Xxh3;
 
 pub const MAGIC: &[u8; 4] = b"TINM";
 /// The format version [`encode`] writes.
-pub const VERSION: u16 = 3;
+pub const VERSION: u16 = 4;
+/// Format 3: the body of format 1 in checksummed blocks.
+pub const VERSION_3: u16 = 3;
 /// The first format: the body unblocked, one hash for the whole value.
 pub const VERSION_1: u16 = 1;
 pub const LEVEL_RECORD: usize = 48;
 /// Length of the version-1 header (the fields common to every version).
 pub const FIXED_LEN: usize = 88 + MAX_LEVELS * LEVEL_RECORD;
-/// Bytes that hold the header of any version (version 3: the fixed fields
-/// and the header hash). Every value is longer than this.
-pub const HEADER_LEN: usize = FIXED_LEN + 8;
+/// Length of a version-3 header (the fixed fields and the header hash).
+pub const HEADER_LEN_V3: usize = FIXED_LEN + 8;
+/// Length of a version-4 header (the fixed fields, the lattice, the
+/// vertex coding and the header hash).
+pub const HEADER_LEN_V4: usize = FIXED_LEN + 48 + 8 + 8;
+/// Bytes that hold the header of any version. Every value is longer than
+/// this.
+pub const HEADER_LEN: usize = HEADER_LEN_V4;
 /// Body bytes per version-3 block (two PostgreSQL TOAST chunks, about).
 pub const BLOCK_PAYLOAD: usize = 4080;
 /// A version-3 block as stored: payload and checksum.
@@ -75,7 +100,7 @@ pub struct LevelInfo {
 /// The fixed header, readable from the first [`HEADER_LEN`] bytes alone.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Header {
-    /// Format version (1 or 3).
+    /// Format version (1, 3 or 4).
     pub version: u16,
     pub srid: i32,
     pub num_vertices: u32,
@@ -83,6 +108,10 @@ pub struct Header {
     pub hash: u64,
     pub bbox: Bbox,
     pub levels: Vec<LevelInfo>,
+    /// Version 4: the raster lattice the vertices are coded on.
+    pub lattice: Option<Lattice>,
+    /// Version 4: how the vertices are coded (versions 1 and 3: raw).
+    pub vertex_coding: VertexCoding,
 }
 
 impl Header {
@@ -140,10 +169,10 @@ impl<'a> Rd<'a> {
     }
 }
 
-/// Parse and check the header (needs at least [`HEADER_LEN`] bytes for
-/// version 3, [`FIXED_LEN`] for version 1). A version-3 header is checked
-/// against its own hash, so a damaged header is an error even when nothing
-/// else of the value is read.
+/// Parse and check the header (needs at least its own length:
+/// [`FIXED_LEN`] for version 1, [`HEADER_LEN_V3`], [`HEADER_LEN_V4`]). A
+/// version-3 or -4 header is checked against its own hash, so a damaged
+/// header is an error even when nothing else of the value is read.
 pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
     if b.len() < FIXED_LEN {
         return Err(corrupt(format!(
@@ -156,12 +185,11 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         return Err(corrupt("bad magic number (not a tin value)"));
     }
     let version = r.u16()?;
-    let want_len = match version {
-        VERSION_1 => FIXED_LEN,
-        VERSION => HEADER_LEN,
-        v => {
+    let want_len = match header_len(version) {
+        Some(l) => l,
+        None => {
             return Err(corrupt(format!(
-                "format version {v} is not supported (this build reads versions {VERSION_1} and {VERSION})"
+                "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3} and {VERSION})"
             )))
         }
     };
@@ -172,10 +200,10 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
             "header length {hl}, expected {want_len} for format version {version}"
         )));
     }
-    if version == VERSION {
-        if b.len() < HEADER_LEN {
+    if version != VERSION_1 {
+        if b.len() < want_len {
             return Err(corrupt(format!(
-                "truncated: {} bytes, the header alone is {HEADER_LEN}",
+                "truncated: {} bytes, the header alone is {want_len}",
                 b.len()
             )));
         }
@@ -214,6 +242,27 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         });
         r.take(8)?;
     }
+    r.pos = FIXED_LEN;
+    let (lattice, vertex_coding) = if version == VERSION {
+        let l = Lattice {
+            ip_x: r.f64()?,
+            ip_y: r.f64()?,
+            scale_x: r.f64()?,
+            scale_y: r.f64()?,
+            skew_x: r.f64()?,
+            skew_y: r.f64()?,
+        };
+        let code = r.u32()?;
+        let coding = VertexCoding::from_u32(code)
+            .ok_or_else(|| corrupt(format!("unknown vertex coding {code}")))?;
+        let lattice = l.is_valid().then_some(l);
+        if coding != VertexCoding::Raw && lattice.is_none() {
+            return Err(corrupt("lattice-coded vertices without a valid lattice"));
+        }
+        (lattice, coding)
+    } else {
+        (None, VertexCoding::Raw)
+    };
     Ok(Header {
         version,
         srid,
@@ -222,7 +271,25 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         hash,
         bbox,
         levels,
+        lattice,
+        vertex_coding,
     })
+}
+
+/// Header length of a format version, None for an unknown one.
+pub fn header_len(version: u16) -> Option<usize> {
+    match version {
+        VERSION_1 => Some(FIXED_LEN),
+        VERSION_3 => Some(HEADER_LEN_V3),
+        VERSION => Some(HEADER_LEN_V4),
+        _ => None,
+    }
+}
+
+/// Header length of the value starting with `b` (by its version field).
+fn header_len_of(b: &[u8]) -> usize {
+    let v = b.get(4..6).map_or(0, |s| u16::from_le_bytes([s[0], s[1]]));
+    header_len(v).unwrap_or(FIXED_LEN)
 }
 
 /// Logical offsets (within the body) of one level's sections.
@@ -274,7 +341,7 @@ fn value_len(h: &Header) -> Option<u64> {
     if h.version == VERSION_1 {
         body.checked_add(FIXED_LEN as u64)
     } else {
-        body.checked_add(HEADER_LEN as u64)?
+        body.checked_add(HEADER_LEN_V3 as u64)?
             .checked_add(num_blocks(body).checked_mul(8)?)
     }
 }
@@ -282,7 +349,7 @@ fn value_len(h: &Header) -> Option<u64> {
 /// Where version-3 block `k` of a body of `body` bytes starts in the value,
 /// and its payload length.
 pub fn block_at(body: u64, k: u64) -> (u64, usize) {
-    let start = HEADER_LEN as u64 + k * BLOCK_LEN as u64;
+    let start = HEADER_LEN_V3 as u64 + k * BLOCK_LEN as u64;
     let payload = (body - k * BLOCK_PAYLOAD as u64).min(BLOCK_PAYLOAD as u64) as usize;
     (start, payload)
 }
@@ -291,36 +358,52 @@ pub fn block_at(body: u64, k: u64) -> (u64, usize) {
 /// `hh`, from `b` = payload and checksum as stored; an error when the
 /// checksum does not match.
 pub fn check_block(hh: u64, k: u64, b: &[u8]) -> Result<&[u8], TinError> {
+    checked(hh, k, b, "block")
+}
+
+/// The payload of block or group `k` (`what`), checked against its
+/// checksum (the last 8 bytes of `b`).
+fn checked<'a>(hh: u64, k: u64, b: &'a [u8], what: &str) -> Result<&'a [u8], TinError> {
     if b.len() < 8 {
-        return Err(corrupt(format!("block {k} truncated")));
+        return Err(corrupt(format!("{what} {k} truncated")));
     }
     let (payload, sum) = b.split_at(b.len() - 8);
     let stored = u64::from_le_bytes(sum.try_into().unwrap_or([0; 8]));
     if block_checksum(hh, k, payload) != stored {
         return Err(corrupt(format!(
-            "checksum mismatch in block {k} (the value is corrupted)"
+            "checksum mismatch in {what} {k} (the value is corrupted)"
         )));
     }
     Ok(payload)
+}
+
+/// The packed payload of version-4 group `k`, from `b` = payload and
+/// checksum as stored; an error when the checksum does not match.
+pub fn check_group(hh: u64, k: u64, b: &[u8]) -> Result<&[u8], TinError> {
+    checked(hh, k, b, "group")
 }
 
 fn block_checksum(hh: u64, k: u64, payload: &[u8]) -> u64 {
     xxhash_rust::xxh3::xxh3_64_with_seed(payload, hh.wrapping_add(k))
 }
 
-/// The stored header hash of a version-3 header, computed: xxh3 of bytes
-/// 0..856 with the content hash (32..40) zeroed.
+/// The stored header hash of a version-3 or -4 header, computed: xxh3 of
+/// the header up to the hash itself, with the content hash (32..40)
+/// zeroed.
 fn header_hash(b: &[u8]) -> u64 {
+    let end = (header_len_of(b) - 8).min(b.len());
     let mut h = Xxh3::new();
-    h.update(&b[..32]);
+    h.update(&b[..32.min(end)]);
     h.update(&[0u8; 8]);
-    h.update(&b[40..FIXED_LEN]);
+    h.update(b.get(40..end).unwrap_or(&[]));
     h.digest()
 }
 
-/// The header hash of a version-3 header (checked by [`read_header`]).
+/// The header hash of a version-3 or -4 header (checked by
+/// [`read_header`]).
 pub fn stored_header_hash(b: &[u8]) -> u64 {
-    b.get(FIXED_LEN..HEADER_LEN)
+    let hl = header_len_of(b);
+    b.get(hl - 8..hl)
         .and_then(|s| s.try_into().ok())
         .map(u64::from_le_bytes)
         .unwrap_or(0)
@@ -341,15 +424,37 @@ pub fn content_hash(b: &[u8]) -> u64 {
 /// craft values: structural validation, not the hashes, must reject them).
 #[cfg(feature = "bench")]
 pub fn reseal(b: &mut [u8]) {
-    if b.len() >= HEADER_LEN && b[4..6] == VERSION.to_le_bytes() {
+    if b.len() >= HEADER_LEN_V3 && b[4..6] == VERSION_3.to_le_bytes() {
         let hh = header_hash(b);
-        b[FIXED_LEN..HEADER_LEN].copy_from_slice(&hh.to_le_bytes());
+        b[FIXED_LEN..HEADER_LEN_V3].copy_from_slice(&hh.to_le_bytes());
         // the blocks as decode reads them; a last piece of 8 bytes or less
         // (a truncated value) has no payload to seal
-        for (k, blk) in b[HEADER_LEN..].chunks_mut(BLOCK_LEN).enumerate() {
+        for (k, blk) in b[HEADER_LEN_V3..].chunks_mut(BLOCK_LEN).enumerate() {
             if blk.len() > 8 {
                 let (payload, sum) = blk.split_at_mut(blk.len() - 8);
                 sum.copy_from_slice(&block_checksum(hh, k as u64, payload).to_le_bytes());
+            }
+        }
+    }
+    if b.len() >= HEADER_LEN_V4 && b[4..6] == VERSION.to_le_bytes() {
+        let hh = header_hash(b);
+        b[HEADER_LEN_V4 - 8..HEADER_LEN_V4].copy_from_slice(&hh.to_le_bytes());
+        // the groups the directory names, as far as it and the value go
+        if let Ok(h) = read_header(b) {
+            let ng = plan(&h).num_groups() as usize;
+            let data = HEADER_LEN_V4 + 4 * ng;
+            let mut start = 0usize;
+            for k in 0..ng {
+                let Some(e) = b.get(HEADER_LEN_V4 + 4 * k..HEADER_LEN_V4 + 4 * k + 4) else {
+                    break;
+                };
+                let end = u32::from_le_bytes([e[0], e[1], e[2], e[3]]) as usize;
+                if end < start + 8 || data + end > b.len() {
+                    break;
+                }
+                let (payload, sum) = b[data + start..data + end].split_at_mut(end - start - 8);
+                sum.copy_from_slice(&block_checksum(hh, k as u64, payload).to_le_bytes());
+                start = end;
             }
         }
     }
@@ -364,14 +469,96 @@ pub fn body_offset(h: &Header, logical: usize) -> usize {
     if h.version == VERSION_1 {
         FIXED_LEN + logical
     } else {
-        HEADER_LEN + logical / BLOCK_PAYLOAD * BLOCK_LEN + logical % BLOCK_PAYLOAD
+        HEADER_LEN_V3 + logical / BLOCK_PAYLOAD * BLOCK_LEN + logical % BLOCK_PAYLOAD
     }
 }
 
+/// The groups of a version-4 value with this header.
+pub fn plan(h: &Header) -> Plan {
+    let levels: Vec<(usize, usize)> = h
+        .levels
+        .iter()
+        .map(|l| {
+            (
+                l.num_triangles as usize,
+                l.grid_nx as usize * l.grid_ny as usize,
+            )
+        })
+        .collect();
+    Plan::new(h.num_vertices as usize, &levels)
+}
+
 /// Serialise a tin (whose structure is valid) to its storage bytes, in the
-/// current format version ([`VERSION`]).
+/// current format version ([`VERSION`]), vertices raw.
 pub fn encode(tin: &Tin) -> Vec<u8> {
-    let (mut out, body) = header_and_body(tin, VERSION);
+    encode_on(tin, None)
+}
+
+/// [`encode`] for a tin built on a raster's pixel lattice: when every
+/// vertex is a pixel centre of `lattice` (and every height a float32
+/// value), vertices are stored as lattice indices and `f32` heights.
+pub fn encode_on(tin: &Tin, lattice: Option<&Lattice>) -> Vec<u8> {
+    let coding = compact::vertex_coding(lattice, &tin.verts);
+    let idx = match (coding, lattice) {
+        (VertexCoding::Raw, _) | (_, None) => None,
+        (_, Some(l)) => compact::lattice_indices(l, &tin.verts),
+    };
+    let coding = if idx.is_some() {
+        coding
+    } else {
+        VertexCoding::Raw
+    };
+    let levels: Vec<(usize, usize)> = tin
+        .levels
+        .iter()
+        .map(|l| (l.tris.len(), l.grid.cells.len()))
+        .collect();
+    let jobs = Plan::new(tin.verts.len(), &levels).groups();
+    let groups: Vec<Vec<u8>> = par::map(&jobs, |&(s, first, n, _)| {
+        compact::pack(&compact::encode_group(
+            tin,
+            s,
+            first,
+            n,
+            coding,
+            idx.as_deref(),
+        ))
+    });
+    let mut out = fixed_header(tin, VERSION_1);
+    out[4..6].copy_from_slice(&VERSION.to_le_bytes());
+    out[8..12].copy_from_slice(&(HEADER_LEN_V4 as u32).to_le_bytes());
+    let lat = lattice.filter(|_| coding != VertexCoding::Raw);
+    for v in lat.map_or([0.0; 6], |l| {
+        [l.ip_x, l.ip_y, l.scale_x, l.scale_y, l.skew_x, l.skew_y]
+    }) {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out.extend_from_slice(&(coding as u32).to_le_bytes());
+    out.extend_from_slice(&0u32.to_le_bytes());
+    let data: usize = groups.iter().map(|g| g.len() + 8).sum();
+    let total = HEADER_LEN_V4 + 4 * groups.len() + data;
+    out[24..32].copy_from_slice(&(total as u64).to_le_bytes());
+    out.extend_from_slice(&[0u8; 8]);
+    let hh = header_hash(&out);
+    out[HEADER_LEN_V4 - 8..].copy_from_slice(&hh.to_le_bytes());
+    out.reserve(total - out.len());
+    let mut end = 0usize;
+    for g in &groups {
+        end += g.len() + 8;
+        out.extend_from_slice(&(end as u32).to_le_bytes());
+    }
+    for (k, g) in groups.iter().enumerate() {
+        out.extend_from_slice(g);
+        out.extend_from_slice(&block_checksum(hh, k as u64, g).to_le_bytes());
+    }
+    debug_assert_eq!(out.len(), total);
+    seal(out)
+}
+
+/// Serialise in format version 3 (0.5.0 wrote it; kept to check that
+/// reading version 3 is exact).
+pub fn encode_v3(tin: &Tin) -> Vec<u8> {
+    let (mut out, body) = header_and_body(tin, VERSION_3);
     let hh = header_hash(&out);
     out.extend_from_slice(&hh.to_le_bytes());
     out.reserve(body.len() + body.len() / BLOCK_PAYLOAD * 8 + 8);
@@ -403,6 +590,18 @@ fn seal(mut out: Vec<u8>) -> Vec<u8> {
 /// length is filled in for version 3, whose header hash covers it) and the
 /// body.
 fn header_and_body(tin: &Tin, version: u16) -> (Vec<u8>, Vec<u8>) {
+    let mut out = fixed_header(tin, version);
+    let body = raw_body(tin);
+    if version != VERSION_1 {
+        let total = (HEADER_LEN_V3 + body.len()) as u64 + num_blocks(body.len() as u64) * 8;
+        out[24..32].copy_from_slice(&total.to_le_bytes());
+    }
+    (out, body)
+}
+
+/// The fields common to every version ([`FIXED_LEN`] bytes; total length
+/// and content hash zero).
+fn fixed_header(tin: &Tin, version: u16) -> Vec<u8> {
     let mut out: Vec<u8> = Vec::with_capacity(HEADER_LEN);
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&version.to_le_bytes());
@@ -410,7 +609,7 @@ fn header_and_body(tin: &Tin, version: u16) -> (Vec<u8>, Vec<u8>) {
     let hl = if version == VERSION_1 {
         FIXED_LEN
     } else {
-        HEADER_LEN
+        HEADER_LEN_V3
     };
     out.extend_from_slice(&(hl as u32).to_le_bytes());
     out.extend_from_slice(&tin.srid.to_le_bytes());
@@ -438,6 +637,11 @@ fn header_and_body(tin: &Tin, version: u16) -> (Vec<u8>, Vec<u8>) {
         }
     }
     debug_assert_eq!(out.len(), FIXED_LEN);
+    out
+}
+
+/// The body of versions 1 and 3 (before version 3 cuts it into blocks).
+fn raw_body(tin: &Tin) -> Vec<u8> {
     let mut body: Vec<u8> = Vec::new();
     for v in &tin.verts {
         for c in v {
@@ -469,11 +673,7 @@ fn header_and_body(tin: &Tin, version: u16) -> (Vec<u8>, Vec<u8>) {
         }
         pad(&mut body);
     }
-    if version != VERSION_1 {
-        let total = (HEADER_LEN + body.len()) as u64 + num_blocks(body.len() as u64) * 8;
-        out[24..32].copy_from_slice(&total.to_le_bytes());
-    }
-    (out, body)
+    body
 }
 
 /// Parse and fully validate storage bytes. The length implied by the header's
@@ -486,6 +686,21 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
 /// the validation (a cancel does not wait for a whole 15 MB value).
 pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, TinError> {
     let h = read_header(b)?;
+    if h.version == VERSION {
+        if h.total_len != b.len() as u64 {
+            return Err(corrupt(format!(
+                "length mismatch: value has {} bytes, header says {}",
+                b.len(),
+                h.total_len
+            )));
+        }
+        if content_hash(b) != h.hash {
+            return Err(corrupt("content hash mismatch (value is corrupted)"));
+        }
+        interrupt()?;
+        let (verts, levels) = decode_v4(b, &h, interrupt)?;
+        return finish(&h, verts, levels, interrupt);
+    }
     let expect = value_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
     if h.total_len != b.len() as u64 || expect != b.len() as u64 {
         return Err(corrupt(format!(
@@ -505,7 +720,7 @@ pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, Ti
     } else {
         let hh = stored_header_hash(b);
         let mut v = Vec::with_capacity(b.len());
-        for (k, blk) in b[HEADER_LEN..].chunks(BLOCK_LEN).enumerate() {
+        for (k, blk) in b[HEADER_LEN_V3..].chunks(BLOCK_LEN).enumerate() {
             v.extend_from_slice(check_block(hh, k as u64, blk)?);
         }
         unblocked = v;
@@ -539,22 +754,128 @@ pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, Ti
             cells.push(r.u32()?);
         }
         r.align8()?;
-        levels.push(Level {
-            tolerance: li.tolerance,
-            max_error: li.max_error,
-            num_vertices: li.num_vertices,
-            tris,
-            nbrs,
-            parent,
-            child_start: Vec::new(),
-            grid: Grid {
-                cell: li.grid_cell,
-                nx: li.grid_nx,
-                ny: li.grid_ny,
-                cells,
-            },
-        });
+        levels.push(level_of(li, tris, nbrs, parent, cells));
     }
+    finish(&h, verts, levels, interrupt)
+}
+
+/// The level records of a header with these arrays (child ranges still
+/// empty).
+fn level_of(
+    li: &LevelInfo,
+    tris: Vec<[u32; 3]>,
+    nbrs: Vec<[u32; 3]>,
+    parent: Vec<u32>,
+    cells: Vec<u32>,
+) -> Level {
+    Level {
+        tolerance: li.tolerance,
+        max_error: li.max_error,
+        num_vertices: li.num_vertices,
+        tris,
+        nbrs,
+        parent,
+        child_start: Vec::new(),
+        grid: Grid {
+            cell: li.grid_cell,
+            nx: li.grid_nx,
+            ny: li.grid_ny,
+            cells,
+        },
+    }
+}
+
+/// Where each version-4 group is in the value `b` (payload and checksum),
+/// from its directory; an error unless the groups fill the value exactly.
+pub fn group_ranges(b: &[u8], plan: &Plan) -> Result<Vec<std::ops::Range<usize>>, TinError> {
+    let ng = plan.num_groups() as usize;
+    let data = ng
+        .checked_mul(4)
+        .and_then(|d| d.checked_add(HEADER_LEN_V4))
+        .filter(|&d| d <= b.len())
+        .ok_or_else(|| corrupt("the directory of groups runs past the end of the value"))?;
+    let mut out = Vec::with_capacity(ng);
+    let mut start = 0usize;
+    for (k, e) in b[HEADER_LEN_V4..data].chunks_exact(4).enumerate() {
+        let end = u32::from_le_bytes([e[0], e[1], e[2], e[3]]) as usize;
+        if end < start + 9 || data + end > b.len() {
+            return Err(corrupt(format!(
+                "group {k} has a bad place in the directory"
+            )));
+        }
+        out.push(data + start..data + end);
+        start = end;
+    }
+    if data + start != b.len() {
+        return Err(corrupt("bytes after the last group"));
+    }
+    Ok(out)
+}
+
+/// The arrays of a version-4 value (header and length already checked).
+fn decode_v4(
+    b: &[u8],
+    h: &Header,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<[f64; 3]>, Vec<Level>), TinError> {
+    let plan = plan(h);
+    let ranges = group_ranges(b, &plan)?;
+    let hh = stored_header_hash(b);
+    let jobs = plan.groups();
+    let nl = h.levels.len();
+    // (capacities bounded by the value's length: counts are what the
+    // groups then hold, group by group)
+    let cap = |n: usize| n.min(b.len());
+    let mut verts: Vec<[f64; 3]> = Vec::with_capacity(cap(h.num_vertices as usize));
+    let mut arrays: Vec<(Vec<[u32; 3]>, Vec<[u32; 3]>, Vec<u32>, Vec<u32>)> = h
+        .levels
+        .iter()
+        .map(|l| {
+            let t = cap(l.num_triangles as usize);
+            (
+                Vec::with_capacity(t),
+                Vec::with_capacity(t),
+                Vec::with_capacity(t),
+                Vec::with_capacity(cap(l.grid_nx as usize * l.grid_ny as usize)),
+            )
+        })
+        .collect();
+    let decode_one = |&(s, first, n, k): &(Stream, usize, usize, u64)| {
+        let raw = b
+            .get(ranges.get(k as usize).cloned().unwrap_or(0..0))
+            .unwrap_or(&[]);
+        let packed = check_group(hh, k, raw)?;
+        compact::decode_group(packed, s, first, n, h.vertex_coding, h.lattice.as_ref())
+            .map(|g| (s, g))
+    };
+    par::map_batched(&jobs, decode_one, interrupt, &mut |r| {
+        let (s, g) = r?;
+        match (s, g) {
+            (Stream::Verts, compact::Group::Verts(v)) => verts.extend(v),
+            (Stream::Tris(l), compact::Group::Triples(v)) if l < nl => arrays[l].0.extend(v),
+            (Stream::Nbrs(l), compact::Group::Triples(v)) if l < nl => arrays[l].1.extend(v),
+            (Stream::Parents(l), compact::Group::Ids(v)) if l < nl => arrays[l].2.extend(v),
+            (Stream::Cells(l), compact::Group::Ids(v)) if l < nl => arrays[l].3.extend(v),
+            _ => return Err(corrupt("a group decoded to the wrong kind")),
+        }
+        Ok(())
+    })?;
+    let levels = h
+        .levels
+        .iter()
+        .zip(arrays)
+        .map(|(li, (t, n, p, c))| level_of(li, t, n, p, c))
+        .collect();
+    Ok((verts, levels))
+}
+
+/// Child ranges, then the whole structure checked.
+fn finish(
+    h: &Header,
+    verts: Vec<[f64; 3]>,
+    mut levels: Vec<Level>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
     for l in 1..levels.len() {
         let np = levels[l - 1].tris.len();
         let parents_ok = levels[l]
@@ -607,11 +928,38 @@ pub fn from_hex(s: &str) -> Result<Vec<u8>, TinError> {
         .collect()
 }
 
-/// Upper bound of the heap used to decode a stored value of `len` bytes
-/// (the decoded arrays and the grid index are about the stored size; a
-/// format-3 body is first copied out of its blocks, another stored size).
-pub fn decode_bytes(len: usize) -> usize {
-    len.saturating_mul(5)
-        .saturating_div(2)
-        .saturating_add(1 << 16)
+/// Upper bound of the heap used to decode a stored value with this header
+/// (formats 1 and 3: the decoded arrays and the grid index are about the
+/// stored size, and a format-3 body is first copied out of its blocks;
+/// format 4: the arrays its counts imply, the child ranges, the group list
+/// and one group's scratch).
+pub fn decode_bytes(h: &Header) -> usize {
+    if h.version != VERSION {
+        return (h.total_len as usize)
+            .saturating_mul(5)
+            .saturating_div(2)
+            .saturating_add(1 << 16);
+    }
+    let mut n = (h.num_vertices as usize).saturating_mul(24);
+    for l in &h.levels {
+        let cells = (l.grid_nx as usize).saturating_mul(l.grid_ny as usize);
+        n = n
+            .saturating_add((l.num_triangles as usize).saturating_mul(32))
+            .saturating_add(cells.saturating_mul(4));
+    }
+    n.saturating_add((plan(h).num_groups() as usize).saturating_mul(48))
+        .saturating_add(1 << 17)
+}
+
+/// [`decode_bytes`] of stored bytes (from their length when the header
+/// does not read: decoding then fails at once).
+pub fn decode_bytes_of(b: &[u8]) -> usize {
+    match read_header(b) {
+        Ok(h) => decode_bytes(&h),
+        Err(_) => b
+            .len()
+            .saturating_mul(5)
+            .saturating_div(2)
+            .saturating_add(1 << 16),
+    }
 }

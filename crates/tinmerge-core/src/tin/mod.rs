@@ -14,6 +14,7 @@
 
 pub mod build;
 pub mod check;
+pub mod compact;
 pub mod grid;
 pub mod hierarchy;
 pub mod lattice;

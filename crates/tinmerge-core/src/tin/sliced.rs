@@ -1,13 +1,15 @@
-//! A stored value (format 3) read block by block: point location fetches
-//! the header once, then only the blocks holding the grid cells, triangles,
-//! neighbours and vertices its walk touches, each verified against its own
-//! checksum the first time it is read. The first point query on a large
-//! terrain then costs a few blocks, not the whole value.
+//! A stored value (format 4, or 3) read group by group: point location
+//! fetches the header once, then only the groups holding the grid cells,
+//! triangles, neighbours and vertices its walk touches (format 4: the
+//! directory entries and compressed groups; format 3: the 4 KB blocks
+//! under a group of 128 elements), each verified against its own checksum
+//! and decoded the first time it is read. The first point query on a large
+//! terrain then costs a few groups, not the whole value.
 //!
 //! The fetch is a callback (`offset, length -> bytes`): PostgreSQL's
 //! `pg_detoast_datum_slice` in the extension, a slice of a `Vec` in tests.
-//! Blocks stay in the [`SlicedTin`] (the extension keeps one per stored
-//! value and bounds their number); [`SlicedTin::reader`] pairs it with the
+//! Decoded groups stay in the [`SlicedTin`] (the extension keeps one per
+//! stored value and bounds their number); [`SlicedTin::reader`] pairs it with the
 //! fetch of the current call as a [`Mesh`], so the one exact walk of
 //! [`super::locate`] runs on it.
 //!
@@ -35,11 +37,13 @@
 //! assert!(s.cached_bytes() < stored.len() / 4);
 //! ```
 
-use super::layout::{self, Header, LevelSections, BLOCK_PAYLOAD};
+use super::compact::{self, Group, Plan, Stream};
+use super::layout::{self, Header, LevelSections, BLOCK_PAYLOAD, HEADER_LEN_V4};
 use super::mesh::{Indexed, Mesh};
 use super::{Bbox, TinError, NONE};
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
+use std::rc::Rc;
 
 fn corrupt(s: impl Into<String>) -> TinError {
     TinError::Corrupt(s.into())
@@ -48,13 +52,33 @@ fn corrupt(s: impl Into<String>) -> TinError {
 /// The fetch of the current call: `(offset in the value, length) -> bytes`.
 pub type Fetch<'a> = dyn FnMut(u64, usize) -> Result<Vec<u8>, TinError> + 'a;
 
-/// A format-3 value known by its header, with the blocks read so far.
+/// Elements per group read from a format-3 value (cells: 4x).
+const V3_GROUP: usize = 128;
+/// Directory entries per directory page read at once (format 4).
+const DIR_PAGE: u64 = 1024;
+
+/// Where the groups are.
+enum Kind {
+    /// Format 3: elements at fixed places in the blocked body.
+    V3 {
+        body: u64,
+        sections: Vec<LevelSections>,
+    },
+    /// Format 4: a directory, then the groups.
+    V4 {
+        /// Pages of the directory read so far.
+        pages: RefCell<HashMap<u64, Rc<[u32]>>>,
+    },
+}
+
+/// A format-3 or -4 value known by its header, with the groups read so
+/// far.
 pub struct SlicedTin {
     header: Header,
     header_hash: u64,
-    body: u64,
-    sections: Vec<LevelSections>,
-    blocks: RefCell<HashMap<u64, Box<[u8]>>>,
+    plan: Plan,
+    kind: Kind,
+    groups: RefCell<HashMap<u64, Rc<Group>>>,
     cached: Cell<usize>,
 }
 
@@ -64,24 +88,63 @@ impl SlicedTin {
     /// whole.
     pub fn new(head: &[u8]) -> Result<Option<SlicedTin>, TinError> {
         let header = layout::read_header(head)?;
-        if header.version != layout::VERSION {
-            return Ok(None);
-        }
-        let (body, sections) =
-            layout::sections(&header).ok_or_else(|| corrupt("counts overflow"))?;
-        let want = layout::HEADER_LEN as u64 + body + layout::num_blocks(body) * 8;
-        if header.total_len != want {
-            return Err(corrupt(format!(
-                "length mismatch: header says {} bytes, its counts need {want}",
-                header.total_len
-            )));
-        }
+        let counts: Vec<(usize, usize)> = header
+            .levels
+            .iter()
+            .map(|l| {
+                (
+                    l.num_triangles as usize,
+                    l.grid_nx as usize * l.grid_ny as usize,
+                )
+            })
+            .collect();
+        let (plan, kind) = match header.version {
+            layout::VERSION => {
+                let plan = layout::plan(&header);
+                // the directory and a checksummed byte per group at least
+                let least =
+                    (HEADER_LEN_V4 as u64).saturating_add(plan.num_groups().saturating_mul(13));
+                if header.total_len < least {
+                    return Err(corrupt(format!(
+                        "length mismatch: header says {} bytes, its groups need at least {least}",
+                        header.total_len
+                    )));
+                }
+                (
+                    plan,
+                    Kind::V4 {
+                        pages: RefCell::new(HashMap::new()),
+                    },
+                )
+            }
+            layout::VERSION_3 => {
+                let (body, sections) =
+                    layout::sections(&header).ok_or_else(|| corrupt("counts overflow"))?;
+                let want = layout::HEADER_LEN_V3 as u64 + body + layout::num_blocks(body) * 8;
+                if header.total_len != want {
+                    return Err(corrupt(format!(
+                        "length mismatch: header says {} bytes, its counts need {want}",
+                        header.total_len
+                    )));
+                }
+                (
+                    Plan::sized(
+                        header.num_vertices as usize,
+                        &counts,
+                        V3_GROUP,
+                        4 * V3_GROUP,
+                    ),
+                    Kind::V3 { body, sections },
+                )
+            }
+            _ => return Ok(None),
+        };
         Ok(Some(SlicedTin {
             header_hash: layout::stored_header_hash(head),
             header,
-            body,
-            sections,
-            blocks: RefCell::new(HashMap::new()),
+            plan,
+            kind,
+            groups: RefCell::new(HashMap::new()),
             cached: Cell::new(0),
         }))
     }
@@ -90,17 +153,17 @@ impl SlicedTin {
         &self.header
     }
 
-    /// Bytes of the blocks held.
+    /// Bytes of the decoded groups (and directory pages) held.
     pub fn cached_bytes(&self) -> usize {
         self.cached.get()
     }
 
-    /// Number of blocks held and in the value.
+    /// Number of groups held and in the value.
     pub fn blocks(&self) -> (usize, u64) {
-        (self.blocks.borrow().len(), layout::num_blocks(self.body))
+        (self.groups.borrow().len(), self.plan.num_groups())
     }
 
-    /// This value as a [`Mesh`], fetching missing blocks with `fetch`.
+    /// This value as a [`Mesh`], fetching missing groups with `fetch`.
     pub fn reader<'a>(&'a self, fetch: &'a mut Fetch<'a>) -> Reader<'a> {
         Reader {
             s: self,
@@ -116,72 +179,152 @@ pub struct Reader<'a> {
 }
 
 impl Reader<'_> {
-    /// `N` bytes at body offset `at` (an element may straddle two blocks:
-    /// sections of the second and later levels start on 8-byte boundaries).
-    fn read<const N: usize>(&self, at: u64) -> Result<[u8; N], TinError> {
-        if at + N as u64 > self.s.body {
-            return Err(corrupt("read past the end of the value"));
-        }
-        let mut out = [0u8; N];
-        let mut done = 0usize;
-        while done < N {
-            let pos = at + done as u64;
-            let k = pos / BLOCK_PAYLOAD as u64;
-            let off = (pos % BLOCK_PAYLOAD as u64) as usize;
-            let n = (N - done).min(BLOCK_PAYLOAD - off);
-            self.with_block(k, |b| {
-                let src = b
-                    .get(off..off + n)
-                    .ok_or_else(|| corrupt(format!("block {k} is shorter than its place")))?;
-                out[done..done + n].copy_from_slice(src);
-                Ok(())
-            })?;
-            done += n;
-        }
-        Ok(out)
-    }
-
-    /// Run `f` on the verified payload of block `k`, fetching it first if
-    /// it is not held.
-    fn with_block(
-        &self,
-        k: u64,
-        f: impl FnOnce(&[u8]) -> Result<(), TinError>,
-    ) -> Result<(), TinError> {
-        let s = self.s;
-        if let Some(b) = s.blocks.borrow().get(&k) {
-            return f(b);
-        }
-        let (start, payload) = layout::block_at(s.body, k);
-        let raw = (self.fetch.borrow_mut())(start, payload + 8)?;
-        if raw.len() != payload + 8 {
+    fn fetch(&self, at: u64, len: usize) -> Result<Vec<u8>, TinError> {
+        let raw = (self.fetch.borrow_mut())(at, len)?;
+        if raw.len() != len {
             return Err(corrupt(format!(
-                "block {k}: read {} bytes, expected {}",
-                raw.len(),
-                payload + 8
+                "read {} bytes at {at}, expected {len}",
+                raw.len()
             )));
         }
-        let data: Box<[u8]> = layout::check_block(s.header_hash, k, &raw)?.into();
-        let r = f(&data);
-        s.cached.set(s.cached.get() + data.len());
-        s.blocks.borrow_mut().insert(k, data);
-        r
+        Ok(raw)
     }
 
-    fn u32s<const N: usize, const B: usize>(&self, at: u64) -> Result<[u32; N], TinError> {
-        let b: [u8; B] = self.read(at)?;
-        let mut out = [0u32; N];
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = u32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
+    /// Element `i` of stream `s`, through `f` on its decoded group and
+    /// its place there.
+    fn with<T>(
+        &self,
+        s: Stream,
+        i: usize,
+        f: impl FnOnce(&Group, usize) -> Option<T>,
+    ) -> Result<T, TinError> {
+        let (k, first, n) = self
+            .s
+            .plan
+            .group_of(s, i)
+            .ok_or_else(|| corrupt(format!("element {i} of {s:?} out of range")))?;
+        let held = self.s.groups.borrow().get(&k).cloned();
+        let g = match held {
+            Some(g) => g,
+            None => {
+                let g = Rc::new(self.load(s, k, first, n)?);
+                self.s.cached.set(self.s.cached.get() + g.bytes());
+                self.s.groups.borrow_mut().insert(k, g.clone());
+                g
+            }
+        };
+        f(&g, i - first).ok_or_else(|| corrupt(format!("group {k} does not hold {s:?} {i}")))
+    }
+
+    /// Read, check and decode group `k` (elements `first..first + n` of
+    /// `s`).
+    fn load(&self, s: Stream, k: u64, first: usize, n: usize) -> Result<Group, TinError> {
+        let h = &self.s.header;
+        match &self.s.kind {
+            Kind::V4 { pages } => {
+                let (start, end) = self.group_place(pages, k)?;
+                let raw = self.fetch(start, (end - start) as usize)?;
+                let packed = layout::check_group(self.s.header_hash, k, &raw)?;
+                compact::decode_group(packed, s, first, n, h.vertex_coding, h.lattice.as_ref())
+            }
+            Kind::V3 { body, sections } => {
+                let (at, size) = match s {
+                    Stream::Verts => (0, 24),
+                    Stream::Tris(l) => (sec(sections, l)?.tris, 12),
+                    Stream::Nbrs(l) => (sec(sections, l)?.nbrs, 12),
+                    Stream::Parents(l) => (sec(sections, l)?.parents, 4),
+                    Stream::Cells(l) => (sec(sections, l)?.cells, 4),
+                };
+                let b = self.v3_bytes(*body, at + (first * size) as u64, n * size)?;
+                let u32_at = |o: usize| u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
+                Ok(match s {
+                    Stream::Verts => Group::Verts(
+                        b.chunks_exact(24)
+                            .map(|v| {
+                                let f = |j: usize| {
+                                    let mut a = [0u8; 8];
+                                    a.copy_from_slice(&v[8 * j..8 * j + 8]);
+                                    f64::from_le_bytes(a)
+                                };
+                                [f(0), f(1), f(2)]
+                            })
+                            .collect(),
+                    ),
+                    Stream::Tris(_) | Stream::Nbrs(_) => Group::Triples(
+                        (0..n)
+                            .map(|e| [u32_at(12 * e), u32_at(12 * e + 4), u32_at(12 * e + 8)])
+                            .collect(),
+                    ),
+                    Stream::Parents(_) | Stream::Cells(_) => {
+                        Group::Ids((0..n).map(|e| u32_at(4 * e)).collect())
+                    }
+                })
+            }
+        }
+    }
+
+    /// Value offsets of format-4 group `k` (payload and checksum), from
+    /// its directory entry and the one before.
+    fn group_place(
+        &self,
+        pages: &RefCell<HashMap<u64, Rc<[u32]>>>,
+        k: u64,
+    ) -> Result<(u64, u64), TinError> {
+        let ng = self.s.plan.num_groups();
+        let data = HEADER_LEN_V4 as u64 + 4 * ng;
+        let entry = |e: u64| -> Result<u64, TinError> {
+            let p = e / DIR_PAGE;
+            let held = pages.borrow().get(&p).cloned();
+            let page = match held {
+                Some(pg) => pg,
+                None => {
+                    let n = DIR_PAGE.min(ng - p * DIR_PAGE) as usize;
+                    let raw = self.fetch(HEADER_LEN_V4 as u64 + 4 * p * DIR_PAGE, 4 * n)?;
+                    let pg: Rc<[u32]> = raw
+                        .chunks_exact(4)
+                        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                        .collect();
+                    self.s.cached.set(self.s.cached.get() + 4 * n);
+                    pages.borrow_mut().insert(p, pg.clone());
+                    pg
+                }
+            };
+            Ok(page.get((e % DIR_PAGE) as usize).copied().unwrap_or(0) as u64)
+        };
+        let end = entry(k)?;
+        let start = if k == 0 { 0 } else { entry(k - 1)? };
+        if end < start + 9 || data + end > self.s.header.total_len {
+            return Err(corrupt(format!(
+                "group {k} has a bad place in the directory"
+            )));
+        }
+        Ok((data + start, data + end))
+    }
+
+    /// `len` bytes of a format-3 body at `at`, from the blocks under them
+    /// (each checked).
+    fn v3_bytes(&self, body: u64, at: u64, len: usize) -> Result<Vec<u8>, TinError> {
+        if at + len as u64 > body {
+            return Err(corrupt("read past the end of the value"));
+        }
+        let mut out = Vec::with_capacity(len);
+        let (first, last) = (
+            at / BLOCK_PAYLOAD as u64,
+            (at + len as u64 - 1) / BLOCK_PAYLOAD as u64,
+        );
+        for k in first..=last {
+            let (start, payload) = layout::block_at(body, k);
+            let raw = self.fetch(start, payload + 8)?;
+            let data = layout::check_block(self.s.header_hash, k, &raw)?;
+            let b0 = k * BLOCK_PAYLOAD as u64;
+            let lo = at.max(b0) - b0;
+            let hi = (at + len as u64).min(b0 + payload as u64) - b0;
+            let piece = data
+                .get(lo as usize..hi as usize)
+                .ok_or_else(|| corrupt(format!("block {k} is shorter than its place")))?;
+            out.extend_from_slice(piece);
         }
         Ok(out)
-    }
-
-    fn level(&self, level: usize) -> Result<&LevelSections, TinError> {
-        self.s
-            .sections
-            .get(level)
-            .ok_or_else(|| corrupt(format!("level {level} out of range")))
     }
 
     fn check_tri(&self, level: usize, t: u32) -> Result<(), TinError> {
@@ -193,6 +336,26 @@ impl Reader<'_> {
             )))
         }
     }
+
+    fn triple(&self, s: Stream, t: u32) -> Result<[u32; 3], TinError> {
+        self.with(s, t as usize, |g, j| match g {
+            Group::Triples(v) => v.get(j).copied(),
+            _ => None,
+        })
+    }
+
+    fn id(&self, s: Stream, i: u32) -> Result<u32, TinError> {
+        self.with(s, i as usize, |g, j| match g {
+            Group::Ids(v) => v.get(j).copied(),
+            _ => None,
+        })
+    }
+}
+
+fn sec(sections: &[LevelSections], l: usize) -> Result<&LevelSections, TinError> {
+    sections
+        .get(l)
+        .ok_or_else(|| corrupt(format!("level {l} out of range")))
 }
 
 impl Mesh for Reader<'_> {
@@ -212,7 +375,7 @@ impl Mesh for Reader<'_> {
 
     fn tri(&self, level: usize, t: u32) -> Result<[u32; 3], TinError> {
         self.check_tri(level, t)?;
-        let v = self.u32s::<3, 12>(self.level(level)?.tris + 12 * t as u64)?;
+        let v = self.triple(Stream::Tris(level), t)?;
         if v.iter().any(|&i| i >= self.s.header.num_vertices) {
             return Err(corrupt(format!("vertex id out of range in triangle {t}")));
         }
@@ -221,7 +384,7 @@ impl Mesh for Reader<'_> {
 
     fn nbrs(&self, level: usize, t: u32) -> Result<[u32; 3], TinError> {
         self.check_tri(level, t)?;
-        let n = self.u32s::<3, 12>(self.level(level)?.nbrs + 12 * t as u64)?;
+        let n = self.triple(Stream::Nbrs(level), t)?;
         let nt = self.num_triangles(level) as u32;
         if n.iter().any(|&i| i != NONE && i >= nt) {
             return Err(corrupt(format!(
@@ -237,7 +400,7 @@ impl Mesh for Reader<'_> {
 
     fn parent(&self, level: usize, t: u32) -> Result<u32, TinError> {
         self.check_tri(level, t)?;
-        let [p] = self.u32s::<1, 4>(self.level(level)?.parents + 4 * t as u64)?;
+        let p = self.id(Stream::Parents(level), t)?;
         let ok = match level.checked_sub(1) {
             None => p == NONE,
             Some(up) => (p as usize) < self.num_triangles(up),
@@ -249,22 +412,20 @@ impl Mesh for Reader<'_> {
     }
 
     /// By binary search in the next level's parents (sorted): O(log n)
-    /// reads, a few blocks.
+    /// reads, a few groups.
     fn children(&self, level: usize, t: u32) -> Result<std::ops::Range<u32>, TinError> {
         self.check_tri(level, t)?;
         let next = level + 1;
-        if next >= self.s.sections.len() {
+        if next >= self.num_levels() {
             return Ok(0..0);
         }
         let n = self.num_triangles(next) as u32;
-        let at = self.level(next)?.parents;
         // first child whose parent is >= p
         let lower = |p: u32| -> Result<u32, TinError> {
             let (mut lo, mut hi) = (0u32, n);
             while lo < hi {
                 let mid = lo + (hi - lo) / 2;
-                let [q] = self.u32s::<1, 4>(at + 4 * mid as u64)?;
-                if q < p {
+                if self.id(Stream::Parents(next), mid)? < p {
                     lo = mid + 1;
                 } else {
                     hi = mid;
@@ -279,13 +440,10 @@ impl Mesh for Reader<'_> {
         if v >= self.s.header.num_vertices {
             return Err(corrupt(format!("vertex {v} out of range")));
         }
-        let b: [u8; 24] = self.read(24 * v as u64)?;
-        let f = |i: usize| {
-            let mut a = [0u8; 8];
-            a.copy_from_slice(&b[8 * i..8 * i + 8]);
-            f64::from_le_bytes(a)
-        };
-        Ok([f(0), f(1), f(2)])
+        self.with(Stream::Verts, v as usize, |g, j| match g {
+            Group::Verts(x) => x.get(j).copied(),
+            _ => None,
+        })
     }
 }
 
@@ -306,7 +464,7 @@ impl Indexed for Reader<'_> {
         if i as u64 >= nx as u64 * ny as u64 {
             return Err(corrupt(format!("grid cell {i} out of range")));
         }
-        let [t] = self.u32s::<1, 4>(self.level(level)?.cells + 4 * i as u64)?;
+        let t = self.id(Stream::Cells(level), i)?;
         self.check_tri(level, t)?;
         Ok(t)
     }
