@@ -35,10 +35,13 @@
 use super::lattice::Lattice;
 use super::{TinError, NONE};
 
-/// Elements (vertices, triangles) per group.
-pub const GROUP: usize = 1024;
+/// Triangles (and their neighbours and parents) per group.
+pub const GROUP: usize = 512;
+/// Vertices per group (the corners of one triangle are often in groups of
+/// different levels: small groups keep what a point query holds small).
+pub const VERT_GROUP: usize = 256;
 /// Grid cells per group.
-pub const CELL_GROUP: usize = 4096;
+pub const CELL_GROUP: usize = 2048;
 /// zstd level of the groups (decoding speed does not depend on it).
 const ZSTD_LEVEL: i32 = 3;
 /// Move-to-front cache of the triangle coding.
@@ -89,33 +92,35 @@ pub struct Plan {
     streams: Vec<(Stream, usize, u64)>,
     total: u64,
     per: usize,
+    per_vert: usize,
     per_cell: usize,
 }
 
 impl Plan {
     /// From the counts: vertices, and per level triangles and grid cells
-    /// (groups of [`GROUP`] and [`CELL_GROUP`]).
+    /// (groups of [`GROUP`], [`VERT_GROUP`] and [`CELL_GROUP`]).
     pub fn new(num_vertices: usize, levels: &[(usize, usize)]) -> Plan {
-        Plan::sized(num_vertices, levels, GROUP, CELL_GROUP)
+        Plan::sized(num_vertices, levels, GROUP, VERT_GROUP, CELL_GROUP)
     }
 
-    /// [`Plan::new`] with other group sizes (`per` elements, `per_cell`
-    /// cells; both at least 1).
+    /// [`Plan::new`] with other group sizes (`per` triangles, `per_vert`
+    /// vertices, `per_cell` cells; each at least 1).
     pub fn sized(
         num_vertices: usize,
         levels: &[(usize, usize)],
         per: usize,
+        per_vert: usize,
         per_cell: usize,
     ) -> Plan {
-        let (per, per_cell) = (per.max(1), per_cell.max(1));
+        let (per, per_vert, per_cell) = (per.max(1), per_vert.max(1), per_cell.max(1));
         let mut streams = Vec::with_capacity(1 + 4 * levels.len());
         let mut total = 0u64;
         let mut push = |s: Stream, n: usize| {
             streams.push((s, n, total));
-            let p = if matches!(s, Stream::Cells(_)) {
-                per_cell
-            } else {
-                per
+            let p = match s {
+                Stream::Cells(_) => per_cell,
+                Stream::Verts => per_vert,
+                _ => per,
             };
             total += n.div_ceil(p) as u64;
         };
@@ -130,6 +135,7 @@ impl Plan {
             streams,
             total,
             per,
+            per_vert,
             per_cell,
         }
     }
@@ -138,6 +144,7 @@ impl Plan {
     pub fn per_group(&self, s: Stream) -> usize {
         match s {
             Stream::Cells(_) => self.per_cell,
+            Stream::Verts => self.per_vert,
             _ => self.per,
         }
     }

@@ -30,9 +30,9 @@
 //! of one u32 per group (where the group ends, counted from the end of the
 //! directory), then the groups, each a codec byte, its coded or
 //! zstd-compressed elements and an 8-byte checksum (xxh3-64 seeded with the
-//! header hash plus the group number). The groups are the vertices, then
-//! per level the triangles, neighbours, parents and grid cells, 1,024
-//! elements (4,096 cells) each.
+//! header hash plus the group number). The groups are the vertices (256
+//! each), then per level the triangles, neighbours, parents (512 each) and
+//! grid cells (2,048 each).
 //!
 //! Versions 1 and 3 have this body (each section's offset follows from the
 //! header's counts):

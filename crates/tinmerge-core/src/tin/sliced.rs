@@ -132,6 +132,7 @@ impl SlicedTin {
                         header.num_vertices as usize,
                         &counts,
                         V3_GROUP,
+                        V3_GROUP,
                         4 * V3_GROUP,
                     ),
                     Kind::V3 { body, sections },
