@@ -118,6 +118,19 @@ impl Header {
     pub fn num_levels(&self) -> usize {
         self.levels.len()
     }
+
+    /// Per level: triangles and grid cells.
+    pub fn level_counts(&self) -> Vec<(usize, usize)> {
+        self.levels
+            .iter()
+            .map(|l| {
+                (
+                    l.num_triangles as usize,
+                    l.grid_nx as usize * l.grid_ny as usize,
+                )
+            })
+            .collect()
+    }
 }
 
 fn corrupt(s: impl Into<String>) -> TinError {
@@ -475,17 +488,7 @@ pub fn body_offset(h: &Header, logical: usize) -> usize {
 
 /// The groups of a version-4 value with this header.
 pub fn plan(h: &Header) -> Plan {
-    let levels: Vec<(usize, usize)> = h
-        .levels
-        .iter()
-        .map(|l| {
-            (
-                l.num_triangles as usize,
-                l.grid_nx as usize * l.grid_ny as usize,
-            )
-        })
-        .collect();
-    Plan::new(h.num_vertices as usize, &levels)
+    Plan::new(h.num_vertices as usize, &h.level_counts())
 }
 
 /// Serialise a tin (whose structure is valid) to its storage bytes, in the

@@ -88,16 +88,7 @@ impl SlicedTin {
     /// whole.
     pub fn new(head: &[u8]) -> Result<Option<SlicedTin>, TinError> {
         let header = layout::read_header(head)?;
-        let counts: Vec<(usize, usize)> = header
-            .levels
-            .iter()
-            .map(|l| {
-                (
-                    l.num_triangles as usize,
-                    l.grid_nx as usize * l.grid_ny as usize,
-                )
-            })
-            .collect();
+        let counts = header.level_counts();
         let (plan, kind) = match header.version {
             layout::VERSION => {
                 let plan = layout::plan(&header);
