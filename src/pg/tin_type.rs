@@ -21,6 +21,24 @@ use tinmerge_core::tin::layout::{self, Header, HEADER_LEN};
 use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{Tin, TinError};
 
+/// Bytes of data in one TOAST chunk (PostgreSQL's `TOAST_MAX_CHUNK_SIZE`,
+/// a macro bindgen does not export; 1,996 for 8 KB blocks): a slice read
+/// costs the chunks it touches, so sliced reads ask for whole chunks.
+const TOAST_CHUNK: u64 = {
+    const fn maxalign(n: u64) -> u64 {
+        (n + 7) & !7
+    }
+    // EXTERN_TUPLE_MAX_SIZE (4 tuples per page, after the page header and
+    // their item pointers), less the tuple header, chunk id, chunk number
+    // and varlena header of a chunk row
+    let tuple_max = ((pg_sys::BLCKSZ as u64 - maxalign(24 + 4 * 4)) / 4) & !7;
+    tuple_max - maxalign(23) - 4 - 4 - 4
+};
+const _: () = assert!(pg_sys::BLCKSZ != 8192 || TOAST_CHUNK == 1996);
+/// Chunks read past a missing one (the next groups of an array are
+/// usually the next ones a merge needs; docs/performance.md).
+const READ_AHEAD: u64 = 1;
+
 /// What the point and line functions read: the decoded value, or the
 /// stored value read block by block (see [`TinArg::mesh_source`]).
 pub enum MeshSource {
@@ -163,13 +181,15 @@ impl TinArg {
         }
         match cache::sliced(k.header.hash, k.header.total_len, || {
             SlicedTin::new(self.slice(0, HEADER_LEN))
+                .map(|s| s.map(|s| s.with_units(TOAST_CHUNK, READ_AHEAD)))
         }) {
             Some(s) => MeshSource::Sliced(s),
             None => MeshSource::Decoded(self.decode(k)),
         }
     }
 
-    /// Bytes `at..at + len` of the stored value, fetching only the TOAST
+    /// Bytes `at..at + len` of the stored value (offsets past its varlena
+    /// header), fetching only the TOAST
     /// chunks that cover them (fewer when the value is shorter).
     fn slice(&self, at: u64, len: usize) -> &[u8] {
         unsafe {

@@ -14,10 +14,25 @@ use tinmerge_core::tin::locate::{locate, locate_in};
 use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{Tin, TinError};
 
-/// The value in the current format (4) and in format 3 (0.5.0's), which
-/// is read in slices too.
-fn formats(tin: &Tin) -> Vec<(&'static str, Vec<u8>)> {
-    vec![("v4", layout::encode(tin)), ("v3", layout::encode_v3(tin))]
+/// The value in the current format (4), read exactly and in whole TOAST
+/// chunks with one read ahead (as the extension reads it), and in format 3
+/// (0.5.0's), which is read in slices too: (name, bytes, read unit).
+fn formats(tin: &Tin) -> Vec<(&'static str, Vec<u8>, u64)> {
+    let v4 = layout::encode(tin);
+    vec![
+        ("v4", v4.clone(), 0),
+        ("v4 in 1,996-byte chunks", v4, 1996),
+        ("v3", layout::encode_v3(tin), 0),
+    ]
+}
+
+/// A reader of `stored` from its header, reading in units of `unit` bytes
+/// (0: exactly what a group needs).
+fn open(stored: &[u8], unit: u64) -> SlicedTin {
+    SlicedTin::new(&stored[..HEADER_LEN])
+        .unwrap()
+        .unwrap()
+        .with_units(unit, 1)
 }
 
 fn tins() -> Vec<(&'static str, Tin)> {
@@ -58,9 +73,9 @@ fn points(t: &Tin, r: &mut StdRng) -> Vec<[f64; 2]> {
 fn sliced_reads_answer_as_the_decoded_value() {
     let mut r = StdRng::seed_from_u64(0x511ce);
     for (tname, tin) in tins() {
-        for (fmt, stored) in formats(&tin) {
+        for (fmt, stored, unit) in formats(&tin) {
             let name = format!("{tname} {fmt}");
-            let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+            let s = open(&stored, unit);
             let fetched = Cell::new(0usize);
             let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
                 fetched.set(fetched.get() + len);
@@ -141,12 +156,12 @@ fn a_damaged_block_is_an_error_never_an_answer() {
     let tin = common::dem_tin();
     let mut r = StdRng::seed_from_u64(7);
     let pts = points(&tin, &mut r);
-    for (fmt, stored) in formats(&tin) {
+    for (fmt, stored, unit) in formats(&tin) {
         let (mut errors, mut answers) = (0, 0);
         for (at, label) in damage_sites(&stored) {
             let mut bad = stored.clone();
             bad[at] ^= 0x40;
-            let s = SlicedTin::new(&bad[..HEADER_LEN]).unwrap().unwrap();
+            let s = open(&bad, unit);
             for l in 0..tin.levels.len() {
                 for p in pts.iter().take(60) {
                     let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
@@ -179,7 +194,7 @@ fn format_1_is_not_read_in_slices() {
     let v1 = layout::encode_v1(&tin);
     assert!(SlicedTin::new(&v1[..HEADER_LEN]).unwrap().is_none());
     // a damaged header is an error before any block is read
-    for (_, mut v) in formats(&tin) {
+    for (_, mut v, _) in formats(&tin) {
         v[60] ^= 1;
         assert!(matches!(
             SlicedTin::new(&v[..HEADER_LEN]),
@@ -193,7 +208,7 @@ fn lines_read_in_slices_cut_as_on_the_decoded_value() {
     use tinmerge_core::merge::line::{pieces, pieces_in, walk_parts, Part, TriangleSink};
     let mut r = StdRng::seed_from_u64(0x11e5);
     for (tname, tin) in tins() {
-        for (fmt, stored) in formats(&tin) {
+        for (fmt, stored, unit) in formats(&tin) {
             let name = format!("{tname} {fmt}");
             let b = tin.bbox;
             let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
@@ -224,7 +239,7 @@ fn lines_read_in_slices_cut_as_on_the_decoded_value() {
             ])]);
             for l in 0..tin.levels.len() {
                 for parts in &lines {
-                    let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                    let s = open(&stored, unit);
                     let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
                         Ok(stored[at as usize..at as usize + len].to_vec())
                     };
@@ -250,7 +265,7 @@ fn lines_read_in_slices_cut_as_on_the_decoded_value() {
             }
             // a 2 km line inside the UTM domain reads a small part of the value
             if tname == "utm" {
-                let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                let s = open(&stored, unit);
                 let fetched = Cell::new(0usize);
                 let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
                     fetched.set(fetched.get() + len);
@@ -282,7 +297,7 @@ fn areas_read_in_slices_sweep_as_on_the_decoded_value() {
     use tinmerge_core::merge::area::{area_rows, sweep, Method};
     let mut r = StdRng::seed_from_u64(0xa4ea);
     for (tname, tin) in tins() {
-        for (fmt, stored) in formats(&tin) {
+        for (fmt, stored, unit) in formats(&tin) {
             let name = format!("{tname} {fmt}");
             let b = tin.bbox;
             let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
@@ -315,7 +330,7 @@ fn areas_read_in_slices_sweep_as_on_the_decoded_value() {
                 .collect();
             for l in 0..tin.levels.len() {
                 for (pi, a) in polys.iter().enumerate() {
-                    let s = SlicedTin::new(&stored[..HEADER_LEN]).unwrap().unwrap();
+                    let s = open(&stored, unit);
                     let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
                         Ok(stored[at as usize..at as usize + len].to_vec())
                     };

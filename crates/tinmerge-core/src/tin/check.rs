@@ -20,7 +20,7 @@
 //! a crack (its corner lies on the opposite edge, so the surface on the
 //! two sides of that edge disagrees).
 
-use super::{Tin, TinError, MAX_LEVELS, NONE};
+use super::{par, Tin, TinError, MAX_LEVELS, NONE};
 use crate::geom::vco;
 use crate::interrupt::Interrupt;
 use robust::{incircle, orient2d};
@@ -34,8 +34,13 @@ pub fn validate_structure(tin: &Tin) -> Result<(), TinError> {
     validate_structure_checked(tin, &mut || Ok(()))
 }
 
+/// Triangles checked as one piece of work (`interrupt` is called before
+/// every 4 per thread).
+const CHECK_RUN: usize = 4096;
+
 /// [`validate_structure`] calling `interrupt` between levels and every
-/// 16384 triangles (a stored value of 15 MB takes about 20 ms).
+/// 16384 triangles per thread (a stored value of 15 MB takes about 20 ms),
+/// checking triangles on `tinmerge.threads` ([`par`]).
 pub fn validate_structure_checked(
     tin: &Tin,
     interrupt: &mut Interrupt<'_>,
@@ -90,11 +95,14 @@ pub fn validate_structure_checked(
         if nt == 0 || lv.nbrs.len() != nt || lv.parent.len() != nt {
             return Err(bad(format!("level {l}: inconsistent triangle arrays")));
         }
-        interrupt()?;
-        for (t, tri) in lv.tris.iter().enumerate() {
-            if t % 16384 == 16383 {
-                interrupt()?;
-            }
+        // triangles, then parents, in runs checked on `tinmerge.threads`
+        // (the first error in triangle order is the one reported)
+        let runs: Vec<std::ops::Range<usize>> = (0..nt)
+            .step_by(CHECK_RUN)
+            .map(|a| a..(a + CHECK_RUN).min(nt))
+            .collect();
+        let check_tri = |t: usize| -> Result<(), TinError> {
+            let tri = lv.tris[t];
             if tri.iter().any(|&v| v >= lv.num_vertices) {
                 return Err(bad(format!(
                     "level {l}: triangle {t} has a vertex index out of range"
@@ -132,7 +140,14 @@ pub fn validate_structure_checked(
                     }
                 }
             }
-        }
+            Ok(())
+        };
+        par::map_batched(
+            &runs,
+            |r| r.clone().try_for_each(check_tri),
+            interrupt,
+            &mut |r| r,
+        )?;
         // parents
         if l == 0 {
             if lv.parent.iter().any(|&p| p != NONE) {
@@ -140,18 +155,14 @@ pub fn validate_structure_checked(
             }
         } else {
             let pl = &tin.levels[l - 1];
-            let mut last = 0u32;
-            interrupt()?;
-            for (t, &p) in lv.parent.iter().enumerate() {
-                if t % 16384 == 16383 {
-                    interrupt()?;
-                }
+            let check_parent = |t: usize| -> Result<(), TinError> {
+                let p = lv.parent[t];
+                let last = if t == 0 { 0 } else { lv.parent[t - 1] };
                 if p as usize >= pl.tris.len() || p < last {
                     return Err(bad(format!(
                         "level {l}: triangle {t} has parent {p}, out of range or not sorted"
                     )));
                 }
-                last = p;
                 let pt = pl.tris[p as usize].map(|v| tin.verts[v as usize]);
                 for &v in &lv.tris[t] {
                     let q = &tin.verts[v as usize];
@@ -167,7 +178,14 @@ pub fn validate_structure_checked(
                         }
                     }
                 }
-            }
+                Ok(())
+            };
+            par::map_batched(
+                &runs,
+                |r| r.clone().try_for_each(check_parent),
+                interrupt,
+                &mut |r| r,
+            )?;
             if pl.child_start.len() != pl.tris.len() + 1
                 || pl.child_start != super::hierarchy::child_starts(&lv.parent, pl.tris.len())
             {

@@ -34,6 +34,7 @@
 
 use super::lattice::Lattice;
 use super::{TinError, NONE};
+use std::cell::RefCell;
 
 /// Triangles (and their neighbours and parents) per group.
 pub const GROUP: usize = 512;
@@ -383,7 +384,9 @@ pub fn encode_tris(tris: &[[u32; 3]]) -> Vec<u8> {
 /// Decode `n` triangles coded by [`encode_tris`].
 pub fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
     let mut out = Vec::with_capacity(n);
-    let mut cache: Vec<u32> = Vec::with_capacity(CACHE + 1);
+    // the move-to-front cache of the encoder, in a fixed array
+    let mut cache = [0u32; CACHE];
+    let mut held = 0usize;
     let mut last = 0i64;
     let mut at = 0usize;
     for _ in 0..n {
@@ -395,10 +398,12 @@ pub fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
             at += 1;
             let id = if (code as usize) < CACHE {
                 let i = code as usize;
-                if i >= cache.len() {
+                if i >= held {
                     return Err(corrupt("triangle group refers to an empty cache slot"));
                 }
-                cache.remove(i)
+                let id = cache[i];
+                cache.copy_within(0..i, 1);
+                id
             } else {
                 let d = if code == 127 {
                     read_varint(b, &mut at)?
@@ -411,10 +416,11 @@ pub fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
                 if !(0..NONE as i64).contains(&last) {
                     return Err(corrupt("vertex id out of range in a triangle group"));
                 }
+                cache.copy_within(0..CACHE - 1, 1);
+                held = (held + 1).min(CACHE);
                 last as u32
             };
-            cache.insert(0, id);
-            cache.truncate(CACHE);
+            cache[0] = id;
             *v = id;
         }
         out.push(t);
@@ -515,7 +521,14 @@ pub fn decode_ids(b: &[u8], n: usize, plus_one: bool) -> Result<Vec<u32>, TinErr
 /// Compress a coded group: a codec byte, then zstd (or the coding as it
 /// is when zstd does not make it smaller).
 pub fn pack(coded: &[u8]) -> Vec<u8> {
-    if let Ok(z) = zstd::bulk::compress(coded, ZSTD_LEVEL) {
+    // one compression context per thread: making one costs more than
+    // compressing a group
+    thread_local! {
+        static Z: RefCell<Option<zstd::bulk::Compressor<'static>>> =
+            RefCell::new(zstd::bulk::Compressor::new(ZSTD_LEVEL).ok());
+    }
+    let z = Z.with(|z| z.borrow_mut().as_mut().map(|c| c.compress(coded)));
+    if let Some(Ok(z)) = z {
         if z.len() < coded.len() {
             let mut out = Vec::with_capacity(z.len() + 1);
             out.push(1);
@@ -533,8 +546,19 @@ pub fn pack(coded: &[u8]) -> Vec<u8> {
 pub fn unpack(b: &[u8], max: usize) -> Result<Vec<u8>, TinError> {
     match b.split_first() {
         Some((0, rest)) if rest.len() <= max => Ok(rest.to_vec()),
-        Some((1, rest)) => zstd::bulk::decompress(rest, max)
-            .map_err(|e| corrupt(format!("a group does not decompress: {e}"))),
+        Some((1, rest)) => {
+            // one decompression context per thread (making one costs more
+            // than decompressing a group)
+            thread_local! {
+                static Z: RefCell<Option<zstd::bulk::Decompressor<'static>>> =
+                    RefCell::new(zstd::bulk::Decompressor::new().ok());
+            }
+            Z.with(|z| match z.borrow_mut().as_mut() {
+                Some(d) => d.decompress(rest, max),
+                None => zstd::bulk::decompress(rest, max),
+            })
+            .map_err(|e| corrupt(format!("a group does not decompress: {e}")))
+        }
         Some((c, _)) if *c > 1 => Err(corrupt(format!("unknown group codec {c}"))),
         _ => Err(corrupt("empty or oversized group")),
     }

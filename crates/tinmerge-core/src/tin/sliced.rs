@@ -81,6 +81,12 @@ pub struct SlicedTin {
     kind: Kind,
     groups: RefCell<HashMap<u64, Rc<Group>>>,
     cached: Cell<usize>,
+    /// Reads in whole units of the storage under the fetch (0: exact
+    /// reads), with `ahead` more units after a missing one.
+    unit: u64,
+    ahead: u64,
+    /// Units read so far (by unit number).
+    units: RefCell<HashMap<u64, Rc<[u8]>>>,
 }
 
 impl SlicedTin {
@@ -139,7 +145,45 @@ impl SlicedTin {
             kind,
             groups: RefCell::new(HashMap::new()),
             cached: Cell::new(0),
+            unit: 0,
+            ahead: 0,
+            units: RefCell::new(HashMap::new()),
         }))
+    }
+
+    /// Read whole units of `unit` bytes of the value (the TOAST chunk size
+    /// in the extension: a slice costs the chunks it touches, so the rest
+    /// of a touched chunk is free), keeping them for the groups that
+    /// follow, and `ahead` more units after a missing one (groups of one
+    /// array are stored in spatial order, so a query's next group is
+    /// often the next one). `unit` 0 reads exactly the bytes asked for.
+    ///
+    /// ```
+    /// # use tinmerge_core::tin::build::build;
+    /// # use tinmerge_core::tin::{layout, locate, sliced::SlicedTin, TinError};
+    /// # let mut pts = Vec::new();
+    /// # for i in 0..60 { for j in 0..60 {
+    /// #     pts.push([i as f64, j as f64, ((i * 7 + j * 13) % 11) as f64]);
+    /// # } }
+    /// # let tin = build(pts, &[2.0, 0.0], 0, &mut || Ok(())).unwrap();
+    /// let stored = layout::encode(&tin);
+    /// let s = SlicedTin::new(&stored[..layout::HEADER_LEN])
+    ///     .unwrap()
+    ///     .unwrap()
+    ///     .with_units(1996, 1);
+    /// let mut calls = 0;
+    /// let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+    ///     assert_eq!(at % 1996, 0);
+    ///     calls += 1;
+    ///     Ok(stored[at as usize..at as usize + len].to_vec())
+    /// };
+    /// let r = s.reader(&mut fetch);
+    /// assert_eq!(locate::locate_in(&r, 1, 20.3, 31.7).unwrap(), locate::locate(&tin, 1, 20.3, 31.7));
+    /// ```
+    pub fn with_units(mut self, unit: u64, ahead: u64) -> SlicedTin {
+        self.unit = unit;
+        self.ahead = ahead;
+        self
     }
 
     pub fn header(&self) -> &Header {
@@ -172,7 +216,64 @@ pub struct Reader<'a> {
 }
 
 impl Reader<'_> {
+    /// Bytes `at..at + len` of the value, through the units held (see
+    /// [`SlicedTin::with_units`]).
     fn fetch(&self, at: u64, len: usize) -> Result<Vec<u8>, TinError> {
+        let (unit, total) = (self.s.unit, self.s.header.total_len);
+        if unit == 0 || len == 0 {
+            return self.fetch_exact(at, len);
+        }
+        let end = at
+            .checked_add(len as u64)
+            .filter(|&e| e <= total)
+            .ok_or_else(|| corrupt(format!("read of {len} bytes at {at} past the value's end")))?;
+        let (c0, c1) = (at / unit, (end - 1) / unit);
+        let missing: Vec<u64> = {
+            let units = self.s.units.borrow();
+            (c0..=c1).filter(|c| !units.contains_key(c)).collect()
+        };
+        if let (Some(&m0), Some(&m1)) = (missing.first(), missing.last()) {
+            // the missing units, and up to `ahead` more not held yet
+            let last_unit = (total - 1) / unit;
+            let mut m_end = m1;
+            {
+                let units = self.s.units.borrow();
+                while m_end < last_unit
+                    && m_end < m1 + self.s.ahead
+                    && !units.contains_key(&(m_end + 1))
+                {
+                    m_end += 1;
+                }
+            }
+            let from = m0 * unit;
+            let to = ((m_end + 1) * unit).min(total);
+            let raw = self.fetch_exact(from, (to - from) as usize)?;
+            let mut units = self.s.units.borrow_mut();
+            for (i, piece) in raw.chunks(unit as usize).enumerate() {
+                let c = m0 + i as u64;
+                if let std::collections::hash_map::Entry::Vacant(e) = units.entry(c) {
+                    self.s.cached.set(self.s.cached.get() + piece.len());
+                    e.insert(Rc::from(piece));
+                }
+            }
+        }
+        let units = self.s.units.borrow();
+        let mut out = Vec::with_capacity(len);
+        for c in c0..=c1 {
+            let u = units
+                .get(&c)
+                .ok_or_else(|| corrupt(format!("unit {c} of the value was not read")))?;
+            let lo = at.max(c * unit) - c * unit;
+            let hi = end.min((c + 1) * unit) - c * unit;
+            out.extend_from_slice(
+                u.get(lo as usize..hi as usize)
+                    .ok_or_else(|| corrupt(format!("unit {c} of the value is short")))?,
+            );
+        }
+        Ok(out)
+    }
+
+    fn fetch_exact(&self, at: u64, len: usize) -> Result<Vec<u8>, TinError> {
         let raw = (self.fetch.borrow_mut())(at, len)?;
         if raw.len() != len {
             return Err(corrupt(format!(
@@ -404,27 +505,69 @@ impl Mesh for Reader<'_> {
         Ok(p)
     }
 
-    /// By binary search in the next level's parents (sorted): O(log n)
-    /// reads, a few groups.
+    /// By search in the next level's parents (sorted), starting where
+    /// `t`'s children would be if every triangle had as many (children are
+    /// in parent order): galloping from there brackets them in a few
+    /// reads, in the groups that hold them, where a binary search over the
+    /// whole level would read a group at each of its first steps.
     fn children(&self, level: usize, t: u32) -> Result<std::ops::Range<u32>, TinError> {
         self.check_tri(level, t)?;
         let next = level + 1;
         if next >= self.num_levels() {
             return Ok(0..0);
         }
-        let n = self.num_triangles(next) as u32;
-        // first child whose parent is >= p
+        let n = self.num_triangles(next) as u64;
+        let np = self.num_triangles(level).max(1) as u64;
+        let parent = |i: u64| self.id(Stream::Parents(next), i as u32);
+        // first child whose parent is >= p: gallop from the estimate to a
+        // bracket [lo, hi) with parent(lo - 1) < p <= parent(hi), then bisect
         let lower = |p: u32| -> Result<u32, TinError> {
-            let (mut lo, mut hi) = (0u32, n);
+            let guess = (p as u64 * n / np).min(n);
+            let (mut lo, mut hi);
+            if guess < n && parent(guess)? < p {
+                // forward: parent(lo - 1) < p
+                lo = guess + 1;
+                let mut step = 1u64;
+                loop {
+                    let probe = lo + step - 1;
+                    if probe >= n {
+                        hi = n;
+                        break;
+                    }
+                    if parent(probe)? >= p {
+                        hi = probe;
+                        break;
+                    }
+                    lo = probe + 1;
+                    step *= 2;
+                }
+            } else {
+                // backward: parent(hi) >= p (or hi = n)
+                hi = guess;
+                let mut step = 1u64;
+                loop {
+                    if hi < step {
+                        lo = 0;
+                        break;
+                    }
+                    let probe = hi - step;
+                    if parent(probe)? < p {
+                        lo = probe + 1;
+                        break;
+                    }
+                    hi = probe;
+                    step *= 2;
+                }
+            }
             while lo < hi {
                 let mid = lo + (hi - lo) / 2;
-                if self.id(Stream::Parents(next), mid)? < p {
+                if parent(mid)? < p {
                     lo = mid + 1;
                 } else {
                     hi = mid;
                 }
             }
-            Ok(lo)
+            Ok(lo as u32)
         };
         Ok(lower(t)?..lower(t + 1)?)
     }
