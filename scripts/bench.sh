@@ -236,3 +236,5 @@ echo "== parallel query: serial vs 2 workers (docs/scaling.md)"
 scripts/bench-parallel.sh
 echo "== first call in a fresh backend: stored values read in slices (docs/performance.md)"
 scripts/bench-cold.sh
+echo "== storage: sizes, encode and whole decode, cold and warm sliced reads in memory (cargo bench -p tinmerge-core --bench storage)"
+cargo bench -p tinmerge-core --bench storage 2>/dev/null
