@@ -1,13 +1,49 @@
 //! Whole levels: the triangles of a level (`tin_triangles`,
 //! `tin_as_geometry`) and the check of every level (`tin_validate`).
+//!
+//! A level that is a small part of a stored value (a coarse level of a
+//! large terrain) is read in slices: its triangle and parent groups and
+//! the vertices it uses, not the whole value ([`small_level`]).
 
 use pgrx::prelude::*;
 
 use super::errors::OrRaise;
 use super::interrupt::interrupt;
-use super::tin_type::TinArg;
+use super::tin_type::{MeshSource, TinArg};
 use tinmerge_core::io::ewkb;
-use tinmerge_core::tin::NONE;
+use tinmerge_core::tin::mesh::Mesh;
+use tinmerge_core::tin::{resolve_level, NONE};
+
+/// A level read on its own: its SRID and, per triangle, the parent (or
+/// [`NONE`]) and corners.
+type LevelRows = (i32, Vec<(u32, [[f64; 3]; 3])>);
+
+/// The triangles of `level` read in slices, when the value is read in
+/// slices and the level holds at most an eighth of its triangles (all
+/// levels counted); None otherwise (the caller decodes the whole value:
+/// reading most of the groups one by one would cost more).
+fn small_level(t: &TinArg, level: Option<i32>) -> Option<LevelRows> {
+    let MeshSource::Sliced(s) = t.mesh_source() else {
+        return None;
+    };
+    let h = s.header();
+    let l = resolve_level(level, h.levels.len()).or_raise();
+    let total: u64 = h.levels.iter().map(|x| x.num_triangles as u64).sum();
+    let n = h.levels[l].num_triangles;
+    if n as u64 * 8 > total {
+        return None;
+    }
+    let mut fetch = t.fetch();
+    let r = s.reader(&mut fetch);
+    let mut rows = Vec::with_capacity(n as usize);
+    for i in 0..n {
+        if i % 4096 == 0 {
+            interrupt().or_raise();
+        }
+        rows.push((r.parent(l, i).or_raise(), r.corners(l, i).or_raise()));
+    }
+    Some((h.srid, rows))
+}
 
 /// Every sliver and hidden crack of a tin (see `tin::check::problems`):
 /// values built by tinmerge 0.2.0 from grids whose pixel centres round off
@@ -60,6 +96,15 @@ fn _tin_triangles(
     let Some(t) = t else {
         return TableIterator::new(Vec::new());
     };
+    if let Some((srid, rows)) = small_level(&t, level) {
+        return TableIterator::new(rows.into_iter().enumerate().map(move |(i, (p, c))| {
+            (
+                i as i32,
+                (p != NONE).then_some(p as i32),
+                ewkb::Writer::triangle_polygon(srid, &c),
+            )
+        }));
+    }
     let tin = t.tin();
     let l = tin.level_index(level).or_raise();
     let n = tin.levels[l].tris.len();
@@ -86,6 +131,9 @@ COMMENT ON FUNCTION _tin_triangles(tin, int) IS 'Internal: use tin_triangles(tin
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_as_geometry(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<Vec<u8>> {
     let t = t?;
+    if let Some((srid, rows)) = small_level(&t, level) {
+        return Some(ewkb::Writer::tin(srid, rows.into_iter().map(|(_, c)| c)));
+    }
     let tin = t.tin();
     let l = tin.level_index(level).or_raise();
     let n = tin.levels[l].tris.len() as u32;

@@ -109,4 +109,19 @@ SELECT count(DISTINCT (SELECT array_agg(tin_height(o.t, ST_SetSRID(ST_MakePoint(
        count(DISTINCT (SELECT array_agg(geom ORDER BY id) FROM tin_triangles(o.t, 2))) AS distinct_triangle_lists
 FROM store_old o, LATERAL (SELECT tin_envelope(o.t)::box2d AS e) b;
 SELECT tin_rewrite(NULL::tin) IS NULL AS strict;
+-- a coarse level of a stored value read on its own (tin_triangles,
+-- tin_as_geometry): in a fresh backend, levels 0 and 1 are read in slices
+-- (the value is not decoded) and give the rows of the decoded value
+\c
+CREATE TABLE store_levels AS
+SELECT l, (SELECT md5(string_agg(id || ':' || coalesce(parent, -1) || ':' || ST_AsEWKT(geom), ',' ORDER BY id)) FROM tin_triangles(t, l)) AS rows,
+       md5(ST_AsEWKB(tin_as_geometry(t, l))::text) AS tin_geom
+FROM store_terrain, generate_series(0, 1) l;
+SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
+SET tinmerge.cache_size = 0;
+SELECT l, rows = (SELECT md5(string_agg(id || ':' || coalesce(parent, -1) || ':' || ST_AsEWKT(geom), ',' ORDER BY id)) FROM tin_triangles(t, l)) AS same_rows,
+       tin_geom = md5(ST_AsEWKB(tin_as_geometry(t, l))::text) AS same_tin_geometry
+FROM store_levels, store_terrain ORDER BY l;
+RESET tinmerge.cache_size;
+DROP TABLE store_levels;
 DROP TABLE store_terrain, store_pts, store_want, store_old, store_lines, store_cut, store_prof, store_polys, store_area;
