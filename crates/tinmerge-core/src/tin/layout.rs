@@ -798,25 +798,58 @@ pub fn group_ranges(b: &[u8], plan: &Plan) -> Result<Vec<std::ops::Range<usize>>
         .filter(|&d| d <= b.len())
         .ok_or_else(|| corrupt("the directory of groups runs past the end of the value"))?;
     let mut out = Vec::with_capacity(ng);
-    let mut start = 0usize;
+    let mut start = 0u64;
     for (k, e) in b[HEADER_LEN_V4..data].chunks_exact(4).enumerate() {
-        let end = u32::from_le_bytes([e[0], e[1], e[2], e[3]]) as usize;
-        if end < start + 9 || data + end > b.len() {
-            return Err(corrupt(format!(
-                "group {k} has a bad place in the directory"
-            )));
-        }
-        out.push(data + start..data + end);
+        let end = u32::from_le_bytes([e[0], e[1], e[2], e[3]]) as u64;
+        let (a, z) = group_place(k as u64, data as u64, start, end, b.len() as u64)?;
+        out.push(a as usize..z as usize);
         start = end;
     }
+    let start = start as usize;
     if data + start != b.len() {
         return Err(corrupt("bytes after the last group"));
     }
     Ok(out)
 }
 
+/// Format-4 group `k` of a value with header `h` and header hash `hh`,
+/// read as `raw` (payload and checksum): checked, then decoded as the `n`
+/// elements of `s` from element `first`.
+pub fn open_group(
+    h: &Header,
+    hh: u64,
+    k: u64,
+    raw: &[u8],
+    s: Stream,
+    first: usize,
+    n: usize,
+) -> Result<compact::Group, TinError> {
+    let packed = check_group(hh, k, raw)?;
+    compact::decode_group(packed, s, first, n, h.vertex_coding, h.lattice.as_ref())
+}
+
 /// Groups decoded as one piece of work by a whole decode (about 0.3 ms).
 const DECODE_RUN: usize = 32;
+
+/// Value offsets of format-4 group `k` (payload and checksum) from its
+/// directory entry `end` and the one before (`start`; 0 for the first
+/// group), both relative to `data`, the end of the directory: an error
+/// unless the group holds a codec byte and its checksum and ends within
+/// the value's `total` bytes.
+pub fn group_place(
+    k: u64,
+    data: u64,
+    start: u64,
+    end: u64,
+    total: u64,
+) -> Result<(u64, u64), TinError> {
+    if end < start + 9 || data + end > total {
+        return Err(corrupt(format!(
+            "group {k} has a bad place in the directory"
+        )));
+    }
+    Ok((data + start, data + end))
+}
 
 /// The arrays of a version-4 value (header and length already checked).
 fn decode_v4(
@@ -852,9 +885,7 @@ fn decode_v4(
         let raw = b
             .get(ranges.get(k as usize).cloned().unwrap_or(0..0))
             .unwrap_or(&[]);
-        let packed = check_group(hh, k, raw)?;
-        compact::decode_group(packed, s, first, n, h.vertex_coding, h.lattice.as_ref())
-            .map(|g| (s, g))
+        open_group(h, hh, k, raw, s, first, n).map(|g| (s, g))
     };
     // runs of groups (a group takes microseconds: handing them to threads
     // one by one would cost more than decoding them)

@@ -38,7 +38,7 @@
 //! assert!((held as u64) < total); // only the groups the walk touched
 //! ```
 
-use super::compact::{self, Group, Plan, Stream};
+use super::compact::{Group, Plan, Stream};
 use super::layout::{self, Header, LevelSections, BLOCK_PAYLOAD, HEADER_LEN_V4};
 use super::mesh::{Indexed, Mesh};
 use super::{Bbox, TinError, NONE};
@@ -318,8 +318,7 @@ impl Reader<'_> {
             Kind::V4 { pages } => {
                 let (start, end) = self.group_place(pages, k)?;
                 let raw = self.fetch(start, (end - start) as usize)?;
-                let packed = layout::check_group(self.s.header_hash, k, &raw)?;
-                compact::decode_group(packed, s, first, n, h.vertex_coding, h.lattice.as_ref())
+                layout::open_group(h, self.s.header_hash, k, &raw, s, first, n)
             }
             Kind::V3 { body, sections } => {
                 let (at, size) = match s {
@@ -387,12 +386,7 @@ impl Reader<'_> {
         };
         let end = entry(k)?;
         let start = if k == 0 { 0 } else { entry(k - 1)? };
-        if end < start + 9 || data + end > self.s.header.total_len {
-            return Err(corrupt(format!(
-                "group {k} has a bad place in the directory"
-            )));
-        }
-        Ok((data + start, data + end))
+        layout::group_place(k, data, start, end, self.s.header.total_len)
     }
 
     /// `len` bytes of a format-3 body at `at`, from the blocks under them
