@@ -69,6 +69,17 @@ fn points(t: &Tin, r: &mut StdRng) -> Vec<[f64; 2]> {
     out
 }
 
+/// A fetch from `stored` adding the bytes it reads to `fetched`.
+fn counting_fetch<'a>(
+    stored: &'a [u8],
+    fetched: &'a Cell<usize>,
+) -> impl FnMut(u64, usize) -> Result<Vec<u8>, TinError> + 'a {
+    move |at, len| {
+        fetched.set(fetched.get() + len);
+        Ok(stored[at as usize..at as usize + len].to_vec())
+    }
+}
+
 #[test]
 fn sliced_reads_answer_as_the_decoded_value() {
     let mut r = StdRng::seed_from_u64(0x511ce);
@@ -77,10 +88,7 @@ fn sliced_reads_answer_as_the_decoded_value() {
             let name = format!("{tname} {fmt}");
             let s = open(&stored, unit);
             let fetched = Cell::new(0usize);
-            let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
-                fetched.set(fetched.get() + len);
-                Ok(stored[at as usize..at as usize + len].to_vec())
-            };
+            let mut fetch = counting_fetch(&stored, &fetched);
             let reader = s.reader(&mut fetch);
             let pts = points(&tin, &mut r);
             // the first point, finest level: a few blocks of a large value
@@ -267,10 +275,7 @@ fn lines_read_in_slices_cut_as_on_the_decoded_value() {
             if tname == "utm" {
                 let s = open(&stored, unit);
                 let fetched = Cell::new(0usize);
-                let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
-                    fetched.set(fetched.get() + len);
-                    Ok(stored[at as usize..at as usize + len].to_vec())
-                };
+                let mut fetch = counting_fetch(&stored, &fetched);
                 let reader = s.reader(&mut fetch);
                 let line = [Part::new(vec![
                     [757000.0, 4052000.0],
