@@ -144,15 +144,10 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
 'tin_line_segments through a stored line tree: the same rows as for its geometry.';
 
--- Area merge. PostGIS decides validity (ST_IsValidReason); the functions
--- that measure in the SRID's units are told whether it is geographic.
-CREATE FUNCTION @extschema@._tin_srid_is_geographic(srid int) RETURNS boolean AS
-$$ SELECT EXISTS (SELECT 1 FROM spatial_ref_sys s WHERE s.srid = $1
-     AND (s.proj4text LIKE '%+proj=longlat%' OR s.srtext LIKE 'GEOGCS%' OR s.srtext LIKE 'GEOGCRS%')) $$
-LANGUAGE sql STABLE STRICT PARALLEL SAFE
-SET search_path FROM CURRENT;
-COMMENT ON FUNCTION _tin_srid_is_geographic(int) IS 'Internal: whether spatial_ref_sys describes the SRID as geographic (longitude/latitude).';
-
+-- Area merge. PostGIS decides validity (ST_IsValidReason). The functions
+-- that measure in the SRID's units refuse a geographic tin: they look its
+-- SRID up in spatial_ref_sys (through this search_path) once per backend,
+-- and only when its extent could be in degrees.
 CREATE FUNCTION tin_area_triangles(t tin, area geometry, level int DEFAULT NULL, compact boolean DEFAULT false)
 RETURNS TABLE(triangle int, level int, relation text, coverage float8) AS
 $$ SELECT * FROM @extschema@._tin_area_triangles($1, $2::bytea, $3, $4, ST_IsValidReason($2)) $$
@@ -163,7 +158,7 @@ COMMENT ON FUNCTION tin_area_triangles(tin, geometry, int, boolean) IS
 
 CREATE FUNCTION tin_area_stats(t tin, area geometry, level int DEFAULT NULL)
 RETURNS TABLE(area2d float8, area3d float8, min_z float8, max_z float8, mean_z float8, mean_slope float8, max_slope float8) AS
-$$ SELECT * FROM @extschema@._tin_area_stats($1, $2::bytea, $3, ST_IsValidReason($2), @extschema@._tin_srid_is_geographic(@extschema@.tin_srid($1))) $$
+$$ SELECT * FROM @extschema@._tin_area_stats($1, $2::bytea, $3, ST_IsValidReason($2), NULL) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
@@ -179,7 +174,7 @@ COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
 
 CREATE FUNCTION tin_volume(t tin, area geometry, base_z float8, level int DEFAULT NULL)
 RETURNS TABLE(cut float8, fill float8) AS
-$$ SELECT * FROM @extschema@._tin_volume($1, $2::bytea, $3, $4, ST_IsValidReason($2), @extschema@._tin_srid_is_geographic(@extschema@.tin_srid($1))) $$
+$$ SELECT * FROM @extschema@._tin_volume($1, $2::bytea, $3, $4, ST_IsValidReason($2), NULL) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_volume(tin, geometry, float8, int) IS

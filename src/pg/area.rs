@@ -6,6 +6,8 @@
 //! gives no rows.
 
 use pgrx::prelude::*;
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 use super::args::check_srid;
 use super::errors::{raise, OrRaise};
@@ -15,6 +17,8 @@ use tinmerge_core::io::ewkb::{self, Geom};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::surface::{stats, volume};
 use tinmerge_core::merge::area::{area_rows, sweep, Method};
+use tinmerge_core::tin::mesh::Indexed;
+use tinmerge_core::tin::Bbox;
 
 /// The area of a POLYGON or MULTIPOLYGON argument: SRID checked, validity
 /// (PostGIS's verdict) checked, coordinates finite.
@@ -61,8 +65,50 @@ fn area_arg(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> 
     )
 }
 
-fn refuse_geographic(geographic: Option<bool>, srid: i32, func: &str) {
-    if geographic == Some(true) {
+thread_local! {
+    /// SRIDs this backend has looked up in spatial_ref_sys, and whether
+    /// each is geographic (PostGIS, too, keeps what it has read of an SRID
+    /// for the backend's life).
+    static GEOGRAPHIC: RefCell<HashMap<i32, bool>> = RefCell::new(HashMap::new());
+}
+
+/// Whether the tin's SRID is geographic, for the functions that measure in
+/// its units: `given` when the caller says, never for an extent that cannot
+/// be in degrees (|x| > 540 or |y| > 90: a projected terrain, decided with
+/// no look-up), otherwise whether spatial_ref_sys describes the SRID as
+/// longitude/latitude (read once per SRID and backend, through the SQL
+/// wrapper's search_path).
+fn srid_is_geographic(given: Option<bool>, srid: i32, b: &Bbox) -> bool {
+    if let Some(g) = given {
+        return g;
+    }
+    let could_be_degrees = b.min_x.abs() <= 540.0
+        && b.max_x.abs() <= 540.0
+        && b.min_y.abs() <= 90.0
+        && b.max_y.abs() <= 90.0;
+    if srid == 0 || !could_be_degrees {
+        return false;
+    }
+    if let Some(g) = GEOGRAPHIC.with(|c| c.borrow().get(&srid).copied()) {
+        return g;
+    }
+    let g = Spi::get_one_with_args::<bool>(
+        "SELECT coalesce((SELECT s.proj4text LIKE '%+proj=longlat%' OR s.srtext LIKE 'GEOGCS%' OR s.srtext LIKE 'GEOGCRS%' FROM spatial_ref_sys s WHERE s.srid = $1), false)",
+        &[srid.into()],
+    )
+    .unwrap_or_else(|e| {
+        raise(
+            PgSqlErrorCode::ERRCODE_UNDEFINED_TABLE,
+            format!("could not read SRID {srid} from PostGIS's spatial_ref_sys: {e}"),
+        )
+    })
+    .unwrap_or(false);
+    GEOGRAPHIC.with(|c| c.borrow_mut().insert(srid, g));
+    g
+}
+
+fn refuse_geographic(geographic: Option<bool>, srid: i32, bbox: &Bbox, func: &str) {
+    if srid_is_geographic(geographic, srid, bbox) {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
             format!(
@@ -149,9 +195,9 @@ fn _tin_area_stats(
         return TableIterator::new(Vec::<StatsRow>::new());
     };
     let st = with_mesh!(t, level, |m, l, srid| {
-        refuse_geographic(geographic, srid, "tin_area_stats");
+        refuse_geographic(geographic, srid, m.bbox(), "tin_area_stats");
         let area = area_arg(area, validity, srid, "tin_area_stats");
-        let s = sweep(m, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+        let s = sweep(m, l, &area, Method::Flat, &mut interrupt).or_raise();
         stats(m, &area, &s, &mut interrupt).or_raise()
     });
     let some = |v: f64| (st.area2d > 0.0).then_some(v);
@@ -194,9 +240,9 @@ fn _tin_volume(
         );
     }
     let (cut, fill) = with_mesh!(t, level, |m, l, srid| {
-        refuse_geographic(geographic, srid, "tin_volume");
+        refuse_geographic(geographic, srid, m.bbox(), "tin_volume");
         let area = area_arg(area, validity, srid, "tin_volume");
-        let s = sweep(m, l, &area, Method::Hierarchy, &mut interrupt).or_raise();
+        let s = sweep(m, l, &area, Method::Flat, &mut interrupt).or_raise();
         volume(m, &area, &s, base, &mut interrupt).or_raise()
     });
     TableIterator::new(vec![(cut, fill)])

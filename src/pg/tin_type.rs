@@ -38,6 +38,11 @@ const _: () = assert!(pg_sys::BLCKSZ != 8192 || TOAST_CHUNK == 1996);
 /// Chunks read past a missing one (the next groups of an array are
 /// usually the next ones a merge needs; docs/performance.md).
 const READ_AHEAD: u64 = 1;
+/// Chunks read with the header when a value is first read in slices, with
+/// as much of its group directory as they hold (8 KB: the whole directory
+/// of a value of up to about 2,000 groups); the rest of a larger directory
+/// is read a page at a time as groups are needed.
+const PREFIX_CHUNKS: u64 = 4;
 
 /// What the point and line functions read: the decoded value, or the
 /// stored value read block by block (see [`TinArg::mesh_source`]).
@@ -180,8 +185,18 @@ impl TinArg {
             return MeshSource::Decoded(t);
         }
         match cache::sliced(k.header.hash, k.header.total_len, || {
-            SlicedTin::new(self.slice(0, HEADER_LEN))
-                .map(|s| s.map(|s| s.with_units(TOAST_CHUNK, READ_AHEAD)))
+            // the header and the group directory in one read, in whole
+            // chunks, up to PREFIX_CHUNKS of them
+            let want = SlicedTin::prefix_len(&k.header)
+                .div_ceil(TOAST_CHUNK)
+                .clamp(1, PREFIX_CHUNKS)
+                * TOAST_CHUNK;
+            let prefix = self.slice(0, want.min(k.header.total_len) as usize);
+            let head = prefix.get(..HEADER_LEN).ok_or_else(|| {
+                TinError::Corrupt(format!("value of {} bytes has no header", prefix.len()))
+            })?;
+            SlicedTin::new(head)
+                .map(|s| s.map(|s| s.with_units(TOAST_CHUNK, READ_AHEAD).with_prefix(prefix)))
         }) {
             Some(s) => MeshSource::Sliced(s),
             None => MeshSource::Decoded(self.decode(k)),

@@ -92,7 +92,7 @@ fn run(q: &Query, r: &tinmerge_core::tin::sliced::Reader<'_>, level: usize) {
             black_box(pieces_in(r, level, parts, &mut || Ok(())).unwrap().len());
         }
         Query::Square(a) => {
-            let sw = sweep(r, level, a, Method::Hierarchy, &mut || Ok(())).unwrap();
+            let sw = sweep(r, level, a, Method::Flat, &mut || Ok(())).unwrap();
             black_box(stats(r, a, &sw, &mut || Ok(())).unwrap());
         }
     }

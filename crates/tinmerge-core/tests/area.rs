@@ -703,13 +703,18 @@ fn stats_and_volumes_match_the_clipped_triangles() {
         } else {
             vec![0, tin.num_levels() - 1]
         };
-        for l in levels {
-            let s = sweep(&tin, l, &area, Method::Hierarchy, &mut no_interrupt).unwrap();
+        // the extension sums over the flat sweep (it reads only the target
+        // level); the hierarchical one finds the same triangles
+        for (l, method) in levels
+            .into_iter()
+            .flat_map(|l| [(l, Method::Flat), (l, Method::Hierarchy)])
+        {
+            let s = sweep(&tin, l, &area, method, &mut no_interrupt).unwrap();
             let st = stats(&tin, &area, &s, &mut no_interrupt).unwrap();
             let base = (tin.bbox.min_z + tin.bbox.max_z) / 2.0;
             let (cut, fill) = volume(&tin, &area, &s, base, &mut no_interrupt).unwrap();
             let o = oracle_integrals(&tin, l, &polys, base);
-            let what = format!("{name} level {l}");
+            let what = format!("{name} level {l} {method:?}");
             close(st.area2d, o.a, o.a, &format!("{what} area2d"));
             close(st.area3d, o.a3, o.a3, &format!("{what} area3d"));
             close(st.z_integral, o.z, o.z, &format!("{what} integral of z"));
@@ -754,8 +759,12 @@ fn full_domain_box_volume_is_the_prism_sum() {
     ]]];
     let area = Area::new(polys);
     for l in 0..tin.num_levels() {
-        for base in [b.min_z - 10.0, (b.min_z + b.max_z) / 2.0] {
-            let s = sweep(&tin, l, &area, Method::Hierarchy, &mut no_interrupt).unwrap();
+        for (base, method) in [
+            (b.min_z - 10.0, Method::Flat),
+            ((b.min_z + b.max_z) / 2.0, Method::Flat),
+            (b.min_z - 10.0, Method::Hierarchy),
+        ] {
+            let s = sweep(&tin, l, &area, method, &mut no_interrupt).unwrap();
             assert!(s.boundary.is_empty());
             let (cut, fill) = volume(&tin, &area, &s, base, &mut no_interrupt).unwrap();
             // analytic: each triangle is a prism of its area times its mean

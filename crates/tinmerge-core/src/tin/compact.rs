@@ -169,7 +169,16 @@ impl Plan {
     }
 
     fn find(&self, s: Stream) -> Option<&(Stream, usize, u64)> {
-        self.streams.iter().find(|e| e.0 == s)
+        // `sized` pushes the vertices, then per level triangles,
+        // neighbours, parents and cells: the place follows from the stream
+        let at = match s {
+            Stream::Verts => Some(0),
+            Stream::Tris(l) => l.checked_mul(4).map(|x| x + 1),
+            Stream::Nbrs(l) => l.checked_mul(4).map(|x| x + 2),
+            Stream::Parents(l) => l.checked_mul(4).map(|x| x + 3),
+            Stream::Cells(l) => l.checked_mul(4).map(|x| x + 4),
+        }?;
+        self.streams.get(at).filter(|e| e.0 == s)
     }
 
     /// The group holding element `i` of `s`: (group number in the value,

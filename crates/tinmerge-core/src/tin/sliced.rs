@@ -42,8 +42,8 @@ use super::compact::{Group, Plan, Stream};
 use super::layout::{self, Header, LevelSections, BLOCK_PAYLOAD, HEADER_LEN_V4};
 use super::mesh::{Indexed, Mesh};
 use super::{Bbox, TinError, NONE};
+use rustc_hash::FxHashMap as HashMap;
 use std::cell::{Cell, RefCell};
-use std::collections::HashMap;
 use std::rc::Rc;
 
 fn corrupt(s: impl Into<String>) -> TinError {
@@ -111,7 +111,7 @@ impl SlicedTin {
                 (
                     plan,
                     Kind::V4 {
-                        pages: RefCell::new(HashMap::new()),
+                        pages: RefCell::new(HashMap::default()),
                     },
                 )
             }
@@ -143,11 +143,11 @@ impl SlicedTin {
             header,
             plan,
             kind,
-            groups: RefCell::new(HashMap::new()),
+            groups: RefCell::new(HashMap::default()),
             cached: Cell::new(0),
             unit: 0,
             ahead: 0,
-            units: RefCell::new(HashMap::new()),
+            units: RefCell::new(HashMap::default()),
         }))
     }
 
@@ -183,6 +183,37 @@ impl SlicedTin {
     pub fn with_units(mut self, unit: u64, ahead: u64) -> SlicedTin {
         self.unit = unit;
         self.ahead = ahead;
+        self
+    }
+
+    /// How many bytes at the start of the value hold its header and, in
+    /// format 4, its group directory: a reader that fetches them first
+    /// (see [`SlicedTin::with_prefix`]) finds every group without reading
+    /// the directory page by page.
+    pub fn prefix_len(header: &Header) -> u64 {
+        let end = match header.version {
+            layout::VERSION => (HEADER_LEN_V4 as u64)
+                .saturating_add(layout::plan(header).num_groups().saturating_mul(4)),
+            _ => layout::HEADER_LEN as u64,
+        };
+        end.min(header.total_len)
+    }
+
+    /// Keep `bytes`, the first bytes of the value (read with the header),
+    /// as units already read (only with [`SlicedTin::with_units`]; a
+    /// partial last unit is kept only when it ends the value).
+    pub fn with_prefix(self, bytes: &[u8]) -> SlicedTin {
+        if self.unit > 0 {
+            let mut units = self.units.borrow_mut();
+            for (c, piece) in bytes.chunks(self.unit as usize).enumerate() {
+                let ends_value =
+                    (c as u64) * self.unit + piece.len() as u64 == self.header.total_len;
+                if piece.len() as u64 == self.unit || ends_value {
+                    self.cached.set(self.cached.get() + piece.len());
+                    units.insert(c as u64, Rc::from(piece));
+                }
+            }
+        }
         self
     }
 
@@ -290,24 +321,27 @@ impl Reader<'_> {
         &self,
         s: Stream,
         i: usize,
-        f: impl FnOnce(&Group, usize) -> Option<T>,
+        f: impl Fn(&Group, usize) -> Option<T>,
     ) -> Result<T, TinError> {
         let (k, first, n) = self
             .s
             .plan
             .group_of(s, i)
             .ok_or_else(|| corrupt(format!("element {i} of {s:?} out of range")))?;
-        let held = self.s.groups.borrow().get(&k).cloned();
-        let g = match held {
-            Some(g) => g,
+        let found = {
+            let groups = self.s.groups.borrow();
+            groups.get(&k).map(|g| f(g, i - first))
+        };
+        let v = match found {
+            Some(v) => v,
             None => {
                 let g = Rc::new(self.load(s, k, first, n)?);
                 self.s.cached.set(self.s.cached.get() + g.bytes());
                 self.s.groups.borrow_mut().insert(k, g.clone());
-                g
+                f(&g, i - first)
             }
         };
-        f(&g, i - first).ok_or_else(|| corrupt(format!("group {k} does not hold {s:?} {i}")))
+        v.ok_or_else(|| corrupt(format!("group {k} does not hold {s:?} {i}")))
     }
 
     /// Read, check and decode group `k` (elements `first..first + n` of

@@ -225,7 +225,7 @@ struct Status<'a, M: Mesh> {
     tin: &'a M,
     area: &'a Area,
     /// per vertex: 0 unknown, else 1 + Where as u8
-    vert: Vec<u8>,
+    vert: Flags,
 }
 
 impl<'a, M: Mesh> Status<'a, M>
@@ -236,13 +236,13 @@ where
         Status {
             tin,
             area,
-            vert: vec![0; tin.num_vertices()],
+            vert: Flags::new(tin.num_vertices()),
         }
     }
 
     fn vertex(&mut self, v: u32) -> Result<Where, TinError> {
         let i = v as usize;
-        Ok(match self.vert.get(i).copied() {
+        Ok(match self.vert.get(i) {
             Some(1) => Where::Inside,
             Some(2) => Where::Outside,
             Some(3) => Where::Boundary,
@@ -310,6 +310,64 @@ pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
     sum / tri_area(t)
 }
 
+/// Flag bytes of the triangles of one level, zero until set, kept in
+/// pages allocated when first written: a sweep of a small polygon over a
+/// large terrain costs the triangles it touches, not a byte per triangle of
+/// every level it sweeps.
+#[derive(Default)]
+struct Flags {
+    n: usize,
+    pages: Vec<Option<Box<[u8; FLAG_PAGE]>>>,
+}
+
+const FLAG_PAGE: usize = 4096;
+
+impl Flags {
+    fn new(n: usize) -> Flags {
+        Flags {
+            n,
+            pages: (0..n.div_ceil(FLAG_PAGE)).map(|_| None).collect(),
+        }
+    }
+
+    /// The flags of triangle `t` (None out of range).
+    fn get(&self, t: usize) -> Option<u8> {
+        if t >= self.n {
+            return None;
+        }
+        Some(
+            self.pages[t / FLAG_PAGE]
+                .as_ref()
+                .map_or(0, |p| p[t % FLAG_PAGE]),
+        )
+    }
+
+    fn get_mut(&mut self, t: usize) -> Option<&mut u8> {
+        if t >= self.n {
+            return None;
+        }
+        let page = self.pages[t / FLAG_PAGE].get_or_insert_with(|| Box::new([0; FLAG_PAGE]));
+        Some(&mut page[t % FLAG_PAGE])
+    }
+}
+
+impl std::ops::Index<usize> for Flags {
+    type Output = u8;
+    fn index(&self, t: usize) -> &u8 {
+        assert!(t < self.n, "flag {t} of {}", self.n);
+        self.pages[t / FLAG_PAGE]
+            .as_ref()
+            .map_or(&0, |p| &p[t % FLAG_PAGE])
+    }
+}
+
+impl std::ops::IndexMut<usize> for Flags {
+    fn index_mut(&mut self, t: usize) -> &mut u8 {
+        let n = self.n;
+        self.get_mut(t).unwrap_or_else(|| panic!("flag {t} of {n}"))
+    }
+}
+
 fn corrupt(what: &str) -> TinError {
     TinError::Corrupt(format!("area sweep: {what}"))
 }
@@ -352,14 +410,8 @@ where
     // children's), found by following parent links (seed 6.5).
     let walk = walk_rings(tin, level, area, true, interrupt)?;
     let mut tk = Ticker::new(interrupt);
-    let mut flags: Vec<Vec<u8>> = (0..=level)
-        .map(|l| {
-            if l >= first {
-                vec![0u8; tin.num_triangles(l)]
-            } else {
-                Vec::new()
-            }
-        })
+    let mut flags: Vec<Flags> = (0..=level)
+        .map(|l| Flags::new(if l >= first { tin.num_triangles(l) } else { 0 }))
         .collect();
     let mut walked_at: Vec<Vec<u32>> = vec![Vec::new(); level + 1];
     let mut boundary_at: Vec<Vec<u32>> = vec![Vec::new(); level + 1];
@@ -466,7 +518,7 @@ where
             // triangles. Every one that is not a boundary triangle is wholly
             // in or out.
             let mut seeds: Vec<u32> = Vec::new();
-            let mut mark = |t: u32, flags: &mut [u8]| -> Result<(), TinError> {
+            let mut mark = |t: u32, flags: &mut Flags| -> Result<(), TinError> {
                 let f = flags
                     .get_mut(t as usize)
                     .ok_or_else(|| corrupt("triangle id"))?;
@@ -558,7 +610,7 @@ where
 
 /// The pieces of the boundary triangles as chains: a ring's last piece and
 /// its first join when they meet in one triangle at the ring's start.
-fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &[u8], area: &Area) -> Vec<(u32, Chain)> {
+fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &Flags, area: &Area) -> Vec<(u32, Chain)> {
     let mut out: Vec<(u32, Chain)> = Vec::new();
     let mut i = 0;
     while i < pieces.len() {
