@@ -10,6 +10,7 @@ use pgrx::prelude::*;
 use super::errors::OrRaise;
 use super::interrupt::interrupt;
 use super::tin_type::{MeshSource, TinArg};
+use tinmerge_core::interrupt::Ticker;
 use tinmerge_core::io::ewkb;
 use tinmerge_core::tin::mesh::Mesh;
 use tinmerge_core::tin::{resolve_level, NONE};
@@ -36,10 +37,10 @@ fn small_level(t: &TinArg, level: Option<i32>) -> Option<LevelRows> {
     let mut fetch = t.fetch();
     let r = s.reader(&mut fetch);
     let mut rows = Vec::with_capacity(n as usize);
+    let mut check = interrupt;
+    let mut tk = Ticker::new(&mut check);
     for i in 0..n {
-        if i % 4096 == 0 {
-            interrupt().or_raise();
-        }
+        tk.tick().or_raise();
         rows.push((r.parent(l, i).or_raise(), r.corners(l, i).or_raise()));
     }
     Some((h.srid, rows))

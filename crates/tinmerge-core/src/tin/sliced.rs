@@ -203,18 +203,29 @@ impl SlicedTin {
     /// as units already read (only with [`SlicedTin::with_units`]; a
     /// partial last unit is kept only when it ends the value).
     pub fn with_prefix(self, bytes: &[u8]) -> SlicedTin {
-        if self.unit > 0 {
-            let mut units = self.units.borrow_mut();
-            for (c, piece) in bytes.chunks(self.unit as usize).enumerate() {
-                let ends_value =
-                    (c as u64) * self.unit + piece.len() as u64 == self.header.total_len;
-                if piece.len() as u64 == self.unit || ends_value {
+        self.keep_units(0, bytes);
+        self
+    }
+
+    /// Keep `bytes`, read from the start of unit `first`, as the units
+    /// they hold (not already held): whole units, and a partial last one
+    /// only when it ends the value. Nothing without units.
+    fn keep_units(&self, first: u64, bytes: &[u8]) {
+        let unit = self.unit;
+        if unit == 0 {
+            return;
+        }
+        let mut units = self.units.borrow_mut();
+        for (i, piece) in bytes.chunks(unit as usize).enumerate() {
+            let c = first + i as u64;
+            let ends_value = c * unit + piece.len() as u64 == self.header.total_len;
+            if piece.len() as u64 == unit || ends_value {
+                if let std::collections::hash_map::Entry::Vacant(e) = units.entry(c) {
                     self.cached.set(self.cached.get() + piece.len());
-                    units.insert(c as u64, Rc::from(piece));
+                    e.insert(Rc::from(piece));
                 }
             }
         }
-        self
     }
 
     pub fn header(&self) -> &Header {
@@ -279,14 +290,7 @@ impl Reader<'_> {
             let from = m0 * unit;
             let to = ((m_end + 1) * unit).min(total);
             let raw = self.fetch_exact(from, (to - from) as usize)?;
-            let mut units = self.s.units.borrow_mut();
-            for (i, piece) in raw.chunks(unit as usize).enumerate() {
-                let c = m0 + i as u64;
-                if let std::collections::hash_map::Entry::Vacant(e) = units.entry(c) {
-                    self.s.cached.set(self.s.cached.get() + piece.len());
-                    e.insert(Rc::from(piece));
-                }
-            }
+            self.s.keep_units(m0, &raw);
         }
         let units = self.s.units.borrow();
         let mut out = Vec::with_capacity(len);

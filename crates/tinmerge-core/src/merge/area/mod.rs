@@ -310,10 +310,10 @@ pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
     sum / tri_area(t)
 }
 
-/// Flag bytes of the triangles of one level, zero until set, kept in
-/// pages allocated when first written: a sweep of a small polygon over a
-/// large terrain costs the triangles it touches, not a byte per triangle of
-/// every level it sweeps.
+/// Flag bytes of the triangles of one level (or of the vertices), zero
+/// until set, kept in pages allocated when first written: a sweep of a
+/// small polygon over a large terrain costs what it touches, not a byte per
+/// triangle of every level it sweeps.
 #[derive(Default)]
 struct Flags {
     n: usize,
@@ -332,14 +332,7 @@ impl Flags {
 
     /// The flags of triangle `t` (None out of range).
     fn get(&self, t: usize) -> Option<u8> {
-        if t >= self.n {
-            return None;
-        }
-        Some(
-            self.pages[t / FLAG_PAGE]
-                .as_ref()
-                .map_or(0, |p| p[t % FLAG_PAGE]),
-        )
+        (t < self.n).then(|| self[t])
     }
 
     fn get_mut(&mut self, t: usize) -> Option<&mut u8> {
