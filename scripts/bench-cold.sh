@@ -55,6 +55,7 @@ warm() { # label, setting, query: median ms of 7 second calls in one backend
 echo "== first call in a fresh backend (median ms of 7)"
 for name in small large; do
   t="(SELECT t FROM terrains WHERE name = '$name')"
+  cold "$name: tin_srid (header only: the floor of any first call)" "SELECT 1" "SELECT tin_srid($t)"
   cold "$name: tin_height, sliced" "SET tinmerge.cache_size = 256" "SELECT tin_height($t, $centre)"
   cold "$name: tin_height, whole value (cache_size = 0)" "SET tinmerge.cache_size = 0" "SELECT tin_height($t, $centre)"
   cold "$name: tin_height at level 0, sliced" "SET tinmerge.cache_size = 256" "SELECT tin_height($t, $centre, 0)"
@@ -80,3 +81,19 @@ END $$;
 SELECT 'small: sum(tin_height(t, p))', pg_temp.med('SELECT sum(tin_height(t, p)) FROM rp, terrains WHERE name = ''small''')
 UNION ALL SELECT 'PostGIS: sum(ST_Value(rast, p)), 64x64 tiles + GiST', pg_temp.med('SELECT sum(ST_Value(rast, p)) FROM rp JOIN dem_tiles ON ST_Intersects(rast, p)');
 SQL
+# The same first calls with tinmerge in shared_preload_libraries: the
+# postmaster loads the library once, so a new backend does not (dlopen and
+# _PG_init were about 0.4 ms of every first call). docs/sql-reference.md,
+# "Settings".
+echo "== first call in a fresh backend, shared_preload_libraries = 'tinmerge' (median ms of 7)"
+scripts/cluster.sh psql -q -d postgres -c "ALTER SYSTEM SET shared_preload_libraries = 'tinmerge'"
+restart() { scripts/cluster.sh stop; scripts/cluster.sh start >/dev/null; }
+trap 'scripts/cluster.sh psql -q -d postgres -c "ALTER SYSTEM RESET shared_preload_libraries" && restart' EXIT
+restart
+for name in small large; do
+  t="(SELECT t FROM terrains WHERE name = '$name')"
+  cold "$name, preloaded: tin_srid" "SELECT 1" "SELECT tin_srid($t)"
+  cold "$name, preloaded: tin_height" "SELECT 1" "SELECT tin_height($t, $centre)"
+  cold "$name, preloaded: tin_line_segments of a 2 km line" "SELECT 1" "SELECT count(*) FROM tin_line_segments($t, $line)"
+  cold "$name, preloaded: tin_area_stats of 1 km2" "SELECT 1" "SELECT area3d FROM tin_area_stats($t, $square)"
+done

@@ -40,6 +40,9 @@ tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | 
   --inputdir=tests/pg_regress --outputdir=target/regress $tests \
   || { cat target/regress/regression.diffs 2>/dev/null | head -200; exit 1; }
 
+echo "== shared_preload_libraries: point, area and storage regress tests on a preloaded server"
+tests/preload.sh
+
 echo "== browser: the demo page's pictures and 3D views in headless Chromium"
 tests/browser.sh
 

@@ -144,25 +144,16 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
 'tin_line_segments through a stored line tree: the same rows as for its geometry.';
 
--- Area merge. PostGIS decides validity (ST_IsValidReason). The functions
--- that measure in the SRID's units refuse a geographic tin: they look its
--- SRID up in spatial_ref_sys (through this search_path) once per backend,
--- and only when its extent could be in degrees.
-CREATE FUNCTION tin_area_triangles(t tin, area geometry, level int DEFAULT NULL, compact boolean DEFAULT false)
-RETURNS TABLE(triangle int, level int, relation text, coverage float8) AS
-$$ SELECT * FROM @extschema@._tin_area_triangles($1, $2::bytea, $3, $4, ST_IsValidReason($2)) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1000
-SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_area_triangles(tin, geometry, int, boolean) IS
-'Triangles of a level (NULL = finest) on and inside a POLYGON or MULTIPOLYGON, by the hierarchical polygonal sweep: relation ''inside'' (wholly inside, touching the boundary allowed; coverage 1) or ''boundary'' (the polygon''s boundary crosses the triangle; coverage = fraction of the triangle''s area inside). With compact => true, inside triangles are reported at the coarsest level whose triangle is wholly inside (the level column says which), covering the same region. Parts outside the domain are ignored; an invalid polygon is an error (repair it with ST_MakeValid).';
-
-CREATE FUNCTION tin_area_stats(t tin, area geometry, level int DEFAULT NULL)
-RETURNS TABLE(area2d float8, area3d float8, min_z float8, max_z float8, mean_z float8, mean_slope float8, max_slope float8) AS
-$$ SELECT * FROM @extschema@._tin_area_stats($1, $2::bytea, $3, ST_IsValidReason($2), NULL) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
-SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
-'Statistics of the surface of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: planar area, surface area, min/max height, area-weighted mean height and slope (degrees), steepest slope. Heights are NULL when the polygon misses the domain. Planar SRIDs only: a geographic tin is an error.';
+-- Area merge: tin_area_triangles, tin_area_stats and tin_volume are Rust
+-- functions (src/pg/area.rs: flags, cost, rows, comments) that take the
+-- geometry itself. They pin this search_path, through which they find
+-- PostGIS's ST_IsValidReason (their validity verdict, called by OID) and,
+-- for the two that measure in the SRID's units and refuse a geographic
+-- tin, spatial_ref_sys (read once per backend per SRID, and only when the
+-- tin's extent could be in degrees).
+ALTER FUNCTION tin_area_triangles(tin, geometry, int, boolean) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_area_stats(tin, geometry, int) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_volume(tin, geometry, float8, int) SET search_path FROM CURRENT;
 
 CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
 RETURNS float8 AS
@@ -171,14 +162,6 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
 'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. Planar SRIDs only.';
-
-CREATE FUNCTION tin_volume(t tin, area geometry, base_z float8, level int DEFAULT NULL)
-RETURNS TABLE(cut float8, fill float8) AS
-$$ SELECT * FROM @extschema@._tin_volume($1, $2::bytea, $3, $4, ST_IsValidReason($2), NULL) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
-SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_volume(tin, geometry, float8, int) IS
-'Volumes inside a POLYGON or MULTIPOLYGON between the surface of a level (NULL = finest) and the height base_z: cut = volume of surface above base_z, fill = volume of the space below base_z down to the surface (as a cut-and-fill or ArcGIS Surface Volume), exact for the linear surface. Planar SRIDs only.';
 
 -- raster merge
 CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false)

@@ -87,3 +87,53 @@ pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str) {
         );
     }
 }
+
+thread_local! {
+    /// The OID of PostGIS's `ST_IsValidReason(geometry)`, looked up once per
+    /// backend (and again if that function is gone).
+    static IS_VALID_REASON: std::cell::Cell<Option<pg_sys::Oid>> = const { std::cell::Cell::new(None) };
+}
+
+impl GeomArg {
+    /// PostGIS's own verdict on the geometry: `ST_IsValidReason(geom)`
+    /// ("Valid Geometry", or what is wrong and where), called directly by
+    /// its OID, so a Rust function taking a polygon checks validity as
+    /// PostGIS does without a SQL wrapper to plan. The function is found
+    /// through the calling function's search_path (pinned to PostGIS's
+    /// schema by `SET search_path FROM CURRENT` in sql/tinmerge.sql).
+    pub fn postgis_validity(&self) -> String {
+        unsafe {
+            let cached = IS_VALID_REASON.get().filter(|oid| {
+                pg_sys::SearchSysCacheExists(
+                    pg_sys::SysCacheIdentifier::PROCOID as i32,
+                    pg_sys::Datum::from(*oid),
+                    pg_sys::Datum::from(0),
+                    pg_sys::Datum::from(0),
+                    pg_sys::Datum::from(0),
+                )
+            });
+            let oid = match cached {
+                Some(oid) => oid,
+                None => {
+                    let geometry = pg_sys::TypenameGetTypid(c"geometry".as_ptr());
+                    if geometry == pg_sys::InvalidOid {
+                        raise(
+                            PgSqlErrorCode::ERRCODE_UNDEFINED_OBJECT,
+                            "PostGIS's geometry type is not on the search_path",
+                        );
+                    }
+                    let name = pg_sys::stringToQualifiedNameList(c"st_isvalidreason".as_ptr());
+                    // errors (undefined function) when PostGIS lacks it
+                    let oid = pg_sys::LookupFuncName(name, 1, &geometry, false);
+                    IS_VALID_REASON.set(Some(oid));
+                    oid
+                }
+            };
+            let reason = pg_sys::OidFunctionCall1Coll(oid, pg_sys::InvalidOid, self.0);
+            let c = pg_sys::text_to_cstring(reason.cast_mut_ptr());
+            let s = std::ffi::CStr::from_ptr(c).to_string_lossy().into_owned();
+            pg_sys::pfree(c.cast());
+            s
+        }
+    }
+}
