@@ -1,19 +1,24 @@
 //! SQL functions of the raster merge: `tin_raster_stats` (by pixel centre
 //! or coverage-weighted), `tin_raster_pixels`, `tin_paint`. Rasters arrive as WKB (the SQL wrapper casts
 //! `raster` to `bytea`). Not STRICT (a NULL level means finest): a NULL tin,
-//! raster or band gives no rows.
+//! raster or band gives no rows. A stored tin read in slices is merged
+//! through a [`Patch`] of the triangles under the raster when the raster
+//! covers at most an eighth of the tin's extent (a tile of a large
+//! terrain: the first call reads those groups, not the whole value);
+//! otherwise the whole value is decoded (and cached) as before.
 
 use pgrx::prelude::*;
 
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
-use super::tin_type::tin_level;
-use super::tin_type::TinArg;
+use super::tin_type::{MeshSource, TinArg};
+use std::sync::Arc;
 use tinmerge_core::io::raster::{self, Band, GeoTransform};
+use tinmerge_core::merge::raster::patch::{AnyLevel, Patch, RasterLevel, TinLevel};
 use tinmerge_core::merge::raster::stats::{is_data, paint, weighted_stats, zonal_stats};
 use tinmerge_core::merge::raster::{sweep, PixelGrid};
-use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::{resolve_level, Tin};
 
 /// ERROR unless the raster and the tin both have an SRID and it is the same.
 pub(super) fn check_raster_srid(raster_srid: i32, tin_srid: i32, func: &str) {
@@ -38,13 +43,13 @@ pub(super) fn check_raster_srid(raster_srid: i32, tin_srid: i32, func: &str) {
 /// The band of a raster argument with its pixel grid; `None` when the
 /// raster has no pixels or the band is flagged all-nodata (no rows).
 fn raster_arg(
-    tin: &Tin,
+    tin_srid: i32,
     rast: &[u8],
     band: i32,
     func: &str,
 ) -> Option<(GeoTransform, PixelGrid, Band)> {
     let head = raster::read(rast, None).or_raise();
-    check_raster_srid(head.srid, tin.srid, func);
+    check_raster_srid(head.srid, tin_srid, func);
     if band < 1 {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -65,6 +70,55 @@ fn raster_arg(
         return None;
     }
     Some((r.gt, grid, b))
+}
+
+/// The level's triangles for a raster merge over the pixels of `g`: the
+/// decoded level, or, for a stored value read in slices when the raster's
+/// window (its pixels and one more all round) covers at most an eighth of
+/// the tin's extent, a [`Patch`] of the triangles meeting that window. A
+/// triangle outside the window owns no centre and overlaps no pixel, so the
+/// answers are the same (tests/sliced.rs, pg_regress storage).
+/// `keep` holds the decoded value the level borrows from.
+fn raster_level<'a>(
+    t: &TinArg,
+    level: Option<i32>,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    keep: &'a mut Option<Arc<Tin>>,
+) -> AnyLevel<'a> {
+    let (w, h) = (width as f64, height as f64);
+    let xs = [gt.ip_x, gt.ip_x + w * gt.scale_x];
+    let ys = [gt.ip_y, gt.ip_y + h * gt.scale_y];
+    let (px, py) = (gt.scale_x.abs(), gt.scale_y.abs());
+    let window = [
+        xs[0].min(xs[1]) - px,
+        ys[0].min(ys[1]) - py,
+        xs[0].max(xs[1]) + px,
+        ys[0].max(ys[1]) + py,
+    ];
+    let whole = |keep: &'a mut Option<Arc<Tin>>, tin: Arc<Tin>| {
+        let l = tin.level_index(level).or_raise();
+        let tin: &'a Tin = keep.insert(tin);
+        AnyLevel::Whole(TinLevel::new(tin, l).or_raise())
+    };
+    match t.mesh_source() {
+        MeshSource::Decoded(tin) => whole(keep, tin),
+        MeshSource::Sliced(s) => {
+            let b = &s.header().bbox;
+            let clip = |lo: f64, hi: f64, a: f64, z: f64| (hi.min(z) - lo.max(a)).max(0.0);
+            let inside = clip(window[0], window[2], b.min_x, b.max_x)
+                * clip(window[1], window[3], b.min_y, b.max_y);
+            let extent = (b.max_x - b.min_x) * (b.max_y - b.min_y);
+            if !(inside <= extent / 8.0) {
+                return whole(keep, t.tin());
+            }
+            let l = resolve_level(level, s.header().levels.len()).or_raise();
+            let mut fetch = t.fetch();
+            let reader = s.reader(&mut fetch);
+            AnyLevel::Patch(Patch::new(&reader, l, window, &mut interrupt).or_raise())
+        }
+    }
 }
 
 type StatsRow = (i32, i64, f64, f64, f64, f64, Option<f64>);
@@ -92,15 +146,15 @@ fn _tin_raster_stats(
     let (Some(t), Some(rast), Some(band), Some(weighted)) = (t, rast, band, weighted) else {
         return TableIterator::new(Vec::<StatsRow>::new());
     };
-    let (tin, l) = tin_level(&t, level);
-    let Some((gt, grid, b)) = raster_arg(&tin, rast, band, "tin_raster_stats") else {
+    let Some((gt, grid, b)) = raster_arg(t.header().srid, rast, band, "tin_raster_stats") else {
         return TableIterator::new(Vec::<StatsRow>::new());
     };
+    let mut keep = None;
+    let lv = raster_level(&t, level, &gt, grid.width, grid.height, &mut keep);
     super::threads::apply();
     let st = if weighted {
         weighted_stats(
-            &tin,
-            l,
+            &lv,
             &gt,
             grid.width,
             grid.height,
@@ -110,7 +164,7 @@ fn _tin_raster_stats(
             &mut interrupt,
         )
     } else {
-        zonal_stats(&tin, l, &grid, &b.values, b.nodata, true, &mut interrupt)
+        zonal_stats(&lv, &grid, &b.values, b.nodata, true, &mut interrupt)
     }
     .or_raise();
     TableIterator::new(st.into_iter().map(|z| {
@@ -153,28 +207,23 @@ fn _tin_raster_pixels(
     let (Some(t), Some(rast), Some(band)) = (t, rast, band) else {
         return TableIterator::new(Vec::new());
     };
-    let (tin, l) = tin_level(&t, level);
-    let Some((_, grid, b)) = raster_arg(&tin, rast, band, "tin_raster_pixels") else {
+    let Some((gt, grid, b)) = raster_arg(t.header().srid, rast, band, "tin_raster_pixels") else {
         return TableIterator::new(Vec::new());
     };
+    let mut keep = None;
+    let lv = raster_level(&t, level, &gt, grid.width, grid.height, &mut keep);
     let w = grid.width;
     let mut rows = Vec::new();
-    sweep(
-        &tin,
-        l,
-        &grid,
-        true,
-        &mut interrupt,
-        &mut |tri, r, c0, c1| {
-            for c in c0..c1 {
-                let v = b.values[r * w + c];
-                if is_data(v, b.nodata) {
-                    // PostGIS numbers pixels from 1
-                    rows.push((tri as i32, c as i32 + 1, r as i32 + 1, v));
-                }
+    sweep(&lv, &grid, true, &mut interrupt, &mut |k, r, c0, c1| {
+        let tri = lv.id(k as usize);
+        for c in c0..c1 {
+            let v = b.values[r * w + c];
+            if is_data(v, b.nodata) {
+                // PostGIS numbers pixels from 1
+                rows.push((tri as i32, c as i32 + 1, r as i32 + 1, v));
             }
-        },
-    )
+        }
+    })
     .or_raise();
     TableIterator::new(rows)
 }
@@ -205,7 +254,7 @@ fn _tin_paint(
     let (Some(t), Some(rast)) = (t, rast) else {
         return TableIterator::new(Vec::new());
     };
-    let (tin, l) = tin_level(&t, level);
+    let srid = t.header().srid;
     let head = raster::read(rast, None).or_raise();
     if head.num_bands < 3 && head.width > 0 && head.height > 0 {
         raise(
@@ -216,18 +265,19 @@ fn _tin_paint(
             ),
         );
     }
-    let Some((_, grid, red)) = raster_arg(&tin, rast, 1, "tin_paint") else {
+    let Some((gt, grid, red)) = raster_arg(srid, rast, 1, "tin_paint") else {
         return TableIterator::new(Vec::new());
     };
-    let Some((_, _, green)) = raster_arg(&tin, rast, 2, "tin_paint") else {
+    let Some((_, _, green)) = raster_arg(srid, rast, 2, "tin_paint") else {
         return TableIterator::new(Vec::new());
     };
-    let Some((_, _, blue)) = raster_arg(&tin, rast, 3, "tin_paint") else {
+    let Some((_, _, blue)) = raster_arg(srid, rast, 3, "tin_paint") else {
         return TableIterator::new(Vec::new());
     };
+    let mut keep = None;
+    let lv = raster_level(&t, level, &gt, grid.width, grid.height, &mut keep);
     let rows = paint(
-        &tin,
-        l,
+        &lv,
         &grid,
         [&red.values, &green.values, &blue.values],
         [red.nodata, green.nodata, blue.nodata],

@@ -8,6 +8,7 @@ mod common;
 
 use std::hint::black_box;
 use std::time::Instant;
+use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
 use tinmerge_core::merge::raster::{sweep, PixelGrid};
 
@@ -31,8 +32,7 @@ fn main() {
                 let t0 = Instant::now();
                 let mut n = 0usize;
                 sweep(
-                    &tin,
-                    level,
+                    &TinLevel::new(&tin, level).unwrap(),
                     &g,
                     false,
                     &mut || Ok(()),
@@ -43,19 +43,34 @@ fn main() {
                 ts.push(t0.elapsed().as_secs_f64());
                 let t0 = Instant::now();
                 black_box(
-                    zonal_stats(&tin, level, &g, &values, d.nodata, false, &mut || Ok(())).unwrap(),
+                    zonal_stats(
+                        &TinLevel::new(&tin, level).unwrap(),
+                        &g,
+                        &values,
+                        d.nodata,
+                        false,
+                        &mut || Ok(()),
+                    )
+                    .unwrap(),
                 );
                 tm.push(t0.elapsed().as_secs_f64());
                 let t0 = Instant::now();
                 black_box(
-                    zonal_stats(&tin, level, &g, &values, d.nodata, true, &mut || Ok(())).unwrap(),
+                    zonal_stats(
+                        &TinLevel::new(&tin, level).unwrap(),
+                        &g,
+                        &values,
+                        d.nodata,
+                        true,
+                        &mut || Ok(()),
+                    )
+                    .unwrap(),
                 );
                 tmode.push(t0.elapsed().as_secs_f64());
                 let t0 = Instant::now();
                 black_box(
                     weighted_stats(
-                        &tin,
-                        level,
+                        &TinLevel::new(&tin, level).unwrap(),
                         &gt,
                         w,
                         h,

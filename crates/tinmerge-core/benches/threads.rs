@@ -8,6 +8,7 @@ mod common;
 
 use std::hint::black_box;
 use std::time::Instant;
+use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
 use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::tin::build::{build, default_tolerances};
@@ -59,8 +60,15 @@ fn main() {
                 &format!("zonal mean: {what}"),
                 time(5, || {
                     black_box(
-                        zonal_stats(&tin, level, &g, &values, d.nodata, false, &mut || Ok(()))
-                            .unwrap(),
+                        zonal_stats(
+                            &TinLevel::new(&tin, level).unwrap(),
+                            &g,
+                            &values,
+                            d.nodata,
+                            false,
+                            &mut || Ok(()),
+                        )
+                        .unwrap(),
                     );
                 }),
             );
@@ -68,8 +76,15 @@ fn main() {
                 &format!("zonal mean + mode: {what}"),
                 time(5, || {
                     black_box(
-                        zonal_stats(&tin, level, &g, &values, d.nodata, true, &mut || Ok(()))
-                            .unwrap(),
+                        zonal_stats(
+                            &TinLevel::new(&tin, level).unwrap(),
+                            &g,
+                            &values,
+                            d.nodata,
+                            true,
+                            &mut || Ok(()),
+                        )
+                        .unwrap(),
                     );
                 }),
             );
@@ -78,8 +93,7 @@ fn main() {
                 time(5, || {
                     black_box(
                         weighted_stats(
-                            &tin,
-                            level,
+                            &TinLevel::new(&tin, level).unwrap(),
                             &gt,
                             w,
                             h,

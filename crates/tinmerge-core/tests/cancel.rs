@@ -17,6 +17,7 @@ use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::{sweep, Method};
 use tinmerge_core::merge::line::{walk_parts, Part, TriangleSink};
 use tinmerge_core::merge::overlay::{overlay, overlay_constrained};
+use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
 use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::tin::build::{build, default_tolerances};
@@ -120,11 +121,33 @@ fn long_operations_stop_at_the_interrupt_check() {
     );
     check(
         "raster zonal stats, DEM x4 (1.9M px), finest level",
-        Box::new(|i| zonal_stats(&a, fine, &g4, &v4, Some(-9999.0), true, i).map(|_| ())),
+        Box::new(|i| {
+            zonal_stats(
+                &TinLevel::new(&a, fine).unwrap(),
+                &g4,
+                &v4,
+                Some(-9999.0),
+                true,
+                i,
+            )
+            .map(|_| ())
+        }),
     );
     check(
         "raster weighted stats, DEM x4, level 0",
-        Box::new(|i| weighted_stats(&a, 0, &gt4, w4, h4, &v4, Some(-9999.0), false, i).map(|_| ())),
+        Box::new(|i| {
+            weighted_stats(
+                &TinLevel::new(&a, 0).unwrap(),
+                &gt4,
+                w4,
+                h4,
+                &v4,
+                Some(-9999.0),
+                false,
+                i,
+            )
+            .map(|_| ())
+        }),
     );
     check(
         "area sweep, 200k-vertex polygon, finest level",

@@ -11,6 +11,7 @@ mod common;
 use common::{dem_tin, read_dem};
 use robust::{orient2d, Coord};
 use tinmerge_core::io::raster::GeoTransform;
+use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::zonal_stats;
 use tinmerge_core::merge::raster::{sweep, PixelGrid};
 use tinmerge_core::tin::{Tin, NONE};
@@ -126,8 +127,7 @@ fn swept_owner(tin: &Tin, level: usize, r: &Raster, ordered: bool) -> Vec<u32> {
     let mut owner = vec![UNOWNED; r.w * r.h];
     let mut last = (0usize, 0usize);
     sweep(
-        tin,
-        level,
+        &TinLevel::new(tin, level).unwrap(),
         &g,
         ordered,
         &mut || Ok(()),
@@ -233,9 +233,14 @@ fn check_stats(tin: &Tin, level: usize, r: &Raster) {
         }
     }
     let g = PixelGrid::new(&r.gt, r.w, r.h).unwrap();
-    let got = zonal_stats(tin, level, &g, &r.values, Some(r.nodata), true, &mut || {
-        Ok(())
-    })
+    let got = zonal_stats(
+        &TinLevel::new(tin, level).unwrap(),
+        &g,
+        &r.values,
+        Some(r.nodata),
+        true,
+        &mut || Ok(()),
+    )
     .unwrap();
     let want: Vec<usize> = (0..n).filter(|&t| !vals[t].is_empty()).collect();
     assert_eq!(got.len(), want.len(), "triangles with pixels");
@@ -458,8 +463,7 @@ fn check_coverage(tin: &Tin, level: usize, r: &Raster) -> BTreeMap<(u32, usize, 
     let mut got = BTreeMap::new();
     let mut last = (0u32, 0usize, 0usize);
     coverage(
-        tin,
-        level,
+        &TinLevel::new(tin, level).unwrap(),
         &r.gt,
         r.w,
         r.h,
@@ -512,8 +516,7 @@ fn check_weighted(tin: &Tin, level: usize, r: &Raster) {
         }
     }
     let got = weighted_stats(
-        tin,
-        level,
+        &TinLevel::new(tin, level).unwrap(),
         &r.gt,
         r.w,
         r.h,
@@ -626,8 +629,7 @@ fn threads_give_identical_answers() {
         for level in [0, 2, 4] {
             let mut serial = Vec::new();
             sweep(
-                &tin,
-                level,
+                &TinLevel::new(&tin, level).unwrap(),
                 &g,
                 false,
                 &mut || Ok(()),
@@ -637,8 +639,7 @@ fn threads_give_identical_answers() {
             par::set_threads(2);
             let mut banded = Vec::new();
             sweep_par(
-                &tin,
-                level,
+                &TinLevel::new(&tin, level).unwrap(),
                 &g,
                 &mut || Ok(()),
                 &|t, row, c0, c1| (t, row, c0, c1),
@@ -654,8 +655,7 @@ fn threads_give_identical_answers() {
             for n in [1, 2] {
                 par::set_threads(n);
                 let z = zonal_stats(
-                    &tin,
-                    level,
+                    &TinLevel::new(&tin, level).unwrap(),
                     &g,
                     &r.values,
                     Some(r.nodata),
@@ -664,8 +664,7 @@ fn threads_give_identical_answers() {
                 )
                 .unwrap();
                 let w = weighted_stats(
-                    &tin,
-                    level,
+                    &TinLevel::new(&tin, level).unwrap(),
                     &r.gt,
                     r.w,
                     r.h,

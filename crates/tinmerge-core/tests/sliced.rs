@@ -370,3 +370,155 @@ fn areas_read_in_slices_sweep_as_on_the_decoded_value() {
         }
     }
 }
+
+/// Rasters over parts of a terrain: the DEM's own grid shifted by whole
+/// pixels over its south-west edge (centres on vertices and on the hull), a
+/// window of odd pixels with a fractional origin in the middle, and one
+/// half outside the domain across its north-east corner; values with
+/// nodata and NaN holes.
+fn rasters(
+    tin: &Tin,
+    dem: &common::Dem,
+) -> Vec<(
+    &'static str,
+    tinmerge_core::io::raster::GeoTransform,
+    usize,
+    usize,
+    Vec<f64>,
+)> {
+    use tinmerge_core::io::raster::GeoTransform;
+    let b = tin.bbox;
+    let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
+    let values = |n: usize| -> Vec<f64> {
+        (0..n)
+            .map(|i| match i % 97 {
+                5 => -9999.0,
+                11 => f64::NAN,
+                k => ((k * 31) % 23) as f64 * 0.5,
+            })
+            .collect()
+    };
+    let (sx, sy) = (dem.scale_x, dem.scale_y);
+    let own = GeoTransform {
+        scale_x: sx,
+        scale_y: -sy,
+        ip_x: dem.origin_x - 7.0 * sx,
+        ip_y: dem.origin_y - (dem.height as f64 - 60.0) * sy,
+        skew_x: 0.0,
+        skew_y: 0.0,
+    };
+    let (ow, oh) = (70, 67);
+    let odd = GeoTransform {
+        scale_x: w / 173.3,
+        scale_y: -h / 181.7,
+        ip_x: b.min_x + 0.41 * w + 0.123,
+        ip_y: b.min_y + 0.58 * h - 0.0457 * h,
+        skew_x: 0.0,
+        skew_y: 0.0,
+    };
+    let corner = GeoTransform {
+        scale_x: w / 97.1,
+        scale_y: -h / 89.9,
+        ip_x: b.max_x - 0.1 * w,
+        ip_y: b.max_y + 0.1 * h,
+        skew_x: 0.0,
+        skew_y: 0.0,
+    };
+    vec![
+        (
+            "the DEM's grid over its south-west edge",
+            own,
+            ow,
+            oh,
+            values(ow * oh),
+        ),
+        (
+            "odd pixels, fractional origin, inside",
+            odd,
+            29,
+            33,
+            values(29 * 33),
+        ),
+        (
+            "across the north-east corner",
+            corner,
+            19,
+            21,
+            values(19 * 21),
+        ),
+    ]
+}
+
+#[test]
+fn rasters_read_in_slices_merge_as_on_the_decoded_value() {
+    use tinmerge_core::merge::raster::patch::{Patch, RasterLevel, TinLevel};
+    use tinmerge_core::merge::raster::stats::{paint, weighted_stats, zonal_stats};
+    use tinmerge_core::merge::raster::{sweep, PixelGrid};
+    let dems = [
+        common::read_dem("jacksboro_fault_dem_utm16n.tif"),
+        common::read_dem("jacksboro_fault_dem.tif"),
+    ];
+    let mut none = || Ok(());
+    for ((tname, tin), dem) in tins().into_iter().zip(&dems) {
+        let stored = layout::encode(&tin);
+        for (rname, gt, w, h, vals) in rasters(&tin, dem) {
+            let g = PixelGrid::new(&gt, w, h).unwrap();
+            let window = [
+                gt.ip_x - gt.scale_x,
+                gt.ip_y + (h as f64 + 1.0) * gt.scale_y,
+                gt.ip_x + (w as f64 + 1.0) * gt.scale_x,
+                gt.ip_y - gt.scale_y,
+            ];
+            let nd = Some(-9999.0);
+            for l in 0..tin.levels.len() {
+                let name = format!("{tname}, {rname}, level {l}");
+                let s = open(&stored, 1996);
+                let fetched = Cell::new(0usize);
+                let mut fetch = counting_fetch(&stored, &fetched);
+                let reader = s.reader(&mut fetch);
+                let patch = Patch::new(&reader, l, window, &mut none).unwrap();
+                let whole = TinLevel::new(&tin, l).unwrap();
+                assert!(patch.count() > 0, "{name}: no triangle under the raster");
+                if l + 1 == tin.levels.len() {
+                    assert!(
+                        fetched.get() * 4 < stored.len(),
+                        "{name}: read {} of {} bytes",
+                        fetched.get(),
+                        stored.len()
+                    );
+                }
+                // the pixels each triangle owns, in raster order
+                let spans = |lv: &dyn Fn(u32) -> u32, run: &mut dyn FnMut(&mut dyn FnMut(u32, usize, usize, usize))| {
+                    let mut out = Vec::new();
+                    run(&mut |k, r, c0, c1| out.push((lv(k), r, c0, c1)));
+                    out
+                };
+                let a = spans(&|k| patch.id(k as usize), &mut |f| {
+                    sweep(&patch, &g, true, &mut || Ok(()), f).unwrap()
+                });
+                let b = spans(&|k| k, &mut |f| {
+                    sweep(&whole, &g, true, &mut || Ok(()), f).unwrap()
+                });
+                assert_eq!(a, b, "{name}: pixels");
+                assert!(!a.is_empty(), "{name}: no pixel handed over");
+                assert_eq!(
+                    zonal_stats(&patch, &g, &vals, nd, true, &mut none).unwrap(),
+                    zonal_stats(&whole, &g, &vals, nd, true, &mut none).unwrap(),
+                    "{name}: statistics"
+                );
+                assert_eq!(
+                    weighted_stats(&patch, &gt, w, h, &vals, nd, true, &mut none).unwrap(),
+                    weighted_stats(&whole, &gt, w, h, &vals, nd, true, &mut none).unwrap(),
+                    "{name}: weighted statistics"
+                );
+                let bands = [&vals[..], &vals[..], &vals[..]];
+                let nds = [nd, None, Some(0.0)];
+                assert_eq!(
+                    paint(&patch, &g, bands, nds, &mut none).unwrap(),
+                    paint(&whole, &g, bands, nds, &mut none).unwrap(),
+                    "{name}: paint"
+                );
+            }
+        }
+    }
+}

@@ -17,7 +17,7 @@
 //!
 //! ```
 //! use tinmerge_core::io::raster::GeoTransform;
-//! use tinmerge_core::merge::raster::coverage::coverage;
+//! use tinmerge_core::merge::raster::{coverage::coverage, patch::TinLevel};
 //! use tinmerge_core::tin::build::build;
 //! // two triangles over the square (0,0)-(4,4), split along a diagonal
 //! let pts = vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]];
@@ -25,7 +25,7 @@
 //! let gt = GeoTransform { scale_x: 1.0, scale_y: -1.0, ip_x: 0.0, ip_y: 4.0, skew_x: 0.0, skew_y: 0.0 };
 //! let mut area = [0.0; 2];
 //! let mut on_diagonal = 0;
-//! coverage(&tin, 0, &gt, 4, 4, &mut || Ok(()), &mut |t, _r, _c, f| {
+//! coverage(&TinLevel::new(&tin, 0).unwrap(), &gt, 4, 4, &mut || Ok(()), &mut |t, _r, _c, f| {
 //!     area[t as usize] += f;
 //!     if f < 1.0 { on_diagonal += 1 }
 //! }).unwrap();
@@ -35,7 +35,8 @@
 
 use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
-use crate::tin::{Tin, TinError};
+use crate::merge::raster::patch::RasterLevel;
+use crate::tin::TinError;
 
 type P = [f64; 2];
 
@@ -151,40 +152,28 @@ pub fn check_grid(gt: &GeoTransform) -> Result<(), TinError> {
     Ok(())
 }
 
-/// Calls `on_cell(triangle, row, col, fraction)` for every pixel of the
-/// `width x height` raster `gt` that a triangle of `level` overlaps with a
+/// Calls `on_cell(position, row, col, fraction)` for every pixel of the
+/// `width x height` raster `gt` that a triangle of `lv` overlaps with a
 /// positive area, `fraction` being the share of the pixel's area inside the
 /// triangle (in ([`MIN_FRACTION`], 1]). Triangles in id order, rows top to bottom, columns
 /// left to right. The fractions of a pixel sum to its share inside the
 /// domain (1 for a pixel wholly inside), up to rounding.
-pub fn coverage(
-    tin: &Tin,
-    level: usize,
+pub fn coverage<L: RasterLevel>(
+    lv: &L,
     gt: &GeoTransform,
     width: usize,
     height: usize,
     interrupt: &mut Interrupt<'_>,
     on_cell: &mut dyn FnMut(u32, usize, usize, f64),
 ) -> Result<(), TinError> {
-    let n = num_triangles(tin, level)?;
+    let n = lv.count() as u32;
     let mut tk = Ticker::new(interrupt);
-    coverage_of(tin, level, gt, width, height, 0..n, &mut tk, on_cell)
+    coverage_of(lv, gt, width, height, 0..n, &mut tk, on_cell)
 }
 
-/// Number of triangles of `level`, an error for a level the tin lacks.
-pub(crate) fn num_triangles(tin: &Tin, level: usize) -> Result<u32, TinError> {
-    let lv = tin
-        .levels
-        .get(level)
-        .ok_or_else(|| TinError::Corrupt("raster coverage: level".into()))?;
-    Ok(lv.tris.len() as u32)
-}
-
-/// [`coverage`] of the triangles `tris` only (in id order).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn coverage_of(
-    tin: &Tin,
-    level: usize,
+/// [`coverage`] of the triangles at positions `tris` only (in order).
+pub(crate) fn coverage_of<L: RasterLevel>(
+    lv: &L,
     gt: &GeoTransform,
     width: usize,
     height: usize,
@@ -193,15 +182,12 @@ pub(crate) fn coverage_of(
     on_cell: &mut dyn FnMut(u32, usize, usize, f64),
 ) -> Result<(), TinError> {
     check_grid(gt)?;
-    if level >= tin.levels.len() {
-        return Err(TinError::Corrupt("raster coverage: level".into()));
-    }
     let (w, h) = (width as f64, height as f64);
     let to_px =
-        |p: &[f64; 3]| -> P { [(p[0] - gt.ip_x) / gt.scale_x, (p[1] - gt.ip_y) / gt.scale_y] };
+        |p: &[f64; 2]| -> P { [(p[0] - gt.ip_x) / gt.scale_x, (p[1] - gt.ip_y) / gt.scale_y] };
     for t in tris {
         tk.tick()?;
-        let cs = tin.corners(level, t);
+        let cs = lv.corners(t as usize);
         let tri = Poly::from(&[to_px(&cs[0]), to_px(&cs[1]), to_px(&cs[2])]);
         let (u0, u1) = tri.range(0);
         let (v0, v1) = tri.range(1);

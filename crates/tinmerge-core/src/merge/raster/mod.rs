@@ -22,9 +22,15 @@
 //! edge it lies on (of the hull edge starting at it, for a hull vertex), so
 //! every centre in the closed domain is counted exactly once.
 //!
+//! The merges take the triangles of a level as a
+//! [`patch::RasterLevel`]: the whole level of a decoded tin, or a
+//! [`patch::Patch`] of a stored one read in slices (the triangles under the
+//! raster). Callbacks get a triangle's *position* there (its id is
+//! `lv.id(position)`; for a whole level they are equal).
+//!
 //! ```
 //! use tinmerge_core::io::raster::GeoTransform;
-//! use tinmerge_core::merge::raster::{sweep, PixelGrid};
+//! use tinmerge_core::merge::raster::{patch::TinLevel, sweep, PixelGrid};
 //! use tinmerge_core::tin::build::build;
 //! // two triangles over the square (0,0)-(4,4), split along the diagonal
 //! let pts = vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]];
@@ -33,21 +39,25 @@
 //! let gt = GeoTransform { scale_x: 1.0, scale_y: -1.0, ip_x: 0.0, ip_y: 4.0, skew_x: 0.0, skew_y: 0.0 };
 //! let grid = PixelGrid::new(&gt, 4, 4).unwrap();
 //! let mut per_tri = vec![0; 2];
-//! sweep(&tin, 0, &grid, false, &mut || Ok(()), &mut |t, _row, c0, c1| per_tri[t as usize] += c1 - c0).unwrap();
+//! let lv = TinLevel::new(&tin, 0).unwrap();
+//! sweep(&lv, &grid, false, &mut || Ok(()), &mut |k, _row, c0, c1| per_tri[k as usize] += c1 - c0).unwrap();
 //! // 16 centres: 6 strictly on each side of the diagonal, 4 on it (to the east)
 //! assert_eq!(per_tri.iter().sum::<usize>(), 16);
 //! assert!(per_tri.contains(&6) && per_tri.contains(&10));
 //! ```
 
 pub mod coverage;
+pub mod patch;
 pub mod stats;
 
-use crate::geom::{co, xy};
+use crate::geom::co;
 use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
 use crate::merge::raster::coverage::check_grid;
-use crate::tin::{Tin, TinError, NONE};
+use crate::merge::raster::patch::RasterLevel;
+use crate::tin::TinError;
 use robust::orient2d;
+use rustc_hash::FxHashMap;
 
 /// The pixel centres of a north-up (unrotated) raster: `xs[col]`, `ys[row]`,
 /// computed exactly as [`GeoTransform::centre`] does.
@@ -208,35 +218,23 @@ impl CutTri {
 }
 
 /// Centres on the domain's outer boundary that no triangle owns by the
-/// perturbation rule, with the triangle they go to: `(row, col, tri)`.
-fn hull_extras(tin: &Tin, level: usize, g: &PixelGrid) -> Result<Vec<(u32, u32, u32)>, TinError> {
-    let lv = &tin.levels[level];
-    let nv = lv.num_vertices as usize;
-    let bad = || TinError::Corrupt("raster sweep: vertex id".into());
+/// perturbation rule, with the position of the triangle they go to:
+/// `(row, col, position)`.
+fn hull_extras<L: RasterLevel>(lv: &L, g: &PixelGrid) -> Result<Vec<(u32, u32, u32)>, TinError> {
+    let hull = lv.hull_edges()?;
     // previous hull vertex of each hull vertex (the domain is on the left
     // of its counter-clockwise hull edges)
-    let mut prev = vec![NONE; nv];
-    let mut hull = Vec::new();
-    for (t, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
-        for j in 0..3 {
-            if nb[j] == NONE {
-                let (u, v) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
-                *prev.get_mut(v as usize).ok_or_else(bad)? = u;
-                hull.push((t as u32, u, v));
-            }
-        }
-    }
+    let prev: FxHashMap<u32, [f64; 2]> = hull.iter().map(|e| (e.v, e.pu)).collect();
     let mut out = Vec::new();
-    let vert = |i: u32| -> Result<[f64; 2], TinError> {
-        tin.verts.get(i as usize).map(xy).ok_or_else(bad)
-    };
-    for &(t, ui, vi) in &hull {
-        let (u, v) = (vert(ui)?, vert(vi)?);
+    for e in &hull {
+        let (t, u, v) = (e.k, e.pu, e.pv);
         // the hull vertex u, if it is a centre
         let (c0, c1) = g.xs.range(u[0], u[0]);
         let (r0, r1) = g.ys.range(u[1], u[1]);
         if c0 < c1 && r0 < r1 {
-            let w = vert(*prev.get(ui as usize).ok_or_else(bad)?)?;
+            let w = *prev
+                .get(&e.u)
+                .ok_or_else(|| TinError::Corrupt("raster sweep: vertex id".into()))?;
             let inside = if orient2d(co(w), co(u), co(v)) >= 0.0 {
                 tie_left(w, u) && tie_left(u, v)
             } else {
@@ -285,22 +283,21 @@ fn hull_extras(tin: &Tin, level: usize, g: &PixelGrid) -> Result<Vec<(u32, u32, 
     Ok(out)
 }
 
-/// The sweep: calls `on_span(triangle, row, c0, c1)` for every run of
-/// pixel centres `c0..c1` of `row` owned by a triangle of `level`, row by
+/// The sweep: calls `on_span(position, row, c0, c1)` for every run of
+/// pixel centres `c0..c1` of `row` owned by a triangle of `lv`, row by
 /// row from the first raster row. With `ordered`, the runs of a row come
 /// left to right in column order (else in cut order). Every centre in the
 /// closed domain is handed to exactly one triangle; centres outside are not
 /// handed at all.
-pub fn sweep(
-    tin: &Tin,
-    level: usize,
+pub fn sweep<L: RasterLevel>(
+    lv: &L,
     g: &PixelGrid,
     ordered: bool,
     interrupt: &mut Interrupt<'_>,
     on_span: &mut dyn FnMut(u32, usize, usize, usize),
 ) -> Result<(), TinError> {
     let mut tk = Ticker::new(interrupt);
-    let ev = Events::new(tin, level, g, &mut tk)?;
+    let ev = Events::new(lv, g, &mut tk)?;
     ev.run(0..g.height, ordered, &mut tk, on_span)
 }
 
@@ -314,16 +311,15 @@ const BAND_PIXELS: usize = 1 << 18;
 /// run to a value there; `consume` then gets the values on this thread in
 /// exactly the order [`sweep`] hands the runs, whatever the thread count.
 /// Interrupts are checked between batches of bands.
-pub fn sweep_par<S: Send>(
-    tin: &Tin,
-    level: usize,
+pub fn sweep_par<S: Send, L: RasterLevel>(
+    lv: &L,
     g: &PixelGrid,
     interrupt: &mut Interrupt<'_>,
     span: &(dyn Fn(u32, usize, usize, usize) -> S + Sync),
     consume: &mut dyn FnMut(S),
 ) -> Result<(), TinError> {
     let mut tk = Ticker::new(interrupt);
-    let ev = Events::new(tin, level, g, &mut tk)?;
+    let ev = Events::new(lv, g, &mut tk)?;
     if crate::tin::par::threads() <= 1 {
         return ev.run(0..g.height, false, &mut tk, &mut |t, r, c0, c1| {
             consume(span(t, r, c0, c1))
@@ -357,35 +353,25 @@ pub fn sweep_par<S: Send>(
 
 /// What the sweep needs before its first row: triangles bucketed by their
 /// first row, and the extra centres on the domain's boundary.
-struct Events<'a> {
-    tin: &'a Tin,
-    level: usize,
+struct Events<'a, L: RasterLevel> {
+    lv: &'a L,
     g: &'a PixelGrid,
-    /// `bucket[start[r]..start[r + 1]]`: (triangle, first row after it) of
+    /// `bucket[start[r]..start[r + 1]]`: (position, first row after it) of
     /// the triangles whose first row is `r`
     start: Vec<u32>,
     bucket: Vec<(u32, u32)>,
     extras: Vec<(u32, u32, u32)>,
 }
 
-impl<'a> Events<'a> {
-    fn new(
-        tin: &'a Tin,
-        level: usize,
-        g: &'a PixelGrid,
-        tk: &mut Ticker,
-    ) -> Result<Events<'a>, TinError> {
-        let lv = tin
-            .levels
-            .get(level)
-            .ok_or_else(|| TinError::Corrupt("raster sweep: level".into()))?;
+impl<'a, L: RasterLevel> Events<'a, L> {
+    fn new(lv: &'a L, g: &'a PixelGrid, tk: &mut Ticker) -> Result<Events<'a, L>, TinError> {
         let h = g.height;
         // events: triangles bucketed by their first row (counting sort)
         let mut first = vec![0u32; h + 1];
-        let mut span_of = Vec::with_capacity(lv.tris.len());
-        for t in 0..lv.tris.len() as u32 {
+        let mut span_of = Vec::with_capacity(lv.count());
+        for t in 0..lv.count() as u32 {
             tk.tick()?;
-            let cs = tin.corners(level, t);
+            let cs = lv.corners(t as usize);
             let ylo = cs[0][1].min(cs[1][1]).min(cs[2][1]);
             let yhi = cs[0][1].max(cs[1][1]).max(cs[2][1]);
             let (r0, r1) = g.ys.range(ylo, yhi);
@@ -409,10 +395,9 @@ impl<'a> Events<'a> {
             *k += 1;
         }
         drop(span_of);
-        let extras = hull_extras(tin, level, g)?;
+        let extras = hull_extras(lv, g)?;
         Ok(Events {
-            tin,
-            level,
+            lv,
             g,
             start,
             bucket,
@@ -428,7 +413,7 @@ impl<'a> Events<'a> {
         tk: &mut Ticker,
         on_span: &mut dyn FnMut(u32, usize, usize, usize),
     ) -> Result<(), TinError> {
-        let (tin, level, g) = (self.tin, self.level, self.g);
+        let (lv, g) = (self.lv, self.g);
         let (start, bucket, extras) = (&self.start, &self.bucket, &self.extras);
         // the cut: triangle, end row, corners; at the first row of the band
         // it holds the triangles begun above that are still open, in the
@@ -437,7 +422,7 @@ impl<'a> Events<'a> {
         for r in 0..rows.start {
             for &(t, r1) in &bucket[start[r] as usize..start[r + 1] as usize] {
                 if r1 as usize > rows.start {
-                    cut.push(CutTri::new(t, r1, tin.corners(level, t).map(|v| xy(&v))));
+                    cut.push(CutTri::new(t, r1, lv.corners(t as usize)));
                 }
             }
         }
@@ -448,7 +433,7 @@ impl<'a> Events<'a> {
         let inv_sx = 1.0 / sx;
         for r in rows {
             for &(t, r1) in &bucket[start[r] as usize..start[r + 1] as usize] {
-                cut.push(CutTri::new(t, r1, tin.corners(level, t).map(|v| xy(&v))));
+                cut.push(CutTri::new(t, r1, lv.corners(t as usize)));
             }
             let y = g.ys.v[r];
             row_spans.clear();

@@ -3,11 +3,12 @@
 //! coverage-weighted statistics of every pixel it overlaps
 //! ([`super::coverage`]), and the mean colour of a three-band image.
 
-use super::coverage::{self, check_grid, coverage_of};
+use super::coverage::{check_grid, coverage_of};
+use super::patch::RasterLevel;
 use super::{sweep, sweep_par, PixelGrid};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
-use crate::tin::{Tin, TinError};
+use crate::tin::TinError;
 
 /// Statistics of the valid pixels handed to one triangle (or, weighted,
 /// of the valid pixels it overlaps, each counting by its coverage).
@@ -53,10 +54,10 @@ pub fn is_data(v: f64, nodata: Option<f64>) -> bool {
 
 /// Per-triangle statistics of a band (`values` row-major, `width x
 /// height` of `g`; NaN and `nodata` values are skipped). Triangles
-/// receiving no valid pixel are left out; rows in triangle order.
-pub fn zonal_stats(
-    tin: &Tin,
-    level: usize,
+/// receiving no valid pixel are left out; rows in triangle order, with
+/// triangle ids (`lv.id`).
+pub fn zonal_stats<L: RasterLevel>(
+    lv: &L,
     g: &PixelGrid,
     values: &[f64],
     nodata: Option<f64>,
@@ -71,7 +72,8 @@ pub fn zonal_stats(
             g.height
         )));
     }
-    let n = tin.levels.get(level).map_or(0, |l| l.tris.len());
+    // by position until the end
+    let n = lv.count();
     let mut st: Vec<ZoneStats> = (0..n as u32).map(ZoneStats::empty).collect();
     let mut spans: Vec<(u32, u32, u32, u32)> = Vec::new();
     let w = g.width;
@@ -90,7 +92,7 @@ pub fn zonal_stats(
         }
         (t, r as u32, c0 as u32, c1 as u32, n, sum, lo, hi)
     };
-    sweep_par(tin, level, g, interrupt, &per_span, &mut |(
+    sweep_par(lv, g, interrupt, &per_span, &mut |(
         t,
         r,
         c0,
@@ -169,6 +171,7 @@ pub fn zonal_stats(
     st.retain(|z| z.count > 0);
     for z in &mut st {
         z.weight = z.count as f64;
+        z.triangle = lv.id(z.triangle as usize);
     }
     Ok(st)
 }
@@ -178,11 +181,11 @@ pub fn zonal_stats(
 /// the triangle (as exactextract does for polygons): `weight` = sum of `f`,
 /// `sum` = sum of `f * value`, `mean` their ratio, `min`/`max` over the
 /// overlapped pixels, `mode` the value of greatest total coverage
-/// (smallest on ties). Triangles overlapping no valid pixel are left out.
+/// (smallest on ties). Triangles overlapping no valid pixel are left out;
+/// rows in triangle order, with triangle ids (`lv.id`).
 #[allow(clippy::too_many_arguments)]
-pub fn weighted_stats(
-    tin: &Tin,
-    level: usize,
+pub fn weighted_stats<L: RasterLevel>(
+    lv: &L,
     gt: &GeoTransform,
     width: usize,
     height: usize,
@@ -206,41 +209,34 @@ pub fn weighted_stats(
                 if want_mode {
                     z.mode = weighted_mode(pairs);
                 }
-                out.push(z.clone());
+                let mut z = z.clone();
+                z.triangle = lv.id(z.triangle as usize);
+                out.push(z);
             }
             pairs.clear();
         };
-        coverage_of(
-            tin,
-            level,
-            gt,
-            width,
-            height,
-            tris,
-            tk,
-            &mut |t, r, c, f| {
-                let v = values[r * width + c];
-                if !is_data(v, nodata) {
-                    return;
-                }
-                if t != cur.triangle {
-                    finish(&mut cur, &mut pairs);
-                    cur = ZoneStats::empty(t);
-                }
-                cur.count += 1;
-                cur.weight += f;
-                cur.sum += f * v;
-                cur.min = cur.min.min(v);
-                cur.max = cur.max.max(v);
-                if want_mode {
-                    pairs.push((v, f));
-                }
-            },
-        )?;
+        coverage_of(lv, gt, width, height, tris, tk, &mut |t, r, c, f| {
+            let v = values[r * width + c];
+            if !is_data(v, nodata) {
+                return;
+            }
+            if t != cur.triangle {
+                finish(&mut cur, &mut pairs);
+                cur = ZoneStats::empty(t);
+            }
+            cur.count += 1;
+            cur.weight += f;
+            cur.sum += f * v;
+            cur.min = cur.min.min(v);
+            cur.max = cur.max.max(v);
+            if want_mode {
+                pairs.push((v, f));
+            }
+        })?;
         finish(&mut cur, &mut pairs);
         Ok(out)
     };
-    let n = coverage::num_triangles(tin, level)?;
+    let n = lv.count() as u32;
     if crate::tin::par::threads() <= 1 {
         return run(0..n, &mut Ticker::new(interrupt));
     }
@@ -253,7 +249,7 @@ pub fn weighted_stats(
     let mut items: Vec<std::ops::Range<u32>> = Vec::new();
     let (mut t0, mut px) = (0u32, 0.0f64);
     for t in 0..n {
-        let cs = tin.corners(level, t);
+        let cs = lv.corners(t as usize);
         let bw = cs[0][0].max(cs[1][0]).max(cs[2][0]) - cs[0][0].min(cs[1][0]).min(cs[2][0]);
         let bh = cs[0][1].max(cs[1][1]).max(cs[2][1]) - cs[0][1].min(cs[1][1]).min(cs[2][1]);
         px += (bw / sx + 2.0) * (bh / sy + 2.0);
@@ -301,11 +297,10 @@ pub(super) fn weighted_mode(pairs: &mut [(f64, f64)]) -> Option<f64> {
 
 /// The mean colour of each triangle: every pixel whose centre a triangle
 /// owns (the rule of [`sweep`]) and whose three bands are all valid adds
-/// its (r, g, b). Returns `(triangle, pixels, [r, g, b] means)` for the
+/// its (r, g, b). Returns `(triangle id, pixels, [r, g, b] means)` for the
 /// triangles receiving a pixel, in triangle order.
-pub fn paint(
-    tin: &Tin,
-    level: usize,
+pub fn paint<L: RasterLevel>(
+    lv: &L,
     g: &PixelGrid,
     bands: [&[f64]; 3],
     nodata: [Option<f64>; 3],
@@ -317,10 +312,9 @@ pub fn paint(
             g.width, g.height
         )));
     }
-    let n = tin.levels.get(level).map_or(0, |l| l.tris.len());
-    let mut acc = vec![(0u64, [0.0f64; 3]); n];
+    let mut acc = vec![(0u64, [0.0f64; 3]); lv.count()];
     let w = g.width;
-    sweep(tin, level, g, false, interrupt, &mut |t, r, c0, c1| {
+    sweep(lv, g, false, interrupt, &mut |t, r, c0, c1| {
         let a = &mut acc[t as usize];
         let (lo, hi) = (r * w + c0, r * w + c1);
         let (rs, gs, bs) = (&bands[0][lo..hi], &bands[1][lo..hi], &bands[2][lo..hi]);
@@ -337,7 +331,7 @@ pub fn paint(
         .into_iter()
         .enumerate()
         .filter(|(_, a)| a.0 > 0)
-        .map(|(t, (cnt, s))| (t as u32, cnt, s.map(|v| v / cnt as f64)))
+        .map(|(k, (cnt, s))| (lv.id(k), cnt, s.map(|v| v / cnt as f64)))
         .collect())
 }
 
