@@ -47,6 +47,14 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean) IS
 'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border as for tin_from_raster(raster, float8, int, int, boolean).';
 
+CREATE FUNCTION tin_tiles(rast raster, tile_px int, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1)
+RETURNS TABLE(tx int, ty int, t tin) AS
+$$ SELECT * FROM @extschema@._tin_tiles($1::bytea, $2, $3, $4, $5) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_tiles(raster, int, float8, int, int) IS
+'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles share their seam samples as vertices of every level and their surfaces agree along the seams. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
+
 CREATE FUNCTION tin_from_points(pts geometry, tolerance float8, levels int DEFAULT 5)
 RETURNS tin AS $$ SELECT @extschema@._tin_from_points($1::bytea, $2, $3) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000

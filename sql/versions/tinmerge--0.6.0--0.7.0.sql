@@ -7,6 +7,8 @@
 -- _tin_area_stats and _tin_volume they called are dropped (their symbols
 -- stay in the library for databases still on an older version).
 -- The search_path they pin is the install script's (sql/tinmerge.sql).
+-- New: tin_tiles, a raster built as a grid of tins sharing their seams
+-- (docs/scaling.md).
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -33,3 +35,16 @@ SET search_path FROM CURRENT;
 DROP FUNCTION _tin_area_triangles(tin, bytea, int, boolean, text);
 DROP FUNCTION _tin_area_stats(tin, bytea, int, text, boolean);
 DROP FUNCTION _tin_volume(tin, bytea, float8, int, text, boolean);
+CREATE FUNCTION _tin_tiles("rast" bytea, "tile_px" int, "tolerance" double precision, "levels" int, "band" int)
+RETURNS TABLE ("tx" int, "ty" int, "t" tin)
+IMMUTABLE STRICT PARALLEL SAFE COST 10000
+LANGUAGE c AS 'MODULE_PATHNAME', '_tin_tiles_wrapper';
+ALTER FUNCTION _tin_tiles(bytea, int, float8, int, int) ROWS 100;
+COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use tin_tiles(raster, int, float8, int, int).';
+CREATE FUNCTION tin_tiles(rast raster, tile_px int, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1)
+RETURNS TABLE(tx int, ty int, t tin) AS
+$$ SELECT * FROM @extschema@._tin_tiles($1::bytea, $2, $3, $4, $5) $$
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_tiles(raster, int, float8, int, int) IS
+'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles share their seam samples as vertices of every level and their surfaces agree along the seams. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';

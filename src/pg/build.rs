@@ -1,4 +1,5 @@
-//! The builders: `tin_from_raster` (both forms) and `tin_from_points`.
+//! The builders: `tin_from_raster` (both forms), `tin_tiles` and
+//! `tin_from_points`.
 //! Geometry and raster travel as (E)WKB `bytea`; the public
 //! `geometry`/`raster` signatures are thin SQL wrappers in `sql/tinmerge.sql`.
 
@@ -13,6 +14,7 @@ use tinmerge_core::tin::build::{
     build, build_lattice, check_tolerances, default_tolerances, BuildOptions,
 };
 use tinmerge_core::tin::lattice::Lattice;
+use tinmerge_core::tin::tiles::build_tiles;
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
 /// already allocated); otherwise hand `tinmerge.threads` to the core.
@@ -24,9 +26,9 @@ fn reserve_build(func: &str, samples: usize, levels: usize) {
     );
 }
 
-/// Valid pixels of one band as lattice samples (col, row, value), the
-/// raster's pixel lattice and its SRID.
-fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
+/// One band of a raster argument (an ERROR for a band that is not there
+/// or an empty raster; reading it counts against `tinmerge.max_memory`).
+fn raster_band(rast: &[u8], band: i32) -> (raster::Raster, raster::Band) {
     if band < 1 {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -43,13 +45,20 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
     memory::reserve(raster::raster_bytes(head.width, head.height), || {
         format!("reading a {} x {} raster", head.width, head.height)
     });
-    let r = raster::read(rast, Some(band as usize)).or_raise();
-    let Some(b) = r.band else {
+    let mut r = raster::read(rast, Some(band as usize)).or_raise();
+    let Some(b) = r.band.take() else {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
             "raster has no such band",
         );
     };
+    (r, b)
+}
+
+/// Valid pixels of one band as lattice samples (col, row, value), the
+/// raster's pixel lattice and its SRID.
+fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
+    let (r, b) = raster_band(rast, band);
     let mut pts = Vec::new();
     for row in 0..r.height {
         for col in 0..r.width {
@@ -116,6 +125,68 @@ COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int, boolean) I
 "#,
     name = "tin_from_raster_tolerances_sql",
     requires = [_tin_from_raster_tolerances]
+);
+
+/// `tin_tiles`: the raster cut into tiles of `tile_px` pixels that share
+/// their border column and row of samples, each built with keep_border
+/// (`tin::tiles`), on `tinmerge.threads` threads.
+#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_tiles(
+    rast: &[u8],
+    tile_px: i32,
+    tolerance: f64,
+    levels: i32,
+    band: i32,
+) -> TableIterator<'static, (name!(tx, i32), name!(ty, i32), name!(t, TinOut))> {
+    if !(2..=65535).contains(&tile_px) {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("tin_tiles: tile_px must be 2 to 65535 pixels, got {tile_px}"),
+        );
+    }
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    let (r, b) = raster_band(rast, band);
+    let lattice = r.gt.lattice();
+    let per_tile = (tile_px as usize + 1).min(r.width) * (tile_px as usize + 1).min(r.height);
+    super::threads::apply();
+    let at_once = tinmerge_core::tin::par::threads().max(1);
+    memory::reserve(
+        tinmerge_core::tin::build::build_bytes(per_tile, tols.len()).saturating_mul(at_once),
+        || {
+            format!(
+                "tin_tiles: building {at_once} tiles of {per_tile} samples at {} levels at once",
+                tols.len()
+            )
+        },
+    );
+    let mut rows = Vec::new();
+    build_tiles(
+        &b.values,
+        r.width,
+        r.height,
+        &|v| b.is_valid(v),
+        &lattice,
+        tile_px as usize,
+        &tols,
+        r.srid,
+        &mut interrupt,
+        &|tx, ty, tin| (tx as i32, ty as i32, TinOut::from_tin_on(&tin, &lattice)),
+        &mut |row| {
+            rows.push(row);
+            Ok(())
+        },
+    )
+    .or_raise();
+    TableIterator::new(rows)
+}
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_tiles(bytea, int, float8, int, int) ROWS 100;
+COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use tin_tiles(raster, int, float8, int, int).';
+"#,
+    name = "tin_tiles_sql",
+    requires = [_tin_tiles]
 );
 
 /// The build behind both `tin_from_raster` forms.

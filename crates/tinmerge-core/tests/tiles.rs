@@ -107,3 +107,145 @@ fn shared_border_column_gives_a_continuous_surface() {
         count(&r2)
     );
 }
+
+/// `build_tiles` on both DEMs (UTM and geographic, nodata around the
+/// warped one), tiles of 97 pixels at 3 levels: each tile is the tin of
+/// the samples the docs' keep_border pattern gives it (cut here by the
+/// test's own rule and built on their own), every sample on a shared seam
+/// (columns and rows) is a vertex of both tiles at every level, and
+/// heights along the seams agree exactly from both sides.
+#[test]
+fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
+    use tinmerge_core::merge::point::height;
+    use tinmerge_core::tin::build::build_lattice;
+    use tinmerge_core::tin::lattice::Lattice;
+    use tinmerge_core::tin::tiles::build_tiles;
+    let n = 97;
+    for (name, file, tol, srid) in [
+        ("utm", "jacksboro_fault_dem_utm16n.tif", 2.0, 32616),
+        ("geographic", "jacksboro_fault_dem.tif", 0.00002, 4326),
+    ] {
+        let d = common::read_dem(file);
+        let lat = Lattice {
+            ip_x: d.origin_x,
+            ip_y: d.origin_y,
+            scale_x: d.scale_x,
+            scale_y: -d.scale_y,
+            skew_x: 0.0,
+            skew_y: 0.0,
+        };
+        let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
+        let tols = default_tolerances(tol, 3).unwrap();
+        let mut tiles: Vec<(usize, usize, Tin)> = Vec::new();
+        build_tiles(
+            &d.values,
+            d.width,
+            d.height,
+            &valid,
+            &lat,
+            n,
+            &tols,
+            srid,
+            &mut || Ok(()),
+            &|tx, ty, t| (tx, ty, t),
+            &mut |t| {
+                tiles.push(t);
+                Ok(())
+            },
+        )
+        .unwrap();
+        let (nx, ny) = (d.width.div_ceil(n), d.height.div_ceil(n));
+        // the test's own cut: own pixels plus one more column and row
+        let mut expect = 0;
+        for ty in 0..ny {
+            for tx in 0..nx {
+                let mut s = Vec::new();
+                for r in ty * n..((ty + 1) * n + 1).min(d.height) {
+                    for c in tx * n..((tx + 1) * n + 1).min(d.width) {
+                        let v = d.values[r * d.width + c];
+                        if valid(v) {
+                            s.push([c as f64, r as f64, v]);
+                        }
+                    }
+                }
+                let keep = BuildOptions { keep_border: true };
+                let Ok(want) = build_lattice(s, &lat, &tols, srid, keep, &mut || Ok(())) else {
+                    continue;
+                };
+                let got = tiles.iter().find(|t| (t.0, t.1) == (tx, ty));
+                let got = got.unwrap_or_else(|| panic!("{name}: tile {tx},{ty} missing"));
+                assert!(
+                    tinmerge_core::tin::layout::encode(&got.2)
+                        == tinmerge_core::tin::layout::encode(&want),
+                    "{name}: tile {tx},{ty} differs from its own build"
+                );
+                // (sanity_check is exact in the lattice frame only; in world
+                // coordinates: valid, and no sliver hiding a crack)
+                tinmerge_core::tin::check::validate_structure(&got.2).unwrap();
+                assert!(
+                    tinmerge_core::tin::check::problems(&got.2, &mut || Ok(()))
+                        .unwrap()
+                        .is_empty(),
+                    "{name}: tile {tx},{ty} has slivers"
+                );
+                expect += 1;
+            }
+        }
+        assert_eq!(tiles.len(), expect, "{name}: tiles");
+        assert!(expect > 6, "{name}: {expect} tiles");
+        // seams: the column (row) shared with the right (lower) neighbour
+        let tile =
+            |tx: usize, ty: usize| tiles.iter().find(|t| (t.0, t.1) == (tx, ty)).map(|t| &t.2);
+        let (mut points, mut worst) = (0usize, 0.0f64);
+        for &(tx, ty, ref a) in &tiles {
+            for (dx, dy) in [(1, 0), (0, 1)] {
+                let Some(b) = tile(tx + dx, ty + dy) else {
+                    continue;
+                };
+                // the seam's pixels: a column of a's rows, or a row of a's columns
+                let seam: Vec<(usize, usize)> = if dx == 1 {
+                    let c = (tx + 1) * n;
+                    (ty * n..((ty + 1) * n + 1).min(d.height))
+                        .map(|r| (c, r))
+                        .collect()
+                } else {
+                    let r = (ty + 1) * n;
+                    (tx * n..((tx + 1) * n + 1).min(d.width))
+                        .map(|c| (c, r))
+                        .collect()
+                };
+                for w in seam.windows(2) {
+                    let (c, r) = w[0];
+                    let v = d.values[r * d.width + c];
+                    let v2 = d.values[w[1].1 * d.width + w[1].0];
+                    if !valid(v) || !valid(v2) {
+                        continue;
+                    }
+                    let (px, py) = lat.centre(c as f64, r as f64);
+                    let (qx, qy) = lat.centre(w[1].0 as f64, w[1].1 as f64);
+                    let (p, q) = ([px, py], [qx, qy]);
+                    let mid = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
+                    for l in 0..tols.len() {
+                        let (ha, hb) = (height(a, l, p[0], p[1]), height(b, l, p[0], p[1]));
+                        assert_eq!(
+                            (ha, hb),
+                            (Some(v), Some(v)),
+                            "{name}: seam sample ({c}, {r}) level {l}"
+                        );
+                        let (ma, mb) = (height(a, l, mid[0], mid[1]), height(b, l, mid[0], mid[1]));
+                        if let (Some(ma), Some(mb)) = (ma, mb) {
+                            worst = worst.max((ma - mb).abs());
+                        }
+                        points += 1;
+                    }
+                }
+            }
+        }
+        eprintln!(
+            "{name}: {} tiles, {points} seam points, worst difference between midpoints {worst}",
+            tiles.len()
+        );
+        assert!(points > 1000, "{name}: {points} seam points");
+        assert!(worst <= 1e-9, "{name}: seams differ by {worst}");
+    }
+}

@@ -133,3 +133,34 @@ SELECT count(*) AS bands,
        count(*) FILTER (WHERE abs(tiled.a2 - single.a2) > 1e-9 * single.a2) AS area2d_differ,
        count(*) FILTER (WHERE abs(tiled.a3 - single.a3) > 0.01 * single.a3) AS area3d_differ_over_1pct
 FROM tiled JOIN single USING (id);
+
+-- tin_tiles: the same pattern in one call, from the window raster itself
+-- (no ST_Union, no ST_Clip). Each tile is the tin the SQL pattern built for
+-- the tile with the same envelope: the same triangles at every level (as
+-- TIN geometries), the seams agree and hold the pixel values, and the
+-- tiles cover the window without overlap
+CREATE TABLE one_call AS SELECT tx, ty, t FROM dem_window, tin_tiles(rast, 100, 2.0, 3);
+SELECT count(*) AS tiles, min(tx) AS min_tx, max(tx) AS max_tx, min(ty) AS min_ty, max(ty) AS max_ty,
+       bool_and(tin_num_levels(t) = 3) AS three_levels FROM one_call;
+SELECT count(*) AS matched,
+       count(*) FILTER (WHERE ST_Equals(tin_as_geometry(o.t, l), tin_as_geometry(k.t, l))) AS same_triangles
+FROM one_call o JOIN tin_tiles k ON ST_Equals(tin_envelope(o.t), tin_envelope(k.t)), generate_series(0, 2) l;
+SELECT ST_Equals(ST_Union(tin_envelope(t)), (SELECT tin_envelope(t) FROM window_tin)) AS tiles_cover_window,
+       sum(ST_Area(tin_envelope(t))) = ST_Area((SELECT tin_envelope(t) FROM window_tin)) AS no_overlap
+FROM one_call;
+WITH h AS (
+  SELECT s.geom, s.expect, l, tin_height(k.t, s.geom, l) AS z
+  FROM tile_seam s JOIN one_call k ON tin_envelope(k.t) && s.geom, generate_series(0, 2) l
+), per AS (
+  SELECT geom, expect, l, count(*) AS tiles, count(z) AS answered, max(z) - min(z) AS spread, max(abs(z - expect)) AS off
+  FROM h GROUP BY geom, expect, l
+)
+SELECT l AS level, count(*) AS seam_points, min(tiles) AS min_tiles, max(tiles) AS max_tiles,
+       sum(tiles - answered) AS unanswered, count(*) FILTER (WHERE spread > 0) AS tiles_disagree,
+       count(*) FILTER (WHERE off > 1e-9) AS off_the_pixels
+FROM per GROUP BY l ORDER BY l;
+-- bad arguments
+SELECT count(*) FROM dem_window, tin_tiles(rast, 1, 2.0, 3);
+SELECT count(*) FROM dem_window, tin_tiles(rast, 100, 2.0, 3, band => 2);
+SELECT count(*) FROM dem_window, tin_tiles(rast, 100, -1.0, 3);
+DROP TABLE one_call;

@@ -25,6 +25,7 @@ pub mod mesh;
 pub mod par;
 pub mod samples;
 pub mod sliced;
+pub mod tiles;
 
 use thiserror::Error;
 
