@@ -7,7 +7,7 @@ PG_CONFIG=/usr/lib/postgresql/15/bin/pg_config
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 
-pkgs="postgresql-15 postgresql-server-dev-15 postgresql-15-postgis-3 postgis libclang-dev clang sudo gdal-bin chromium"
+pkgs="postgresql-15 postgresql-server-dev-15 postgresql-15-postgis-3 postgresql-15-pointcloud postgis libclang-dev clang sudo gdal-bin chromium"
 missing=""
 for p in $pkgs; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -8,7 +8,7 @@
 -- stay in the library for databases still on an older version).
 -- The search_path they pin is the install script's (sql/tinmerge.sql).
 -- New: tin_tiles, a raster built as a grid of tins sharing their seams
--- (docs/scaling.md).
+-- (docs/scaling.md), and the aggregate tin_from_points_agg.
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -48,3 +48,22 @@ LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_tiles(raster, int, float8, int, int) IS
 'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles share their seam samples as vertices of every level and their surfaces agree along the seams. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
+CREATE FUNCTION _tin_points_agg_step("state" internal, "pt" geometry, "tolerance" double precision, "levels" int)
+RETURNS internal
+IMMUTABLE PARALLEL SAFE
+LANGUAGE c AS 'MODULE_PATHNAME', '_tin_points_agg_step_wrapper';
+CREATE FUNCTION _tin_points_agg_final("state" internal)
+RETURNS tin
+IMMUTABLE PARALLEL SAFE
+LANGUAGE c AS 'MODULE_PATHNAME', '_tin_points_agg_final_wrapper';
+COMMENT ON FUNCTION _tin_points_agg_step(internal, geometry, float8, int) IS 'Internal: the transition function of tin_from_points_agg(geometry, float8, int).';
+COMMENT ON FUNCTION _tin_points_agg_final(internal) IS 'Internal: the final function of tin_from_points_agg(geometry, float8, int).';
+CREATE AGGREGATE tin_from_points_agg(pt geometry, tolerance float8, levels int) (
+    SFUNC = _tin_points_agg_step,
+    STYPE = internal,
+    FINALFUNC = _tin_points_agg_final,
+    FINALFUNC_MODIFY = READ_WRITE,
+    PARALLEL = SAFE
+);
+COMMENT ON AGGREGATE tin_from_points_agg(geometry, float8, int) IS
+'Builds a tin from every vertex (with Z) of the rows aggregated, as tin_from_points(ST_Collect(pt), tolerance, levels) does but without building one collection geometry (which PostgreSQL caps at 1 GB): e.g. tin_from_points_agg(geom, 0.5, 5) FILTER (WHERE class = 2) over LiDAR returns keeps the ground. Points with equal x,y are merged (mean z); NULL and empty rows add nothing; no row gives NULL. All rows must have one SRID, and the same tolerance and levels.';

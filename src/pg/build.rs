@@ -1,5 +1,5 @@
-//! The builders: `tin_from_raster` (both forms), `tin_tiles` and
-//! `tin_from_points`.
+//! The builders: `tin_from_raster` (both forms), `tin_tiles`,
+//! `tin_from_points` and the `tin_from_points_agg` aggregate.
 //! Geometry and raster travel as (E)WKB `bytea`; the public
 //! `geometry`/`raster` signatures are thin SQL wrappers in `sql/tinmerge.sql`.
 
@@ -9,7 +9,10 @@ use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
 use super::tin_type::TinOut;
-use tinmerge_core::io::{ewkb, raster};
+use pgrx::{pg_sys, Internal, PgMemoryContexts};
+
+use super::args::GeomArg;
+use tinmerge_core::io::{ewkb, gserialized, raster};
 use tinmerge_core::tin::build::{
     build, build_lattice, check_tolerances, default_tolerances, BuildOptions,
 };
@@ -231,4 +234,135 @@ COMMENT ON FUNCTION _tin_from_points(bytea, float8, int) IS 'Internal: use tin_f
 "#,
     name = "tin_from_points_sql",
     requires = [_tin_from_points]
+);
+
+/// The state of the `tin_from_points_agg` aggregate: every vertex (with Z)
+/// of the rows so far, their SRID, and the build's arguments (from the
+/// first row), kept in the aggregate's memory context and dropped with it.
+#[derive(Default)]
+struct PointsAgg {
+    samples: Vec<[f64; 3]>,
+    srid: Option<i32>,
+    args: Option<(f64, i32)>,
+}
+
+/// Transition function of `tin_from_points_agg(geometry, float8, int)`:
+/// adds the row's vertices (NULL and empty geometries add nothing).
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_points_agg_step(
+    mut state: Internal,
+    pt: Option<GeomArg>,
+    tolerance: Option<f64>,
+    levels: Option<i32>,
+    fcinfo: pg_sys::FunctionCallInfo,
+) -> Internal {
+    let mut agg: pg_sys::MemoryContext = std::ptr::null_mut();
+    // SAFETY: fcinfo is this call's; AggCheckCallContext only reads it.
+    if unsafe { pg_sys::AggCheckCallContext(fcinfo, &mut agg) } == 0 || agg.is_null() {
+        raise(
+            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
+            "_tin_points_agg_step is the transition function of tin_from_points_agg; it cannot be called on its own",
+        );
+    }
+    // SAFETY: the state is only ever a PointsAgg made here, in the
+    // aggregate's context (dropped when that context goes).
+    let st: &mut PointsAgg = unsafe {
+        PgMemoryContexts::For(agg).switch_to(|_| state.get_or_insert_default::<PointsAgg>())
+    };
+    let (Some(tolerance), Some(levels)) = (tolerance, levels) else {
+        raise(
+            PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
+            "tin_from_points_agg: tolerance and levels must not be NULL",
+        );
+    };
+    match st.args {
+        None => {
+            default_tolerances(tolerance, levels).or_raise();
+            st.args = Some((tolerance, levels));
+        }
+        Some((t, l)) if t.to_bits() != tolerance.to_bits() || l != levels => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "tin_from_points_agg: tolerance and levels must be the same in every row (first {t} and {l}, then {tolerance} and {levels})"
+            ),
+        ),
+        Some(_) => {}
+    }
+    let Some(pt) = pt else { return state };
+    let g = gserialized::read(pt.bytes()).or_raise();
+    if g.geom.is_empty() {
+        return state;
+    }
+    match st.srid {
+        None => st.srid = Some(g.srid),
+        Some(s) if s != g.srid => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "tin_from_points_agg: rows have SRIDs {s} and {}; transform them to one SRID first",
+                g.srid
+            ),
+        ),
+        Some(_) => {}
+    }
+    if !g.has_z {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "tin_from_points_agg: a {} has no Z coordinate: a tin needs 3D samples (ST_Force3DZ adds Z = 0)",
+                g.geom.type_name()
+            ),
+        );
+    }
+    let before = st.samples.capacity();
+    g.geom.for_each_coord(&mut |c| st.samples.push(*c));
+    let grown = st.samples.capacity().saturating_sub(before);
+    if grown > 0 {
+        let n = st.samples.len();
+        memory::reserve(0, || {
+            format!("tin_from_points_agg: holding {n} samples ({grown} more places)")
+        });
+    }
+    state
+}
+
+/// Final function of `tin_from_points_agg`: the tin of every vertex
+/// gathered (NULL when no row gave one).
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
+    // SAFETY: the state is only ever a PointsAgg (see the step function).
+    // FINALFUNC_MODIFY = READ_WRITE: the samples are handed to the build,
+    // not copied (PostgreSQL does not use the state after this call).
+    let st = unsafe { state.get_mut::<PointsAgg>() }?;
+    let (tolerance, levels) = st.args?;
+    if st.samples.is_empty() {
+        return None;
+    }
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    reserve_build("tin_from_points_agg", st.samples.len(), tols.len());
+    let tin = build(
+        std::mem::take(&mut st.samples),
+        &tols,
+        st.srid.unwrap_or(0),
+        &mut interrupt,
+    )
+    .or_raise();
+    Some(TinOut::from_tin(&tin))
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_points_agg_step(internal, geometry, float8, int) IS 'Internal: the transition function of tin_from_points_agg(geometry, float8, int).';
+COMMENT ON FUNCTION _tin_points_agg_final(internal) IS 'Internal: the final function of tin_from_points_agg(geometry, float8, int).';
+CREATE AGGREGATE tin_from_points_agg(pt geometry, tolerance float8, levels int) (
+    SFUNC = _tin_points_agg_step,
+    STYPE = internal,
+    FINALFUNC = _tin_points_agg_final,
+    FINALFUNC_MODIFY = READ_WRITE,
+    PARALLEL = SAFE
+);
+COMMENT ON AGGREGATE tin_from_points_agg(geometry, float8, int) IS
+'Builds a tin from every vertex (with Z) of the rows aggregated, as tin_from_points(ST_Collect(pt), tolerance, levels) does but without building one collection geometry (which PostgreSQL caps at 1 GB): e.g. tin_from_points_agg(geom, 0.5, 5) FILTER (WHERE class = 2) over LiDAR returns keeps the ground. Points with equal x,y are merged (mean z); NULL and empty rows add nothing; no row gives NULL. All rows must have one SRID, and the same tolerance and levels.';
+"#,
+    name = "tin_from_points_agg_sql",
+    requires = [_tin_points_agg_step, _tin_points_agg_final]
 );

@@ -140,36 +140,27 @@ CREATE TABLE store_rasters AS
 SELECT 1 AS id, ST_Clip(rast, ST_MakeEnvelope(757000, 4051000, 758000, 4052000, 32616)) AS rast FROM dem
 UNION ALL
 SELECT 2, ST_Rescale(ST_Clip(rast, ST_MakeEnvelope(731000, 4036600, 733500, 4039000, 32616)), 37.3, -41.1) FROM dem;
-CREATE FUNCTION pg_temp.raster_rows(t tin, r raster, l int) RETURNS text[] LANGUAGE sql AS $$
+CREATE FUNCTION store_raster_rows(t tin, r raster, l int) RETURNS text[] LANGUAGE sql AS $$
   SELECT ARRAY[(SELECT md5(string_agg(row(s.*)::text, ',' ORDER BY s.triangle)) FROM tin_raster_stats(t, r, l) s),
                (SELECT md5(string_agg(row(s.*)::text, ',' ORDER BY s.triangle)) FROM tin_raster_stats(t, r, l, weighted => true) s),
                (SELECT md5(string_agg(row(p.*)::text, ',' ORDER BY p.row, p.col)) FROM tin_raster_pixels(t, r, l) p),
                (SELECT count(*)::text FROM tin_raster_pixels(t, r, l))] $$;
 SET tinmerge.cache_size = 0;
 CREATE TABLE store_rstats AS
-SELECT r.id, g.l, pg_temp.raster_rows(st.t, r.rast, g.l) AS rows
+SELECT r.id, g.l, store_raster_rows(st.t, r.rast, g.l) AS rows
 FROM store_rasters r, store_terrain st, generate_series(0, 4) g(l);
 RESET tinmerge.cache_size;
 SELECT id, min(rows[4]::int) AS pixels, max(rows[4]::int) FROM store_rstats GROUP BY id ORDER BY id;
 \c
 SET extra_float_digits = 0;
-CREATE FUNCTION pg_temp.raster_rows(t tin, r raster, l int) RETURNS text[] LANGUAGE sql AS $$
-  SELECT ARRAY[(SELECT md5(string_agg(row(s.*)::text, ',' ORDER BY s.triangle)) FROM tin_raster_stats(t, r, l) s),
-               (SELECT md5(string_agg(row(s.*)::text, ',' ORDER BY s.triangle)) FROM tin_raster_stats(t, r, l, weighted => true) s),
-               (SELECT md5(string_agg(row(p.*)::text, ',' ORDER BY p.row, p.col)) FROM tin_raster_pixels(t, r, l) p),
-               (SELECT count(*)::text FROM tin_raster_pixels(t, r, l))] $$;
-SELECT count(*) FILTER (WHERE pg_temp.raster_rows(st.t, r.rast, x.l) = x.rows) AS same_as_decoded, count(*) AS asked
+SELECT count(*) FILTER (WHERE store_raster_rows(st.t, r.rast, x.l) = x.rows) AS same_as_decoded, count(*) AS asked
 FROM store_rstats x JOIN store_rasters r USING (id), store_terrain st WHERE x.id = 1;
 SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
 \c
 SET extra_float_digits = 0;
-CREATE FUNCTION pg_temp.raster_rows(t tin, r raster, l int) RETURNS text[] LANGUAGE sql AS $$
-  SELECT ARRAY[(SELECT md5(string_agg(row(s.*)::text, ',' ORDER BY s.triangle)) FROM tin_raster_stats(t, r, l) s),
-               (SELECT md5(string_agg(row(s.*)::text, ',' ORDER BY s.triangle)) FROM tin_raster_stats(t, r, l, weighted => true) s),
-               (SELECT md5(string_agg(row(p.*)::text, ',' ORDER BY p.row, p.col)) FROM tin_raster_pixels(t, r, l) p),
-               (SELECT count(*)::text FROM tin_raster_pixels(t, r, l))] $$;
-SELECT count(*) FILTER (WHERE pg_temp.raster_rows(st.t, r.rast, x.l) = x.rows) AS same_as_decoded, count(*) AS asked
+SELECT count(*) FILTER (WHERE store_raster_rows(st.t, r.rast, x.l) = x.rows) AS same_as_decoded, count(*) AS asked
 FROM store_rstats x JOIN store_rasters r USING (id), store_terrain st WHERE x.id = 2;
 SELECT entries AS decoded_values, sliced_values FROM tin_cache_stats();
 DROP TABLE store_rasters, store_rstats;
+DROP FUNCTION store_raster_rows(tin, raster, int);
 DROP TABLE store_terrain, store_pts, store_want, store_old, store_lines, store_cut, store_prof, store_polys, store_area;
