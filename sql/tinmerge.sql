@@ -162,6 +162,8 @@ COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
 ALTER FUNCTION tin_area_triangles(tin, geometry, int, boolean) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_area_stats(tin, geometry, int) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_volume(tin, geometry, float8, int) SET search_path FROM CURRENT;
+-- tin_slope_aspect (src/pg/analysis.rs) refuses a geographic tin the same way
+ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
 
 CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
 RETURNS float8 AS

@@ -8,7 +8,8 @@
 -- stay in the library for databases still on an older version).
 -- The search_path they pin is the install script's (sql/tinmerge.sql).
 -- New: tin_tiles, a raster built as a grid of tins sharing their seams
--- (docs/scaling.md), and the aggregate tin_from_points_agg.
+-- (docs/scaling.md), the aggregate tin_from_points_agg, and the surface
+-- analyses tin_contours and tin_slope_aspect.
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -67,3 +68,18 @@ CREATE AGGREGATE tin_from_points_agg(pt geometry, tolerance float8, levels int) 
 );
 COMMENT ON AGGREGATE tin_from_points_agg(geometry, float8, int) IS
 'Builds a tin from every vertex (with Z) of the rows aggregated, as tin_from_points(ST_Collect(pt), tolerance, levels) does but without building one collection geometry (which PostgreSQL caps at 1 GB): e.g. tin_from_points_agg(geom, 0.5, 5) FILTER (WHERE class = 2) over LiDAR returns keeps the ground. Points with equal x,y are merged (mean z); NULL and empty rows add nothing; no row gives NULL. All rows must have one SRID, and the same tolerance and levels.';
+CREATE FUNCTION tin_contours("t" tin, "interval" double precision, "level" int DEFAULT NULL, "base" double precision DEFAULT 0)
+RETURNS TABLE ("z" double precision, "geom" geometry)
+IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_contours_wrapper';
+ALTER FUNCTION tin_contours(tin, float8, int, float8) ROWS 1000;
+COMMENT ON FUNCTION tin_contours(tin, float8, int, float8) IS
+'Exact contour lines of the surface of a level (NULL = finest) at the heights base + k * interval, as LINESTRINGs with the tin''s SRID, by increasing z: the isolines of the linear surface on each triangle, joined across triangles; a closed contour is a closed ring, an open one ends on the domain''s edge. A vertex exactly at a contour height counts as above it (a contour along a flat area at that height follows its lower edge; a horizontal triangle at it gives no line). At most 100,000 heights per call.';
+CREATE FUNCTION tin_slope_aspect("t" tin, "level" int DEFAULT NULL)
+RETURNS TABLE ("triangle" int, "slope" double precision, "aspect" double precision)
+IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_slope_aspect_wrapper'
+SET search_path FROM CURRENT;
+ALTER FUNCTION tin_slope_aspect(tin, int) ROWS 10000;
+COMMENT ON FUNCTION tin_slope_aspect(tin, int) IS
+'Slope and aspect of every triangle of a level (NULL = finest), exact for the plane of each triangle: slope in degrees from the horizontal, aspect the direction the triangle faces (steepest descent) in degrees clockwise from grid north, in [0, 360), NULL for a flat triangle; triangle as in tin_triangles. Planar SRIDs only (x, y in the unit of z): a geographic tin is an error.';

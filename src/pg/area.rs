@@ -134,7 +134,7 @@ fn srid_is_geographic(given: Option<bool>, srid: i32, b: &Bbox) -> bool {
     g
 }
 
-fn refuse_geographic(geographic: Option<bool>, srid: i32, bbox: &Bbox, func: &str) {
+pub(super) fn refuse_geographic(geographic: Option<bool>, srid: i32, bbox: &Bbox, func: &str) {
     if srid_is_geographic(geographic, srid, bbox) {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,

@@ -60,6 +60,15 @@ unsafe impl BoxRet for GeomOut {
     }
 }
 
+impl pgrx::IntoDatum for GeomOut {
+    fn into_datum(self) -> Option<pg_sys::Datum> {
+        Some(varlena_datum(&self.0, "geometry"))
+    }
+    fn type_oid() -> pg_sys::Oid {
+        pg_sys::InvalidOid
+    }
+}
+
 pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(GeomOut, "geometry");
 
 fn not_a_point(func: &str, type_name: &str) -> ! {

@@ -67,6 +67,7 @@ macro_rules! with_mesh {
     };
 }
 
+mod analysis;
 mod area;
 mod args;
 mod build;

@@ -110,7 +110,8 @@ fn raster_level<'a>(
             let inside = clip(window[0], window[2], b.min_x, b.max_x)
                 * clip(window[1], window[3], b.min_y, b.max_y);
             let extent = (b.max_x - b.min_x) * (b.max_y - b.min_y);
-            if !(inside <= extent / 8.0) {
+            // (a degenerate or NaN extent decodes whole too)
+            if inside.is_nan() || extent.is_nan() || inside > extent / 8.0 {
                 return whole(keep, t.tin());
             }
             let l = resolve_level(level, s.header().levels.len()).or_raise();

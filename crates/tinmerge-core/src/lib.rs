@@ -6,10 +6,12 @@
 //! - [`tin`]: the hierarchy (data model, build, storage layout, grid index,
 //!   point location, invariant checks);
 //! - [`merge`]: one module per merge;
+//! - [`analysis`]: the surface on its own (contours, slope and aspect);
 //! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
 //! - [`render`]: pictures (SVG, glTF);
 //! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
 //!   long work is cancelled.
+pub mod analysis;
 pub mod geom;
 pub mod interrupt;
 pub mod io;
