@@ -46,14 +46,7 @@ fn ms(runs: usize, mut f: impl FnMut()) -> f64 {
 /// A DEM built as `tin_from_raster(rast, tol, levels)` builds it.
 fn raster_tin(name: &str, tol: f64, levels: usize) -> (Tin, Lattice) {
     let d = common::read_dem(name);
-    let lat = Lattice {
-        ip_x: d.origin_x,
-        ip_y: d.origin_y,
-        scale_x: d.scale_x,
-        scale_y: -d.scale_y,
-        skew_x: 0.0,
-        skew_y: 0.0,
-    };
+    let lat = d.lattice();
     let mut pts = Vec::new();
     for r in 0..d.height {
         for c in 0..d.width {

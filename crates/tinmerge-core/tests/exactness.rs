@@ -536,14 +536,7 @@ fn geographic_dem_has_no_slivers() {
     let dem = common::read_dem("jacksboro_fault_dem.tif");
     let g = Grid {
         name: "jacksboro_fault_dem.tif".into(),
-        lat: Lattice {
-            ip_x: dem.origin_x,
-            ip_y: dem.origin_y,
-            scale_x: dem.scale_x,
-            scale_y: -dem.scale_y,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        },
+        lat: dem.lattice(),
         w: dem.width,
         h: dem.height,
         z: dem

@@ -118,7 +118,6 @@ fn shared_border_column_gives_a_continuous_surface() {
 fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
     use tinmerge_core::merge::point::height;
     use tinmerge_core::tin::build::build_lattice;
-    use tinmerge_core::tin::lattice::Lattice;
     use tinmerge_core::tin::tiles::build_tiles;
     let n = 97;
     for (name, file, tol, srid) in [
@@ -126,14 +125,7 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
         ("geographic", "jacksboro_fault_dem.tif", 0.00002, 4326),
     ] {
         let d = common::read_dem(file);
-        let lat = Lattice {
-            ip_x: d.origin_x,
-            ip_y: d.origin_y,
-            scale_x: d.scale_x,
-            scale_y: -d.scale_y,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        };
+        let lat = d.lattice();
         let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
         let tols = default_tolerances(tol, 3).unwrap();
         let mut tiles: Vec<(usize, usize, Tin)> = Vec::new();

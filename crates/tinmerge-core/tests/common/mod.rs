@@ -47,6 +47,18 @@ impl Dem {
         (gt, w, h, values)
     }
 
+    /// The DEM's pixel lattice (north up), as `tin_from_raster` builds on.
+    pub fn lattice(&self) -> tinmerge_core::tin::lattice::Lattice {
+        tinmerge_core::tin::lattice::Lattice {
+            ip_x: self.origin_x,
+            ip_y: self.origin_y,
+            scale_x: self.scale_x,
+            scale_y: -self.scale_y,
+            skew_x: 0.0,
+            skew_y: 0.0,
+        }
+    }
+
     pub fn centre(&self, col: usize, row: usize) -> (f64, f64) {
         (
             self.origin_x + (col as f64 + 0.5) * self.scale_x,
