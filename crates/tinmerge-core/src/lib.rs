@@ -8,7 +8,7 @@
 //! - [`merge`]: one module per merge;
 //! - [`analysis`]: the surface on its own (contours, slope and aspect);
 //! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
-//! - [`render`]: pictures (SVG, glTF);
+//! - [`render`]: pictures (SVG, glTF); [`serve`]: Cesium quantized-mesh tiles;
 //! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
 //!   long work is cancelled.
 pub mod analysis;
@@ -17,4 +17,5 @@ pub mod interrupt;
 pub mod io;
 pub mod merge;
 pub mod render;
+pub mod serve;
 pub mod tin;

@@ -1,0 +1,812 @@
+//! One Cesium quantized-mesh 1.0 tile of a level, clipped exactly to the
+//! tile.
+//!
+//! The caller gives the triangles that may meet the tile (a superset:
+//! [`needed`] picks them by bounding box in the tin's own coordinates) and
+//! the geographic position (longitude, latitude in degrees, WGS 84) of
+//! each of their vertices; in PostgreSQL those come from PostGIS's
+//! `ST_Transform`. A triangle's geographic image is the triangle through
+//! its transformed corners (what Cesium draws between them).
+//!
+//! **Clipping.** Each triangle is clipped to the tile's rectangle
+//! (Sutherland-Hodgman, sides in a fixed order). Every vertex of the result
+//! is a corner of the triangle, a corner of the tile, or where an
+//! *original* edge of the level crosses a side of the tile, and that
+//! crossing is computed from the edge's two ends taken in a canonical
+//! order (lexicographic), never from an already-clipped piece. So the two
+//! triangles on either side of an edge, and the two tiles on either side of
+//! a tile side, compute the same double for the same crossing: vertices on
+//! a shared tile side coincide bit for bit before quantization and, as the
+//! side is the same quantized row or column in both tiles, after it too. A
+//! crossing's height is interpolated along its edge; a tile corner inside a
+//! triangle takes the triangle's plane in longitude/latitude.
+//!
+//! **Fill.** With `fill = Some(h)` the part of the tile off the terrain is
+//! covered too: a constrained Delaunay triangulation (spade) of the tile's
+//! corners and the level's hull edges clipped to the tile, keeping the
+//! faces outside the domain, with the tile's corners at height `h` and
+//! the hull's points at the terrain's heights (the same vertices as the
+//! terrain's triangles, so the mesh is closed). A tile off the terrain is
+//! then two flat triangles. Without fill such a tile is `None`.
+//!
+//! **Encoding** ([spec](https://github.com/CesiumGS/quantized-mesh)): the
+//! 88-byte header (centre and bounding sphere in ECEF, WGS 84; minimum and
+//! maximum height as f32, rounded outwards; the horizon occlusion point in
+//! ellipsoid-scaled space, computed as Cesium's `EllipsoidalOccluder`
+//! does, NaN when no point exists, which Cesium treats as never
+//! occluded); `u`, `v`, `height` quantized to 0..32767 and zig-zag delta
+//! coded; vertices numbered in order of first use so the indices are
+//! high-water-mark coded, 16-bit up to 65,536 vertices and 32-bit beyond
+//! (aligned to 4); the west, south, east and north edge vertex lists (a
+//! quantized `u` or `v` of 0 or 32767), sorted along their side; the
+//! oct-encoded vertex normals extension (id 1) when asked: per vertex, the
+//! area-weighted sum of the ECEF normals of the level's triangles around
+//! it (all of them, also those outside the tile, so normals agree across
+//! tile sides), around an edge for a crossing, the triangle's for a tile
+//! corner; the ellipsoid's normal for fill corners.
+//!
+//! ```
+//! use tinmerge_core::serve::quantized_mesh::{encode, needed};
+//! use tinmerge_core::serve::tiling::tile_bounds;
+//! use tinmerge_core::tin::build::build;
+//! let mut pts = Vec::new();
+//! for i in 0..20 {
+//!     for j in 0..20 {
+//!         let (x, y) = (-84.0 + i as f64 * 0.01, 36.0 + j as f64 * 0.01);
+//!         pts.push([x, y, 100.0 + 10.0 * (i * j % 7) as f64]);
+//!     }
+//! }
+//! let tin = build(pts, &[5.0, 0.0], 4326, &mut || Ok(())).unwrap();
+//! let need = needed(&tin, 1, None, false, false);
+//! let geo = |v: u32| { let p = tin.verts[v as usize]; Some([p[0], p[1]]) };
+//! let tile = tile_bounds(8, 136, 179).unwrap();
+//! let bytes = encode(&tin, 1, &tile, &need, &geo, false, None, &mut || Ok(())).unwrap().unwrap();
+//! assert!(bytes.len() > 88);
+//! ```
+
+use rustc_hash::FxHashMap;
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use super::tiling::TileBounds;
+use crate::interrupt::{Interrupt, Ticker};
+use crate::tin::{Tin, TinError, NONE};
+
+/// WGS 84 semi-major axis and flattening.
+const A: f64 = 6_378_137.0;
+const F: f64 = 1.0 / 298.257_223_563;
+/// WGS 84 semi-minor axis.
+const B: f64 = A * (1.0 - F);
+const QMAX: f64 = 32767.0;
+
+/// What a tile needs from the level: the triangles that may meet it, the
+/// triangles around their vertices (for normals), the hull edges (for
+/// fill), and every vertex of those, whose geographic positions the
+/// caller supplies.
+#[derive(Clone, Debug, Default)]
+pub struct Needed {
+    pub triangles: Vec<u32>,
+    pub ring: Vec<u32>,
+    pub hull: Vec<[u32; 2]>,
+    pub vertices: Vec<u32>,
+}
+
+/// The triangles of `level` whose bounding box, widened by 2 % of its own
+/// size (a triangle's geographic image is not its projected footprint
+/// exactly), meets `footprint` = `[min x, min y, max x, max y]` in the
+/// tin's coordinates (`None`: all), with what [`encode`] needs about them.
+pub fn needed(
+    tin: &Tin,
+    level: usize,
+    footprint: Option<[f64; 4]>,
+    normals: bool,
+    fill: bool,
+) -> Needed {
+    let lv = &tin.levels[level];
+    let mut out = Needed::default();
+    let mut used = vec![false; lv.num_vertices as usize];
+    for (t, tri) in lv.tris.iter().enumerate() {
+        if let Some(f) = footprint {
+            let c = tin.corners(level, t as u32);
+            let (mut x0, mut y0, mut x1, mut y1) = (c[0][0], c[0][1], c[0][0], c[0][1]);
+            for p in &c[1..] {
+                x0 = x0.min(p[0]);
+                y0 = y0.min(p[1]);
+                x1 = x1.max(p[0]);
+                y1 = y1.max(p[1]);
+            }
+            let m = 0.02 * ((x1 - x0) + (y1 - y0));
+            if x1 + m < f[0] || x0 - m > f[2] || y1 + m < f[1] || y0 - m > f[3] {
+                continue;
+            }
+        }
+        out.triangles.push(t as u32);
+        for &v in tri {
+            used[v as usize] = true;
+        }
+    }
+    if normals {
+        let corner = used.clone();
+        for (t, tri) in lv.tris.iter().enumerate() {
+            if tri.iter().any(|&v| corner[v as usize]) {
+                out.ring.push(t as u32);
+                for &v in tri {
+                    used[v as usize] = true;
+                }
+            }
+        }
+    }
+    if fill {
+        for (t, nb) in lv.nbrs.iter().enumerate() {
+            for j in 0..3 {
+                if nb[j] == NONE {
+                    let tri = lv.tris[t];
+                    let e = [tri[(j + 1) % 3], tri[(j + 2) % 3]];
+                    used[e[0] as usize] = true;
+                    used[e[1] as usize] = true;
+                    out.hull.push(e);
+                }
+            }
+        }
+    }
+    out.vertices = (0..used.len() as u32)
+        .filter(|&v| used[v as usize])
+        .collect();
+    out
+}
+
+/// Where a point of a clipped polygon comes from.
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Vertex(u32),
+    /// On the level's edge between these vertices (canonical order).
+    Edge(u32, u32),
+    /// A tile corner inside this triangle.
+    Inside(u32),
+    /// A tile corner off the terrain (fill).
+    Fill,
+}
+
+/// The line a polygon edge lies on: an edge of the level, or a tile side.
+#[derive(Clone, Copy, Debug)]
+enum Support {
+    Edge(u32, u32),
+    Side(u8),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Pt {
+    x: f64,
+    y: f64,
+    h: f64,
+    kind: Kind,
+}
+
+struct Tile<'a> {
+    b: TileBounds,
+    tin: &'a Tin,
+    geo: &'a dyn Fn(u32) -> Option<[f64; 2]>,
+}
+
+impl Tile<'_> {
+    fn inside(&self, p: &Pt, side: u8) -> bool {
+        match side {
+            0 => p.x >= self.b.west,
+            1 => p.x <= self.b.east,
+            2 => p.y >= self.b.south,
+            _ => p.y <= self.b.north,
+        }
+    }
+
+    fn side_value(&self, side: u8) -> f64 {
+        match side {
+            0 => self.b.west,
+            1 => self.b.east,
+            2 => self.b.south,
+            _ => self.b.north,
+        }
+    }
+
+    fn vertex(&self, v: u32) -> Result<Pt, TinError> {
+        let g = (self.geo)(v)
+            .filter(|g| g[0].is_finite() && g[1].is_finite())
+            .ok_or_else(|| {
+                TinError::InvalidParameter(format!(
+                    "vertex {v} has no finite geographic position (transform to EPSG:4326 failed)"
+                ))
+            })?;
+        Ok(Pt {
+            x: g[0],
+            y: g[1],
+            h: self.tin.verts[v as usize][2],
+            kind: Kind::Vertex(v),
+        })
+    }
+
+    /// Where the level's edge (a, b) crosses tile side `side`, computed
+    /// from the edge's ends in canonical order.
+    fn crossing(&self, a: u32, b: u32, side: u8) -> Result<Pt, TinError> {
+        let (pa, pb) = (self.vertex(a)?, self.vertex(b)?);
+        let (p, q, ka, kb) = if (pa.x, pa.y) <= (pb.x, pb.y) {
+            (pa, pb, a, b)
+        } else {
+            (pb, pa, b, a)
+        };
+        let s = self.side_value(side);
+        let (x, y, t) = if side < 2 {
+            let t = (s - p.x) / (q.x - p.x);
+            (
+                s,
+                (p.y + t * (q.y - p.y)).clamp(p.y.min(q.y), p.y.max(q.y)),
+                t,
+            )
+        } else {
+            let t = (s - p.y) / (q.y - p.y);
+            (
+                (p.x + t * (q.x - p.x)).clamp(p.x.min(q.x), p.x.max(q.x)),
+                s,
+                t,
+            )
+        };
+        let t = t.clamp(0.0, 1.0);
+        Ok(Pt {
+            x,
+            y,
+            h: p.h + t * (q.h - p.h),
+            kind: Kind::Edge(ka, kb),
+        })
+    }
+
+    /// The corner where tile sides `s1` and `s2` meet.
+    fn corner(&self, s1: u8, s2: u8) -> (f64, f64) {
+        let (v, hz) = if s1 < 2 { (s1, s2) } else { (s2, s1) };
+        (self.side_value(v), self.side_value(hz))
+    }
+
+    /// Triangle `t` clipped to the tile: the polygon's points, CCW.
+    fn clip(&self, level: usize, t: u32) -> Result<Vec<Pt>, TinError> {
+        let tri = self.tin.levels[level].tris[t as usize];
+        let c = [
+            self.vertex(tri[0])?,
+            self.vertex(tri[1])?,
+            self.vertex(tri[2])?,
+        ];
+        let mut poly: Vec<(Pt, Support)> = (0..3)
+            .map(|k| (c[k], Support::Edge(tri[k], tri[(k + 1) % 3])))
+            .collect();
+        for side in 0..4u8 {
+            if poly.is_empty() {
+                break;
+            }
+            let mut out = Vec::with_capacity(poly.len() + 2);
+            for i in 0..poly.len() {
+                let (cur, sup) = poly[i];
+                let nxt = poly[(i + 1) % poly.len()].0;
+                let (ci, ni) = (self.inside(&cur, side), self.inside(&nxt, side));
+                if ci {
+                    out.push((cur, sup));
+                }
+                if ci != ni {
+                    let p = match sup {
+                        Support::Edge(a, b) => self.crossing(a, b, side)?,
+                        Support::Side(s2) => {
+                            let (x, y) = self.corner(side, s2);
+                            let h = plane(&c, x, y);
+                            Pt {
+                                x,
+                                y,
+                                h,
+                                kind: Kind::Inside(t),
+                            }
+                        }
+                    };
+                    if ci {
+                        out.push((p, Support::Side(side)));
+                    } else {
+                        out.push((p, sup));
+                    }
+                }
+            }
+            poly = out;
+        }
+        let mut pts: Vec<Pt> = Vec::with_capacity(poly.len());
+        for (p, _) in poly {
+            if pts.last().is_none_or(|q: &Pt| (q.x, q.y) != (p.x, p.y)) {
+                pts.push(p);
+            }
+        }
+        while pts.len() > 1 && (pts[0].x, pts[0].y) == (pts[pts.len() - 1].x, pts[pts.len() - 1].y)
+        {
+            pts.pop();
+        }
+        Ok(pts)
+    }
+}
+
+/// Height at (x, y) on the plane through the three points (longitude,
+/// latitude, height).
+fn plane(c: &[Pt; 3], x: f64, y: f64) -> f64 {
+    let p = c.map(|p| [p.x, p.y, p.h]);
+    crate::tin::interpolate(&p, x, y)
+}
+
+fn orient(a: &Pt, b: &Pt, c: &Pt) -> f64 {
+    robust::orient2d(
+        robust::Coord { x: a.x, y: a.y },
+        robust::Coord { x: b.x, y: b.y },
+        robust::Coord { x: c.x, y: c.y },
+    )
+}
+
+/// Earth-centred, earth-fixed position of (longitude, latitude) in degrees
+/// and height in metres on WGS 84.
+pub fn ecef(lon: f64, lat: f64, h: f64) -> [f64; 3] {
+    let (l, p) = (lon.to_radians(), lat.to_radians());
+    let e2 = F * (2.0 - F);
+    let n = A / (1.0 - e2 * p.sin() * p.sin()).sqrt();
+    [
+        (n + h) * p.cos() * l.cos(),
+        (n + h) * p.cos() * l.sin(),
+        (n * (1.0 - e2) + h) * p.sin(),
+    ]
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The vertices and triangles of a tile before encoding (longitude,
+/// latitude in degrees, height in metres; CCW triangles).
+#[derive(Clone, Debug, Default)]
+pub struct TileMesh {
+    pub points: Vec<[f64; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+    kinds: Vec<Kind>,
+}
+
+impl TileMesh {
+    fn add(&mut self, keys: &mut FxHashMap<(u64, u64), u32>, p: &Pt) -> u32 {
+        *keys
+            .entry((p.x.to_bits(), p.y.to_bits()))
+            .or_insert_with(|| {
+                self.points.push([p.x, p.y, p.h]);
+                self.kinds.push(p.kind);
+                (self.points.len() - 1) as u32
+            })
+    }
+}
+
+/// The clipped mesh of the tile (before quantization); `None` when
+/// nothing of the terrain, and no fill, meets the tile.
+#[allow(clippy::too_many_arguments)]
+pub fn tile_mesh(
+    tin: &Tin,
+    level: usize,
+    tile: &TileBounds,
+    need: &Needed,
+    geo: &dyn Fn(u32) -> Option<[f64; 2]>,
+    fill: Option<f64>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Option<TileMesh>, TinError> {
+    let cx = Tile { b: *tile, tin, geo };
+    let mut tick = Ticker::new(interrupt);
+    let mut mesh = TileMesh::default();
+    let mut keys: FxHashMap<(u64, u64), u32> = FxHashMap::default();
+    for &t in &need.triangles {
+        tick.tick()?;
+        let pts = cx.clip(level, t)?;
+        if pts.len() < 3 {
+            continue;
+        }
+        for i in 1..pts.len() - 1 {
+            if orient(&pts[0], &pts[i], &pts[i + 1]) > 0.0 {
+                let a = mesh.add(&mut keys, &pts[0]);
+                let b = mesh.add(&mut keys, &pts[i]);
+                let c = mesh.add(&mut keys, &pts[i + 1]);
+                mesh.triangles.push([a, b, c]);
+            }
+        }
+    }
+    if let Some(h) = fill {
+        fill_tile(&cx, need, h, &mut mesh, &mut keys, &mut tick)?;
+    }
+    Ok(if mesh.triangles.is_empty() {
+        None
+    } else {
+        Some(mesh)
+    })
+}
+
+/// Covers the tile outside the domain (see the module docs).
+fn fill_tile(
+    cx: &Tile,
+    need: &Needed,
+    h: f64,
+    mesh: &mut TileMesh,
+    keys: &mut FxHashMap<(u64, u64), u32>,
+    tick: &mut Ticker,
+) -> Result<(), TinError> {
+    let b = cx.b;
+    // hull pieces inside the tile, their ends computed as the triangles' were
+    let mut pieces: Vec<[Pt; 2]> = Vec::new();
+    let mut ring: Vec<[Pt; 2]> = Vec::with_capacity(need.hull.len());
+    for &[u, v] in &need.hull {
+        tick.tick()?;
+        let (mut p, mut q) = (cx.vertex(u)?, cx.vertex(v)?);
+        ring.push([p, q]);
+        let mut keep = true;
+        for side in 0..4u8 {
+            let (pi, qi) = (cx.inside(&p, side), cx.inside(&q, side));
+            if !pi && !qi {
+                keep = false;
+                break;
+            }
+            if !pi {
+                p = cx.crossing(u, v, side)?;
+            } else if !qi {
+                q = cx.crossing(u, v, side)?;
+            }
+        }
+        if keep && (p.x, p.y) != (q.x, q.y) {
+            pieces.push([p, q]);
+        }
+    }
+    let corner = |x: f64, y: f64| Pt {
+        x,
+        y,
+        h,
+        kind: Kind::Fill,
+    };
+    let corners = [
+        corner(b.west, b.south),
+        corner(b.east, b.south),
+        corner(b.east, b.north),
+        corner(b.west, b.north),
+    ];
+    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::new();
+    let mut at: FxHashMap<(u64, u64), (spade::handles::FixedVertexHandle, Pt)> =
+        FxHashMap::default();
+    let mut insert =
+        |cdt: &mut ConstrainedDelaunayTriangulation<Point2<f64>>, p: &Pt| -> Result<_, TinError> {
+            if let Some(&(hd, _)) = at.get(&(p.x.to_bits(), p.y.to_bits())) {
+                return Ok(hd);
+            }
+            let hd = cdt
+                .insert(Point2::new(p.x, p.y))
+                .map_err(|e| TinError::InvalidParameter(format!("tile fill: {e:?}")))?;
+            at.insert((p.x.to_bits(), p.y.to_bits()), (hd, *p));
+            Ok(hd)
+        };
+    for c in &corners {
+        insert(&mut cdt, c)?;
+    }
+    let mut edges = Vec::with_capacity(pieces.len());
+    for [p, q] in &pieces {
+        edges.push((insert(&mut cdt, p)?, insert(&mut cdt, q)?));
+    }
+    for (p, q) in edges {
+        tick.tick()?;
+        cdt.try_add_constraint(p, q);
+    }
+    // a point is on the terrain when inside the hull ring (crossing number)
+    let on_terrain = |x: f64, y: f64| {
+        let mut inside = false;
+        for [p, q] in &ring {
+            if (p.y > y) != (q.y > y) && x < p.x + (y - p.y) / (q.y - p.y) * (q.x - p.x) {
+                inside = !inside;
+            }
+        }
+        inside
+    };
+    for face in cdt.inner_faces() {
+        tick.tick()?;
+        let v = face.vertices().map(|v| *v.data());
+        let cxm = (v[0].x + v[1].x + v[2].x) / 3.0;
+        let cym = (v[0].y + v[1].y + v[2].y) / 3.0;
+        if on_terrain(cxm, cym) {
+            continue;
+        }
+        let Some(p) = v
+            .iter()
+            .map(|q| at.get(&(q.x.to_bits(), q.y.to_bits())).map(|e| e.1))
+            .collect::<Option<Vec<Pt>>>()
+        else {
+            continue;
+        };
+        if orient(&p[0], &p[1], &p[2]) > 0.0 {
+            let a = mesh.add(keys, &p[0]);
+            let b2 = mesh.add(keys, &p[1]);
+            let c = mesh.add(keys, &p[2]);
+            mesh.triangles.push([a, b2, c]);
+        }
+    }
+    Ok(())
+}
+
+fn zigzag(v: i32) -> u16 {
+    ((v << 1) ^ (v >> 31)) as u16
+}
+
+/// Cesium's horizon occlusion point (ellipsoid-scaled space) for points
+/// seen in direction `dir` (ECEF), or NaNs when there is none.
+fn horizon_point(dir: [f64; 3], points: &[[f64; 3]]) -> [f64; 3] {
+    let scale = |p: [f64; 3]| [p[0] / A, p[1] / A, p[2] / B];
+    let d = scale(dir);
+    let dn = norm(d);
+    let nan = [f64::NAN; 3];
+    if dn == 0.0 {
+        return nan;
+    }
+    let d = [d[0] / dn, d[1] / dn, d[2] / dn];
+    let mut best = 0.0f64;
+    for &p in points {
+        let s = scale(p);
+        let m2 = dot(s, s);
+        let m = m2.sqrt();
+        let dirp = [s[0] / m, s[1] / m, s[2] / m];
+        let (m2, m) = (m2.max(1.0), m.max(1.0));
+        let cos_a = dot(dirp, d);
+        let sin_a = norm(cross(dirp, d));
+        let cos_b = 1.0 / m;
+        let sin_b = (m2 - 1.0).sqrt() * cos_b;
+        let mag = 1.0 / (cos_a * cos_b - sin_a * sin_b);
+        if mag < 0.0 {
+            return nan;
+        }
+        best = best.max(mag);
+    }
+    if best <= 0.0 || !best.is_finite() {
+        return nan;
+    }
+    [d[0] * best, d[1] * best, d[2] * best]
+}
+
+/// Cesium's oct encoding of a unit vector in two bytes.
+fn oct_encode(n: [f64; 3]) -> [u8; 2] {
+    let l = n[0].abs() + n[1].abs() + n[2].abs();
+    if l == 0.0 || !l.is_finite() {
+        return [128, 128];
+    }
+    let (mut x, mut y) = (n[0] / l, n[1] / l);
+    if n[2] < 0.0 {
+        let (ox, oy) = (x, y);
+        x = (1.0 - oy.abs()) * if ox < 0.0 { -1.0 } else { 1.0 };
+        y = (1.0 - ox.abs()) * if oy < 0.0 { -1.0 } else { 1.0 };
+    }
+    let snorm = |v: f64| ((v.clamp(-1.0, 1.0) * 0.5 + 0.5) * 255.0).round() as u8;
+    [snorm(x), snorm(y)]
+}
+
+/// Vertex normals (ECEF, unnormalised sums) of the mesh's points, from the
+/// level's triangles around each (see the module docs).
+fn normals(
+    cx: &Tile,
+    level: usize,
+    need: &Needed,
+    mesh: &TileMesh,
+) -> Result<Vec<[f64; 3]>, TinError> {
+    let lv = &cx.tin.levels[level];
+    let mut face: FxHashMap<u32, [f64; 3]> = FxHashMap::default();
+    let mut around: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
+    let tri_normal = |t: u32| -> Result<[f64; 3], TinError> {
+        let tri = lv.tris[t as usize];
+        let p = [cx.vertex(tri[0])?, cx.vertex(tri[1])?, cx.vertex(tri[2])?]
+            .map(|p| ecef(p.x, p.y, p.h));
+        Ok(cross(sub(p[1], p[0]), sub(p[2], p[0])))
+    };
+    for &t in &need.ring {
+        face.insert(t, tri_normal(t)?);
+        for &v in &lv.tris[t as usize] {
+            around.entry(v).or_default().push(t);
+        }
+    }
+    let sum = |ts: &mut dyn Iterator<Item = u32>| {
+        let mut s = [0.0; 3];
+        for t in ts {
+            if let Some(n) = face.get(&t) {
+                s = [s[0] + n[0], s[1] + n[1], s[2] + n[2]];
+            }
+        }
+        s
+    };
+    let mut out = Vec::with_capacity(mesh.points.len());
+    for (i, k) in mesh.kinds.iter().enumerate() {
+        let p = mesh.points[i];
+        let n = match *k {
+            Kind::Vertex(v) => sum(&mut around.get(&v).into_iter().flatten().copied()),
+            Kind::Edge(a, b) => {
+                let tb = around.get(&b);
+                sum(&mut around
+                    .get(&a)
+                    .into_iter()
+                    .flatten()
+                    .copied()
+                    .filter(|t| tb.is_some_and(|l| l.contains(t))))
+            }
+            Kind::Inside(t) => match face.get(&t) {
+                Some(n) => *n,
+                None => tri_normal(t)?,
+            },
+            Kind::Fill => {
+                let (l, f) = (p[0].to_radians(), p[1].to_radians());
+                [f.cos() * l.cos(), f.cos() * l.sin(), f.sin()]
+            }
+        };
+        let n = if norm(n) > 0.0 {
+            n
+        } else {
+            let (l, f) = (p[0].to_radians(), p[1].to_radians());
+            [f.cos() * l.cos(), f.cos() * l.sin(), f.sin()]
+        };
+        let m = norm(n);
+        out.push([n[0] / m, n[1] / m, n[2] / m]);
+    }
+    Ok(out)
+}
+
+/// The quantized-mesh tile `tile` of `level`: `None` when nothing of the
+/// terrain (and no fill) meets it. `need` from [`needed`] (with the same
+/// `normals` and fill), `geo` the geographic position of each of its
+/// vertices.
+#[allow(clippy::too_many_arguments)]
+pub fn encode(
+    tin: &Tin,
+    level: usize,
+    tile: &TileBounds,
+    need: &Needed,
+    geo: &dyn Fn(u32) -> Option<[f64; 2]>,
+    with_normals: bool,
+    fill: Option<f64>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Option<Vec<u8>>, TinError> {
+    let Some(mesh) = tile_mesh(tin, level, tile, need, geo, fill, interrupt)? else {
+        return Ok(None);
+    };
+    let cx = Tile { b: *tile, tin, geo };
+    // number vertices in order of first use (high-water-mark coding)
+    let mut order = vec![u32::MAX; mesh.points.len()];
+    let mut seq = Vec::with_capacity(mesh.points.len());
+    let mut idx = Vec::with_capacity(mesh.triangles.len() * 3);
+    for t in &mesh.triangles {
+        for &v in t {
+            if order[v as usize] == u32::MAX {
+                order[v as usize] = seq.len() as u32;
+                seq.push(v);
+            }
+            idx.push(order[v as usize]);
+        }
+    }
+    let n = seq.len();
+    let pts: Vec<[f64; 3]> = seq.iter().map(|&v| mesh.points[v as usize]).collect();
+    let ecefs: Vec<[f64; 3]> = pts.iter().map(|p| ecef(p[0], p[1], p[2])).collect();
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for e in &ecefs {
+        for k in 0..3 {
+            lo[k] = lo[k].min(e[k]);
+            hi[k] = hi[k].max(e[k]);
+        }
+    }
+    let centre = [
+        (lo[0] + hi[0]) / 2.0,
+        (lo[1] + hi[1]) / 2.0,
+        (lo[2] + hi[2]) / 2.0,
+    ];
+    let radius = ecefs
+        .iter()
+        .map(|e| norm(sub(*e, centre)))
+        .fold(0.0, f64::max);
+    let hmin = pts.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
+    let hmax = pts.iter().map(|p| p[2]).fold(f64::NEG_INFINITY, f64::max);
+    // f32 bounds rounded outwards
+    let mut fmin = hmin as f32;
+    if fmin as f64 > hmin {
+        fmin = fmin.next_down();
+    }
+    let mut fmax = hmax as f32;
+    if (fmax as f64) < hmax {
+        fmax = fmax.next_up();
+    }
+    let horizon = horizon_point(centre, &ecefs);
+
+    let mut out = Vec::with_capacity(88 + 4 + n * 6 + idx.len() * 4 + 64);
+    for v in centre {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out.extend_from_slice(&fmin.to_le_bytes());
+    out.extend_from_slice(&fmax.to_le_bytes());
+    for v in centre {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out.extend_from_slice(&radius.to_le_bytes());
+    for v in horizon {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    let q = |v: f64, lo: f64, hi: f64| -> i32 {
+        if hi > lo {
+            (((v - lo) / (hi - lo)) * QMAX).round().clamp(0.0, QMAX) as i32
+        } else {
+            0
+        }
+    };
+    let u: Vec<i32> = pts.iter().map(|p| q(p[0], tile.west, tile.east)).collect();
+    let v: Vec<i32> = pts
+        .iter()
+        .map(|p| q(p[1], tile.south, tile.north))
+        .collect();
+    let hq: Vec<i32> = pts
+        .iter()
+        .map(|p| q(p[2], fmin as f64, fmax as f64))
+        .collect();
+    out.extend_from_slice(&(n as u32).to_le_bytes());
+    for arr in [&u, &v, &hq] {
+        let mut prev = 0;
+        for &x in arr.iter() {
+            out.extend_from_slice(&zigzag(x - prev).to_le_bytes());
+            prev = x;
+        }
+    }
+    let wide = n > 65536;
+    let put = |out: &mut Vec<u8>, x: u32| {
+        if wide {
+            out.extend_from_slice(&x.to_le_bytes());
+        } else {
+            out.extend_from_slice(&(x as u16).to_le_bytes());
+        }
+    };
+    if wide {
+        while out.len() % 4 != 0 {
+            out.push(0);
+        }
+    }
+    out.extend_from_slice(&((idx.len() / 3) as u32).to_le_bytes());
+    let mut highest = 0u32;
+    for &i in &idx {
+        put(&mut out, highest - i);
+        if i == highest {
+            highest += 1;
+        }
+    }
+    let side = |pick: &dyn Fn(usize) -> bool, key: &dyn Fn(usize) -> i32| -> Vec<u32> {
+        let mut s: Vec<usize> = (0..n).filter(|&i| pick(i)).collect();
+        s.sort_by_key(|&i| (key(i), i));
+        s.into_iter().map(|i| i as u32).collect()
+    };
+    let west = side(&|i| u[i] == 0, &|i| v[i]);
+    let south = side(&|i| v[i] == 0, &|i| u[i]);
+    let east = side(&|i| u[i] == QMAX as i32, &|i| v[i]);
+    let north = side(&|i| v[i] == QMAX as i32, &|i| u[i]);
+    for list in [&west, &south, &east, &north] {
+        out.extend_from_slice(&(list.len() as u32).to_le_bytes());
+        for &i in list.iter() {
+            put(&mut out, i);
+        }
+    }
+    if with_normals {
+        let ns = normals(&cx, level, need, &mesh)?;
+        out.push(1);
+        out.extend_from_slice(&((2 * n) as u32).to_le_bytes());
+        for &s in &seq {
+            out.extend_from_slice(&oct_encode(ns[s as usize]));
+        }
+    }
+    Ok(Some(out))
+}
+
+/// Bytes of memory a tile of `triangles` candidate triangles needs at most
+/// (clipping can add 4 vertices and 4 triangles per triangle).
+pub fn tile_bytes(triangles: usize) -> usize {
+    triangles * (7 * 48 + 5 * 12 + 64)
+}

@@ -1,0 +1,551 @@
+//! Quantized-mesh tiles read back by a decoder written here from the spec
+//! (github.com/CesiumGS/quantized-mesh; it shares no code with the
+//! encoder), on both bundled DEMs: the geographic tin as it is, the UTM tin
+//! through a smooth non-linear map to degrees (standing in for
+//! `ST_Transform`, which the pg_regress and loaders.gl tests use).
+//!
+//! Against oracles: each tile's decoded area equals the area of the
+//! level's triangles clipped to the tile by the tests' own clipper (only
+//! the hull's quantization may move it); the zoom's tiles add up to the
+//! level's area; every decoded vertex's height equals the level's surface
+//! there (brute-force point location) within the quantization; the edge
+//! vertices of neighbouring tiles coincide; the header's bounds and sphere
+//! hold every vertex; normals point up; fill covers the whole tile.
+mod common;
+
+use tinmerge_core::serve::quantized_mesh::{ecef, encode, needed};
+use tinmerge_core::serve::tiling::{
+    geometric_error, level_for_zoom, max_zoom, tile_bounds, tile_range, TileBounds,
+};
+use tinmerge_core::tin::build::{build, default_tolerances};
+use tinmerge_core::tin::{Tin, NONE};
+
+struct Decoded {
+    min_h: f64,
+    max_h: f64,
+    sphere: ([f64; 3], f64),
+    u: Vec<u32>,
+    v: Vec<u32>,
+    h: Vec<u32>,
+    tris: Vec<[u32; 3]>,
+    edges: [Vec<u32>; 4],
+    normals: Option<Vec<[u8; 2]>>,
+}
+
+fn decode(b: &[u8]) -> Decoded {
+    let f64at = |o: usize| f64::from_le_bytes(b[o..o + 8].try_into().unwrap());
+    let f32at = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap()) as f64;
+    let u32at = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
+    let u16at = |o: usize| u16::from_le_bytes(b[o..o + 2].try_into().unwrap()) as u32;
+    let min_h = f32at(24);
+    let max_h = f32at(28);
+    let sphere = ([f64at(32), f64at(40), f64at(48)], f64at(56));
+    let n = u32at(88) as usize;
+    let mut pos = 92;
+    let mut arrays = [vec![0u32; n], vec![0u32; n], vec![0u32; n]];
+    for arr in arrays.iter_mut() {
+        let mut acc: i64 = 0;
+        for slot in arr.iter_mut() {
+            let zz = u16at(pos) as i64;
+            pos += 2;
+            acc += (zz >> 1) ^ -(zz & 1);
+            assert!(
+                (0..=32767).contains(&acc),
+                "quantized value {acc} out of range"
+            );
+            *slot = acc as u32;
+        }
+    }
+    let wide = n > 65536;
+    if wide && pos % 4 != 0 {
+        pos += 4 - pos % 4;
+    }
+    let idx = |pos: &mut usize| {
+        let v = if wide { u32at(*pos) } else { u16at(*pos) };
+        *pos += if wide { 4 } else { 2 };
+        v
+    };
+    let nt = u32at(pos) as usize;
+    pos += 4;
+    let mut highest = 0u32;
+    let mut flat = Vec::with_capacity(nt * 3);
+    for _ in 0..nt * 3 {
+        let code = idx(&mut pos);
+        assert!(code <= highest, "high-water mark broken");
+        flat.push(highest - code);
+        if code == 0 {
+            highest += 1;
+        }
+    }
+    assert_eq!(highest as usize, n, "every vertex is used");
+    let tris = flat.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let mut edges: [Vec<u32>; 4] = Default::default();
+    for e in edges.iter_mut() {
+        let c = u32at(pos) as usize;
+        pos += 4;
+        for _ in 0..c {
+            e.push(idx(&mut pos));
+        }
+    }
+    let mut normals = None;
+    while pos < b.len() {
+        let id = b[pos];
+        let len = u32at(pos + 1) as usize;
+        pos += 5;
+        if id == 1 {
+            assert_eq!(len, 2 * n);
+            normals = Some(b[pos..pos + len].chunks(2).map(|c| [c[0], c[1]]).collect());
+        }
+        pos += len;
+    }
+    assert_eq!(pos, b.len(), "trailing bytes");
+    let [u, v, h] = arrays;
+    Decoded {
+        min_h,
+        max_h,
+        sphere,
+        u,
+        v,
+        h,
+        tris,
+        edges,
+        normals,
+    }
+}
+
+impl Decoded {
+    fn lonlat(&self, t: &TileBounds, i: usize) -> [f64; 3] {
+        [
+            t.west + self.u[i] as f64 / 32767.0 * (t.east - t.west),
+            t.south + self.v[i] as f64 / 32767.0 * (t.north - t.south),
+            self.min_h + self.h[i] as f64 / 32767.0 * (self.max_h - self.min_h),
+        ]
+    }
+    fn area(&self, t: &TileBounds) -> f64 {
+        self.tris
+            .iter()
+            .map(|tr| {
+                let [a, b, c] = tr.map(|i| self.lonlat(t, i as usize));
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+            })
+            .sum()
+    }
+}
+
+fn area2(p: &[[f64; 2]]) -> f64 {
+    let mut s = 0.0;
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
+        s += a[0] * b[1] - b[0] * a[1];
+    }
+    s / 2.0
+}
+
+fn clip_rect(poly: Vec<[f64; 2]>, t: &TileBounds) -> Vec<[f64; 2]> {
+    let (w, s, e, n) = (t.west, t.south, t.east, t.north);
+    let mut p = poly;
+    for (a, b) in [
+        ([w, s], [e, s]),
+        ([e, s], [e, n]),
+        ([e, n], [w, n]),
+        ([w, n], [w, s]),
+    ] {
+        if p.is_empty() {
+            break;
+        }
+        p = common::clip_half(&p, a, b);
+    }
+    p
+}
+
+struct Case {
+    name: &'static str,
+    tin: Tin,
+    /// the tin's coordinates to degrees
+    map: fn(f64, f64) -> [f64; 2],
+}
+
+fn cases() -> Vec<Case> {
+    let geo = common::read_dem("jacksboro_fault_dem.tif");
+    let geo_tin = build(
+        geo.samples(),
+        &default_tolerances(2.0, 4).unwrap(),
+        4326,
+        &mut || Ok(()),
+    )
+    .unwrap();
+    fn identity(x: f64, y: f64) -> [f64; 2] {
+        [x, y]
+    }
+    fn utm_like(x: f64, y: f64) -> [f64; 2] {
+        let (dx, dy) = (x - 740_000.0, y - 4_070_000.0);
+        [
+            -84.4 + dx / 89_000.0 + dy * dy * 1e-15,
+            36.5 + dy / 111_000.0 + dx * dy * 2e-16,
+        ]
+    }
+    vec![
+        Case {
+            name: "geographic",
+            tin: geo_tin,
+            map: identity,
+        },
+        Case {
+            name: "utm (mapped)",
+            tin: common::dem_tin(),
+            map: utm_like,
+        },
+    ]
+}
+
+/// The level's triangles in degrees (with heights).
+fn image(c: &Case, level: usize) -> Vec<[[f64; 3]; 3]> {
+    (0..c.tin.levels[level].tris.len() as u32)
+        .map(|t| {
+            c.tin.corners(level, t).map(|p| {
+                let g = (c.map)(p[0], p[1]);
+                [g[0], g[1], p[2]]
+            })
+        })
+        .collect()
+}
+
+/// Height of the image surface at (x, y) by brute force: a triangle
+/// holding the point (barycentric weights within rounding).
+fn oracle_height(tris: &[[[f64; 3]; 3]], x: f64, y: f64) -> Option<f64> {
+    for c in tris {
+        let d =
+            (c[1][0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
+        let wb = ((x - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (y - c[0][1])) / d;
+        let wc = ((c[1][0] - c[0][0]) * (y - c[0][1]) - (x - c[0][0]) * (c[1][1] - c[0][1])) / d;
+        let wa = 1.0 - wb - wc;
+        let eps = -1e-9;
+        if wa >= eps && wb >= eps && wc >= eps {
+            return Some(wa * c[0][2] + wb * c[1][2] + wc * c[2][2]);
+        }
+    }
+    None
+}
+
+fn seg_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+    ((p[0] - a[0] - t * dx).powi(2) + (p[1] - a[1] - t * dy).powi(2)).sqrt()
+}
+
+fn max_gradient(tris: &[[[f64; 3]; 3]]) -> f64 {
+    tris.iter()
+        .map(|c| {
+            let (ax, ay, az) = (c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]);
+            let (bx, by, bz) = (c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]);
+            let d = ax * by - bx * ay;
+            let gx = (az * by - bz * ay) / d;
+            let gy = (ax * bz - bx * az) / d;
+            (gx * gx + gy * gy).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+fn tile(
+    c: &Case,
+    level: usize,
+    tb: &TileBounds,
+    normals: bool,
+    fill: Option<f64>,
+) -> Option<Vec<u8>> {
+    let need = needed(&c.tin, level, None, normals, fill.is_some());
+    let geo = |v: u32| {
+        let p = c.tin.verts[v as usize];
+        Some((c.map)(p[0], p[1]))
+    };
+    encode(
+        &c.tin,
+        level,
+        tb,
+        &need,
+        &geo,
+        normals,
+        fill,
+        &mut || Ok(()),
+    )
+    .unwrap()
+}
+
+fn bounds(tris: &[[[f64; 3]; 3]]) -> [f64; 4] {
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for c in tris {
+        for p in c {
+            b = [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ];
+        }
+    }
+    b
+}
+
+#[test]
+fn tiles_cover_the_level_and_hold_its_heights() {
+    for c in cases() {
+        let errors: Vec<f64> = c.tin.levels.iter().map(|l| l.max_error).collect();
+        let top = max_zoom(&errors, 0);
+        // zooms where the terrain spans a few tiles up to a few hundred
+        for z in [9, 11, 12] {
+            let level = level_for_zoom(&errors, z);
+            let tris = image(&c, level);
+            let b = bounds(&tris);
+            let hull: Vec<[[f64; 2]; 2]> = {
+                let lv = &c.tin.levels[level];
+                let mut h = Vec::new();
+                for (t, nb) in lv.nbrs.iter().enumerate() {
+                    for j in 0..3 {
+                        if nb[j] == NONE {
+                            let p = tris[t][(j + 1) % 3];
+                            let q = tris[t][(j + 2) % 3];
+                            h.push([[p[0], p[1]], [q[0], q[1]]]);
+                        }
+                    }
+                }
+                h
+            };
+            let grad = max_gradient(&tris);
+            let (x0, y0, x1, y1) = tile_range(z, &b);
+            let level_area: f64 = tris.iter().map(|t| area2(&t.map(|p| [p[0], p[1]]))).sum();
+            let mut total = 0.0;
+            let mut total_tol = 0.0;
+            let mut tiles = std::collections::HashMap::new();
+            let mut checked = 0;
+            for x in x0..=x1 {
+                for y in y0..=y1 {
+                    let tb = tile_bounds(z, x as i32, y as i32).unwrap();
+                    let oracle: f64 = tris
+                        .iter()
+                        .map(|t| {
+                            let p = clip_rect(t.iter().map(|p| [p[0], p[1]]).collect(), &tb);
+                            if p.len() < 3 {
+                                0.0
+                            } else {
+                                area2(&p)
+                            }
+                        })
+                        .sum();
+                    let Some(bytes) = tile(&c, level, &tb, false, None) else {
+                        assert!(
+                            oracle < 1e-15,
+                            "{} z{z} {x}/{y}: no tile but {oracle} deg² of terrain",
+                            c.name
+                        );
+                        continue;
+                    };
+                    let d = decode(&bytes);
+                    let area = d.area(&tb);
+                    let ustep = (tb.east - tb.west) / 32767.0;
+                    let hull_in: f64 = hull
+                        .iter()
+                        .map(|e| {
+                            let p = clip_rect(vec![e[0], e[1], e[1]], &tb);
+                            if p.len() < 2 {
+                                0.0
+                            } else {
+                                ((p[0][0] - p[1][0]).powi(2) + (p[0][1] - p[1][1]).powi(2)).sqrt()
+                                    * 2.0
+                            }
+                        })
+                        .sum();
+                    let tol = ustep * hull_in + 1e-12 * (tb.east - tb.west).powi(2);
+                    assert!(
+                        (area - oracle).abs() <= tol,
+                        "{} z{z} {x}/{y}: decoded area {area}, clipped triangles {oracle}, tolerance {tol}",
+                        c.name
+                    );
+                    total += area;
+                    total_tol += tol;
+                    // heights at (a sample of) the decoded vertices
+                    let hstep = (d.max_h - d.min_h) / 32767.0;
+                    let n = d.u.len();
+                    for i in (0..n).step_by((n / 60).max(1)) {
+                        let p = d.lonlat(&tb, i);
+                        let h = oracle_height(&tris, p[0], p[1]);
+                        let tol = hstep + grad * 2.0 * ustep + 1e-6;
+                        match h {
+                            Some(h) => assert!(
+                                (h - p[2]).abs() <= tol,
+                                "{} z{z} {x}/{y} vertex {i}: {} against {h} (tolerance {tol})",
+                                c.name,
+                                p[2]
+                            ),
+                            // a hull vertex quantized outwards: just off the terrain
+                            None => {
+                                let near = hull
+                                    .iter()
+                                    .any(|e| seg_dist([p[0], p[1]], e[0], e[1]) <= 2.0 * ustep);
+                                assert!(near, "{} z{z} {x}/{y} vertex {i} at {p:?} is off the terrain, not by quantization on its edge", c.name);
+                            }
+                        }
+                        checked += 1;
+                    }
+                    // header: heights and sphere hold every vertex
+                    for i in 0..n {
+                        let p = d.lonlat(&tb, i);
+                        let e = ecef(p[0], p[1], p[2]);
+                        let r = ((e[0] - d.sphere.0[0]).powi(2)
+                            + (e[1] - d.sphere.0[1]).powi(2)
+                            + (e[2] - d.sphere.0[2]).powi(2))
+                        .sqrt();
+                        assert!(
+                            r <= d.sphere.1 * (1.0 + 1e-9) + 1.0,
+                            "{} z{z}: vertex outside the bounding sphere",
+                            c.name
+                        );
+                    }
+                    tiles.insert((x, y), (tb, d));
+                }
+            }
+            assert!(
+                (total - level_area).abs() <= total_tol,
+                "{} z{z}: tiles add up to {total} deg², the level has {level_area} (tolerance {total_tol})",
+                c.name
+            );
+            // neighbouring tiles' edge vertices coincide
+            let mut shared = 0;
+            for (&(x, y), (tb, d)) in &tiles {
+                for (dx, dy, mine, theirs) in [(1, 0, 2usize, 0usize), (0, 1, 3, 1)] {
+                    let Some((tb2, d2)) = tiles.get(&(x + dx, y + dy)) else {
+                        continue;
+                    };
+                    let key = |d: &Decoded, tb: &TileBounds, side: usize| -> Vec<(u32, f64)> {
+                        let mut k: Vec<(u32, f64)> = d.edges[side]
+                            .iter()
+                            .map(|&i| {
+                                let along = if side.is_multiple_of(2) {
+                                    d.v[i as usize]
+                                } else {
+                                    d.u[i as usize]
+                                };
+                                (along, d.lonlat(tb, i as usize)[2])
+                            })
+                            .collect();
+                        k.sort_by(|a, b| a.partial_cmp(b).unwrap());
+                        k
+                    };
+                    let a = key(d, tb, mine);
+                    let b2 = key(d2, tb2, theirs);
+                    let pa: Vec<u32> = a.iter().map(|k| k.0).collect();
+                    let pb: Vec<u32> = b2.iter().map(|k| k.0).collect();
+                    let mut ua = pa.clone();
+                    ua.dedup();
+                    let mut ub = pb.clone();
+                    ub.dedup();
+                    assert_eq!(
+                        ua, ub,
+                        "{} z{z}: edge vertices of {x}/{y} and its neighbour differ",
+                        c.name
+                    );
+                    let hs = (d.max_h - d.min_h) / 32767.0 + (d2.max_h - d2.min_h) / 32767.0;
+                    for (ka, kb) in a.iter().zip(&b2) {
+                        if ka.0 == kb.0 {
+                            assert!(
+                                (ka.1 - kb.1).abs() <= hs + 1e-6,
+                                "{} z{z}: heights on a shared side differ",
+                                c.name
+                            );
+                        }
+                    }
+                    shared += pa.len();
+                }
+            }
+            println!(
+                "{} z{z} (level {level}, top {top}, error {:.1} m): {} tiles, {checked} heights, {shared} shared edge vertices",
+                c.name,
+                geometric_error(z),
+                tiles.len()
+            );
+            assert!(tiles.len() > 1 || z == 9);
+        }
+    }
+}
+
+#[test]
+fn fill_covers_the_tile_and_normals_point_up() {
+    for c in cases() {
+        let level = c.tin.levels.len() - 2;
+        let tris = image(&c, level);
+        let b = bounds(&tris);
+        for z in [6, 10, 12] {
+            let (x0, y0, x1, y1) = tile_range(z, &b);
+            for (x, y) in [(x0, y0), (x1, y1), (x0 - 1, y0)] {
+                let tb = tile_bounds(z, x as i32, y as i32).unwrap();
+                let bytes = tile(&c, level, &tb, true, Some(0.0)).unwrap();
+                let d = decode(&bytes);
+                let full = (tb.east - tb.west) * (tb.north - tb.south);
+                let area = d.area(&tb);
+                assert!(
+                    (area - full).abs() <= 1e-9 * full,
+                    "{} z{z} {x}/{y}: fill covers {area} of {full}",
+                    c.name
+                );
+                // the terrain part is still there, the same as without fill
+                if let Some(t) = tile(&c, level, &tb, false, None) {
+                    let d0 = decode(&t);
+                    assert!(d0.tris.len() < d.tris.len());
+                }
+                let normals = d.normals.as_ref().unwrap();
+                let mut steep = 0;
+                for (i, n) in normals.iter().enumerate() {
+                    // oct decode (Cesium's octDecode)
+                    let mut x = n[0] as f64 / 255.0 * 2.0 - 1.0;
+                    let mut y = n[1] as f64 / 255.0 * 2.0 - 1.0;
+                    let zc = 1.0 - x.abs() - y.abs();
+                    if zc < 0.0 {
+                        let ox = x;
+                        x = (1.0 - y.abs()) * ox.signum();
+                        y = (1.0 - ox.abs()) * y.signum();
+                    }
+                    let l = (x * x + y * y + zc * zc).sqrt();
+                    let nv = [x / l, y / l, zc / l];
+                    let p = d.lonlat(&tb, i);
+                    let (lo, la) = (p[0].to_radians(), p[1].to_radians());
+                    let up = [la.cos() * lo.cos(), la.cos() * lo.sin(), la.sin()];
+                    let cosang = nv[0] * up[0] + nv[1] * up[1] + nv[2] * up[2];
+                    // never below the horizon (within the 8-bit encoding);
+                    // steep only where the surface is: the UTM DEM's hull
+                    // spans its nodata corners with long thin triangles
+                    // whose slopes reach 86 degrees
+                    assert!(
+                        cosang > -0.02,
+                        "{} z{z}: normal of vertex {i} at {p:?} is {:.0} degrees from up ({n:?})",
+                        c.name,
+                        cosang.acos().to_degrees()
+                    );
+                    steep += usize::from(cosang < 0.5);
+                }
+                assert!(
+                    steep * 10 <= normals.len(),
+                    "{} z{z}: {steep} of {} normals more than 60 degrees from up",
+                    c.name,
+                    normals.len()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn tile_addresses_are_checked() {
+    assert!(tile_bounds(0, 2, 0).is_err());
+    assert!(tile_bounds(3, 0, 8).is_err());
+    assert!(tile_bounds(-1, 0, 0).is_err());
+    assert!(tile_bounds(25, 0, 0).is_err());
+    let b = tile_bounds(0, 0, 0).unwrap();
+    assert_eq!(
+        [b.west, b.south, b.east, b.north],
+        [-180.0, -90.0, 0.0, 90.0]
+    );
+}
