@@ -164,6 +164,11 @@ ALTER FUNCTION tin_area_stats(tin, geometry, int) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_volume(tin, geometry, float8, int) SET search_path FROM CURRENT;
 -- tin_slope_aspect (src/pg/analysis.rs) refuses a geographic tin the same way
 ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
+-- the quantized-mesh functions (src/pg/serve.rs) find PostGIS's
+-- ST_Transform through it
+ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) SET search_path FROM CURRENT;
 
 CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
 RETURNS float8 AS

@@ -9,7 +9,8 @@
 -- The search_path they pin is the install script's (sql/tinmerge.sql).
 -- New: tin_tiles, a raster built as a grid of tins sharing their seams
 -- (docs/scaling.md), the aggregate tin_from_points_agg, and the surface
--- analyses tin_contours and tin_slope_aspect.
+-- analyses tin_contours and tin_slope_aspect; Cesium quantized-mesh tiles
+-- (tin_quantized_mesh, tin_quantized_mesh_layer).
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -83,3 +84,24 @@ SET search_path FROM CURRENT;
 ALTER FUNCTION tin_slope_aspect(tin, int) ROWS 10000;
 COMMENT ON FUNCTION tin_slope_aspect(tin, int) IS
 'Slope and aspect of every triangle of a level (NULL = finest), exact for the plane of each triangle: slope in degrees from the horizontal, aspect the direction the triangle faces (steepest descent) in degrees clockwise from grid north, in [0, 360), NULL for a flat triangle; triangle as in tin_triangles. Planar SRIDs only (x, y in the unit of z): a geographic tin is an error.';
+CREATE FUNCTION tin_quantized_mesh("t" tin, "z" int, "x" int, "y" int, "normals" boolean DEFAULT false, "fill" double precision DEFAULT NULL)
+RETURNS bytea
+IMMUTABLE PARALLEL SAFE COST 5000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_quantized_mesh_wrapper'
+SET search_path FROM CURRENT;
+CREATE FUNCTION tin_quantized_mesh("t" tin, "level" int, "z" int, "x" int, "y" int, "normals" boolean DEFAULT false, "fill" double precision DEFAULT NULL)
+RETURNS bytea
+IMMUTABLE PARALLEL SAFE COST 5000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_quantized_mesh_level_wrapper'
+SET search_path FROM CURRENT;
+CREATE FUNCTION tin_quantized_mesh_layer("t" tin, "normals" boolean DEFAULT false, "fill" boolean DEFAULT false, "name" text DEFAULT 'terrain')
+RETURNS json
+IMMUTABLE PARALLEL SAFE COST 1000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_quantized_mesh_layer_wrapper'
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) IS
+'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose measured error is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
+COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) IS
+'tin_quantized_mesh of a given level (NULL = finest) instead of the one the zoom chooses: tin_quantized_mesh(t, level, z, x, y).';
+COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) IS
+'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and octvertexnormals when normals is true.';

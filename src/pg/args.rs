@@ -98,9 +98,91 @@ pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str) {
 }
 
 thread_local! {
-    /// The OID of PostGIS's `ST_IsValidReason(geometry)`, looked up once per
-    /// backend (and again if that function is gone).
+    /// The OIDs of PostGIS's `ST_IsValidReason(geometry)` and
+    /// `ST_Transform(geometry, int)`, looked up once per backend (and again
+    /// if the function is gone).
     static IS_VALID_REASON: std::cell::Cell<Option<pg_sys::Oid>> = const { std::cell::Cell::new(None) };
+    static TRANSFORM: std::cell::Cell<Option<pg_sys::Oid>> = const { std::cell::Cell::new(None) };
+}
+
+/// The OID of PostGIS's `geometry` type on the search_path (an ERROR when
+/// PostGIS is not there).
+fn geometry_oid() -> pg_sys::Oid {
+    let geometry = unsafe { pg_sys::TypenameGetTypid(c"geometry".as_ptr()) };
+    if geometry == pg_sys::InvalidOid {
+        raise(
+            PgSqlErrorCode::ERRCODE_UNDEFINED_OBJECT,
+            "PostGIS's geometry type is not on the search_path",
+        );
+    }
+    geometry
+}
+
+/// The OID of the PostGIS function `name(args)`, found through the calling
+/// function's search_path (pinned to PostGIS's schema by `SET search_path
+/// FROM CURRENT` in sql/tinmerge.sql) and cached in `cell` while it exists.
+fn postgis_proc(
+    cell: &'static std::thread::LocalKey<std::cell::Cell<Option<pg_sys::Oid>>>,
+    name: &std::ffi::CStr,
+    args: impl FnOnce() -> Vec<pg_sys::Oid>,
+) -> pg_sys::Oid {
+    unsafe {
+        let cached = cell.get().filter(|oid| {
+            pg_sys::SearchSysCacheExists(
+                pg_sys::SysCacheIdentifier::PROCOID as i32,
+                pg_sys::Datum::from(*oid),
+                pg_sys::Datum::from(0),
+                pg_sys::Datum::from(0),
+                pg_sys::Datum::from(0),
+            )
+        });
+        match cached {
+            Some(oid) => oid,
+            None => {
+                let args = args();
+                let list = pg_sys::stringToQualifiedNameList(name.as_ptr());
+                // errors (undefined function) when PostGIS lacks it
+                let oid = pg_sys::LookupFuncName(list, args.len() as i32, args.as_ptr(), false);
+                cell.set(Some(oid));
+                oid
+            }
+        }
+    }
+}
+
+/// Points from SRID `from` to SRID `to` through PostGIS's own
+/// `ST_Transform(geometry, int)` (PROJ, with PostGIS's spatial_ref_sys),
+/// called by OID with one MULTIPOINT; an ERROR for an unknown SRID or a
+/// point PROJ cannot transform, or a result that is not finite.
+pub fn postgis_transform(pts: &[[f64; 2]], from: i32, to: i32) -> Vec<[f64; 2]> {
+    use tinmerge_core::io::ewkb::Geom;
+    if pts.is_empty() {
+        return Vec::new();
+    }
+    let g = Geom::MultiPoint(pts.iter().map(|p| [p[0], p[1], f64::NAN]).collect());
+    let bytes = gserialized::write(from, false, &g);
+    let oid = postgis_proc(&TRANSFORM, c"st_transform", || {
+        vec![geometry_oid(), pg_sys::INT4OID]
+    });
+    let out = unsafe {
+        let d = varlena_datum(&bytes, "geometry");
+        let r = pg_sys::OidFunctionCall2Coll(oid, pg_sys::InvalidOid, d, pg_sys::Datum::from(to));
+        let v = pg_sys::pg_detoast_datum_packed(r.cast_mut_ptr());
+        gserialized::read(pgrx::varlena::varlena_to_byte_slice(v)).or_raise()
+    };
+    let Geom::MultiPoint(q) = out.geom else {
+        raise(
+            PgSqlErrorCode::ERRCODE_INTERNAL_ERROR,
+            "ST_Transform returned something other than a MULTIPOINT",
+        );
+    };
+    if q.len() != pts.len() || q.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("ST_Transform from SRID {from} to {to} gave points that are not finite: the terrain is outside where that projection is defined"),
+        );
+    }
+    q.into_iter().map(|p| [p[0], p[1]]).collect()
 }
 
 impl GeomArg {
@@ -112,32 +194,9 @@ impl GeomArg {
     /// schema by `SET search_path FROM CURRENT` in sql/tinmerge.sql).
     pub fn postgis_validity(&self) -> String {
         unsafe {
-            let cached = IS_VALID_REASON.get().filter(|oid| {
-                pg_sys::SearchSysCacheExists(
-                    pg_sys::SysCacheIdentifier::PROCOID as i32,
-                    pg_sys::Datum::from(*oid),
-                    pg_sys::Datum::from(0),
-                    pg_sys::Datum::from(0),
-                    pg_sys::Datum::from(0),
-                )
+            let oid = postgis_proc(&IS_VALID_REASON, c"st_isvalidreason", || {
+                vec![geometry_oid()]
             });
-            let oid = match cached {
-                Some(oid) => oid,
-                None => {
-                    let geometry = pg_sys::TypenameGetTypid(c"geometry".as_ptr());
-                    if geometry == pg_sys::InvalidOid {
-                        raise(
-                            PgSqlErrorCode::ERRCODE_UNDEFINED_OBJECT,
-                            "PostGIS's geometry type is not on the search_path",
-                        );
-                    }
-                    let name = pg_sys::stringToQualifiedNameList(c"st_isvalidreason".as_ptr());
-                    // errors (undefined function) when PostGIS lacks it
-                    let oid = pg_sys::LookupFuncName(name, 1, &geometry, false);
-                    IS_VALID_REASON.set(Some(oid));
-                    oid
-                }
-            };
             let reason = pg_sys::OidFunctionCall1Coll(oid, pg_sys::InvalidOid, self.0);
             let c = pg_sys::text_to_cstring(reason.cast_mut_ptr());
             let s = std::ffi::CStr::from_ptr(c).to_string_lossy().into_owned();

@@ -83,6 +83,7 @@ mod overlay;
 mod point;
 mod raster;
 mod render;
+mod serve;
 mod threads;
 mod tin_type;
 mod varlena;

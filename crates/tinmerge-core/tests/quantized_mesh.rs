@@ -13,7 +13,7 @@
 //! hold every vertex; normals point up; fill covers the whole tile.
 mod common;
 
-use tinmerge_core::serve::quantized_mesh::{ecef, encode, needed};
+use tinmerge_core::serve::quantized_mesh::{ecef, encode, needed, split_length};
 use tinmerge_core::serve::tiling::{
     geometric_error, level_for_zoom, max_zoom, tile_bounds, tile_range, TileBounds,
 };
@@ -246,6 +246,17 @@ fn max_gradient(tris: &[[[f64; 3]; 3]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The longest straight edge for the case's map, from the bulge of the
+/// terrain's diagonal (as the SQL layer measures it through ST_Transform).
+fn max_len(c: &Case) -> Option<f64> {
+    let b = &c.tin.bbox;
+    let p = (c.map)(b.min_x, b.min_y);
+    let q = (c.map)(b.max_x, b.max_y);
+    let m = (c.map)((b.min_x + b.max_x) / 2.0, (b.min_y + b.max_y) / 2.0);
+    let sag = ((p[0] + q[0]) / 2.0 - m[0]).hypot((p[1] + q[1]) / 2.0 - m[1]);
+    split_length((b.max_x - b.min_x).hypot(b.max_y - b.min_y), sag)
+}
+
 fn tile(
     c: &Case,
     level: usize,
@@ -253,11 +264,12 @@ fn tile(
     normals: bool,
     fill: Option<f64>,
 ) -> Option<Vec<u8>> {
-    let need = needed(&c.tin, level, None, normals, fill.is_some());
-    let geo = |v: u32| {
-        let p = c.tin.verts[v as usize];
-        Some((c.map)(p[0], p[1]))
-    };
+    let need = needed(&c.tin, level, None, normals, fill.is_some(), max_len(c));
+    let geo: Vec<[f64; 2]> = need
+        .points(&c.tin)
+        .iter()
+        .map(|p| (c.map)(p[0], p[1]))
+        .collect();
     encode(
         &c.tin,
         level,

@@ -57,8 +57,9 @@
 //!     }
 //! }
 //! let tin = build(pts, &[5.0, 0.0], 4326, &mut || Ok(())).unwrap();
-//! let need = needed(&tin, 1, None, false, false);
-//! let geo = |v: u32| { let p = tin.verts[v as usize]; Some([p[0], p[1]]) };
+//! // a tin in EPSG:4326: its own coordinates are the geographic ones
+//! let need = needed(&tin, 1, None, false, false, None);
+//! let geo = need.points(&tin);
 //! let tile = tile_bounds(8, 136, 179).unwrap();
 //! let bytes = encode(&tin, 1, &tile, &need, &geo, false, None, &mut || Ok(())).unwrap().unwrap();
 //! assert!(bytes.len() > 88);
@@ -80,29 +81,126 @@ const QMAX: f64 = 32767.0;
 
 /// What a tile needs from the level: the triangles that may meet it, the
 /// triangles around their vertices (for normals), the hull edges (for
-/// fill), and every vertex of those, whose geographic positions the
-/// caller supplies.
+/// fill; pieces of split edges), the vertices of those and the points
+/// that split their long edges, whose geographic positions the caller
+/// supplies in the order of [`Needed::points`].
 #[derive(Clone, Debug, Default)]
 pub struct Needed {
     pub triangles: Vec<u32>,
     pub ring: Vec<u32>,
     pub hull: Vec<[u32; 2]>,
     pub vertices: Vec<u32>,
+    /// Points on long edges: ids `num_vertices + i` (see [`needed`]).
+    pub splits: Vec<Split>,
+    /// Edge (lower id first) -> index of its first split point and the
+    /// number of pieces.
+    split_of: FxHashMap<(u32, u32), (u32, u32)>,
+    /// The first split point's id (the level's vertex count).
+    base: u32,
+}
+
+/// A point splitting a long edge of the level: on the edge (lower id
+/// first) at `i / n` of its length, with the surface's height there.
+#[derive(Clone, Copy, Debug)]
+pub struct Split {
+    pub edge: [u32; 2],
+    pub xyz: [f64; 3],
+}
+
+impl Needed {
+    /// The points whose geographic positions [`encode`] needs, in the
+    /// tin's coordinates: the vertices, then the split points.
+    pub fn points(&self, tin: &Tin) -> Vec<[f64; 2]> {
+        let mut p: Vec<[f64; 2]> = self
+            .vertices
+            .iter()
+            .map(|&v| {
+                let q = tin.verts[v as usize];
+                [q[0], q[1]]
+            })
+            .collect();
+        p.extend(self.splits.iter().map(|s| [s.xyz[0], s.xyz[1]]));
+        p
+    }
+
+    /// Index into [`Needed::points`] of vertex or split point `id`.
+    fn index(&self, id: u32) -> Option<usize> {
+        if id >= self.base {
+            let i = (id - self.base) as usize;
+            (i < self.splits.len()).then_some(self.vertices.len() + i)
+        } else {
+            self.vertices.binary_search(&id).ok()
+        }
+    }
+
+    /// The chain of ids from `a` to `b` along the level's edge (a, b): the
+    /// ends and the edge's split points between them.
+    fn chain(&self, a: u32, b: u32) -> Vec<u32> {
+        let key = (a.min(b), a.max(b));
+        let mut c = vec![key.0];
+        if let Some(&(first, n)) = self.split_of.get(&key) {
+            c.extend((0..n - 1).map(|i| self.base + first + i));
+        }
+        c.push(key.1);
+        if a > b {
+            c.reverse();
+        }
+        c
+    }
+
+    fn split_edge(&mut self, tin: &Tin, a: u32, b: u32, max_len: f64) {
+        let key = (a.min(b), a.max(b));
+        if self.split_of.contains_key(&key) {
+            return;
+        }
+        let (p, q) = (tin.verts[key.0 as usize], tin.verts[key.1 as usize]);
+        let len = (q[0] - p[0]).hypot(q[1] - p[1]);
+        if len <= max_len {
+            return;
+        }
+        // at most 4,096 pieces: the caller's length is a bound, not a promise
+        let n = ((len / max_len).ceil() as u32).min(4096);
+        self.split_of.insert(key, (self.splits.len() as u32, n));
+        for i in 1..n {
+            let t = i as f64 / n as f64;
+            self.splits.push(Split {
+                edge: [key.0, key.1],
+                xyz: [
+                    p[0] + t * (q[0] - p[0]),
+                    p[1] + t * (q[1] - p[1]),
+                    p[2] + t * (q[2] - p[2]),
+                ],
+            });
+        }
+    }
 }
 
 /// The triangles of `level` whose bounding box, widened by 2 % of its own
 /// size (a triangle's geographic image is not its projected footprint
 /// exactly), meets `footprint` = `[min x, min y, max x, max y]` in the
 /// tin's coordinates (`None`: all), with what [`encode`] needs about them.
+///
+/// `max_len` (the tin's units; `None`: never) splits every edge longer
+/// than it into equal pieces ([`split_length`] gives it): a straight edge
+/// of a projected tin is a curve in longitude/latitude, and the straight
+/// line between its transformed ends can pass on the wrong side of a
+/// vertex near it (on the UTM DEM's 30 km hull edges the curve bulges 11 m
+/// from the line, folding the thin triangles that fill the DEM's nodata
+/// corners). Split points are on the edge in the tin's frame, with its
+/// height there, and are the same for both triangles of the edge.
 pub fn needed(
     tin: &Tin,
     level: usize,
     footprint: Option<[f64; 4]>,
     normals: bool,
     fill: bool,
+    max_len: Option<f64>,
 ) -> Needed {
     let lv = &tin.levels[level];
-    let mut out = Needed::default();
+    let mut out = Needed {
+        base: lv.num_vertices,
+        ..Needed::default()
+    };
     let mut used = vec![false; lv.num_vertices as usize];
     for (t, tri) in lv.tris.iter().enumerate() {
         if let Some(f) = footprint {
@@ -135,6 +233,7 @@ pub fn needed(
             }
         }
     }
+    let mut hull = Vec::new();
     if fill {
         for (t, nb) in lv.nbrs.iter().enumerate() {
             for j in 0..3 {
@@ -143,15 +242,45 @@ pub fn needed(
                     let e = [tri[(j + 1) % 3], tri[(j + 2) % 3]];
                     used[e[0] as usize] = true;
                     used[e[1] as usize] = true;
-                    out.hull.push(e);
+                    hull.push(e);
                 }
             }
         }
+    }
+    if let Some(m) = max_len.filter(|m| *m > 0.0 && m.is_finite()) {
+        for i in 0..out.triangles.len() {
+            let tri = lv.tris[out.triangles[i] as usize];
+            for k in 0..3 {
+                out.split_edge(tin, tri[k], tri[(k + 1) % 3], m);
+            }
+        }
+        for e in &hull {
+            out.split_edge(tin, e[0], e[1], m);
+        }
+    }
+    for e in hull {
+        let c = out.chain(e[0], e[1]);
+        out.hull.extend(c.windows(2).map(|w| [w[0], w[1]]));
     }
     out.vertices = (0..used.len() as u32)
         .filter(|&v| used[v as usize])
         .collect();
     out
+}
+
+/// The longest edge that may stay straight in longitude/latitude: the
+/// image of a straight line of length `d` bulges `sagitta` degrees from
+/// its chord (measured by the caller on the terrain's own diagonals), and
+/// a bulge grows with the square of the length, so pieces of
+/// `d * sqrt(eps / sagitta)` bulge at most `eps` = 1e-8 degrees (about a
+/// millimetre). `None` when the bulge is already below that (a
+/// geographic tin), at least `d / 4096`.
+pub fn split_length(d: f64, sagitta: f64) -> Option<f64> {
+    const EPS: f64 = 1e-8;
+    if sagitta.is_nan() || sagitta <= EPS || d.is_nan() || d <= 0.0 || !d.is_finite() {
+        return None;
+    }
+    Some((d * (EPS / sagitta).sqrt()).max(d / 4096.0))
 }
 
 /// Where a point of a clipped polygon comes from.
@@ -184,7 +313,8 @@ struct Pt {
 struct Tile<'a> {
     b: TileBounds,
     tin: &'a Tin,
-    geo: &'a dyn Fn(u32) -> Option<[f64; 2]>,
+    need: &'a Needed,
+    geo: &'a [[f64; 2]],
 }
 
 impl Tile<'_> {
@@ -207,17 +337,25 @@ impl Tile<'_> {
     }
 
     fn vertex(&self, v: u32) -> Result<Pt, TinError> {
-        let g = (self.geo)(v)
+        let g = self
+            .need
+            .index(v)
+            .and_then(|i| self.geo.get(i))
             .filter(|g| g[0].is_finite() && g[1].is_finite())
             .ok_or_else(|| {
                 TinError::InvalidParameter(format!(
-                    "vertex {v} has no finite geographic position (transform to EPSG:4326 failed)"
+                    "point {v} has no finite geographic position (transform to EPSG:4326 failed)"
                 ))
             })?;
+        let h = if v >= self.need.base {
+            self.need.splits[(v - self.need.base) as usize].xyz[2]
+        } else {
+            self.tin.verts[v as usize][2]
+        };
         Ok(Pt {
             x: g[0],
             y: g[1],
-            h: self.tin.verts[v as usize][2],
+            h,
             kind: Kind::Vertex(v),
         })
     }
@@ -262,9 +400,9 @@ impl Tile<'_> {
         (self.side_value(v), self.side_value(hz))
     }
 
-    /// Triangle `t` clipped to the tile: the polygon's points, CCW.
-    fn clip(&self, level: usize, t: u32) -> Result<Vec<Pt>, TinError> {
-        let tri = self.tin.levels[level].tris[t as usize];
+    /// The triangle `tri` (vertex or split point ids, CCW; a piece of the
+    /// level's triangle `t`) clipped to the tile: the polygon's points, CCW.
+    fn clip(&self, tri: [u32; 3], t: u32) -> Result<Vec<Pt>, TinError> {
         let c = [
             self.vertex(tri[0])?,
             self.vertex(tri[1])?,
@@ -396,26 +534,42 @@ pub fn tile_mesh(
     level: usize,
     tile: &TileBounds,
     need: &Needed,
-    geo: &dyn Fn(u32) -> Option<[f64; 2]>,
+    geo: &[[f64; 2]],
     fill: Option<f64>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<TileMesh>, TinError> {
-    let cx = Tile { b: *tile, tin, geo };
+    let cx = Tile {
+        b: *tile,
+        tin,
+        need,
+        geo,
+    };
     let mut tick = Ticker::new(interrupt);
     let mut mesh = TileMesh::default();
     let mut keys: FxHashMap<(u64, u64), u32> = FxHashMap::default();
+    let lv = &tin.levels[level];
+    let mut pieces: Vec<[u32; 3]> = Vec::new();
     for &t in &need.triangles {
         tick.tick()?;
-        let pts = cx.clip(level, t)?;
-        if pts.len() < 3 {
-            continue;
+        let tri = lv.tris[t as usize];
+        pieces.clear();
+        if need.split_of.is_empty() {
+            pieces.push(tri);
+        } else {
+            split_triangle(&cx, tri, &mut pieces)?;
         }
-        for i in 1..pts.len() - 1 {
-            if orient(&pts[0], &pts[i], &pts[i + 1]) > 0.0 {
-                let a = mesh.add(&mut keys, &pts[0]);
-                let b = mesh.add(&mut keys, &pts[i]);
-                let c = mesh.add(&mut keys, &pts[i + 1]);
-                mesh.triangles.push([a, b, c]);
+        for &piece in &pieces {
+            let pts = cx.clip(piece, t)?;
+            if pts.len() < 3 {
+                continue;
+            }
+            for i in 1..pts.len() - 1 {
+                if orient(&pts[0], &pts[i], &pts[i + 1]) > 0.0 {
+                    let a = mesh.add(&mut keys, &pts[0]);
+                    let b = mesh.add(&mut keys, &pts[i]);
+                    let c = mesh.add(&mut keys, &pts[i + 1]);
+                    mesh.triangles.push([a, b, c]);
+                }
             }
         }
     }
@@ -427,6 +581,72 @@ pub fn tile_mesh(
     } else {
         Some(mesh)
     })
+}
+
+/// The triangle `tri` of the level cut at the split points of its edges:
+/// the polygon of its corners and those points in degrees (the curved
+/// image of the triangle, up to the split length's bulge) triangulated
+/// there by a constrained Delaunay triangulation (spade) of its boundary,
+/// the faces inside it kept, as triangles of ids (CCW). Triangulating in
+/// degrees, not in the tin's frame, is what keeps every piece the right
+/// way up: a piece along a curved edge would otherwise fold.
+fn split_triangle(cx: &Tile, tri: [u32; 3], out: &mut Vec<[u32; 3]>) -> Result<(), TinError> {
+    let need = cx.need;
+    let mut ids: Vec<u32> = Vec::new();
+    for k in 0..3 {
+        let c = need.chain(tri[k], tri[(k + 1) % 3]);
+        ids.extend_from_slice(&c[..c.len() - 1]);
+    }
+    if ids.len() == 3 {
+        out.push(tri);
+        return Ok(());
+    }
+    let pts: Vec<Pt> = ids
+        .iter()
+        .map(|&id| cx.vertex(id))
+        .collect::<Result<_, _>>()?;
+    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::new();
+    let mut of_handle: Vec<u32> = Vec::with_capacity(ids.len());
+    let mut handles = Vec::with_capacity(ids.len());
+    for (k, p) in pts.iter().enumerate() {
+        let h = cdt
+            .insert(Point2::new(p.x, p.y))
+            .map_err(|e| TinError::InvalidParameter(format!("splitting a triangle: {e:?}")))?;
+        if h.index() == of_handle.len() {
+            of_handle.push(ids[k]);
+        }
+        handles.push(h);
+    }
+    for k in 0..handles.len() {
+        let (a, b) = (handles[k], handles[(k + 1) % handles.len()]);
+        if a != b {
+            cdt.try_add_constraint(a, b);
+        }
+    }
+    // inside the polygon: crossing number of the face's centroid
+    let inside = |x: f64, y: f64| {
+        let mut c = false;
+        for k in 0..pts.len() {
+            let (p, q) = (&pts[k], &pts[(k + 1) % pts.len()]);
+            if (p.y > y) != (q.y > y) && x < p.x + (y - p.y) / (q.y - p.y) * (q.x - p.x) {
+                c = !c;
+            }
+        }
+        c
+    };
+    for f in cdt.inner_faces() {
+        let v = f.vertices();
+        let (x, y) = (
+            (v[0].position().x + v[1].position().x + v[2].position().x) / 3.0,
+            (v[0].position().y + v[1].position().y + v[2].position().y) / 3.0,
+        );
+        let i = v.map(|v| v.fix().index());
+        if i.iter().all(|&i| i < of_handle.len()) && inside(x, y) {
+            out.push(i.map(|i| of_handle[i]));
+        }
+    }
+    Ok(())
 }
 
 /// Covers the tile outside the domain (see the module docs).
@@ -613,44 +833,52 @@ fn normals(
             around.entry(v).or_default().push(t);
         }
     }
-    let sum = |ts: &mut dyn Iterator<Item = u32>| {
+    // the level's triangles a vertex or split point lies on
+    let on = |id: u32| -> Vec<u32> {
+        if id >= need.base {
+            let [a, b] = need.splits[(id - need.base) as usize].edge;
+            let tb = around.get(&b);
+            around
+                .get(&a)
+                .into_iter()
+                .flatten()
+                .copied()
+                .filter(|t| tb.is_some_and(|l| l.contains(t)))
+                .collect()
+        } else {
+            around.get(&id).cloned().unwrap_or_default()
+        }
+    };
+    let sum = |ts: &[u32]| {
         let mut s = [0.0; 3];
         for t in ts {
-            if let Some(n) = face.get(&t) {
+            if let Some(n) = face.get(t) {
                 s = [s[0] + n[0], s[1] + n[1], s[2] + n[2]];
             }
         }
         s
     };
+    let up = |p: [f64; 3]| {
+        let (l, f) = (p[0].to_radians(), p[1].to_radians());
+        [f.cos() * l.cos(), f.cos() * l.sin(), f.sin()]
+    };
     let mut out = Vec::with_capacity(mesh.points.len());
     for (i, k) in mesh.kinds.iter().enumerate() {
         let p = mesh.points[i];
         let n = match *k {
-            Kind::Vertex(v) => sum(&mut around.get(&v).into_iter().flatten().copied()),
+            Kind::Vertex(v) => sum(&on(v)),
             Kind::Edge(a, b) => {
-                let tb = around.get(&b);
-                sum(&mut around
-                    .get(&a)
-                    .into_iter()
-                    .flatten()
-                    .copied()
-                    .filter(|t| tb.is_some_and(|l| l.contains(t))))
+                let tb = on(b);
+                let common: Vec<u32> = on(a).into_iter().filter(|t| tb.contains(t)).collect();
+                sum(&common)
             }
             Kind::Inside(t) => match face.get(&t) {
                 Some(n) => *n,
                 None => tri_normal(t)?,
             },
-            Kind::Fill => {
-                let (l, f) = (p[0].to_radians(), p[1].to_radians());
-                [f.cos() * l.cos(), f.cos() * l.sin(), f.sin()]
-            }
+            Kind::Fill => up(p),
         };
-        let n = if norm(n) > 0.0 {
-            n
-        } else {
-            let (l, f) = (p[0].to_radians(), p[1].to_radians());
-            [f.cos() * l.cos(), f.cos() * l.sin(), f.sin()]
-        };
+        let n = if norm(n) > 0.0 { n } else { up(p) };
         let m = norm(n);
         out.push([n[0] / m, n[1] / m, n[2] / m]);
     }
@@ -667,7 +895,7 @@ pub fn encode(
     level: usize,
     tile: &TileBounds,
     need: &Needed,
-    geo: &dyn Fn(u32) -> Option<[f64; 2]>,
+    geo: &[[f64; 2]],
     with_normals: bool,
     fill: Option<f64>,
     interrupt: &mut Interrupt<'_>,
@@ -675,7 +903,12 @@ pub fn encode(
     let Some(mesh) = tile_mesh(tin, level, tile, need, geo, fill, interrupt)? else {
         return Ok(None);
     };
-    let cx = Tile { b: *tile, tin, geo };
+    let cx = Tile {
+        b: *tile,
+        tin,
+        need,
+        geo,
+    };
     // number vertices in order of first use (high-water-mark coding)
     let mut order = vec![u32::MAX; mesh.points.len()];
     let mut seq = Vec::with_capacity(mesh.points.len());

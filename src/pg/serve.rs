@@ -1,0 +1,263 @@
+//! SQL functions serving the terrain to Cesium: `tin_quantized_mesh` (one
+//! quantized-mesh tile, the level chosen from the tile's zoom or given)
+//! and `tin_quantized_mesh_layer` (its `layer.json`). Positions go to
+//! WGS 84 longitude/latitude through PostGIS's own `ST_Transform`, called
+//! by OID with a MULTIPOINT of the vertices a tile needs (nothing for a
+//! tin already in EPSG:4326). Not STRICT: NULL level means finest, NULL
+//! fill means none; a NULL tin or address gives NULL.
+
+use pgrx::prelude::*;
+
+use super::args::postgis_transform;
+use super::errors::{raise, OrRaise};
+use super::interrupt::interrupt;
+use super::memory;
+use super::tin_type::TinArg;
+use pgrx::Json;
+use tinmerge_core::serve::quantized_mesh::{encode, needed, split_length, tile_bytes};
+use tinmerge_core::serve::tiling::{layer_json, level_for_zoom, tile_bounds, TileBounds};
+use tinmerge_core::tin::Tin;
+
+/// WGS 84 longitude/latitude.
+const WGS84: i32 = 4326;
+
+fn check_srid(tin: &Tin, func: &str) {
+    if tin.srid == 0 {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("{func}: the tin has no SRID (0); Cesium tiles need to know where the terrain is: build it with an SRID or rebuild from a georeferenced raster"),
+        );
+    }
+}
+
+/// Points of the tin's frame in degrees (themselves when it is in 4326).
+fn points_to_degrees(tin: &Tin, pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    if tin.srid == WGS84 {
+        pts
+    } else {
+        postgis_transform(&pts, tin.srid, WGS84)
+    }
+}
+
+/// The longest edge that stays straight in degrees (see
+/// `quantized_mesh::split_length`): the bulge of the images of the
+/// terrain's two diagonals, measured through ST_Transform.
+fn max_edge(tin: &Tin) -> Option<f64> {
+    if tin.srid == WGS84 {
+        return None;
+    }
+    let b = &tin.bbox;
+    let (cx, cy) = ((b.min_x + b.max_x) / 2.0, (b.min_y + b.max_y) / 2.0);
+    let g = points_to_degrees(
+        tin,
+        vec![
+            [b.min_x, b.min_y],
+            [b.max_x, b.max_y],
+            [b.min_x, b.max_y],
+            [b.max_x, b.min_y],
+            [cx, cy],
+        ],
+    );
+    let bulge = |p: [f64; 2], q: [f64; 2]| {
+        ((p[0] + q[0]) / 2.0 - g[4][0]).hypot((p[1] + q[1]) / 2.0 - g[4][1])
+    };
+    let sagitta = bulge(g[0], g[1]).max(bulge(g[2], g[3]));
+    split_length((b.max_x - b.min_x).hypot(b.max_y - b.min_y), sagitta)
+}
+
+/// The geographic extent `[west, south, east, north]` of level `l`: its
+/// hull's vertices and the points splitting its long edges in degrees
+/// (the tiles' triangles are straight between those, so this holds them
+/// all).
+fn geo_bounds(tin: &Tin, l: usize, max_len: Option<f64>) -> [f64; 4] {
+    // no triangle meets a NaN footprint: only the hull
+    let hull = needed(tin, l, Some([f64::NAN; 4]), false, true, max_len);
+    let g = points_to_degrees(tin, hull.points(tin));
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in g {
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
+    }
+    b
+}
+
+/// The part of the tile over the terrain, in the tin's coordinates: the
+/// rectangle `tile ∩ bounds` densified (16 points a side) and transformed,
+/// its bounding box.
+fn footprint(tin: &Tin, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] {
+    let (w, s, e, n) = (
+        tb.west.max(b[0]),
+        tb.south.max(b[1]),
+        tb.east.min(b[2]),
+        tb.north.min(b[3]),
+    );
+    let mut ring = Vec::with_capacity(64);
+    for i in 0..16 {
+        let f = i as f64 / 16.0;
+        ring.push([w + f * (e - w), s]);
+        ring.push([e, s + f * (n - s)]);
+        ring.push([e - f * (e - w), n]);
+        ring.push([w, n - f * (n - s)]);
+    }
+    let pts = if tin.srid == WGS84 {
+        ring
+    } else {
+        postgis_transform(&ring, WGS84, tin.srid)
+    };
+    let mut f = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in pts {
+        f = [
+            f[0].min(p[0]),
+            f[1].min(p[1]),
+            f[2].max(p[0]),
+            f[3].max(p[1]),
+        ];
+    }
+    f
+}
+
+#[allow(clippy::too_many_arguments)]
+fn tile(
+    t: &TinArg,
+    level: Option<Option<i32>>,
+    z: i32,
+    x: i32,
+    y: i32,
+    normals: bool,
+    fill: Option<f64>,
+) -> Option<Vec<u8>> {
+    let tb = tile_bounds(z, x, y).or_raise();
+    if let Some(h) = fill {
+        if !h.is_finite() {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!("tin_quantized_mesh: fill height must be finite, got {h}"),
+            );
+        }
+    }
+    let tin = t.tin();
+    check_srid(&tin, "tin_quantized_mesh");
+    let l = match level {
+        None => {
+            let errors: Vec<f64> = tin.levels.iter().map(|lv| lv.max_error).collect();
+            level_for_zoom(&errors, z)
+        }
+        Some(lv) => tin.level_index(lv).or_raise(),
+    };
+    let max_len = max_edge(&tin);
+    let b = geo_bounds(&tin, l, max_len);
+    let need = if !tb.intersects(&b) {
+        if fill.is_none() {
+            return None;
+        }
+        // only the hull, to tell the fill it is off the terrain
+        let mut n = needed(&tin, l, Some([f64::NAN; 4]), false, true, max_len);
+        n.triangles.clear();
+        n
+    } else {
+        let f = if tb.contains(&b) {
+            None
+        } else {
+            Some(footprint(&tin, &tb, &b))
+        };
+        needed(&tin, l, f, normals, fill.is_some(), max_len)
+    };
+    memory::reserve(tile_bytes(need.triangles.len() + need.ring.len()), || {
+        format!(
+            "tin_quantized_mesh: tile {z}/{x}/{y} of {} triangles",
+            need.triangles.len()
+        )
+    });
+    let geo = points_to_degrees(&tin, need.points(&tin));
+    encode(&tin, l, &tb, &need, &geo, normals, fill, &mut interrupt).or_raise()
+}
+
+#[pg_extern(immutable, parallel_safe, cost = 5000, requires = ["tin_type"])]
+fn tin_quantized_mesh(
+    t: Option<TinArg>,
+    z: Option<i32>,
+    x: Option<i32>,
+    y: Option<i32>,
+    normals: default!(Option<bool>, "false"),
+    fill: default!(Option<f64>, "NULL"),
+) -> Option<Vec<u8>> {
+    let (t, z, x, y) = (t?, z?, x?, y?);
+    tile(&t, None, z, x, y, normals.unwrap_or(false), fill)
+}
+
+#[pg_extern(immutable, parallel_safe, cost = 5000, name = "tin_quantized_mesh", requires = ["tin_type"])]
+fn tin_quantized_mesh_level(
+    t: Option<TinArg>,
+    level: Option<i32>,
+    z: Option<i32>,
+    x: Option<i32>,
+    y: Option<i32>,
+    normals: default!(Option<bool>, "false"),
+    fill: default!(Option<f64>, "NULL"),
+) -> Option<Vec<u8>> {
+    let (t, z, x, y) = (t?, z?, x?, y?);
+    tile(&t, Some(level), z, x, y, normals.unwrap_or(false), fill)
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) IS
+'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose measured error is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
+COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) IS
+'tin_quantized_mesh of a given level (NULL = finest) instead of the one the zoom chooses: tin_quantized_mesh(t, level, z, x, y).';
+"#,
+    name = "tin_quantized_mesh_sql",
+    requires = [tin_quantized_mesh, tin_quantized_mesh_level]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 1000, requires = ["tin_type"])]
+fn tin_quantized_mesh_layer(
+    t: Option<TinArg>,
+    normals: default!(Option<bool>, "false"),
+    fill: default!(Option<bool>, "false"),
+    name: default!(Option<String>, "'terrain'"),
+) -> Option<Json> {
+    let t = t?;
+    let tin = t.tin();
+    check_srid(&tin, "tin_quantized_mesh_layer");
+    let finest = tin.levels.len() - 1;
+    let b = geo_bounds(&tin, finest, max_edge(&tin));
+    let errors: Vec<f64> = tin.levels.iter().map(|lv| lv.max_error).collect();
+    let s = layer_json(
+        name.as_deref().unwrap_or("terrain"),
+        &b,
+        &errors,
+        normals.unwrap_or(false),
+        fill.unwrap_or(false),
+    );
+    match serde_json::from_str(&s) {
+        Ok(v) => Some(Json(v)),
+        Err(e) => raise(
+            PgSqlErrorCode::ERRCODE_INTERNAL_ERROR,
+            format!("tin_quantized_mesh_layer: {e}"),
+        ),
+    }
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) IS
+'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and octvertexnormals when normals is true.';
+"#,
+    name = "tin_quantized_mesh_layer_sql",
+    requires = [tin_quantized_mesh_layer]
+);

@@ -1,0 +1,64 @@
+-- Cesium quantized-mesh tiles (issue 27): the layer, the level a zoom
+-- chooses, tiles off the terrain, fill, NULLs and bad addresses. The
+-- decoded tiles are checked against PostGIS by
+-- tests/properties/check_quantized_mesh.mjs (loaders.gl's decoder) and
+-- drawn by CesiumJS in tests/globe.sh.
+SET extra_float_digits = 0;
+CREATE TABLE qm_layer AS SELECT tin_quantized_mesh_layer(t, normals => true, fill => true) AS j FROM terrain;
+SELECT j->>'format' AS format, j->>'scheme' AS scheme, j->>'projection' AS projection, j->'tiles' AS tiles,
+       j->'minzoom' AS minzoom, j->'maxzoom' AS maxzoom, j->'extensions' AS extensions,
+       j->'available'->0 AS zoom0, json_array_length(j->'available') AS zooms
+FROM qm_layer;
+-- the bounds hold the terrain: every vertex of the finest level, through PostGIS
+SELECT bool_and(ST_X(p) >= w AND ST_Y(p) >= s AND ST_X(p) <= e AND ST_Y(p) <= n) AS bounds_hold,
+       round(min(w)::numeric, 4) AS west, round(max(n)::numeric, 4) AS north
+FROM (SELECT (j->'bounds'->>0)::float8 w, (j->'bounds'->>1)::float8 s, (j->'bounds'->>2)::float8 e, (j->'bounds'->>3)::float8 n FROM qm_layer) b,
+     terrain, tin_triangles(t) tr,
+     LATERAL (SELECT (ST_DumpPoints(ST_Transform(tr.geom, 4326))).geom AS p) d;
+-- the available tiles of each zoom are the tiles over those bounds
+SELECT z, (a->0->>'startX')::int AS x0, (a->0->>'endX')::int AS x1, (a->0->>'startY')::int AS y0, (a->0->>'endY')::int AS y1
+FROM qm_layer, json_array_elements(j->'available') WITH ORDINALITY e(a, n), LATERAL (SELECT n - 1 AS z) zz
+WHERE z IN (1, 8, 12);
+-- the level a zoom chooses: the coarsest whose error is at most the tile's
+-- geometric error, 77067.34 m / 2^z
+WITH lv AS (SELECT (l->>'level')::int AS level, (l->>'max_error')::float8 AS e FROM terrain, jsonb_array_elements(tin_info(t)->'levels') l),
+     z AS (SELECT z, coalesce((SELECT min(level) FROM lv WHERE e <= 6378137 * 2 * pi() * 0.25 / 130 / 2 ^ z), (SELECT max(level) FROM lv)) AS level
+           FROM generate_series(10, 15) z),
+     tile AS (SELECT z.z, z.level, x, y FROM z, qm_layer,
+                LATERAL (SELECT ((j->'available'->z.z->0->>'startX')::int + (j->'available'->z.z->0->>'endX')::int) / 2 AS x,
+                                ((j->'available'->z.z->0->>'startY')::int + (j->'available'->z.z->0->>'endY')::int) / 2 AS y) c)
+SELECT tile.z, tile.level,
+       tin_quantized_mesh(t, tile.z, x, y) = tin_quantized_mesh(t, tile.level, tile.z, x, y) AS same_as_its_level,
+       tin_quantized_mesh(t, tile.z, x, y) <> tin_quantized_mesh(t, CASE WHEN tile.level = 0 THEN 1 ELSE tile.level - 1 END, tile.z, x, y) AS differs_from_another
+FROM tile, terrain ORDER BY 1;
+-- off the terrain: NULL; with fill, a flat tile of 4 vertices and 2 triangles
+-- (88-byte header, 4 x 6 bytes of vertices, 2 x 3 indices, 4 edge lists of 2)
+SELECT tin_quantized_mesh(t, 0, 1, 0) IS NULL AS east_root_null,
+       length(tin_quantized_mesh(t, 0, 1, 0, fill => 0)) AS filled_bytes,
+       length(tin_quantized_mesh(t, 3, 0, 0, fill => -10)) AS filled_far_bytes,
+       length(tin_quantized_mesh(t, 0, 0, 0, fill => 0)) > length(tin_quantized_mesh(t, 0, 0, 0)) AS fill_adds
+FROM terrain;
+-- normals: one extension of 2 bytes per vertex after the edge lists
+SELECT length(n) - length(b) = 5 + 2 * (get_byte(b, 88) + 256 * get_byte(b, 89) + 65536 * get_byte(b, 90)) AS normals_extension,
+       get_byte(n, length(b)) AS extension_id
+FROM terrain, LATERAL (SELECT tin_quantized_mesh(t, 13, 4357, 5760) AS b, tin_quantized_mesh(t, 13, 4357, 5760, normals => true) AS n) q;
+-- NULLs: no tile; a NULL level is the finest
+SELECT tin_quantized_mesh(NULL, 0, 0, 0) IS NULL AS null_tin, tin_quantized_mesh(t, NULL, 0, 0) IS NULL AS null_z,
+       tin_quantized_mesh(t, NULL::int, 15, 17431, 23044) = tin_quantized_mesh(t, 4, 15, 17431, 23044) AS null_level_finest,
+       tin_quantized_mesh(t, 12, 2178, 2880, fill => NULL) = tin_quantized_mesh(t, 12, 2178, 2880) AS null_fill_none,
+       tin_quantized_mesh_layer(NULL) IS NULL AS null_layer
+FROM terrain;
+-- the geographic tin needs no transform; the same rules
+SELECT (tin_quantized_mesh_layer(tin_from_raster(rast, 2.0, 4))->>'maxzoom')::int AS geo_maxzoom FROM dem_geo;
+-- bad input, one per line
+SELECT try($$SELECT tin_quantized_mesh(t, 25, 0, 0) FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, -1, 0, 0) FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 3, 16, 0) FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 3, 0, 8) FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 3, -1, 0) FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 9, 3, 0, 0) FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 0, 0, 0, fill => 'NaN') FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 0, 0, 0, fill => 'Infinity') FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(tin_from_points('MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3, 10 10 4)'::geometry, 1.0, 1), 0, 0, 0)$$);
+SELECT try($$SELECT tin_quantized_mesh_layer(tin_from_points('MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3, 10 10 4)'::geometry, 1.0, 1))$$);
+DROP TABLE qm_layer;

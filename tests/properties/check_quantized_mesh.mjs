@@ -1,0 +1,143 @@
+// Quantized-mesh tiles from SQL read back by an independent decoder
+// (loaders.gl's @loaders.gl/terrain, from npm) and checked against PostGIS
+// on the same triangles, for the UTM and the geographic tin of the
+// regress database (PG* environment variables):
+//  - the tiles of a zoom add up, tile by tile, to the level's triangles
+//    (tin_triangles through ST_Transform) intersected with the tile by
+//    PostGIS, within what quantizing the hull can move;
+//  - heights at the decoded vertices equal tin_height at those positions
+//    within the quantization (the height step, plus the change of the
+//    surface over half a position step, measured around the point);
+//  - neighbouring tiles have the same vertices on their shared side;
+//  - the level is the one the documented rule gives; off-terrain tiles are
+//    NULL, and with fill every tile of zoom 0 is a full tile.
+import { createRequire } from 'node:module';
+const require = createRequire(new URL('../../web/package.json', import.meta.url));
+const pg = require('pg');
+const { default: decode } = await import(new URL('../../web/node_modules/@loaders.gl/terrain/dist/lib/decode-quantized-mesh.js', import.meta.url));
+
+const client = new pg.Client();
+await client.connect();
+const q = async (sql, params) => (await client.query(sql, params)).rows;
+await q(`CREATE TABLE IF NOT EXISTS qm_geo AS SELECT tin_from_raster(rast, 2.0, 4) AS t FROM dem_geo`);
+
+const fail = [];
+const check = (ok, msg) => { if (!ok) fail.push(msg); };
+const LEVEL0 = 6378137 * 2 * Math.PI * 0.25 / (65 * 2);
+
+function tileBounds(z, x, y) {
+  const s = 180 / 2 ** z;
+  return [-180 + x * s, -90 + y * s, -180 + (x + 1) * s, -90 + (y + 1) * s];
+}
+
+function decodeTile(buf, b) {
+  const ab = buf.buffer.slice(buf.byteOffset, buf.byteOffset + buf.byteLength);
+  const d = decode(ab);
+  const n = d.vertexData.length / 3;
+  const { minHeight, maxHeight } = d.header;
+  const pos = [];
+  for (let i = 0; i < n; i++) {
+    const u = d.vertexData[i], v = d.vertexData[i + n], h = d.vertexData[i + 2 * n];
+    pos.push([b[0] + u / 32767 * (b[2] - b[0]), b[1] + v / 32767 * (b[3] - b[1]), minHeight + h / 32767 * (maxHeight - minHeight), u, v]);
+  }
+  let area = 0;
+  const t = d.triangleIndices;
+  for (let i = 0; i < t.length; i += 3) {
+    const [a, bb, c] = [pos[t[i]], pos[t[i + 1]], pos[t[i + 2]]];
+    area += 0.5 * ((bb[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (bb[1] - a[1]));
+  }
+  return { d, pos, area, hstep: (maxHeight - minHeight) / 32767, n };
+}
+
+for (const [name, table] of [['utm', 'terrain'], ['geographic', 'qm_geo']]) {
+  const [{ info, layer, srid }] = await q(`SELECT tin_info(t) AS info, tin_quantized_mesh_layer(t) AS layer, tin_srid(t) AS srid FROM ${table}`);
+  const errors = info.levels.map((l) => l.max_error);
+  const levelFor = (z) => { const e = LEVEL0 / 2 ** z; const i = errors.findIndex((m) => m <= e); return i < 0 ? errors.length - 1 : i; };
+  const top = layer.maxzoom;
+  check(levelFor(top) === errors.length - 1 && levelFor(top - 1) !== errors.length - 1, `${name}: maxzoom ${top} is not the first zoom of the finest level`);
+  // zooms: where the terrain spans a few tiles, dozens, hundreds, and a block at maxzoom
+  for (const z of [10, 12, top]) {
+    const level = levelFor(z);
+    const r = layer.available[z][0];
+    let xs = [r.startX, r.endX], ys = [r.startY, r.endY];
+    if (z === top) { const cx = (xs[0] + xs[1]) >> 1, cy = (ys[0] + ys[1]) >> 1; xs = [cx - 2, cx + 2]; ys = [cy - 2, cy + 2]; }
+    // the tiles, and PostGIS's area of the level's triangles in each
+    const rows = await q(`
+      WITH tiles AS (
+        SELECT x, y, ST_MakeEnvelope(-180 + x * s, -90 + y * s, -180 + (x + 1) * s, -90 + (y + 1) * s, 4326) AS e
+        FROM generate_series($2::int, $3::int) x, generate_series($4::int, $5::int) y, (SELECT 180 / 2.0 ^ $1::int AS s) k),
+      tris AS (SELECT ST_Transform(ST_Segmentize(geom, 50), 4326) AS g FROM ${table}, tin_triangles(t, $6)),
+      hull AS (SELECT ST_Boundary(ST_ConvexHull(ST_Collect(g))) AS h FROM tris)
+      SELECT x, y, tin_quantized_mesh(t, $1::int, x, y) AS b,
+             (SELECT coalesce(sum(ST_Area(ST_Intersection(g, e))), 0) FROM tris WHERE g && e) AS oracle,
+             (SELECT ST_Length(ST_Intersection(h, e)) FROM hull) AS hull_len,
+             ST_Area(e) AS full
+      FROM tiles, ${table}`, [z, xs[0], xs[1], ys[0], ys[1], level]);
+    const tiles = new Map();
+    let total = 0, oracleTotal = 0, tol = 0;
+    for (const row of rows) {
+      const b = tileBounds(z, row.x, row.y);
+      const ustep = (b[2] - b[0]) / 32767;
+      if (row.b === null) { check(row.oracle < 1e-14, `${name} z${z} ${row.x}/${row.y}: NULL but ${row.oracle} deg² of terrain`); continue; }
+      const t = decodeTile(row.b, b);
+      const tt = ustep * (2 * row.hull_len + 4 * ustep) + 1e-12 * row.full;
+      check(Math.abs(t.area - row.oracle) <= tt, `${name} z${z} ${row.x}/${row.y}: decoded area ${t.area}, PostGIS ${row.oracle}, tolerance ${tt}`);
+      total += t.area; oracleTotal += row.oracle; tol += tt;
+      tiles.set(`${row.x},${row.y}`, { b, t });
+    }
+    check(Math.abs(total - oracleTotal) <= tol, `${name} z${z}: tiles add up to ${total}, PostGIS ${oracleTotal}`);
+    // heights: up to 25 vertices a tile, with the surface around each
+    const pts = [];
+    for (const { b, t } of tiles.values()) {
+      const step = [(b[2] - b[0]) / 32767 / 2, (b[3] - b[1]) / 32767 / 2];
+      for (let i = 0; i < t.n; i += Math.max(1, Math.floor(t.n / 25))) pts.push([...t.pos[i], step[0], step[1], t.hstep]);
+    }
+    const hs = await q(`
+      WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[], $3::float8[], $4::float8[]) WITH ORDINALITY AS p(lon, lat, du, dv, i))
+      SELECT i,
+        (SELECT array_agg(tin_height(t, ST_Transform(ST_SetSRID(ST_MakePoint(lon + a * du, lat + c * dv), 4326), $5::int), $6::int) ORDER BY k)
+         FROM (VALUES (1, 0, 0), (2, 1, 0), (3, -1, 0), (4, 0, 1), (5, 0, -1)) o(k, a, c)) AS h
+      FROM p, ${table} ORDER BY 1`,
+      [pts.map((p) => p[0]), pts.map((p) => p[1]), pts.map((p) => p[5]), pts.map((p) => p[6]), srid, level]);
+    let worst = 0, off = 0;
+    for (const { i, h } of hs) {
+      const p = pts[i - 1];
+      if (h[0] === null) { off++; continue; }
+      const around = (k) => (h[k] === null ? 0 : Math.abs(h[k] - h[0]));
+      const tolh = p[7] + Math.max(around(1), around(2)) + Math.max(around(3), around(4)) + 1e-6;
+      const err = Math.abs(p[2] - h[0]);
+      worst = Math.max(worst, err / tolh);
+      check(err <= tolh, `${name} z${z}: vertex at ${p[0]}, ${p[1]} has height ${p[2]}, tin_height ${h[0]} (tolerance ${tolh})`);
+    }
+    check(off <= pts.length * 0.05, `${name} z${z}: ${off} of ${pts.length} vertices off the terrain`);
+    // shared sides
+    let shared = 0;
+    for (const [k, { t }] of tiles) {
+      const [x, y] = k.split(',').map(Number);
+      for (const [dx, dy, mine, theirs, along] of [[1, 0, 'eastIndices', 'westIndices', 4], [0, 1, 'northIndices', 'southIndices', 3]]) {
+        const o = tiles.get(`${x + dx},${y + dy}`);
+        if (!o) continue;
+        const a = [...new Set(Array.from(t.d[mine], (i) => t.pos[i][along]))].sort((p, q2) => p - q2);
+        const b = [...new Set(Array.from(o.t.d[theirs], (i) => o.t.pos[i][along]))].sort((p, q2) => p - q2);
+        check(a.join() === b.join(), `${name} z${z}: side between ${x},${y} and ${x + dx},${y + dy}: ${a.length} against ${b.length} vertices`);
+        shared += a.length;
+      }
+    }
+    console.log(`  ${name} z${z} (level ${level}): ${tiles.size} tiles, areas within ${tol.toExponential(1)} deg², ${pts.length} heights (worst ${(100 * worst).toFixed(0)} % of tolerance, ${off} off the terrain), ${shared} shared side vertices`);
+  }
+  // off the terrain: NULL; with fill a whole tile
+  const [{ b0, f0, fw }] = await q(`SELECT tin_quantized_mesh(t, 0, 1, 0) AS b0, tin_quantized_mesh(t, 0, 1, 0, fill => 0) AS f0,
+      tin_quantized_mesh(t, 0, 0, 0, fill => 0) AS fw FROM ${table}`);
+  check(b0 === null, `${name}: the eastern root tile is not NULL`);
+  const f = decodeTile(f0, tileBounds(0, 1, 0));
+  check(Math.abs(f.area - 180 * 180) < 1e-6 && f.d.triangleIndices.length === 6, `${name}: the filled eastern root tile covers ${f.area} deg² in ${f.d.triangleIndices.length / 3} triangles`);
+  // the western one holds the terrain and the fill around it
+  const w = decodeTile(fw, tileBounds(0, 0, 0));
+  check(Math.abs(w.area - 180 * 180) < 1e-6, `${name}: the filled western root tile covers ${w.area} deg²`);
+}
+await client.end();
+if (fail.length) {
+  console.error(`quantized-mesh check failed (${fail.length}):\n  ` + fail.slice(0, 20).join('\n  '));
+  process.exit(1);
+}
+console.log('quantized-mesh tiles: decoded by loaders.gl, areas, heights and shared sides agree with PostGIS');
