@@ -28,6 +28,15 @@ if ! grep -qs "pg15" "${PGRX_HOME:-$HOME/.pgrx}/config.toml"; then
   cargo pgrx init --pg15 "$PG_CONFIG"
 fi
 
+# The web pages' JavaScript (CesiumJS, node-postgres, loaders.gl,
+# puppeteer-core), pinned by web/package-lock.json, from the npm registry
+web="$(cd "$(dirname "$0")/.." && pwd)/web"
+if [ ! -d "$web/node_modules/cesium" ] || [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
+  command -v npm >/dev/null || $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nodejs npm
+  echo "== npm ci --prefix web"
+  npm ci --prefix "$web" --no-audit --no-fund --loglevel=error
+fi
+
 # Python libraries used by the independent property tests and the
 # benchmark (exactextract: the coverage-weighted oracle for raster stats)
 if ! python3 -c "import numpy, matplotlib, shapely, exactextract" 2>/dev/null; then

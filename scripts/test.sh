@@ -46,6 +46,9 @@ tests/preload.sh
 echo "== browser: the demo page's pictures and 3D views in headless Chromium"
 tests/browser.sh
 
+echo "== globe: quantized-mesh tiles decoded by loaders.gl against PostGIS, CesiumJS drawing the served terrain"
+tests/globe.sh
+
 echo "== tutorial: every block of docs/tutorial.md, in order"
 tests/tutorial.sh
 

@@ -14,7 +14,7 @@ use super::interrupt::interrupt;
 use super::memory;
 use super::tin_type::TinArg;
 use pgrx::Json;
-use tinmerge_core::serve::quantized_mesh::{encode, needed, split_length, tile_bytes};
+use tinmerge_core::serve::quantized_mesh::{encode, hull, needed, split_length, tile_bytes};
 use tinmerge_core::serve::tiling::{layer_json, level_for_zoom, tile_bounds, TileBounds};
 use tinmerge_core::tin::Tin;
 
@@ -70,8 +70,7 @@ fn max_edge(tin: &Tin) -> Option<f64> {
 /// (the tiles' triangles are straight between those, so this holds them
 /// all).
 fn geo_bounds(tin: &Tin, l: usize, max_len: Option<f64>) -> [f64; 4] {
-    // no triangle meets a NaN footprint: only the hull
-    let hull = needed(tin, l, Some([f64::NAN; 4]), false, true, max_len);
+    let hull = hull(tin, l, max_len);
     let g = points_to_degrees(tin, hull.points(tin));
     let mut b = [
         f64::INFINITY,
@@ -88,6 +87,44 @@ fn geo_bounds(tin: &Tin, l: usize, max_len: Option<f64>) -> [f64; 4] {
         ];
     }
     b
+}
+
+/// A geographic extent holding the whole tin, cheaply: its bounding box's
+/// outline (32 points a side) in degrees, widened by 1e-5 degrees (a
+/// metre; the outline's pieces bulge far less).
+fn geo_extent(tin: &Tin) -> [f64; 4] {
+    let b = &tin.bbox;
+    let mut ring = Vec::with_capacity(128);
+    for i in 0..32 {
+        let f = i as f64 / 32.0;
+        let (x, y) = (
+            b.min_x + f * (b.max_x - b.min_x),
+            b.min_y + f * (b.max_y - b.min_y),
+        );
+        ring.extend_from_slice(&[
+            [x, b.min_y],
+            [b.max_x, y],
+            [b.max_x - (x - b.min_x), b.max_y],
+            [b.min_x, b.max_y - (y - b.min_y)],
+        ]);
+    }
+    let g = points_to_degrees(tin, ring);
+    let m = if tin.srid == WGS84 { 0.0 } else { 1e-5 };
+    let mut e = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in g {
+        e = [
+            e[0].min(p[0] - m),
+            e[1].min(p[1] - m),
+            e[2].max(p[0] + m),
+            e[3].max(p[1] + m),
+        ];
+    }
+    e
 }
 
 /// The part of the tile over the terrain, in the tin's coordinates: the
@@ -159,15 +196,13 @@ fn tile(
         Some(lv) => tin.level_index(lv).or_raise(),
     };
     let max_len = max_edge(&tin);
-    let b = geo_bounds(&tin, l, max_len);
+    let b = geo_extent(&tin);
     let need = if !tb.intersects(&b) {
         if fill.is_none() {
             return None;
         }
         // only the hull, to tell the fill it is off the terrain
-        let mut n = needed(&tin, l, Some([f64::NAN; 4]), false, true, max_len);
-        n.triangles.clear();
-        n
+        hull(&tin, l, max_len)
     } else {
         let f = if tb.contains(&b) {
             None

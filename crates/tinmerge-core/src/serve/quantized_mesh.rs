@@ -24,10 +24,14 @@
 //! **Fill.** With `fill = Some(h)` the part of the tile off the terrain is
 //! covered too: a constrained Delaunay triangulation (spade) of the tile's
 //! corners and the level's hull edges clipped to the tile, keeping the
-//! faces outside the domain, with the tile's corners at height `h` and
-//! the hull's points at the terrain's heights (the same vertices as the
-//! terrain's triangles, so the mesh is closed). A tile off the terrain is
-//! then two flat triangles. Without fill such a tile is `None`.
+//! faces outside the domain, all at height `h`, and a vertical wall along
+//! the hull from the terrain's edge to that height (facing out; the wall's
+//! top vertices are the terrain's own, so the mesh is closed). The fill is
+//! flat and the walls follow the hull, so neighbouring tiles and tiles of
+//! different zooms agree (a fill sloping from the hull to the tile's
+//! corners differed from zoom to zoom, and Cesium's skirts showed at the
+//! seams). A tile off the terrain is then two flat triangles. Without fill
+//! such a tile is `None`.
 //!
 //! **Encoding** ([spec](https://github.com/CesiumGS/quantized-mesh)): the
 //! 88-byte header (centre and bounding sphere in ECEF, WGS 84; minimum and
@@ -268,6 +272,25 @@ pub fn needed(
     out
 }
 
+/// Only the hull of `level` (its edges, split as [`needed`] splits them,
+/// and their points): what the fill of a tile off the terrain needs, and
+/// the terrain's exact geographic extent.
+pub fn hull(tin: &Tin, level: usize, max_len: Option<f64>) -> Needed {
+    needed(
+        tin,
+        level,
+        Some([
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ]),
+        false,
+        true,
+        max_len,
+    )
+}
+
 /// The longest edge that may stay straight in longitude/latitude: the
 /// image of a straight line of length `d` bulges `sagitta` degrees from
 /// its chord (measured by the caller on the terrain's own diagonals), and
@@ -505,6 +528,8 @@ fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
+type Keys = FxHashMap<(u64, u64, bool), u32>;
+
 /// The vertices and triangles of a tile before encoding (longitude,
 /// latitude in degrees, height in metres; CCW triangles).
 #[derive(Clone, Debug, Default)]
@@ -515,9 +540,12 @@ pub struct TileMesh {
 }
 
 impl TileMesh {
-    fn add(&mut self, keys: &mut FxHashMap<(u64, u64), u32>, p: &Pt) -> u32 {
+    /// The vertex at `p`: one per position on the terrain, and one per
+    /// position at the fill's height (a wall joins the two on the hull).
+    fn add(&mut self, keys: &mut Keys, p: &Pt) -> u32 {
+        let fill = matches!(p.kind, Kind::Fill);
         *keys
-            .entry((p.x.to_bits(), p.y.to_bits()))
+            .entry((p.x.to_bits(), p.y.to_bits(), fill))
             .or_insert_with(|| {
                 self.points.push([p.x, p.y, p.h]);
                 self.kinds.push(p.kind);
@@ -546,7 +574,7 @@ pub fn tile_mesh(
     };
     let mut tick = Ticker::new(interrupt);
     let mut mesh = TileMesh::default();
-    let mut keys: FxHashMap<(u64, u64), u32> = FxHashMap::default();
+    let mut keys: Keys = FxHashMap::default();
     let lv = &tin.levels[level];
     let mut pieces: Vec<[u32; 3]> = Vec::new();
     for &t in &need.triangles {
@@ -655,7 +683,7 @@ fn fill_tile(
     need: &Needed,
     h: f64,
     mesh: &mut TileMesh,
-    keys: &mut FxHashMap<(u64, u64), u32>,
+    keys: &mut Keys,
     tick: &mut Ticker,
 ) -> Result<(), TinError> {
     let b = cx.b;
@@ -713,9 +741,14 @@ fn fill_tile(
     for c in &corners {
         insert(&mut cdt, c)?;
     }
+    let low = |p: &Pt| Pt {
+        h,
+        kind: Kind::Fill,
+        ..*p
+    };
     let mut edges = Vec::with_capacity(pieces.len());
     for [p, q] in &pieces {
-        edges.push((insert(&mut cdt, p)?, insert(&mut cdt, q)?));
+        edges.push((insert(&mut cdt, &low(p))?, insert(&mut cdt, &low(q))?));
     }
     for (p, q) in edges {
         tick.tick()?;
@@ -752,6 +785,17 @@ fn fill_tile(
             let c = mesh.add(keys, &p[2]);
             mesh.triangles.push([a, b2, c]);
         }
+    }
+    // walls from the terrain's edge down (or up) to the fill, facing out
+    for [p, q] in &pieces {
+        tick.tick()?;
+        if p.h == h && q.h == h {
+            continue;
+        }
+        let (pt, qt) = (mesh.add(keys, p), mesh.add(keys, q));
+        let (pb, qb) = (mesh.add(keys, &low(p)), mesh.add(keys, &low(q)));
+        mesh.triangles.push([pb, qb, qt]);
+        mesh.triangles.push([pb, qt, pt]);
     }
     Ok(())
 }
