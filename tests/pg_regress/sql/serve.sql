@@ -10,11 +10,10 @@ SELECT j->>'format' AS format, j->>'scheme' AS scheme, j->>'projection' AS proje
        j->'available'->0 AS zoom0, json_array_length(j->'available') AS zooms
 FROM qm_layer;
 -- the bounds hold the terrain: every vertex of the finest level, through PostGIS
-SELECT bool_and(ST_X(p) >= w AND ST_Y(p) >= s AND ST_X(p) <= e AND ST_Y(p) <= n) AS bounds_hold,
-       round(min(w)::numeric, 4) AS west, round(max(n)::numeric, 4) AS north
+SELECT ST_XMin(g::box3d) >= w AND ST_YMin(g::box3d) >= s AND ST_XMax(g::box3d) <= e AND ST_YMax(g::box3d) <= n AS bounds_hold,
+       round(w::numeric, 4) AS west, round(n::numeric, 4) AS north
 FROM (SELECT (j->'bounds'->>0)::float8 w, (j->'bounds'->>1)::float8 s, (j->'bounds'->>2)::float8 e, (j->'bounds'->>3)::float8 n FROM qm_layer) b,
-     terrain, tin_triangles(t) tr,
-     LATERAL (SELECT (ST_DumpPoints(ST_Transform(tr.geom, 4326))).geom AS p) d;
+     (SELECT ST_Transform(ST_Collect(geom), 4326) AS g FROM terrain, tin_triangles(t)) v;
 -- the available tiles of each zoom are the tiles over those bounds
 SELECT z, (a->0->>'startX')::int AS x0, (a->0->>'endX')::int AS x1, (a->0->>'startY')::int AS y0, (a->0->>'endY')::int AS y1
 FROM qm_layer, json_array_elements(j->'available') WITH ORDINALITY e(a, n), LATERAL (SELECT n - 1 AS z) zz
