@@ -234,6 +234,8 @@ echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs
 cargo bench -p tinmerge-core --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"
 scripts/bench-parallel.sh
+echo "== serving: quantized-mesh tiles and contours (docs/performance.md)"
+scripts/bench-serve.sh
 echo "== first call in a fresh backend: stored values read in slices (docs/performance.md)"
 scripts/bench-cold.sh
 echo "== storage: sizes, encode and whole decode, cold and warm sliced reads in memory (cargo bench -p tinmerge-core --bench storage)"

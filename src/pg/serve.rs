@@ -209,7 +209,7 @@ fn tile(
         } else {
             Some(footprint(&tin, &tb, &b))
         };
-        needed(&tin, l, f, normals, fill.is_some(), max_len)
+        needed(&tin, l, f, normals, fill.is_some(), max_len, &mut interrupt).or_raise()
     };
     memory::reserve(tile_bytes(need.triangles.len() + need.ring.len()), || {
         format!(

@@ -62,7 +62,7 @@
 //! }
 //! let tin = build(pts, &[5.0, 0.0], 4326, &mut || Ok(())).unwrap();
 //! // a tin in EPSG:4326: its own coordinates are the geographic ones
-//! let need = needed(&tin, 1, None, false, false, None);
+//! let need = needed(&tin, 1, None, false, false, None, &mut || Ok(())).unwrap();
 //! let geo = need.points(&tin);
 //! let tile = tile_bounds(8, 136, 179).unwrap();
 //! let bytes = encode(&tin, 1, &tile, &need, &geo, false, None, &mut || Ok(())).unwrap().unwrap();
@@ -74,6 +74,8 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::tiling::TileBounds;
 use crate::interrupt::{Interrupt, Ticker};
+use crate::merge::area::polygon::Area;
+use crate::merge::area::{sweep, Method};
 use crate::tin::{Tin, TinError, NONE};
 
 /// WGS 84 semi-major axis and flattening.
@@ -179,10 +181,11 @@ impl Needed {
     }
 }
 
-/// The triangles of `level` whose bounding box, widened by 2 % of its own
-/// size (a triangle's geographic image is not its projected footprint
-/// exactly), meets `footprint` = `[min x, min y, max x, max y]` in the
-/// tin's coordinates (`None`: all), with what [`encode`] needs about them.
+/// The triangles of `level` that meet `footprint` = `[min x, min y, max
+/// x, max y]` in the tin's coordinates (`None`: all; the caller widens it
+/// by what the geographic image of a triangle can differ from its own
+/// footprint), found by the area merge's flat sweep of that rectangle,
+/// with what [`encode`] needs about them.
 ///
 /// `max_len` (the tin's units; `None`: never) splits every edge longer
 /// than it into equal pieces ([`split_length`] gives it): a straight edge
@@ -199,43 +202,70 @@ pub fn needed(
     normals: bool,
     fill: bool,
     max_len: Option<f64>,
-) -> Needed {
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Needed, TinError> {
     let lv = &tin.levels[level];
     let mut out = Needed {
         base: lv.num_vertices,
         ..Needed::default()
     };
     let mut used = vec![false; lv.num_vertices as usize];
-    for (t, tri) in lv.tris.iter().enumerate() {
-        if let Some(f) = footprint {
-            let c = tin.corners(level, t as u32);
-            let (mut x0, mut y0, mut x1, mut y1) = (c[0][0], c[0][1], c[0][0], c[0][1]);
-            for p in &c[1..] {
-                x0 = x0.min(p[0]);
-                y0 = y0.min(p[1]);
-                x1 = x1.max(p[0]);
-                y1 = y1.max(p[1]);
-            }
-            let m = 0.02 * ((x1 - x0) + (y1 - y0));
-            if x1 + m < f[0] || x0 - m > f[2] || y1 + m < f[1] || y0 - m > f[3] {
-                continue;
-            }
+    match footprint {
+        None => out.triangles = (0..lv.tris.len() as u32).collect(),
+        Some(f) if f[0] < f[2] && f[1] < f[3] => {
+            // the triangles meeting the rectangle, by the area merge's flat
+            // sweep at this level alone (no scan of the level)
+            let area = Area::new(vec![vec![vec![
+                [f[0], f[1]],
+                [f[2], f[1]],
+                [f[2], f[3]],
+                [f[0], f[3]],
+                [f[0], f[1]],
+            ]]]);
+            let s = sweep(tin, level, &area, Method::Flat, interrupt)?;
+            let mut ids = s.inside.get(level).cloned().unwrap_or_default();
+            ids.extend_from_slice(&s.boundary);
+            ids.sort_unstable();
+            ids.dedup();
+            out.triangles = ids;
         }
-        out.triangles.push(t as u32);
-        for &v in tri {
+        Some(_) => {}
+    }
+    for &t in &out.triangles {
+        for &v in &lv.tris[t as usize] {
             used[v as usize] = true;
         }
     }
     if normals {
-        let corner = used.clone();
-        for (t, tri) in lv.tris.iter().enumerate() {
-            if tri.iter().any(|&v| corner[v as usize]) {
-                out.ring.push(t as u32);
-                for &v in tri {
-                    used[v as usize] = true;
+        // every triangle around a vertex of those: from each, the triangles
+        // across its edges that hold the vertex too
+        let mut ring = rustc_hash::FxHashSet::default();
+        let mut stack = Vec::new();
+        for &t in &out.triangles {
+            for &v in &lv.tris[t as usize] {
+                stack.push(t);
+                while let Some(u) = stack.pop() {
+                    if !ring.insert((v, u)) {
+                        continue;
+                    }
+                    for &n in &lv.nbrs[u as usize] {
+                        if n != NONE && lv.tris[n as usize].contains(&v) && !ring.contains(&(v, n))
+                        {
+                            stack.push(n);
+                        }
+                    }
                 }
             }
         }
+        let mut ts: Vec<u32> = ring.into_iter().map(|(_, t)| t).collect();
+        ts.sort_unstable();
+        ts.dedup();
+        for &t in &ts {
+            for &v in &lv.tris[t as usize] {
+                used[v as usize] = true;
+            }
+        }
+        out.ring = ts;
     }
     let mut hull = Vec::new();
     if fill {
@@ -269,26 +299,24 @@ pub fn needed(
     out.vertices = (0..used.len() as u32)
         .filter(|&v| used[v as usize])
         .collect();
-    out
+    Ok(out)
 }
 
 /// Only the hull of `level` (its edges, split as [`needed`] splits them,
 /// and their points): what the fill of a tile off the terrain needs, and
 /// the terrain's exact geographic extent.
 pub fn hull(tin: &Tin, level: usize, max_len: Option<f64>) -> Needed {
+    // an empty footprint: no triangle, and nothing that can fail
     needed(
         tin,
         level,
-        Some([
-            f64::INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-        ]),
+        Some([0.0; 4]),
         false,
         true,
         max_len,
+        &mut || Ok(()),
     )
+    .unwrap_or_default()
 }
 
 /// The longest edge that may stay straight in longitude/latitude: the
