@@ -65,28 +65,33 @@ fn max_edge(tin: &Tin) -> Option<f64> {
     split_length((b.max_x - b.min_x).hypot(b.max_y - b.min_y), sagitta)
 }
 
+/// The bounding box `[min x, min y, max x, max y]` of points, widened by
+/// `margin` on every side.
+fn extent(pts: impl IntoIterator<Item = [f64; 2]>, margin: f64) -> [f64; 4] {
+    let mut e = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in pts {
+        e = [
+            e[0].min(p[0]),
+            e[1].min(p[1]),
+            e[2].max(p[0]),
+            e[3].max(p[1]),
+        ];
+    }
+    [e[0] - margin, e[1] - margin, e[2] + margin, e[3] + margin]
+}
+
 /// The geographic extent `[west, south, east, north]` of level `l`: its
 /// hull's vertices and the points splitting its long edges in degrees
 /// (the tiles' triangles are straight between those, so this holds them
 /// all).
 fn geo_bounds(tin: &Tin, l: usize, max_len: Option<f64>) -> [f64; 4] {
     let hull = hull(tin, l, max_len);
-    let g = points_to_degrees(tin, hull.points(tin));
-    let mut b = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    for p in g {
-        b = [
-            b[0].min(p[0]),
-            b[1].min(p[1]),
-            b[2].max(p[0]),
-            b[3].max(p[1]),
-        ];
-    }
-    b
+    extent(points_to_degrees(tin, hull.points(tin)), 0.0)
 }
 
 /// A geographic extent holding the whole tin, cheaply: its bounding box's
@@ -108,23 +113,8 @@ fn geo_extent(tin: &Tin) -> [f64; 4] {
             [b.min_x, b.max_y - (y - b.min_y)],
         ]);
     }
-    let g = points_to_degrees(tin, ring);
     let m = if tin.srid == WGS84 { 0.0 } else { 1e-5 };
-    let mut e = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    for p in g {
-        e = [
-            e[0].min(p[0] - m),
-            e[1].min(p[1] - m),
-            e[2].max(p[0] + m),
-            e[3].max(p[1] + m),
-        ];
-    }
-    e
+    extent(points_to_degrees(tin, ring), m)
 }
 
 /// The part of the tile over the terrain, in the tin's coordinates: the
@@ -145,26 +135,15 @@ fn footprint(tin: &Tin, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] {
         ring.push([e - f * (e - w), n]);
         ring.push([w, n - f * (n - s)]);
     }
-    let pts = if tin.srid == WGS84 {
-        ring
+    // widened by 1e-5 of the terrain's diagonal: the geographic image of a
+    // triangle (split as needed) is within a millimetre of its footprint
+    let b = &tin.bbox;
+    if tin.srid == WGS84 {
+        extent(ring, 0.0)
     } else {
-        postgis_transform(&ring, WGS84, tin.srid)
-    };
-    let mut f = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    for p in pts {
-        f = [
-            f[0].min(p[0]),
-            f[1].min(p[1]),
-            f[2].max(p[0]),
-            f[3].max(p[1]),
-        ];
+        let m = 1e-5 * (b.max_x - b.min_x).hypot(b.max_y - b.min_y);
+        extent(postgis_transform(&ring, WGS84, tin.srid), m)
     }
-    f
 }
 
 #[allow(clippy::too_many_arguments)]
