@@ -996,23 +996,6 @@ pub fn encode(
     }
     let n = seq.len();
     let pts: Vec<[f64; 3]> = seq.iter().map(|&v| mesh.points[v as usize]).collect();
-    let ecefs: Vec<[f64; 3]> = pts.iter().map(|p| ecef(p[0], p[1], p[2])).collect();
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for e in &ecefs {
-        for k in 0..3 {
-            lo[k] = lo[k].min(e[k]);
-            hi[k] = hi[k].max(e[k]);
-        }
-    }
-    let centre = [
-        (lo[0] + hi[0]) / 2.0,
-        (lo[1] + hi[1]) / 2.0,
-        (lo[2] + hi[2]) / 2.0,
-    ];
-    let radius = ecefs
-        .iter()
-        .map(|e| norm(sub(*e, centre)))
-        .fold(0.0, f64::max);
     let hmin = pts.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
     let hmax = pts.iter().map(|p| p[2]).fold(f64::NEG_INFINITY, f64::max);
     // f32 bounds rounded outwards
@@ -1023,21 +1006,6 @@ pub fn encode(
     let mut fmax = hmax as f32;
     if (fmax as f64) < hmax {
         fmax = fmax.next_up();
-    }
-    let horizon = horizon_point(centre, &ecefs);
-
-    let mut out = Vec::with_capacity(88 + 4 + n * 6 + idx.len() * 4 + 64);
-    for v in centre {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    out.extend_from_slice(&fmin.to_le_bytes());
-    out.extend_from_slice(&fmax.to_le_bytes());
-    for v in centre {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    out.extend_from_slice(&radius.to_le_bytes());
-    for v in horizon {
-        out.extend_from_slice(&v.to_le_bytes());
     }
     let q = |v: f64, lo: f64, hi: f64| -> i32 {
         if hi > lo {
@@ -1055,6 +1023,51 @@ pub fn encode(
         .iter()
         .map(|p| q(p[2], fmin as f64, fmax as f64))
         .collect();
+    // the bounding sphere and horizon point of the positions a reader
+    // decodes (at zoom 0 a quantization step is 600 m)
+    let (lo_h, hi_h) = (fmin as f64, fmax as f64);
+    let ecefs: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            ecef(
+                tile.west + u[i] as f64 / QMAX * (tile.east - tile.west),
+                tile.south + v[i] as f64 / QMAX * (tile.north - tile.south),
+                lo_h + hq[i] as f64 / QMAX * (hi_h - lo_h),
+            )
+        })
+        .collect();
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for e in &ecefs {
+        for k in 0..3 {
+            lo[k] = lo[k].min(e[k]);
+            hi[k] = hi[k].max(e[k]);
+        }
+    }
+    let centre = [
+        (lo[0] + hi[0]) / 2.0,
+        (lo[1] + hi[1]) / 2.0,
+        (lo[2] + hi[2]) / 2.0,
+    ];
+    // a centimetre more than the farthest, for the rounding of a reader
+    let radius = ecefs
+        .iter()
+        .map(|e| norm(sub(*e, centre)))
+        .fold(0.0, f64::max)
+        + 0.01;
+    let horizon = horizon_point(centre, &ecefs);
+
+    let mut out = Vec::with_capacity(88 + 4 + n * 6 + idx.len() * 4 + 64);
+    for v in centre {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out.extend_from_slice(&fmin.to_le_bytes());
+    out.extend_from_slice(&fmax.to_le_bytes());
+    for v in centre {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out.extend_from_slice(&radius.to_le_bytes());
+    for v in horizon {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
     out.extend_from_slice(&(n as u32).to_le_bytes());
     for arr in [&u, &v, &hq] {
         let mut prev = 0;
