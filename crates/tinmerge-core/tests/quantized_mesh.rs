@@ -594,3 +594,159 @@ fn tile_addresses_are_checked() {
         [-180.0, -90.0, 0.0, 90.0]
     );
 }
+
+/// A terrain stored as tiles (`build_tiles`: tins sharing their seams) cut
+/// into quantized-mesh tiles from all of them at once: each tile's area is
+/// that of every tin's triangles clipped by the tests' own clipper, heights
+/// are the tiled surface's (brute force over every tin), vertices on the
+/// seams are one vertex, and with fill the walls stand only on the
+/// terrain's outer edge, never along a seam.
+#[test]
+fn tiled_terrain_is_one_mesh() {
+    use tinmerge_core::serve::quantized_mesh::{encode_many, Source};
+    use tinmerge_core::tin::tiles::build_tiles;
+    let d = common::read_dem("jacksboro_fault_dem.tif");
+    let lat = d.lattice();
+    let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
+    let tols = default_tolerances(2.0, 3).unwrap();
+    let mut tins: Vec<Tin> = Vec::new();
+    build_tiles(
+        &d.values,
+        d.width,
+        d.height,
+        &valid,
+        &lat,
+        150,
+        &tols,
+        4326,
+        &mut || Ok(()),
+        &|_, _, t| t,
+        &mut |t| {
+            tins.push(t);
+            Ok(())
+        },
+    )
+    .unwrap();
+    assert!(tins.len() >= 4);
+    let whole = build(d.samples(), &tols, 4326, &mut || Ok(())).unwrap();
+    for level in [0, 2] {
+        let tris: Vec<[[f64; 3]; 3]> = tins
+            .iter()
+            .flat_map(|t| (0..t.levels[level].tris.len() as u32).map(move |i| t.corners(level, i)))
+            .collect();
+        let b = bounds(&tris);
+        // the outer edge: the hull of every sample (the tins' union is convex)
+        let outer: Vec<[[f64; 2]; 2]> = {
+            let lv = &whole.levels[0];
+            let mut h = Vec::new();
+            for (t, nb) in lv.nbrs.iter().enumerate() {
+                for j in 0..3 {
+                    if nb[j] == NONE {
+                        let tri = lv.tris[t];
+                        let (p, q) = (
+                            whole.verts[tri[(j + 1) % 3] as usize],
+                            whole.verts[tri[(j + 2) % 3] as usize],
+                        );
+                        h.push([[p[0], p[1]], [q[0], q[1]]]);
+                    }
+                }
+            }
+            h
+        };
+        for z in [9, 11, 12] {
+            let (x0, y0, x1, y1) = tile_range(z, &b);
+            let mut seam_shared = 0;
+            for x in x0..=x1 {
+                for y in y0..=y1 {
+                    let tb = tile_bounds(z, x as i32, y as i32).unwrap();
+                    let needs: Vec<_> = tins
+                        .iter()
+                        .map(|t| needed(t, level, None, true, true, None, &mut || Ok(())).unwrap())
+                        .collect();
+                    let geos: Vec<Vec<[f64; 2]>> =
+                        tins.iter().zip(&needs).map(|(t, n)| n.points(t)).collect();
+                    let srcs: Vec<Source> = tins
+                        .iter()
+                        .zip(&needs)
+                        .zip(&geos)
+                        .map(|((t, n), g)| Source {
+                            tin: t,
+                            level,
+                            need: n,
+                            geo: g,
+                        })
+                        .collect();
+                    let oracle: f64 = tris
+                        .iter()
+                        .map(|t| {
+                            let p = clip_rect(t.iter().map(|p| [p[0], p[1]]).collect(), &tb);
+                            if p.len() < 3 {
+                                0.0
+                            } else {
+                                area2(&p)
+                            }
+                        })
+                        .sum();
+                    let Some(bytes) = encode_many(&srcs, &tb, true, None, &mut || Ok(())).unwrap()
+                    else {
+                        assert!(oracle < 1e-15);
+                        continue;
+                    };
+                    let dq = decode(&bytes);
+                    let ustep = (tb.east - tb.west) / 32767.0;
+                    let tol = ustep * 2.0 * (tb.east - tb.west) * 4.0 + 1e-12;
+                    assert!(
+                        (dq.area(&tb) - oracle).abs() <= tol,
+                        "level {level} z{z} {x}/{y}: {} against {oracle}",
+                        dq.area(&tb)
+                    );
+                    // seam vertices are one vertex: no two vertices at one position
+                    let mut pos: Vec<(u32, u32)> =
+                        (0..dq.u.len()).map(|i| (dq.u[i], dq.v[i])).collect();
+                    let n = pos.len();
+                    pos.sort_unstable();
+                    pos.dedup();
+                    seam_shared += n - pos.len();
+                    let hstep = (dq.max_h - dq.min_h) / 32767.0;
+                    let grad = max_gradient(&tris);
+                    for i in (0..dq.u.len()).step_by((dq.u.len() / 40).max(1)) {
+                        let p = dq.lonlat(&tb, i);
+                        if let Some(h) = oracle_height(&tris, p[0], p[1]) {
+                            assert!(
+                                (h - p[2]).abs() <= hstep + grad * 2.0 * ustep + 1e-6,
+                                "level {level} z{z}: height {} against {h}",
+                                p[2]
+                            );
+                        }
+                    }
+                    // with fill: walls (triangles without area) only on the outer edge
+                    let filled = decode(
+                        &encode_many(&srcs, &tb, false, Some(0.0), &mut || Ok(()))
+                            .unwrap()
+                            .unwrap(),
+                    );
+                    let full = (tb.east - tb.west) * (tb.north - tb.south);
+                    assert!((filled.area(&tb) - full).abs() <= 1e-9 * full);
+                    for tr in &filled.tris {
+                        let [a, bb, c] = tr.map(|i| filled.lonlat(&tb, i as usize));
+                        let ar = (bb[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (bb[1] - a[1]);
+                        // a wall: no area, down to the fill (the terrain is
+                        // hundreds of metres above it)
+                        let flat = a[2] == bb[2] && bb[2] == c[2];
+                        let down = [a, bb, c].iter().any(|p| p[2] == 0.0);
+                        if ar == 0.0 && !flat && down {
+                            for p in [a, bb, c] {
+                                let dist = outer
+                                    .iter()
+                                    .map(|e| seg_dist([p[0], p[1]], e[0], e[1]))
+                                    .fold(f64::INFINITY, f64::min);
+                                assert!(dist <= 2.0 * ustep, "level {level} z{z} {x}/{y}: a wall at {p:?}, {dist} deg from the terrain's edge");
+                            }
+                        }
+                    }
+                }
+            }
+            println!("tiled level {level} z{z}: {} duplicate positions (distinct vertices only by height)", seam_shared);
+        }
+    }
+}

@@ -359,13 +359,28 @@ struct Pt {
     y: f64,
     h: f64,
     kind: Kind,
+    /// The source (tin) the point comes from.
+    src: u32,
 }
 
 struct Tile<'a> {
     b: TileBounds,
     tin: &'a Tin,
+    level: usize,
     need: &'a Needed,
     geo: &'a [[f64; 2]],
+    src: u32,
+}
+
+/// One tin cut into a tile: its level, what [`needed`] found, and the
+/// geographic positions of [`Needed::points`]. A terrain stored as tiles
+/// (tins sharing their seams, `tin::tiles`) is one source per tin.
+#[derive(Clone, Copy)]
+pub struct Source<'a> {
+    pub tin: &'a Tin,
+    pub level: usize,
+    pub need: &'a Needed,
+    pub geo: &'a [[f64; 2]],
 }
 
 impl Tile<'_> {
@@ -408,6 +423,7 @@ impl Tile<'_> {
             y: g[1],
             h,
             kind: Kind::Vertex(v),
+            src: self.src,
         })
     }
 
@@ -442,6 +458,7 @@ impl Tile<'_> {
             y,
             h: p.h + t * (q.h - p.h),
             kind: Kind::Edge(ka, kb),
+            src: self.src,
         })
     }
 
@@ -485,6 +502,7 @@ impl Tile<'_> {
                                 y,
                                 h,
                                 kind: Kind::Inside(t),
+                                src: self.src,
                             }
                         }
                     };
@@ -564,7 +582,9 @@ type Keys = FxHashMap<(u64, u64, bool), u32>;
 pub struct TileMesh {
     pub points: Vec<[f64; 3]>,
     pub triangles: Vec<[u32; 3]>,
-    kinds: Vec<Kind>,
+    /// What each vertex is in each source that has it (one source, or
+    /// two to four at a vertex on the seams of a tiled terrain).
+    kinds: Vec<Vec<(u32, Kind)>>,
 }
 
 impl TileMesh {
@@ -574,69 +594,83 @@ impl TileMesh {
         let fill = matches!(p.kind, Kind::Fill);
         *keys
             .entry((p.x.to_bits(), p.y.to_bits(), fill))
+            .and_modify(|&mut i| {
+                let k = &mut self.kinds[i as usize];
+                if !k.iter().any(|e| e.0 == p.src) {
+                    k.push((p.src, p.kind));
+                }
+            })
             .or_insert_with(|| {
                 self.points.push([p.x, p.y, p.h]);
-                self.kinds.push(p.kind);
+                self.kinds.push(vec![(p.src, p.kind)]);
                 (self.points.len() - 1) as u32
             })
     }
 }
 
-/// The clipped mesh of the tile (before quantization); `None` when
-/// nothing of the terrain, and no fill, meets the tile.
-#[allow(clippy::too_many_arguments)]
+/// The clipped mesh of the tile (before quantization) from every source;
+/// `None` when nothing of the terrain, and no fill, meets the tile.
 pub fn tile_mesh(
-    tin: &Tin,
-    level: usize,
+    sources: &[Source],
     tile: &TileBounds,
-    need: &Needed,
-    geo: &[[f64; 2]],
     fill: Option<f64>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<TileMesh>, TinError> {
-    let cx = Tile {
-        b: *tile,
-        tin,
-        need,
-        geo,
-    };
+    let cxs = tiles_of(sources, tile);
     let mut tick = Ticker::new(interrupt);
     let mut mesh = TileMesh::default();
     let mut keys: Keys = FxHashMap::default();
-    let lv = &tin.levels[level];
     let mut pieces: Vec<[u32; 3]> = Vec::new();
-    for &t in &need.triangles {
-        tick.tick()?;
-        let tri = lv.tris[t as usize];
-        pieces.clear();
-        if need.split_of.is_empty() {
-            pieces.push(tri);
-        } else {
-            split_triangle(&cx, tri, &mut pieces)?;
-        }
-        for &piece in &pieces {
-            let pts = cx.clip(piece, t)?;
-            if pts.len() < 3 {
-                continue;
+    for cx in &cxs {
+        let lv = &cx.tin.levels[cx.level];
+        for &t in &cx.need.triangles {
+            tick.tick()?;
+            let tri = lv.tris[t as usize];
+            pieces.clear();
+            if cx.need.split_of.is_empty() {
+                pieces.push(tri);
+            } else {
+                split_triangle(cx, tri, &mut pieces)?;
             }
-            for i in 1..pts.len() - 1 {
-                if orient(&pts[0], &pts[i], &pts[i + 1]) > 0.0 {
-                    let a = mesh.add(&mut keys, &pts[0]);
-                    let b = mesh.add(&mut keys, &pts[i]);
-                    let c = mesh.add(&mut keys, &pts[i + 1]);
-                    mesh.triangles.push([a, b, c]);
+            for &piece in &pieces {
+                let pts = cx.clip(piece, t)?;
+                if pts.len() < 3 {
+                    continue;
+                }
+                for i in 1..pts.len() - 1 {
+                    if orient(&pts[0], &pts[i], &pts[i + 1]) > 0.0 {
+                        let a = mesh.add(&mut keys, &pts[0]);
+                        let b = mesh.add(&mut keys, &pts[i]);
+                        let c = mesh.add(&mut keys, &pts[i + 1]);
+                        mesh.triangles.push([a, b, c]);
+                    }
                 }
             }
         }
     }
     if let Some(h) = fill {
-        fill_tile(&cx, need, h, &mut mesh, &mut keys, &mut tick)?;
+        fill_tile(&cxs, h, &mut mesh, &mut keys, &mut tick)?;
     }
     Ok(if mesh.triangles.is_empty() {
         None
     } else {
         Some(mesh)
     })
+}
+
+fn tiles_of<'a>(sources: &[Source<'a>], tile: &TileBounds) -> Vec<Tile<'a>> {
+    sources
+        .iter()
+        .enumerate()
+        .map(|(i, s)| Tile {
+            b: *tile,
+            tin: s.tin,
+            level: s.level,
+            need: s.need,
+            geo: s.geo,
+            src: i as u32,
+        })
+        .collect()
 }
 
 /// The triangle `tri` of the level cut at the split points of its edges:
@@ -707,43 +741,52 @@ fn split_triangle(cx: &Tile, tri: [u32; 3], out: &mut Vec<[u32; 3]>) -> Result<(
 
 /// Covers the tile outside the domain (see the module docs).
 fn fill_tile(
-    cx: &Tile,
-    need: &Needed,
+    cxs: &[Tile],
     h: f64,
     mesh: &mut TileMesh,
     keys: &mut Keys,
     tick: &mut Ticker,
 ) -> Result<(), TinError> {
-    let b = cx.b;
+    let Some(b) = cxs.first().map(|c| c.b) else {
+        return Ok(());
+    };
     // hull pieces inside the tile, their ends computed as the triangles' were
     let mut pieces: Vec<[Pt; 2]> = Vec::new();
-    let mut ring: Vec<[Pt; 2]> = Vec::with_capacity(need.hull.len());
-    for &[u, v] in &need.hull {
-        tick.tick()?;
-        let (mut p, mut q) = (cx.vertex(u)?, cx.vertex(v)?);
-        ring.push([p, q]);
-        let mut keep = true;
-        for side in 0..4u8 {
-            let (pi, qi) = (cx.inside(&p, side), cx.inside(&q, side));
-            if !pi && !qi {
-                keep = false;
-                break;
+    let mut ring: Vec<[Pt; 2]> = Vec::new();
+    for cx in cxs {
+        for &[u, v] in &cx.need.hull {
+            tick.tick()?;
+            let (mut p, mut q) = (cx.vertex(u)?, cx.vertex(v)?);
+            ring.push([p, q]);
+            let mut keep = true;
+            for side in 0..4u8 {
+                let (pi, qi) = (cx.inside(&p, side), cx.inside(&q, side));
+                if !pi && !qi {
+                    keep = false;
+                    break;
+                }
+                if !pi {
+                    p = cx.crossing(u, v, side)?;
+                } else if !qi {
+                    q = cx.crossing(u, v, side)?;
+                }
             }
-            if !pi {
-                p = cx.crossing(u, v, side)?;
-            } else if !qi {
-                q = cx.crossing(u, v, side)?;
+            if keep && (p.x, p.y) != (q.x, q.y) {
+                pieces.push([p, q]);
             }
-        }
-        if keep && (p.x, p.y) != (q.x, q.y) {
-            pieces.push([p, q]);
         }
     }
+    // a seam between two tins of a tiled terrain is on the hull of both,
+    // once each way: the terrain goes on, so no wall there
+    let key = |p: &Pt| (p.x.to_bits(), p.y.to_bits());
+    let directed: rustc_hash::FxHashSet<_> = pieces.iter().map(|[p, q]| (key(p), key(q))).collect();
+    pieces.retain(|[p, q]| !directed.contains(&(key(q), key(p))));
     let corner = |x: f64, y: f64| Pt {
         x,
         y,
         h,
         kind: Kind::Fill,
+        src: 0,
     };
     let corners = [
         corner(b.west, b.south),
@@ -884,72 +927,87 @@ fn oct_encode(n: [f64; 3]) -> [u8; 2] {
 
 /// Vertex normals (ECEF, unnormalised sums) of the mesh's points, from the
 /// level's triangles around each (see the module docs).
-fn normals(
-    cx: &Tile,
-    level: usize,
-    need: &Needed,
-    mesh: &TileMesh,
-) -> Result<Vec<[f64; 3]>, TinError> {
-    let lv = &cx.tin.levels[level];
-    let mut face: FxHashMap<u32, [f64; 3]> = FxHashMap::default();
-    let mut around: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
-    let tri_normal = |t: u32| -> Result<[f64; 3], TinError> {
-        let tri = lv.tris[t as usize];
+fn normals(cxs: &[Tile], mesh: &TileMesh) -> Result<Vec<[f64; 3]>, TinError> {
+    // per source: the ECEF normal of each triangle around the tile's
+    // vertices, and the triangles around each vertex
+    struct Around {
+        face: FxHashMap<u32, [f64; 3]>,
+        around: FxHashMap<u32, Vec<u32>>,
+    }
+    let tri_normal = |cx: &Tile, t: u32| -> Result<[f64; 3], TinError> {
+        let tri = cx.tin.levels[cx.level].tris[t as usize];
         let p = [cx.vertex(tri[0])?, cx.vertex(tri[1])?, cx.vertex(tri[2])?]
             .map(|p| ecef(p.x, p.y, p.h));
         Ok(cross(sub(p[1], p[0]), sub(p[2], p[0])))
     };
-    for &t in &need.ring {
-        face.insert(t, tri_normal(t)?);
-        for &v in &lv.tris[t as usize] {
-            around.entry(v).or_default().push(t);
+    let mut per: Vec<Around> = Vec::with_capacity(cxs.len());
+    for cx in cxs {
+        let lv = &cx.tin.levels[cx.level];
+        let mut a = Around {
+            face: FxHashMap::default(),
+            around: FxHashMap::default(),
+        };
+        for &t in &cx.need.ring {
+            a.face.insert(t, tri_normal(cx, t)?);
+            for &v in &lv.tris[t as usize] {
+                a.around.entry(v).or_default().push(t);
+            }
         }
+        per.push(a);
     }
-    // the level's triangles a vertex or split point lies on
-    let on = |id: u32| -> Vec<u32> {
-        if id >= need.base {
-            let [a, b] = need.splits[(id - need.base) as usize].edge;
-            let tb = around.get(&b);
-            around
-                .get(&a)
+    // the level's triangles a vertex or split point of source `s` lies on
+    let on = |s: usize, id: u32| -> Vec<u32> {
+        let (cx, a) = (&cxs[s], &per[s]);
+        if id >= cx.need.base {
+            let [u, v] = cx.need.splits[(id - cx.need.base) as usize].edge;
+            let tv = a.around.get(&v);
+            a.around
+                .get(&u)
                 .into_iter()
                 .flatten()
                 .copied()
-                .filter(|t| tb.is_some_and(|l| l.contains(t)))
+                .filter(|t| tv.is_some_and(|l| l.contains(t)))
                 .collect()
         } else {
-            around.get(&id).cloned().unwrap_or_default()
+            a.around.get(&id).cloned().unwrap_or_default()
         }
     };
-    let sum = |ts: &[u32]| {
-        let mut s = [0.0; 3];
+    let sum = |s: usize, ts: &[u32]| {
+        let mut n = [0.0; 3];
         for t in ts {
-            if let Some(n) = face.get(t) {
-                s = [s[0] + n[0], s[1] + n[1], s[2] + n[2]];
+            if let Some(f) = per[s].face.get(t) {
+                n = [n[0] + f[0], n[1] + f[1], n[2] + f[2]];
             }
         }
-        s
+        n
     };
     let up = |p: [f64; 3]| {
         let (l, f) = (p[0].to_radians(), p[1].to_radians());
         [f.cos() * l.cos(), f.cos() * l.sin(), f.sin()]
     };
     let mut out = Vec::with_capacity(mesh.points.len());
-    for (i, k) in mesh.kinds.iter().enumerate() {
+    for (i, ks) in mesh.kinds.iter().enumerate() {
         let p = mesh.points[i];
-        let n = match *k {
-            Kind::Vertex(v) => sum(&on(v)),
-            Kind::Edge(a, b) => {
-                let tb = on(b);
-                let common: Vec<u32> = on(a).into_iter().filter(|t| tb.contains(t)).collect();
-                sum(&common)
-            }
-            Kind::Inside(t) => match face.get(&t) {
-                Some(n) => *n,
-                None => tri_normal(t)?,
-            },
-            Kind::Fill => up(p),
-        };
+        // a vertex on a seam of tiled tins sums the triangles of each
+        let mut n = [0.0; 3];
+        for &(src, k) in ks {
+            let s = src as usize;
+            let m = match k {
+                Kind::Vertex(v) => sum(s, &on(s, v)),
+                Kind::Edge(a, b) => {
+                    let tb = on(s, b);
+                    let common: Vec<u32> =
+                        on(s, a).into_iter().filter(|t| tb.contains(t)).collect();
+                    sum(s, &common)
+                }
+                Kind::Inside(t) => match per[s].face.get(&t) {
+                    Some(f) => *f,
+                    None => tri_normal(&cxs[s], t)?,
+                },
+                Kind::Fill => up(p),
+            };
+            n = [n[0] + m[0], n[1] + m[1], n[2] + m[2]];
+        }
         let n = if norm(n) > 0.0 { n } else { up(p) };
         let m = norm(n);
         out.push([n[0] / m, n[1] / m, n[2] / m]);
@@ -959,8 +1017,8 @@ fn normals(
 
 /// The quantized-mesh tile `tile` of `level`: `None` when nothing of the
 /// terrain (and no fill) meets it. `need` from [`needed`] (with the same
-/// `normals` and fill), `geo` the geographic position of each of its
-/// vertices.
+/// `normals` and fill), `geo` the geographic position of each of
+/// [`Needed::points`].
 #[allow(clippy::too_many_arguments)]
 pub fn encode(
     tin: &Tin,
@@ -972,15 +1030,30 @@ pub fn encode(
     fill: Option<f64>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<Vec<u8>>, TinError> {
-    let Some(mesh) = tile_mesh(tin, level, tile, need, geo, fill, interrupt)? else {
-        return Ok(None);
-    };
-    let cx = Tile {
-        b: *tile,
+    let src = Source {
         tin,
+        level,
         need,
         geo,
     };
+    encode_many(&[src], tile, with_normals, fill, interrupt)
+}
+
+/// [`encode`] of a terrain stored as several tins sharing their seams
+/// (`tin_tiles`, keep_border): one mesh of every source's triangles in the
+/// tile, their seam vertices one vertex (the same positions in each), the
+/// normals there summed over the tins, and no wall along a seam.
+pub fn encode_many(
+    sources: &[Source],
+    tile: &TileBounds,
+    with_normals: bool,
+    fill: Option<f64>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Option<Vec<u8>>, TinError> {
+    let Some(mesh) = tile_mesh(sources, tile, fill, interrupt)? else {
+        return Ok(None);
+    };
+    let cxs = tiles_of(sources, tile);
     // number vertices in order of first use (high-water-mark coding)
     let mut order = vec![u32::MAX; mesh.points.len()];
     let mut seq = Vec::with_capacity(mesh.points.len());
@@ -1113,7 +1186,7 @@ pub fn encode(
         }
     }
     if with_normals {
-        let ns = normals(&cx, level, need, &mesh)?;
+        let ns = normals(&cxs, &mesh)?;
         out.push(1);
         out.extend_from_slice(&((2 * n) as u32).to_le_bytes());
         for &s in &seq {
