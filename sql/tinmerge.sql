@@ -169,6 +169,8 @@ ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) SET search_path FROM CURRENT;
 
 CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
 RETURNS float8 AS

@@ -4,7 +4,11 @@
 // fetched from the internet). docs/serving.md explains it.
 //
 //   node web/terrain-server.mjs [--port 8090] [--table terrain] [--column t]
-//                               [--where "name = 'x'"] [--fill 0]
+//                               [--where "name = 'x'"] [--fill 0] [--tiled 1]
+//
+// --tiled: the table holds a terrain stored as tiles (tin_tiles, one tin
+// per row sharing seams); each request passes the tins whose extent meets
+// the tile (array form of tin_quantized_mesh).
 //
 // Connection settings come from the usual PG* environment variables.
 //   GET /terrain/layer.json         tin_quantized_mesh_layer(t, normals, fill)
@@ -24,15 +28,23 @@ const types = {
   '.xml': 'application/xml', '.glb': 'model/gltf-binary', '.ktx2': 'image/ktx2',
 };
 
-export function start({ port = 8090, table = 'terrain', column = 't', where = 'true', fill = null } = {}) {
+export function start({ port = 8090, table = 'terrain', column = 't', where = 'true', fill = null, tiled = false } = {}) {
   const pool = new pg.Pool({ max: 4 });
-  const source = `(SELECT ${pg.escapeIdentifier(column)} AS t FROM ${table.split('.').map(pg.escapeIdentifier).join('.')} WHERE ${where} LIMIT 1) s`;
+  const rel = table.split('.').map(pg.escapeIdentifier).join('.');
+  const col = pg.escapeIdentifier(column);
+  // one tin, or the tins of a tiled terrain meeting the tile ($6..$9: its bounds in degrees)
+  const source = `(SELECT ${col} AS t FROM ${rel} WHERE ${where} LIMIT 1) s`;
+  const layerSource = tiled ? `(SELECT array_agg(${col}) AS t FROM ${rel} WHERE ${where}) s` : source;
+  const tileSource = tiled
+    ? `(SELECT array_agg(${col}) AS t FROM ${rel} WHERE (${where})
+         AND ST_Transform(ST_Segmentize(tin_envelope(${col}), 100), 4326) && ST_MakeEnvelope($6, $7, $8, $9, 4326)) s`
+    : source;
   const stats = { tiles: 0, empty: 0, ms: 0 };
   const server = http.createServer(async (req, res) => {
     const url = new URL(req.url, 'http://localhost');
     try {
       if (url.pathname === '/terrain/layer.json') {
-        const r = await pool.query(`SELECT tin_quantized_mesh_layer(t, normals => true, fill => $1) AS j FROM ${source}`, [fill !== null]);
+        const r = await pool.query(`SELECT tin_quantized_mesh_layer(t, normals => true, fill => $1) AS j FROM ${layerSource}`, [fill !== null]);
         if (!r.rows.length) return send(res, 404, 'text/plain', 'no terrain');
         return send(res, 200, 'application/json', JSON.stringify(r.rows[0].j));
       }
@@ -41,9 +53,12 @@ export function start({ port = 8090, table = 'terrain', column = 't', where = 't
         // Cesium asks for the normals extension in its Accept header
         const normals = /octvertexnormals/.test(req.headers.accept || '');
         const t0 = performance.now();
+        const [z, x, y] = [+m[1], +m[2], +m[3]];
+        const size = 180 / 2 ** z;
+        const bounds = tiled ? [-180 + x * size, -90 + y * size, -180 + (x + 1) * size, -90 + (y + 1) * size] : [];
         const r = await pool.query(
-          `SELECT tin_quantized_mesh(t, $1, $2, $3, normals => $4, fill => $5) AS b FROM ${source}`,
-          [+m[1], +m[2], +m[3], normals, fill]);
+          `SELECT tin_quantized_mesh(t, $1::int, $2::int, $3::int, normals => $4, fill => $5) AS b FROM ${tileSource}`,
+          [z, x, y, normals, fill, ...bounds]);
         stats.ms += performance.now() - t0;
         const b = r.rows.length ? r.rows[0].b : null;
         if (b === null) { stats.empty++; return send(res, 404, 'text/plain', 'no terrain in this tile'); }
@@ -78,6 +93,7 @@ if (process.argv[1] === fileURLToPath(import.meta.url)) {
   for (let i = 0; i < a.length; i += 2) opt[a[i].replace(/^--/, '')] = a[i + 1];
   if (opt.port) opt.port = +opt.port;
   if (opt.fill !== undefined) opt.fill = +opt.fill;
+  if (opt.tiled !== undefined) opt.tiled = opt.tiled !== '0';
   const s = await start(opt);
   console.log(`terrain on http://127.0.0.1:${s.port}/ (layer: /terrain/layer.json)`);
 }

@@ -99,6 +99,16 @@ RETURNS json
 IMMUTABLE PARALLEL SAFE COST 1000
 LANGUAGE c AS 'MODULE_PATHNAME', 'tin_quantized_mesh_layer_wrapper'
 SET search_path FROM CURRENT;
+CREATE FUNCTION tin_quantized_mesh("ts" tin[], "z" int, "x" int, "y" int, "normals" boolean DEFAULT false, "fill" double precision DEFAULT NULL)
+RETURNS bytea
+IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_quantized_mesh_tiles_wrapper'
+SET search_path FROM CURRENT;
+CREATE FUNCTION tin_quantized_mesh_layer("ts" tin[], "normals" boolean DEFAULT false, "fill" boolean DEFAULT false, "name" text DEFAULT 'terrain')
+RETURNS json
+IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE c AS 'MODULE_PATHNAME', 'tin_quantized_mesh_layer_tiles_wrapper'
+SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) IS
 'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose measured error is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
 COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) IS

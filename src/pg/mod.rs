@@ -33,6 +33,18 @@ macro_rules! raw_datum_arg {
             }
         }
 
+        // as an element of an array argument (`tin[]`): the element's
+        // Datum, which lives as long as the detoasted array
+        unsafe impl pgrx::datum::UnboxDatum for $name {
+            type As<'src> = $name;
+            unsafe fn unbox<'src>(datum: pgrx::datum::Datum<'src>) -> Self::As<'src>
+            where
+                Self: 'src,
+            {
+                $name(unsafe { <pgrx::pg_sys::Datum as pgrx::datum::UnboxDatum>::unbox(datum) })
+            }
+        }
+
         pgrx::pgrx_sql_entity_graph::impl_sql_translatable!($name, arg_only = $sql);
     };
 }

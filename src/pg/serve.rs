@@ -13,8 +13,12 @@ use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
 use super::tin_type::TinArg;
+use pgrx::datum::Array;
 use pgrx::Json;
-use tinmerge_core::serve::quantized_mesh::{encode, hull, needed, split_length, tile_bytes};
+use std::sync::Arc;
+use tinmerge_core::serve::quantized_mesh::{
+    encode_many, hull, needed, split_length, tile_bytes, Source,
+};
 use tinmerge_core::serve::tiling::{layer_json, level_for_zoom, tile_bounds, TileBounds};
 use tinmerge_core::tin::Tin;
 
@@ -146,9 +150,12 @@ fn footprint(tin: &Tin, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] {
     }
 }
 
+/// One tile of the terrain made of `tins` (one tin, or the tins of a
+/// tiled terrain sharing their seams), at `level` (None: the level the
+/// zoom chooses from the largest error of each level over the tins).
 #[allow(clippy::too_many_arguments)]
 fn tile(
-    t: &TinArg,
+    tins: &[Arc<Tin>],
     level: Option<Option<i32>>,
     z: i32,
     x: i32,
@@ -165,39 +172,100 @@ fn tile(
             );
         }
     }
-    let tin = t.tin();
-    check_srid(&tin, "tin_quantized_mesh");
+    let Some(first) = tins.first() else {
+        // no tin: off the terrain
+        let empty = Vec::new();
+        return encode_many(&empty, &tb, normals, fill, &mut interrupt).or_raise();
+    };
+    for tin in tins {
+        check_srid(tin, "tin_quantized_mesh");
+        if tin.srid != first.srid || tin.levels.len() != first.levels.len() {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!(
+                    "tin_quantized_mesh: the tins of one terrain must share their SRID and number of levels (SRID {} with {} levels, SRID {} with {} levels)",
+                    first.srid,
+                    first.levels.len(),
+                    tin.srid,
+                    tin.levels.len()
+                ),
+            );
+        }
+    }
     let l = match level {
-        None => {
-            let errors: Vec<f64> = tin.levels.iter().map(|lv| lv.max_error).collect();
-            level_for_zoom(&errors, z)
-        }
-        Some(lv) => tin.level_index(lv).or_raise(),
+        None => level_for_zoom(&max_errors(tins), z),
+        Some(lv) => first.level_index(lv).or_raise(),
     };
-    let max_len = max_edge(&tin);
-    let b = geo_extent(&tin);
-    let need = if !tb.intersects(&b) {
-        if fill.is_none() {
-            return None;
-        }
-        // only the hull, to tell the fill it is off the terrain
-        hull(&tin, l, max_len)
-    } else {
-        let f = if tb.contains(&b) {
-            None
+    let mut parts = Vec::with_capacity(tins.len());
+    for tin in tins {
+        let b = geo_extent(tin);
+        let max_len = max_edge(tin);
+        let need = if !tb.intersects(&b) {
+            if fill.is_none() {
+                continue;
+            }
+            // only the hull, to tell the fill it is off the terrain
+            hull(tin, l, max_len)
         } else {
-            Some(footprint(&tin, &tb, &b))
+            let f = if tb.contains(&b) {
+                None
+            } else {
+                Some(footprint(tin, &tb, &b))
+            };
+            needed(tin, l, f, normals, fill.is_some(), max_len, &mut interrupt).or_raise()
         };
-        needed(&tin, l, f, normals, fill.is_some(), max_len, &mut interrupt).or_raise()
-    };
-    memory::reserve(tile_bytes(need.triangles.len() + need.ring.len()), || {
-        format!(
-            "tin_quantized_mesh: tile {z}/{x}/{y} of {} triangles",
-            need.triangles.len()
-        )
-    });
-    let geo = points_to_degrees(&tin, need.points(&tin));
-    encode(&tin, l, &tb, &need, &geo, normals, fill, &mut interrupt).or_raise()
+        memory::reserve(tile_bytes(need.triangles.len() + need.ring.len()), || {
+            format!(
+                "tin_quantized_mesh: tile {z}/{x}/{y} of {} triangles",
+                need.triangles.len()
+            )
+        });
+        let geo = points_to_degrees(tin, need.points(tin));
+        parts.push((tin, need, geo));
+    }
+    if parts.is_empty() {
+        return None;
+    }
+    let sources: Vec<Source> = parts
+        .iter()
+        .map(|(tin, need, geo)| Source {
+            tin,
+            level: l,
+            need,
+            geo,
+        })
+        .collect();
+    encode_many(&sources, &tb, normals, fill, &mut interrupt).or_raise()
+}
+
+/// Each level's largest measured error over the tins.
+fn max_errors(tins: &[Arc<Tin>]) -> Vec<f64> {
+    let n = tins.iter().map(|t| t.levels.len()).max().unwrap_or(0);
+    (0..n)
+        .map(|i| {
+            tins.iter()
+                .filter_map(|t| t.levels.get(i).map(|l| l.max_error))
+                .fold(0.0, f64::max)
+        })
+        .collect()
+}
+
+/// The tins of an array argument (NULL elements skipped).
+fn tins_of(ts: &Array<'_, TinArg>) -> Vec<Arc<Tin>> {
+    ts.iter().flatten().map(|t| t.tin()).collect()
+}
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh", requires = ["tin_type"])]
+fn tin_quantized_mesh_tiles(
+    ts: Option<Array<'_, TinArg>>,
+    z: Option<i32>,
+    x: Option<i32>,
+    y: Option<i32>,
+    normals: default!(Option<bool>, "false"),
+    fill: default!(Option<f64>, "NULL"),
+) -> Option<Vec<u8>> {
+    let (ts, z, x, y) = (ts?, z?, x?, y?);
+    tile(&tins_of(&ts), None, z, x, y, normals.unwrap_or(false), fill)
 }
 
 #[pg_extern(immutable, parallel_safe, cost = 5000, requires = ["tin_type"])]
@@ -210,7 +278,7 @@ fn tin_quantized_mesh(
     fill: default!(Option<f64>, "NULL"),
 ) -> Option<Vec<u8>> {
     let (t, z, x, y) = (t?, z?, x?, y?);
-    tile(&t, None, z, x, y, normals.unwrap_or(false), fill)
+    tile(&[t.tin()], None, z, x, y, normals.unwrap_or(false), fill)
 }
 
 #[pg_extern(immutable, parallel_safe, cost = 5000, name = "tin_quantized_mesh", requires = ["tin_type"])]
@@ -224,7 +292,15 @@ fn tin_quantized_mesh_level(
     fill: default!(Option<f64>, "NULL"),
 ) -> Option<Vec<u8>> {
     let (t, z, x, y) = (t?, z?, x?, y?);
-    tile(&t, Some(level), z, x, y, normals.unwrap_or(false), fill)
+    tile(
+        &[t.tin()],
+        Some(level),
+        z,
+        x,
+        y,
+        normals.unwrap_or(false),
+        fill,
+    )
 }
 
 extension_sql!(
@@ -233,9 +309,15 @@ COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) IS
 'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose measured error is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
 COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) IS
 'tin_quantized_mesh of a given level (NULL = finest) instead of the one the zoom chooses: tin_quantized_mesh(t, level, z, x, y).';
+COMMENT ON FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8) IS
+'tin_quantized_mesh of a terrain stored as tiles (tins sharing their seams: tin_tiles, or tin_from_raster with keep_border): one tile from every tin given, as one mesh (seam vertices one vertex, normals summed over the tins, no wall along a seam), at the level the zoom chooses from each level''s largest error over the tins. Pass the tins whose extent meets the tile, e.g. array_agg(t) over the tile table with a GiST index on the tins'' extent in degrees (docs/serving.md). The tins must share their SRID and number of levels. An empty array is off the terrain.';
 "#,
     name = "tin_quantized_mesh_sql",
-    requires = [tin_quantized_mesh, tin_quantized_mesh_level]
+    requires = [
+        tin_quantized_mesh,
+        tin_quantized_mesh_level,
+        tin_quantized_mesh_tiles
+    ]
 );
 
 #[pg_extern(immutable, parallel_safe, cost = 1000, requires = ["tin_type"])]
@@ -245,16 +327,49 @@ fn tin_quantized_mesh_layer(
     fill: default!(Option<bool>, "false"),
     name: default!(Option<String>, "'terrain'"),
 ) -> Option<Json> {
-    let t = t?;
-    let tin = t.tin();
-    check_srid(&tin, "tin_quantized_mesh_layer");
-    let finest = tin.levels.len() - 1;
-    let b = geo_bounds(&tin, finest, max_edge(&tin));
-    let errors: Vec<f64> = tin.levels.iter().map(|lv| lv.max_error).collect();
+    layer(&[t?.tin()], normals, fill, name)
+}
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh_layer", requires = ["tin_type"])]
+fn tin_quantized_mesh_layer_tiles(
+    ts: Option<Array<'_, TinArg>>,
+    normals: default!(Option<bool>, "false"),
+    fill: default!(Option<bool>, "false"),
+    name: default!(Option<String>, "'terrain'"),
+) -> Option<Json> {
+    let tins = tins_of(&ts?);
+    if tins.is_empty() {
+        return None;
+    }
+    layer(&tins, normals, fill, name)
+}
+
+fn layer(
+    tins: &[Arc<Tin>],
+    normals: Option<bool>,
+    fill: Option<bool>,
+    name: Option<String>,
+) -> Option<Json> {
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for tin in tins {
+        check_srid(tin, "tin_quantized_mesh_layer");
+        let g = geo_bounds(tin, tin.levels.len() - 1, max_edge(tin));
+        b = [
+            b[0].min(g[0]),
+            b[1].min(g[1]),
+            b[2].max(g[2]),
+            b[3].max(g[3]),
+        ];
+    }
     let s = layer_json(
         name.as_deref().unwrap_or("terrain"),
         &b,
-        &errors,
+        &max_errors(tins),
         normals.unwrap_or(false),
         fill.unwrap_or(false),
     );
@@ -271,7 +386,9 @@ extension_sql!(
     r#"
 COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) IS
 'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and octvertexnormals when normals is true.';
+COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) IS
+'tin_quantized_mesh_layer of a terrain stored as tiles: the bounds of all the tins, the levels'' largest errors over them.';
 "#,
     name = "tin_quantized_mesh_layer_sql",
-    requires = [tin_quantized_mesh_layer]
+    requires = [tin_quantized_mesh_layer, tin_quantized_mesh_layer_tiles]
 );

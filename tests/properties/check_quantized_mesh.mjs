@@ -20,6 +20,11 @@ const client = new pg.Client();
 await client.connect();
 const q = async (sql, params) => (await client.query(sql, params)).rows;
 await q(`CREATE TABLE IF NOT EXISTS qm_geo AS SELECT tin_from_raster(rast, 2.0, 4) AS t FROM dem_geo`);
+// a terrain stored as tiles (tin_tiles: tins sharing their seams), served as one
+await q(`CREATE TABLE IF NOT EXISTS qm_tiles AS SELECT tx, ty, t FROM dem_window, tin_tiles(rast, 100, 2.0, 3)`);
+// the height of a terrain made of tins: any tin whose extent holds the point
+await q(`CREATE OR REPLACE FUNCTION qm_height(ts tin[], p geometry, l int) RETURNS float8 LANGUAGE sql AS
+  $$ SELECT tin_height(t, p, l) FROM unnest(ts) t WHERE tin_envelope(t) && p ORDER BY tin_height(t, p, l) IS NULL LIMIT 1 $$`);
 
 const fail = [];
 const check = (ok, msg) => { if (!ok) fail.push(msg); };
@@ -49,9 +54,14 @@ function decodeTile(buf, b) {
   return { d, pos, area, hstep: (maxHeight - minHeight) / 32767, n };
 }
 
-for (const [name, table] of [['utm', 'terrain'], ['geographic', 'qm_geo']]) {
-  const [{ info, layer, srid }] = await q(`SELECT tin_info(t) AS info, tin_quantized_mesh_layer(t) AS layer, tin_srid(t) AS srid FROM ${table}`);
-  const errors = info.levels.map((l) => l.max_error);
+// every terrain as an array of tins (one for a single tin): the array form
+// of tin_quantized_mesh; pg_regress serve checks it gives the single form's
+// bytes for one tin
+for (const [name, table] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrain) s'], ['geographic', '(SELECT ARRAY[t] AS ts FROM qm_geo) s'],
+                             ['utm tiled', '(SELECT array_agg(t ORDER BY ty, tx) AS ts FROM qm_tiles) s']]) {
+  const [{ errors, layer, srid }] = await q(`SELECT tin_quantized_mesh_layer(ts) AS layer, tin_srid(ts[1]) AS srid,
+      (SELECT array_agg(m ORDER BY lv) FROM (SELECT (l->>'level')::int AS lv, max((l->>'max_error')::float8) AS m
+         FROM unnest(ts) t, jsonb_array_elements(tin_info(t)->'levels') l GROUP BY 1) x) AS errors FROM ${table}`);
   const levelFor = (z) => { const e = LEVEL0 / 2 ** z; const i = errors.findIndex((m) => m <= e); return i < 0 ? errors.length - 1 : i; };
   const top = layer.maxzoom;
   check(levelFor(top) === errors.length - 1 && levelFor(top - 1) !== errors.length - 1, `${name}: maxzoom ${top} is not the first zoom of the finest level`);
@@ -66,9 +76,9 @@ for (const [name, table] of [['utm', 'terrain'], ['geographic', 'qm_geo']]) {
       WITH tiles AS (
         SELECT x, y, ST_MakeEnvelope(-180 + x * s, -90 + y * s, -180 + (x + 1) * s, -90 + (y + 1) * s, 4326) AS e
         FROM generate_series($2::int, $3::int) x, generate_series($4::int, $5::int) y, (SELECT 180 / 2.0 ^ $1::int AS s) k),
-      tris AS (SELECT ST_Transform(ST_Segmentize(geom, 50), 4326) AS g FROM ${table}, tin_triangles(t, $6)),
+      tris AS (SELECT ST_Transform(ST_Segmentize(geom, 50), 4326) AS g FROM ${table}, unnest(ts) t, tin_triangles(t, $6)),
       hull AS (SELECT ST_Boundary(ST_ConvexHull(ST_Collect(g))) AS h FROM tris)
-      SELECT x, y, tin_quantized_mesh(t, $1::int, x, y) AS b,
+      SELECT x, y, tin_quantized_mesh(ts, $1::int, x, y) AS b,
              (SELECT coalesce(sum(ST_Area(ST_Intersection(g, e))), 0) FROM tris WHERE g && e) AS oracle,
              (SELECT ST_Length(ST_Intersection(h, e)) FROM hull) AS hull_len,
              ST_Area(e) AS full
@@ -95,7 +105,7 @@ for (const [name, table] of [['utm', 'terrain'], ['geographic', 'qm_geo']]) {
     const hs = await q(`
       WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[], $3::float8[], $4::float8[]) WITH ORDINALITY AS p(lon, lat, du, dv, i))
       SELECT i,
-        (SELECT array_agg(tin_height(t, ST_Transform(ST_SetSRID(ST_MakePoint(lon + a * du, lat + c * dv), 4326), $5::int), $6::int) ORDER BY k)
+        (SELECT array_agg(qm_height(ts, ST_Transform(ST_SetSRID(ST_MakePoint(lon + a * du, lat + c * dv), 4326), $5::int), $6::int) ORDER BY k)
          FROM (VALUES (1, 0, 0), (2, 1, 0), (3, -1, 0), (4, 0, 1), (5, 0, -1)) o(k, a, c)) AS h
       FROM p, ${table} ORDER BY 1`,
       [pts.map((p) => p[0]), pts.map((p) => p[1]), pts.map((p) => p[5]), pts.map((p) => p[6]), srid, level]);
@@ -126,8 +136,8 @@ for (const [name, table] of [['utm', 'terrain'], ['geographic', 'qm_geo']]) {
     console.log(`  ${name} z${z} (level ${level}): ${tiles.size} tiles, areas within ${tol.toExponential(1)} deg², ${pts.length} heights (worst ${(100 * worst).toFixed(0)} % of tolerance, ${off} off the terrain), ${shared} shared side vertices`);
   }
   // off the terrain: NULL; with fill a whole tile
-  const [{ b0, f0, fw }] = await q(`SELECT tin_quantized_mesh(t, 0, 1, 0) AS b0, tin_quantized_mesh(t, 0, 1, 0, fill => 0) AS f0,
-      tin_quantized_mesh(t, 0, 0, 0, fill => 0) AS fw FROM ${table}`);
+  const [{ b0, f0, fw }] = await q(`SELECT tin_quantized_mesh(ts, 0, 1, 0) AS b0, tin_quantized_mesh(ts, 0, 1, 0, fill => 0) AS f0,
+      tin_quantized_mesh(ts, 0, 0, 0, fill => 0) AS fw FROM ${table}`);
   check(b0 === null, `${name}: the eastern root tile is not NULL`);
   const f = decodeTile(f0, tileBounds(0, 1, 0));
   check(Math.abs(f.area - 180 * 180) < 1e-6 && f.d.triangleIndices.length === 6, `${name}: the filled eastern root tile covers ${f.area} deg² in ${f.d.triangleIndices.length / 3} triangles`);

@@ -42,13 +42,32 @@ SELECT length(n) - length(b) = 5 + 2 * (get_byte(b, 88) + 256 * get_byte(b, 89) 
        get_byte(n, length(b)) AS extension_id
 FROM terrain, LATERAL (SELECT tin_quantized_mesh(t, 13, 4357, 5760) AS b, tin_quantized_mesh(t, 13, 4357, 5760, normals => true) AS n) q;
 -- NULLs: no tile; a NULL level is the finest
-SELECT tin_quantized_mesh(NULL, 0, 0, 0) IS NULL AS null_tin, tin_quantized_mesh(t, NULL, 0, 0) IS NULL AS null_z,
+SELECT tin_quantized_mesh(NULL::tin, 0, 0, 0) IS NULL AS null_tin, tin_quantized_mesh(t, NULL, 0, 0) IS NULL AS null_z,
        tin_quantized_mesh(t, NULL::int, 15, 17431, 23044) = tin_quantized_mesh(t, 4, 15, 17431, 23044) AS null_level_finest,
        tin_quantized_mesh(t, 12, 2178, 2880, fill => NULL) = tin_quantized_mesh(t, 12, 2178, 2880) AS null_fill_none,
-       tin_quantized_mesh_layer(NULL) IS NULL AS null_layer
+       tin_quantized_mesh_layer(NULL::tin) IS NULL AS null_layer
 FROM terrain;
 -- the geographic tin needs no transform; the same rules
 SELECT (tin_quantized_mesh_layer(tin_from_raster(rast, 2.0, 4))->>'maxzoom')::int AS geo_maxzoom FROM dem_geo;
+-- the array form (a terrain stored as tiles) of one tin is the single form
+SELECT z, tin_quantized_mesh(ARRAY[t], z, x, y, normals => true, fill => 240) = tin_quantized_mesh(t, z, x, y, normals => true, fill => 240) AS same
+FROM terrain, qm_layer,
+     LATERAL (SELECT z, ((j->'available'->z->0->>'startX')::int + (j->'available'->z->0->>'endX')::int) / 2 AS x,
+                        ((j->'available'->z->0->>'startY')::int + (j->'available'->z->0->>'endY')::int) / 2 AS y
+              FROM generate_series(8, 15, 7) z) c ORDER BY z;
+SELECT tin_quantized_mesh_layer(ARRAY[t])::text = tin_quantized_mesh_layer(t)::text AS same_layer FROM terrain;
+-- tiles of tin_tiles as one terrain: every tile over the window answers,
+-- and the layer spans the tiles
+CREATE TABLE qm_win AS SELECT tx, ty, t FROM dem_window, tin_tiles(rast, 100, 2.0, 3);
+WITH l AS (SELECT tin_quantized_mesh_layer(array_agg(t)) AS j FROM qm_win),
+     r AS (SELECT (j->'available'->13->0) AS a FROM l)
+SELECT count(*) AS tiles, count(*) FILTER (WHERE b IS NOT NULL) AS answered
+FROM r, generate_series((a->>'startX')::int, (a->>'endX')::int) x, generate_series((a->>'startY')::int, (a->>'endY')::int) y,
+     LATERAL (SELECT tin_quantized_mesh(array_agg(t), 13, x, y) AS b FROM qm_win) m;
+SELECT tin_quantized_mesh('{}'::tin[], 13, 4357, 5760) IS NULL AS empty_is_off, length(tin_quantized_mesh('{}'::tin[], 13, 4357, 5760, fill => 0)) AS empty_filled,
+       tin_quantized_mesh(NULL::tin[], 13, 4357, 5760) IS NULL AS null_array, tin_quantized_mesh_layer('{}'::tin[]) IS NULL AS empty_layer;
+SELECT try($$SELECT tin_quantized_mesh(ARRAY[(SELECT t FROM terrain), (SELECT t FROM qm_win LIMIT 1)], 13, 4357, 5760)$$);
+DROP TABLE qm_win;
 -- bad input, one per line
 SELECT try($$SELECT tin_quantized_mesh(t, 25, 0, 0) FROM terrain$$);
 SELECT try($$SELECT tin_quantized_mesh(t, -1, 0, 0) FROM terrain$$);

@@ -649,7 +649,7 @@ pub fn tile_mesh(
         }
     }
     if let Some(h) = fill {
-        fill_tile(&cxs, h, &mut mesh, &mut keys, &mut tick)?;
+        fill_tile(&cxs, *tile, h, &mut mesh, &mut keys, &mut tick)?;
     }
     Ok(if mesh.triangles.is_empty() {
         None
@@ -742,14 +742,12 @@ fn split_triangle(cx: &Tile, tri: [u32; 3], out: &mut Vec<[u32; 3]>) -> Result<(
 /// Covers the tile outside the domain (see the module docs).
 fn fill_tile(
     cxs: &[Tile],
+    b: TileBounds,
     h: f64,
     mesh: &mut TileMesh,
     keys: &mut Keys,
     tick: &mut Ticker,
 ) -> Result<(), TinError> {
-    let Some(b) = cxs.first().map(|c| c.b) else {
-        return Ok(());
-    };
     // hull pieces inside the tile, their ends computed as the triangles' were
     let mut pieces: Vec<[Pt; 2]> = Vec::new();
     let mut ring: Vec<[Pt; 2]> = Vec::new();
