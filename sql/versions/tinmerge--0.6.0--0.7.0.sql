@@ -115,3 +115,7 @@ COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8)
 'tin_quantized_mesh of a given level (NULL = finest) instead of the one the zoom chooses: tin_quantized_mesh(t, level, z, x, y).';
 COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) IS
 'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and octvertexnormals when normals is true.';
+COMMENT ON FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8) IS
+'tin_quantized_mesh of a terrain stored as tiles (tins sharing their seams: tin_tiles, or tin_from_raster with keep_border): one tile from every tin given, as one mesh (seam vertices one vertex, normals summed over the tins, no wall along a seam), at the level the zoom chooses from each level''s largest error over the tins. Pass the tins whose extent meets the tile, e.g. array_agg(t) over the tile table with a GiST index on the tins'' extent in degrees (docs/serving.md). The tins must share their SRID and number of levels. An empty array is off the terrain.';
+COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) IS
+'tin_quantized_mesh_layer of a terrain stored as tiles: the bounds of all the tins, the levels'' largest errors over them.';

@@ -56,8 +56,9 @@ FROM terrain, qm_layer,
                         ((j->'available'->z->0->>'startY')::int + (j->'available'->z->0->>'endY')::int) / 2 AS y
               FROM generate_series(8, 15, 7) z) c ORDER BY z;
 SELECT tin_quantized_mesh_layer(ARRAY[t])::text = tin_quantized_mesh_layer(t)::text AS same_layer FROM terrain;
--- tiles of tin_tiles as one terrain: every tile over the window answers,
--- and the layer spans the tiles
+-- tiles of tin_tiles as one terrain: the tiles over the bounds that meet the
+-- window answer (4 corners of the box are off the window, rotated in degrees)
+
 CREATE TABLE qm_win AS SELECT tx, ty, t FROM dem_window, tin_tiles(rast, 100, 2.0, 3);
 WITH l AS (SELECT tin_quantized_mesh_layer(array_agg(t)) AS j FROM qm_win),
      r AS (SELECT (j->'available'->13->0) AS a FROM l)
