@@ -1,0 +1,146 @@
+//! Where a raster has data, as polygons on its pixel lattice: the first
+//! step towards building a raster tin over its data instead of over the
+//! convex hull of its valid pixel centres (issue 26). The build does not
+//! use it yet.
+//!
+//! A tin's vertices are pixel centres, so the most it can cover is the
+//! union of the lattice's *blocks*: the square between four neighbouring
+//! pixel centres when all four are valid, the triangle of three when
+//! exactly three are (the one whose corners are valid). Two or fewer valid
+//! corners give nothing. That union lies inside the valid pixels' own
+//! squares, so a surface on it answers nowhere `ST_Value` is NULL. It has
+//! holes where the raster does (a lake, a void), and it may touch itself
+//! at a single corner.
+//!
+//! [`valid_outline`] returns its boundary as rings of lattice points
+//! `(col, row)`, exact integers. Outer rings have positive area and holes
+//! negative area (shoelace in the `(col, row)` frame). Where two rings
+//! touch at a corner they are kept apart. Collinear points are dropped:
+//! a ring keeps only the corners of the outline.
+//!
+//! ```
+//! use tinmerge_core::tin::domain::{ring_area2, valid_outline};
+//! // a 4 x 3 raster with one nodata pixel in a corner
+//! let valid = |c: usize, r: usize| !(c == 3 && r == 0);
+//! let rings = valid_outline(4, 3, &valid);
+//! assert_eq!(rings.len(), 1);
+//! // 6 blocks: 5 squares and 1 triangle (twice the area: 11)
+//! assert_eq!(ring_area2(&rings[0]), 11);
+//! ```
+
+use rustc_hash::{FxHashMap, FxHashSet};
+
+/// A point of the lattice: `(col, row)` of a pixel centre.
+pub type LatticePoint = [i64; 2];
+
+/// Twice the signed area of a ring (shoelace, exact).
+pub fn ring_area2(r: &[LatticePoint]) -> i64 {
+    let mut s = 0i64;
+    for i in 0..r.len() {
+        let (a, b) = (r[i], r[(i + 1) % r.len()]);
+        s += a[0] * b[1] - b[0] * a[1];
+    }
+    s
+}
+
+/// The rings of the boundary of the blocks with valid corners of a
+/// `width x height` raster (see the module docs). `valid(col, row)` says
+/// whether a pixel has data.
+pub fn valid_outline(
+    width: usize,
+    height: usize,
+    valid: &dyn Fn(usize, usize) -> bool,
+) -> Vec<Vec<LatticePoint>> {
+    // every block piece's edges, CCW; an edge met both ways is inside
+    let mut edges: FxHashSet<(LatticePoint, LatticePoint)> = FxHashSet::default();
+    let mut add = |a: LatticePoint, b: LatticePoint| {
+        if !edges.remove(&(b, a)) {
+            edges.insert((a, b));
+        }
+    };
+    for r in 0..height.saturating_sub(1) {
+        for c in 0..width.saturating_sub(1) {
+            let (ci, ri) = (c as i64, r as i64);
+            let corners = [[ci, ri], [ci + 1, ri], [ci + 1, ri + 1], [ci, ri + 1]];
+            let ok = [
+                valid(c, r),
+                valid(c + 1, r),
+                valid(c + 1, r + 1),
+                valid(c, r + 1),
+            ];
+            let piece: Vec<LatticePoint> = (0..4).filter(|&k| ok[k]).map(|k| corners[k]).collect();
+            if piece.len() < 3 {
+                continue;
+            }
+            for k in 0..piece.len() {
+                add(piece[k], piece[(k + 1) % piece.len()]);
+            }
+        }
+    }
+    // chain the boundary edges into rings, turning most to the left where
+    // two rings touch at a corner (the interior is on the left)
+    let mut out: FxHashMap<LatticePoint, Vec<LatticePoint>> = FxHashMap::default();
+    for &(a, b) in &edges {
+        out.entry(a).or_default().push(b);
+    }
+    for v in out.values_mut() {
+        v.sort_unstable();
+    }
+    let mut starts: Vec<(LatticePoint, LatticePoint)> = edges.iter().copied().collect();
+    starts.sort_unstable();
+    let mut used: FxHashSet<(LatticePoint, LatticePoint)> = FxHashSet::default();
+    let mut rings = Vec::new();
+    for (a0, b0) in starts {
+        if used.contains(&(a0, b0)) {
+            continue;
+        }
+        let mut ring = vec![a0];
+        let (mut a, mut b) = (a0, b0);
+        loop {
+            used.insert((a, b));
+            if b == a0 {
+                break;
+            }
+            ring.push(b);
+            let din = [b[0] - a[0], b[1] - a[1]];
+            let next = out
+                .get(&b)
+                .into_iter()
+                .flatten()
+                .copied()
+                .filter(|&n| !used.contains(&(b, n)))
+                .max_by(|&p, &q| {
+                    let turn = |n: LatticePoint| {
+                        let d = [n[0] - b[0], n[1] - b[1]];
+                        let cross = (din[0] * d[1] - din[1] * d[0]) as f64;
+                        let dot = (din[0] * d[0] + din[1] * d[1]) as f64;
+                        cross.atan2(dot)
+                    };
+                    turn(p).total_cmp(&turn(q))
+                });
+            let Some(n) = next else { break };
+            (a, b) = (b, n);
+        }
+        rings.push(drop_collinear(ring));
+    }
+    rings.retain(|r| r.len() >= 3);
+    rings
+}
+
+/// The ring without the points where it runs straight on.
+fn drop_collinear(ring: Vec<LatticePoint>) -> Vec<LatticePoint> {
+    let n = ring.len();
+    if n < 3 {
+        return ring;
+    }
+    (0..n)
+        .filter(|&i| {
+            let (p, c, q) = (ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]);
+            let (d1, d2) = ([c[0] - p[0], c[1] - p[1]], [q[0] - c[0], q[1] - c[1]]);
+            let cross = d1[0] * d2[1] - d1[1] * d2[0];
+            let dot = d1[0] * d2[0] + d1[1] * d2[1];
+            cross != 0 || dot < 0
+        })
+        .map(|i| ring[i])
+        .collect()
+}
