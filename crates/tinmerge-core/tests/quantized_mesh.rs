@@ -158,6 +158,20 @@ fn clip_rect(poly: Vec<[f64; 2]>, t: &TileBounds) -> Vec<[f64; 2]> {
     p
 }
 
+/// The area of the triangles clipped to the tile by the tests' clipper.
+fn clipped_area(tris: &[[[f64; 3]; 3]], tb: &TileBounds) -> f64 {
+    tris.iter()
+        .map(|t| {
+            let p = clip_rect(t.iter().map(|p| [p[0], p[1]]).collect(), tb);
+            if p.len() < 3 {
+                0.0
+            } else {
+                area2(&p)
+            }
+        })
+        .sum()
+}
+
 struct Case {
     name: &'static str,
     tin: Tin,
@@ -358,17 +372,7 @@ fn tiles_cover_the_level_and_hold_its_heights() {
             for x in x0..=x1 {
                 for y in y0..=y1 {
                     let tb = tile_bounds(z, x as i32, y as i32).unwrap();
-                    let oracle: f64 = tris
-                        .iter()
-                        .map(|t| {
-                            let p = clip_rect(t.iter().map(|p| [p[0], p[1]]).collect(), &tb);
-                            if p.len() < 3 {
-                                0.0
-                            } else {
-                                area2(&p)
-                            }
-                        })
-                        .sum();
+                    let oracle: f64 = clipped_area(&tris, &tb);
                     let bytes = tile(&c, level, &tb, false, None);
                     if c.name == "geographic" {
                         // picking the triangles by the tile's own rectangle (the
@@ -676,17 +680,7 @@ fn tiled_terrain_is_one_mesh() {
                             geo: g,
                         })
                         .collect();
-                    let oracle: f64 = tris
-                        .iter()
-                        .map(|t| {
-                            let p = clip_rect(t.iter().map(|p| [p[0], p[1]]).collect(), &tb);
-                            if p.len() < 3 {
-                                0.0
-                            } else {
-                                area2(&p)
-                            }
-                        })
-                        .sum();
+                    let oracle: f64 = clipped_area(&tris, &tb);
                     let Some(bytes) = encode_many(&srcs, &tb, true, None, &mut || Ok(())).unwrap()
                     else {
                         assert!(oracle < 1e-15);
