@@ -8,19 +8,13 @@ mod common;
 use std::collections::BTreeMap;
 use tinmerge_core::analysis::contour::contours;
 use tinmerge_core::analysis::slope::slope_aspect;
-use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::{Tin, NONE};
 
 fn tins() -> Vec<(&'static str, Tin)> {
-    let geo = common::read_dem("jacksboro_fault_dem.tif");
-    let geo_tin = build(
-        geo.samples(),
-        &default_tolerances(2.0, 4).unwrap(),
-        4326,
-        &mut || Ok(()),
-    )
-    .unwrap();
-    vec![("utm", common::dem_tin()), ("geographic", geo_tin)]
+    vec![
+        ("utm", common::dem_tin()),
+        ("geographic", common::geo_tin(2.0)),
+    ]
 }
 
 /// The oracle's isoline pieces of `level` at height `z`: (length, ends).

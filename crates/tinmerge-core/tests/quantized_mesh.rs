@@ -180,14 +180,7 @@ struct Case {
 }
 
 fn cases() -> Vec<Case> {
-    let geo = common::read_dem("jacksboro_fault_dem.tif");
-    let geo_tin = build(
-        geo.samples(),
-        &default_tolerances(2.0, 4).unwrap(),
-        4326,
-        &mut || Ok(()),
-    )
-    .unwrap();
+    let geo_tin = common::geo_tin(2.0);
     fn identity(x: f64, y: f64) -> [f64; 2] {
         [x, y]
     }

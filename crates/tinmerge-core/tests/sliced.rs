@@ -8,7 +8,6 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::cell::Cell;
 use tinmerge_core::merge::point::{height, height_in};
-use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::layout::{self, HEADER_LEN};
 use tinmerge_core::tin::locate::{locate, locate_in};
 use tinmerge_core::tin::sliced::SlicedTin;
@@ -36,15 +35,10 @@ fn open(stored: &[u8], unit: u64) -> SlicedTin {
 }
 
 fn tins() -> Vec<(&'static str, Tin)> {
-    let geo = common::read_dem("jacksboro_fault_dem.tif");
-    let geo_tin = build(
-        geo.samples(),
-        &default_tolerances(0.00002, 4).unwrap(),
-        4326,
-        &mut || Ok(()),
-    )
-    .unwrap();
-    vec![("utm", common::dem_tin()), ("geographic", geo_tin)]
+    vec![
+        ("utm", common::dem_tin()),
+        ("geographic", common::geo_tin(0.00002)),
+    ]
 }
 
 /// Points: random in and around the box, every vertex of some triangles,

@@ -130,6 +130,20 @@ pub fn dem_tin() -> tinmerge_core::tin::Tin {
     .unwrap()
 }
 
+/// The geographic bundled DEM (EPSG:4326) built at 4 levels, the finest at
+/// `tolerance`: the second terrain the tests run every merge on.
+pub fn geo_tin(tolerance: f64) -> tinmerge_core::tin::Tin {
+    use tinmerge_core::tin::build::{build, default_tolerances};
+    let dem = read_dem("jacksboro_fault_dem.tif");
+    build(
+        dem.samples(),
+        &default_tolerances(tolerance, 4).unwrap(),
+        4326,
+        &mut || Ok(()),
+    )
+    .unwrap()
+}
+
 /// Convex polygon clipped to the left of the line a -> b (Sutherland-Hodgman
 /// step): the tests' own clipper, independent of the extension's.
 pub fn clip_half(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
