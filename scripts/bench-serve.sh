@@ -10,6 +10,7 @@
 # packaged for Debian, so none is timed. Contours: tin_contours of the
 # finest level against ST_Contour (GDAL's contouring of the raster, the
 # same 25 m interval). Part of `make bench`; table in docs/performance.md.
+# bench() comes from scripts/bench-fn.sql, shared with scripts/bench.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/cluster.sh start >/dev/null
@@ -18,18 +19,8 @@ q() { scripts/cluster.sh psql -qAtX -v ON_ERROR_STOP=1 -d $db "$@"; }
 scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREATE DATABASE $db"
 q -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
 scripts/load-data.sh $db >/dev/null
+q -f scripts/bench-fn.sql
 q <<'SQL'
-CREATE FUNCTION bench(label text, query text, n int) RETURNS TABLE(what text, median_ms numeric, runs int)
-LANGUAGE plpgsql AS $$
-DECLARE t0 timestamptz; ms float8[] := '{}';
-BEGIN
-  FOR i IN 1..n LOOP
-    t0 := clock_timestamp();
-    EXECUTE query;
-    ms := ms || extract(epoch FROM clock_timestamp() - t0) * 1000;
-  END LOOP;
-  RETURN QUERY SELECT label, round((SELECT percentile_cont(0.5) WITHIN GROUP (ORDER BY x) FROM unnest(ms) x)::numeric, 1), n;
-END $$;
 CREATE TABLE terrain AS SELECT tin_from_raster(rast, 2.0, 5) AS t FROM dem;
 CREATE TABLE layer AS SELECT tin_quantized_mesh_layer(t) AS j FROM terrain;
 CREATE TABLE tiles AS

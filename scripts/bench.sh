@@ -11,18 +11,8 @@ q() { scripts/cluster.sh psql -qAt -d tinmerge_bench "$@"; }
 scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS tinmerge_bench" -c "CREATE DATABASE tinmerge_bench"
 q -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
 scripts/load-data.sh tinmerge_bench
+q -f scripts/bench-fn.sql
 q <<'SQL'
-CREATE FUNCTION bench(label text, query text, n int) RETURNS TABLE(what text, median_ms numeric, runs int)
-LANGUAGE plpgsql AS $$
-DECLARE t0 timestamptz; ms float8[] := '{}';
-BEGIN
-  FOR i IN 1..n LOOP
-    t0 := clock_timestamp();
-    EXECUTE query;
-    ms := ms || extract(epoch FROM clock_timestamp() - t0) * 1000;
-  END LOOP;
-  RETURN QUERY SELECT label, round((SELECT percentile_cont(0.5) WITHIN GROUP (ORDER BY x) FROM unnest(ms) x)::numeric, 2), n;
-END $$;
 CREATE TABLE terrain AS SELECT tin_from_raster(rast, 2.0, 5) AS t FROM dem;
 CREATE TABLE pts AS SELECT geom FROM dem, ST_PixelAsCentroids(rast, 1, true);
 SQL
