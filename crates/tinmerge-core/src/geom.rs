@@ -144,3 +144,64 @@ pub fn crossing(p: P2, q: P2, u: P2, v: P2) -> P2 {
     let t = (op / (op - oq)).clamp(0.0, 1.0);
     [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
 }
+
+/// Whether a closed ring (its first point repeated last; z ignored) bounds a
+/// strictly convex polygon: at least three corners, every corner turning the
+/// same way by the exact orientation (no collinear corner; a point repeated
+/// right after itself counts once), and
+/// the ring going round once (a pentagram turns one way at every corner but
+/// goes round twice). Such a ring is simple, so a polygon with it as its only
+/// ring is valid in PostGIS's sense: the area functions skip asking GEOS for
+/// it. Any ring this does not vouch for (non-finite coordinates included)
+/// gets `false`, never an error.
+///
+/// ```
+/// use tinmerge_core::geom::is_strictly_convex_ring;
+/// let square = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]];
+/// assert!(is_strictly_convex_ring(&square));
+/// let bowtie = [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]];
+/// assert!(!is_strictly_convex_ring(&bowtie));
+/// ```
+pub fn is_strictly_convex_ring(ring: &[[f64; 3]]) -> bool {
+    let n = ring.len();
+    if n < 4
+        || ring[0] != ring[n - 1]
+        || ring.iter().any(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        return false;
+    }
+    // the corners, a point repeated right after itself counted once (as
+    // PostGIS and GEOS count it)
+    let mut corners: Vec<[f64; 3]> = Vec::with_capacity(n - 1);
+    for p in &ring[..n - 1] {
+        if corners.last().is_none_or(|q| q[..2] != p[..2]) {
+            corners.push(*p);
+        }
+    }
+    while corners.len() > 1 && corners[0][..2] == corners[corners.len() - 1][..2] {
+        corners.pop();
+    }
+    let m = corners.len();
+    if m < 3 {
+        return false;
+    }
+    let mut left = None;
+    let mut turned = 0.0;
+    for i in 0..m {
+        let (a, b, c) = (corners[(i + m - 1) % m], corners[i], corners[(i + 1) % m]);
+        let o = orient(&a, &b, &c);
+        if o == 0.0 || left.is_some_and(|l| l != (o > 0.0)) {
+            return false;
+        }
+        left = Some(o > 0.0);
+        // the turn's size in [0, pi] (its sign is the exact orientation's,
+        // the same at every corner), near pi too, as the angle between the
+        // two sides
+        let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
+        turned += (u[0] * v[1] - u[1] * v[0])
+            .abs()
+            .atan2(u[0] * v[0] + u[1] * v[1]);
+    }
+    // the turns add up to 2 pi times the times the ring goes round
+    (turned - std::f64::consts::TAU).abs() < std::f64::consts::PI
+}

@@ -792,3 +792,99 @@ fn full_domain_box_volume_is_the_prism_sum() {
         }
     }
 }
+
+/// `geom::is_strictly_convex_ring` (which lets the area functions skip
+/// PostGIS's validity check) against `geo`'s own convexity and validity
+/// predicates, on seeded random rings: hulls of random points (convex),
+/// the same points in random order (mostly not), stars going round twice,
+/// rings with a repeated or a collinear corner, reversed rings, unclosed
+/// rings, and hulls at the DEM's coordinates and at 1e-9 scale.
+#[test]
+fn strictly_convex_rings_agree_with_geo_and_are_valid() {
+    use geo::{
+        ConvexHull, IsConvex, LineString, MultiPoint, Point, Polygon, RemoveRepeatedPoints, Validation,
+    };
+    use tinmerge_core::geom::is_strictly_convex_ring;
+    let mut rng = StdRng::seed_from_u64(27);
+    let ring3 = |ls: &LineString<f64>| -> Vec<[f64; 3]> { ls.0.iter().map(|c| [c.x, c.y, 0.0]).collect() };
+    let (mut yes, mut no) = (0, 0);
+    for case in 0..6000 {
+        let (ox, oy, s) = match case % 3 {
+            0 => (0.0, 0.0, 1.0),
+            1 => (758000.3, 4052000.7, 500.0),
+            _ => (-84.4, 36.46, 1e-9),
+        };
+        let n = rng.random_range(3..12);
+        let pts: Vec<Point<f64>> = (0..n)
+            .map(|_| Point::new(ox + s * rng.random::<f64>(), oy + s * rng.random::<f64>()))
+            .collect();
+        let mut ls = match case % 7 {
+            // a hull (strictly convex unless degenerate)
+            0 | 1 => MultiPoint(pts.clone()).convex_hull().exterior().clone(),
+            // a hull, reversed (clockwise)
+            2 => {
+                let mut h = MultiPoint(pts.clone()).convex_hull().exterior().clone();
+                h.0.reverse();
+                h
+            }
+            // a hull with a corner repeated, or the middle of a side added, either way round
+            3 => {
+                let mut h = MultiPoint(pts.clone()).convex_hull().exterior().clone();
+                if h.0.len() >= 4 {
+                    let (a, b) = (h.0[0], h.0[1]);
+                    if rng.random::<bool>() {
+                        h.0.insert(1, a);
+                    } else {
+                        h.0.insert(1, geo::coord! { x: (a.x + b.x) / 2.0, y: (a.y + b.y) / 2.0 });
+                    }
+                }
+                if rng.random::<bool>() {
+                    h.0.reverse();
+                }
+                h
+            }
+            // a regular star that goes round twice
+            4 => {
+                let k = 5 + 2 * rng.random_range(0..3);
+                let mut c: Vec<geo::Coord<f64>> = (0..k)
+                    .map(|i| {
+                        let a = std::f64::consts::TAU * (2 * i) as f64 / k as f64;
+                        geo::coord! { x: ox + s * a.cos(), y: oy + s * a.sin() }
+                    })
+                    .collect();
+                c.push(c[0]);
+                LineString(c)
+            }
+            // the points in the order drawn, closed
+            5 => {
+                let mut c: Vec<geo::Coord<f64>> = pts.iter().map(|p| p.0).collect();
+                c.push(c[0]);
+                LineString(c)
+            }
+            // a hull left open
+            _ => {
+                let mut h = MultiPoint(pts.clone()).convex_hull().exterior().clone();
+                h.0.pop();
+                h
+            }
+        };
+        if ls.0.is_empty() {
+            ls.0.push(geo::coord! { x: ox, y: oy });
+        }
+        let ours = is_strictly_convex_ring(&ring3(&ls));
+        let closed = ls.0.len() >= 4 && ls.0.first() == ls.0.last();
+        // geo's predicate on the ring without repeated points (a repeated
+        // point is valid in PostGIS; geo's convexity counts some of them as
+        // corners)
+        let theirs = closed && ls.remove_repeated_points().is_strictly_convex();
+        assert_eq!(ours, theirs, "case {case}: {ls:?}");
+        if ours {
+            assert!(Polygon::new(ls.clone(), vec![]).is_valid(), "case {case}: {ls:?}");
+            yes += 1;
+        } else {
+            no += 1;
+        }
+    }
+    assert!(yes > 2000 && no > 2000, "{yes} convex, {no} not");
+    assert!(!is_strictly_convex_ring(&[[0.0, 0.0, 0.0], [f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]));
+}
