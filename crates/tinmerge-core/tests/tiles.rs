@@ -241,3 +241,107 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
         assert!(worst <= 1e-9, "{name}: seams differ by {worst}");
     }
 }
+
+/// A table of raster tiles (cut as `raster2pgsql -t` cuts: each tile its
+/// own origin `origin + k * size`, the last column and row narrower), given
+/// in a shuffled order, placed by `place_tiles` and built from
+/// `keep_border_samples`, gives every tile of `build_tiles` on the whole
+/// raster bit for bit (that path is checked against the test's own cut
+/// above), on both DEMs. A table with a tile missing leaves its neighbours
+/// without that border; misaligned tables are refused.
+#[test]
+fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
+    use rand::{seq::SliceRandom, SeedableRng};
+    use tinmerge_core::tin::lattice::Lattice;
+    use tinmerge_core::tin::tiles::{build_tile, build_tiles, keep_border_samples, place_tiles, Block};
+    let n = 97;
+    for (name, file, tol, srid) in [
+        ("utm", "jacksboro_fault_dem_utm16n.tif", 2.0, 32616),
+        ("geographic", "jacksboro_fault_dem.tif", 0.00002, 4326),
+    ] {
+        let d = common::read_dem(file);
+        let lat = d.lattice();
+        let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
+        let tols = default_tolerances(tol, 3).unwrap();
+        let mut whole: Vec<(usize, usize, Vec<u8>)> = Vec::new();
+        build_tiles(
+            &d.values, d.width, d.height, &valid, &lat, n, &tols, srid, &mut || Ok(()),
+            &|tx, ty, t| (tx, ty, tinmerge_core::tin::layout::encode(&t)),
+            &mut |t| {
+                whole.push(t);
+                Ok(())
+            },
+        )
+        .unwrap();
+        // the table: (own lattice, width, height, values), shuffled
+        let mut table: Vec<(Lattice, usize, usize, Vec<f64>)> = Vec::new();
+        for r0 in (0..d.height).step_by(n) {
+            for c0 in (0..d.width).step_by(n) {
+                let (w, h) = (n.min(d.width - c0), n.min(d.height - r0));
+                let own = Lattice {
+                    ip_x: lat.ip_x + c0 as f64 * lat.scale_x + r0 as f64 * lat.skew_x,
+                    ip_y: lat.ip_y + c0 as f64 * lat.skew_y + r0 as f64 * lat.scale_y,
+                    ..lat
+                };
+                let vals = (r0..r0 + h)
+                    .flat_map(|r| d.values[r * d.width + c0..r * d.width + c0 + w].to_vec())
+                    .collect();
+                table.push((own, w, h, vals));
+            }
+        }
+        table.shuffle(&mut rand::rngs::StdRng::seed_from_u64(25));
+        let metas: Vec<(Lattice, usize, usize)> = table.iter().map(|t| (t.0, t.1, t.2)).collect();
+        let grid = place_tiles(&metas).unwrap();
+        assert_eq!(grid.lattice, lat, "{name}: the top-left tile's lattice is the raster's");
+        assert_eq!(grid.counts(), (d.width.div_ceil(n), d.height.div_ceil(n)));
+        let blocks: Vec<Block> = grid
+            .tiles
+            .iter()
+            .zip(&table)
+            .map(|(p, t)| Block { place: *p, values: &t.3, valid: &valid })
+            .collect();
+        let at = |tx: usize, ty: usize| blocks.iter().find(|b| (b.place.tx, b.place.ty) == (tx, ty));
+        let built = |tx: usize, ty: usize| {
+            let own = at(tx, ty).unwrap();
+            let s = keep_border_samples(own, at(tx + 1, ty), at(tx, ty + 1), at(tx + 1, ty + 1));
+            build_tile(s, &grid.lattice, &tols, srid, &mut || Ok(()))
+                .unwrap()
+                .map(|t| tinmerge_core::tin::layout::encode(&t))
+        };
+        let mut same = 0;
+        for b in &blocks {
+            let (tx, ty) = (b.place.tx, b.place.ty);
+            let want = whole.iter().find(|w| (w.0, w.1) == (tx, ty)).map(|w| &w.2);
+            let got = built(tx, ty);
+            assert!(got.as_ref() == want, "{name}: tile {tx},{ty} differs from build_tiles'");
+            same += got.is_some() as usize;
+        }
+        assert_eq!(same, whole.len(), "{name}");
+        assert!(same > 6);
+        // tile (1, 1) missing: (0, 1) gets no right column (but the corner of
+        // (1, 2), which adjoins it), (0, 0) no corner
+        let without = |tx: usize, ty: usize| at(tx, ty).filter(|_| (tx, ty) != (1, 1));
+        let s = keep_border_samples(at(0, 1).unwrap(), without(1, 1), without(0, 2), without(1, 2));
+        assert!(
+            s.iter().all(|p| p[0] < n as f64 || p[1] == 2.0 * n as f64),
+            "{name}: no column from a missing tile (only the corner of the tile below-right)"
+        );
+        let s = keep_border_samples(at(0, 0).unwrap(), without(1, 0), without(0, 1), without(1, 1));
+        assert!(!s.iter().any(|p| p[0] == n as f64 && p[1] == n as f64), "{name}: no corner");
+        assert!(s.iter().any(|p| p[0] == n as f64) && s.iter().any(|p| p[1] == n as f64));
+        // refused: half a pixel off, another pixel size, two tiles in one place
+        let mut off = metas.clone();
+        off[1].0.ip_x += lat.scale_x / 2.0;
+        assert!(place_tiles(&off).is_err());
+        let mut size = metas.clone();
+        size[2].0.scale_x *= 1.0 + 1e-12;
+        assert!(place_tiles(&size).is_err());
+        let mut twice = metas.clone();
+        twice.push(metas[3]);
+        let e = place_tiles(&twice).unwrap_err().to_string();
+        assert!(e.contains("same place"), "{e}");
+        let mut shifted = metas.clone();
+        shifted[0].0.ip_x += lat.scale_x * 3.0;
+        assert!(place_tiles(&shifted).is_err(), "{name}: a tile 3 pixels along is off the grid");
+    }
+}

@@ -102,7 +102,6 @@ pub fn build_tiles<R: Send>(
     let tiles: Vec<(usize, usize)> = (0..ny)
         .flat_map(|ty| (0..nx).map(move |tx| (tx, ty)))
         .collect();
-    let opts = BuildOptions { keep_border: true };
     // one tile: Ok(None) when it has too few samples to triangulate
     let one = |&(tx, ty): &(usize, usize),
                interrupt: &mut Interrupt<'_>|
@@ -117,14 +116,7 @@ pub fn build_tiles<R: Send>(
                 }
             }
         }
-        if samples.len() < 3 {
-            return Ok(None);
-        }
-        match build_lattice(samples, lattice, tolerances, srid, opts, interrupt) {
-            Ok(tin) => Ok(Some(each(tx, ty, tin))),
-            Err(TinError::Degenerate(_)) => Ok(None),
-            Err(e) => Err(e),
-        }
+        Ok(build_tile(samples, lattice, tolerances, srid, interrupt)?.map(|tin| each(tx, ty, tin)))
     };
     if par::threads() <= 1 {
         for t in &tiles {
@@ -146,4 +138,204 @@ pub fn build_tiles<R: Send>(
         }
     }
     Ok(())
+}
+
+/// Build one tile's samples (lattice column, row, value) with keep_border:
+/// `Ok(None)` when they cannot be triangulated (fewer than three, or all
+/// on one line).
+pub fn build_tile(
+    samples: Vec<[f64; 3]>,
+    lattice: &Lattice,
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Option<Tin>, TinError> {
+    if samples.len() < 3 {
+        return Ok(None);
+    }
+    let opts = BuildOptions { keep_border: true };
+    match build_lattice(samples, lattice, tolerances, srid, opts, interrupt) {
+        Ok(tin) => Ok(Some(tin)),
+        Err(TinError::Degenerate(_)) => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// A raster tile of a table of tiles (`raster2pgsql -t`, `ST_Tile`) placed
+/// on the table's common pixel lattice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Placed {
+    /// Tile column and row in the table's grid (from 0, west to east and
+    /// north to south on a north-up raster).
+    pub tx: usize,
+    pub ty: usize,
+    /// Its first pixel's column and row on the common lattice.
+    pub col: i64,
+    pub row: i64,
+    pub width: usize,
+    pub height: usize,
+}
+
+/// Where every tile of a table lies: the common lattice (the top-left
+/// tile's own, or the first tile's when there is no tile there), the
+/// grid's tile size in pixels, and each tile's place, in input order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TableGrid {
+    pub lattice: Lattice,
+    pub tile_width: usize,
+    pub tile_height: usize,
+    pub tiles: Vec<Placed>,
+}
+
+impl TableGrid {
+    /// Number of tile columns and rows.
+    pub fn counts(&self) -> (usize, usize) {
+        let nx = self.tiles.iter().map(|p| p.tx + 1).max().unwrap_or(0);
+        let ny = self.tiles.iter().map(|p| p.ty + 1).max().unwrap_or(0);
+        (nx, ny)
+    }
+}
+
+/// Place the tiles of a table given each tile's own lattice (its
+/// geotransform) and size. They must share one pixel grid: the same pixel
+/// size and skew, bit for bit (as `raster2pgsql -t` and `ST_Tile` write
+/// them), and origins a whole number of pixels apart (within 1e-6 of a
+/// pixel, the rounding of origins computed as `origin + k * size`); tiles
+/// are cut at multiples of the largest width and height, and no two tiles
+/// take the same place.
+///
+/// ```
+/// use tinmerge_core::tin::lattice::Lattice;
+/// use tinmerge_core::tin::tiles::place_tiles;
+/// let l = |x: f64, y: f64| Lattice { ip_x: x, ip_y: y, scale_x: 2.0, scale_y: -2.0, skew_x: 0.0, skew_y: 0.0 };
+/// // three 10 x 10 tiles and a 4-pixel-wide one on the right
+/// let g = place_tiles(&[(l(100.0, 50.0), 10, 10), (l(120.0, 50.0), 10, 10), (l(140.0, 50.0), 4, 10), (l(100.0, 30.0), 10, 10)]).unwrap();
+/// assert_eq!((g.tile_width, g.tile_height), (10, 10));
+/// assert_eq!(g.tiles.iter().map(|p| (p.tx, p.ty, p.col, p.row)).collect::<Vec<_>>(),
+///            [(0, 0, 0, 0), (1, 0, 10, 0), (2, 0, 20, 0), (0, 1, 0, 10)]);
+/// assert!(place_tiles(&[(l(100.0, 50.0), 10, 10), (l(101.0, 50.0), 10, 10)]).is_err()); // half a pixel off
+/// ```
+pub fn place_tiles(tiles: &[(Lattice, usize, usize)]) -> Result<TableGrid, TinError> {
+    let bad = |s: String| Err(TinError::InvalidParameter(s));
+    let Some(&(first, _, _)) = tiles.first() else {
+        return bad("the table has no raster tiles".into());
+    };
+    if !first.is_valid() {
+        return bad("the first tile's geotransform is not usable (not finite, or degenerate)".into());
+    }
+    let det = first.det();
+    let mut at: Vec<(i64, i64)> = Vec::with_capacity(tiles.len());
+    for (k, &(l, w, h)) in tiles.iter().enumerate() {
+        if w == 0 || h == 0 {
+            return bad(format!("tile {k} is empty ({w} x {h} pixels)"));
+        }
+        if (l.scale_x, l.scale_y, l.skew_x, l.skew_y) != (first.scale_x, first.scale_y, first.skew_x, first.skew_y) {
+            return bad(format!(
+                "tile {k} has pixel size ({}, {}) and skew ({}, {}), the first tile ({}, {}) and ({}, {}): the tiles must share one pixel grid (ST_SameAlignment)",
+                l.scale_x, l.scale_y, l.skew_x, l.skew_y, first.scale_x, first.scale_y, first.skew_x, first.skew_y
+            ));
+        }
+        // the tile's origin in pixels of the first tile's lattice
+        let (dx, dy) = (l.ip_x - first.ip_x, l.ip_y - first.ip_y);
+        let c = (first.scale_y * dx - first.skew_x * dy) / det;
+        let r = (first.scale_x * dy - first.skew_y * dx) / det;
+        let (ci, ri) = (c.round(), r.round());
+        if !c.is_finite() || !r.is_finite() || (c - ci).abs() > 1e-6 || (r - ri).abs() > 1e-6 || ci.abs() > 1e15 || ri.abs() > 1e15 {
+            return bad(format!(
+                "tile {k} starts {c} columns and {r} rows from the first tile: tiles must be a whole number of pixels apart (ST_SameAlignment)"
+            ));
+        }
+        at.push((ci as i64, ri as i64));
+    }
+    let min_c = at.iter().map(|a| a.0).min().unwrap_or(0);
+    let min_r = at.iter().map(|a| a.1).min().unwrap_or(0);
+    let tile_width = tiles.iter().map(|t| t.1).max().unwrap_or(1);
+    let tile_height = tiles.iter().map(|t| t.2).max().unwrap_or(1);
+    // the common lattice: the top-left tile's own when there is one, so a
+    // table cut from one raster is built on that raster's lattice
+    let (lattice, base) = match at.iter().position(|&a| a == (min_c, min_r)) {
+        Some(k) => (tiles[k].0, (min_c, min_r)),
+        None => (first, (0, 0)),
+    };
+    let mut placed = Vec::with_capacity(tiles.len());
+    let mut seen = std::collections::HashMap::with_capacity(tiles.len());
+    for (k, (&(c, r), &(_, w, h))) in at.iter().zip(tiles).enumerate() {
+        let (oc, or) = ((c - min_c) as u64, (r - min_r) as u64);
+        if oc % tile_width as u64 != 0 || or % tile_height as u64 != 0 {
+            return bad(format!(
+                "tile {k} starts at pixel column {oc}, row {or} of the table: not on the grid of {tile_width} x {tile_height} pixel tiles (cut every tile but the last of a row or column to the same size, as raster2pgsql -t does)"
+            ));
+        }
+        let (tx, ty) = ((oc / tile_width as u64) as usize, (or / tile_height as u64) as usize);
+        if let Some(j) = seen.insert((tx, ty), k) {
+            return bad(format!("tiles {j} and {k} take the same place (tile column {tx}, row {ty})"));
+        }
+        placed.push(Placed {
+            tx,
+            ty,
+            col: c - base.0,
+            row: r - base.1,
+            width: w,
+            height: h,
+        });
+    }
+    Ok(TableGrid {
+        lattice,
+        tile_width,
+        tile_height,
+        tiles: placed,
+    })
+}
+
+/// The pixels of one placed tile: row-major values and which count as data.
+pub struct Block<'a> {
+    pub place: Placed,
+    pub values: &'a [f64],
+    pub valid: &'a (dyn Fn(f64) -> bool + Sync),
+}
+
+/// The samples (common-lattice column, row, value) a tile of a table is
+/// built from: its own valid pixels, the first column of the tile to its
+/// right, the first row of the one below and the first pixel of the one
+/// below-right (each when that tile is there and adjoins it), as
+/// [`build_tiles`] takes them from one raster.
+pub fn keep_border_samples(
+    own: &Block,
+    right: Option<&Block>,
+    below: Option<&Block>,
+    corner: Option<&Block>,
+) -> Vec<[f64; 3]> {
+    let p = own.place;
+    let (w, h) = (p.width as i64, p.height as i64);
+    let mut out = Vec::with_capacity((p.width + 1) * (p.height + 1));
+    let adjoins = |b: &&Block, dc: i64, dr: i64| b.place.col == p.col + dc && b.place.row == p.row + dr;
+    let right = right.filter(|b| adjoins(b, w, 0));
+    let below = below.filter(|b| adjoins(b, 0, h));
+    let corner = corner.filter(|b| adjoins(b, w, h));
+    let mut push = |b: &Block, c: usize, r: usize| {
+        if let Some(&v) = b.values.get(r * b.place.width + c) {
+            if (b.valid)(v) {
+                out.push([(b.place.col + c as i64) as f64, (b.place.row + r as i64) as f64, v]);
+            }
+        }
+    };
+    for r in 0..p.height {
+        for c in 0..p.width {
+            push(own, c, r);
+        }
+        if let Some(b) = right {
+            if r < b.place.height {
+                push(b, 0, r);
+            }
+        }
+    }
+    if let Some(b) = below {
+        for c in 0..p.width.min(b.place.width) {
+            push(b, c, 0);
+        }
+    }
+    if let Some(b) = corner {
+        push(b, 0, 0);
+    }
+    out
 }
