@@ -7,7 +7,8 @@
 -- _tin_area_stats and _tin_volume they called are dropped (their symbols
 -- stay in the library for databases still on an older version).
 -- The search_path they pin is the install script's (sql/tinmerge.sql).
--- New: tin_tiles, a raster built as a grid of tins sharing their seams
+-- New: tin_tiles, a raster (or a table of raster tiles) built as a grid of
+-- tins sharing their seams
 -- (docs/scaling.md), the aggregate tin_from_points_agg, and the surface
 -- analyses tin_contours and tin_slope_aspect; Cesium quantized-mesh tiles
 -- (tin_quantized_mesh, tin_quantized_mesh_layer).
@@ -50,6 +51,19 @@ LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_tiles(raster, int, float8, int, int) IS
 'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles share their seam samples as vertices of every level and their surfaces agree along the seams. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
+CREATE FUNCTION _tin_tiles_table("tab" oid, "column" text, "tolerance" double precision, "levels" int, "band" int)
+RETURNS TABLE ("tx" int, "ty" int, "t" tin)
+STABLE STRICT PARALLEL RESTRICTED COST 100000
+LANGUAGE c AS 'MODULE_PATHNAME', '_tin_tiles_table_wrapper';
+ALTER FUNCTION _tin_tiles_table(oid, text, float8, int, int) ROWS 100;
+COMMENT ON FUNCTION _tin_tiles_table(oid, text, float8, int, int) IS 'Internal: use tin_tiles_from_table(regclass, float8, int, name, int).';
+CREATE FUNCTION tin_tiles_from_table(tiles regclass, tolerance float8, levels int DEFAULT 5, rast_column name DEFAULT 'rast', band int DEFAULT 1)
+RETURNS TABLE(tx int, ty int, t tin) AS
+$$ SELECT * FROM @extschema@._tin_tiles_table($1::oid, $4::text, $2, $3, $5) $$
+LANGUAGE sql STABLE STRICT PARALLEL RESTRICTED COST 100000 ROWS 100
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_tiles_from_table(regclass, float8, int, name, int) IS
+'Builds one band (of the raster column rast_column) of a table of raster tiles (raster2pgsql -t, ST_Tile: one pixel grid, tiles cut at multiples of one size) as a grid of tins in one call: tile (tx, ty) (numbered from 0 from the top-left tile, west to east and north to south) is built from its own pixels plus the first column of the tile to its right, the first row of the one below and the first pixel of the one below-right, as tin_tiles(raster, ...) builds the tiles of one raster, so seams agree at every level. Tiles are read a row at a time and built on tinmerge.threads threads, so memory stays bounded by two rows of tiles whatever the table''s size. Tiles whose pixel size, skew or SRID differ, or that are not a whole number of pixels apart, raise an ERROR (22023). Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
 CREATE FUNCTION _tin_points_agg_step("state" internal, "pt" geometry, "tolerance" double precision, "levels" int)
 RETURNS internal
 IMMUTABLE PARALLEL SAFE

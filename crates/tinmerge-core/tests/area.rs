@@ -802,11 +802,13 @@ fn full_domain_box_volume_is_the_prism_sum() {
 #[test]
 fn strictly_convex_rings_agree_with_geo_and_are_valid() {
     use geo::{
-        ConvexHull, IsConvex, LineString, MultiPoint, Point, Polygon, RemoveRepeatedPoints, Validation,
+        ConvexHull, IsConvex, LineString, MultiPoint, Point, Polygon, RemoveRepeatedPoints,
+        Validation,
     };
     use tinmerge_core::geom::is_strictly_convex_ring;
     let mut rng = StdRng::seed_from_u64(27);
-    let ring3 = |ls: &LineString<f64>| -> Vec<[f64; 3]> { ls.0.iter().map(|c| [c.x, c.y, 0.0]).collect() };
+    let ring3 =
+        |ls: &LineString<f64>| -> Vec<[f64; 3]> { ls.0.iter().map(|c| [c.x, c.y, 0.0]).collect() };
     let (mut yes, mut no) = (0, 0);
     for case in 0..6000 {
         let (ox, oy, s) = match case % 3 {
@@ -835,7 +837,10 @@ fn strictly_convex_rings_agree_with_geo_and_are_valid() {
                     if rng.random::<bool>() {
                         h.0.insert(1, a);
                     } else {
-                        h.0.insert(1, geo::coord! { x: (a.x + b.x) / 2.0, y: (a.y + b.y) / 2.0 });
+                        h.0.insert(
+                            1,
+                            geo::coord! { x: (a.x + b.x) / 2.0, y: (a.y + b.y) / 2.0 },
+                        );
                     }
                 }
                 if rng.random::<bool>() {
@@ -879,12 +884,20 @@ fn strictly_convex_rings_agree_with_geo_and_are_valid() {
         let theirs = closed && ls.remove_repeated_points().is_strictly_convex();
         assert_eq!(ours, theirs, "case {case}: {ls:?}");
         if ours {
-            assert!(Polygon::new(ls.clone(), vec![]).is_valid(), "case {case}: {ls:?}");
+            assert!(
+                Polygon::new(ls.clone(), vec![]).is_valid(),
+                "case {case}: {ls:?}"
+            );
             yes += 1;
         } else {
             no += 1;
         }
     }
     assert!(yes > 2000 && no > 2000, "{yes} convex, {no} not");
-    assert!(!is_strictly_convex_ring(&[[0.0, 0.0, 0.0], [f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]));
+    assert!(!is_strictly_convex_ring(&[
+        [0.0, 0.0, 0.0],
+        [f64::NAN, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0]
+    ]));
 }

@@ -163,4 +163,53 @@ FROM per GROUP BY l ORDER BY l;
 SELECT count(*) FROM dem_window, tin_tiles(rast, 1, 2.0, 3);
 SELECT count(*) FROM dem_window, tin_tiles(rast, 100, 2.0, 3, band => 2);
 SELECT count(*) FROM dem_window, tin_tiles(rast, 100, -1.0, 3);
+
+-- tin_tiles_from_table: a table of tiles (the raster2pgsql -t 100x100 table of the
+-- same window): bit for bit the tins tin_tiles builds from the window
+-- raster itself, tile for tile
+CREATE TABLE from_table AS SELECT * FROM tin_tiles_from_table('window_tiles', 2.0, 3);
+SELECT count(*) AS tiles, count(o.t) AS matched, count(*) FILTER (WHERE f.t::text = o.t::text) AS same_bytes
+FROM from_table f LEFT JOIN one_call o USING (tx, ty);
+-- ST_Tile of the whole DEM (nodata corners, last tiles narrower) in 64 x 64
+-- tiles, the rows in a shuffled order, against tin_tiles of the DEM raster;
+-- and the geographic DEM in 90 x 90 tiles
+CREATE TABLE dem_cut AS SELECT t AS rast FROM dem, ST_Tile(rast, 64, 64) t ORDER BY md5(ST_AsText(ST_Envelope(t)));
+CREATE TABLE geo_cut AS SELECT t AS rast FROM dem_geo, ST_Tile(rast, 90, 90) t ORDER BY md5(ST_AsText(ST_Envelope(t)));
+SELECT 'utm' AS dem, count(*) AS tiles, count(w.t) AS matched, count(*) FILTER (WHERE f.t::text = w.t::text) AS same_bytes
+FROM tin_tiles_from_table('dem_cut', 4.0, 2) f
+LEFT JOIN (SELECT w.* FROM dem, tin_tiles(rast, 64, 4.0, 2) w) w USING (tx, ty)
+UNION ALL
+SELECT 'geographic', count(*), count(w.t), count(*) FILTER (WHERE f.t::text = w.t::text)
+FROM tin_tiles_from_table('geo_cut', 4.0, 2) f
+LEFT JOIN (SELECT w.* FROM dem_geo, tin_tiles(rast, 90, 4.0, 2) w) w USING (tx, ty);
+-- a tile missing: every other tile is still built, its neighbours without
+-- its border pixels (the left neighbour's tin spans its own 64 columns,
+-- 63 pixels from first to last centre)
+DELETE FROM dem_cut WHERE ST_UpperLeftX(rast) = (SELECT ST_UpperLeftX(rast) FROM dem) + 128 * ST_ScaleX(rast)
+                      AND ST_UpperLeftY(rast) = (SELECT ST_UpperLeftY(rast) FROM dem) + 64 * ST_ScaleY(rast);
+SELECT count(*) AS tiles, count(*) FILTER (WHERE (tx, ty) = (2, 1)) AS the_missing_one,
+       (SELECT round(((ST_XMax(tin_envelope(t)) - ST_XMin(tin_envelope(t))) / (SELECT ST_ScaleX(rast) FROM dem))::numeric, 6)
+        FROM tin_tiles_from_table('dem_cut', 4.0, 2) WHERE (tx, ty) = (1, 1)) AS left_neighbour_columns_apart
+FROM tin_tiles_from_table('dem_cut', 4.0, 2);
+-- bad tables, one per line
+SELECT count(*) FROM tin_tiles_from_table('window_tiles', 2.0, 3, rast_column => 'rid');
+SELECT count(*) FROM tin_tiles_from_table('window_tiles', 2.0, 3, rast_column => 'nope');
+SELECT count(*) FROM tin_tiles_from_table('no_such_table', 2.0, 3);
+SELECT count(*) FROM tin_tiles_from_table('window_tiles', 2.0, 3, band => 2);
+SELECT count(*) FROM tin_tiles_from_table('window_tiles', 2.0, 0);
+CREATE TEMP TABLE bad_tiles AS SELECT rast FROM window_tiles;
+INSERT INTO bad_tiles SELECT ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + ST_ScaleX(rast) / 2, ST_UpperLeftY(rast)) FROM window_tiles LIMIT 1;
+SELECT count(*) FROM tin_tiles_from_table('bad_tiles', 2.0, 3);
+TRUNCATE bad_tiles;
+INSERT INTO bad_tiles SELECT rast FROM window_tiles UNION ALL SELECT ST_SetScale(rast, ST_ScaleX(rast) * 2, ST_ScaleY(rast)) FROM window_tiles LIMIT 17;
+SELECT count(*) FROM tin_tiles_from_table('bad_tiles', 2.0, 3);
+TRUNCATE bad_tiles;
+INSERT INTO bad_tiles SELECT CASE WHEN rid = 1 THEN ST_SetSRID(rast, 4326) ELSE rast END FROM window_tiles;
+SELECT count(*) FROM tin_tiles_from_table('bad_tiles', 2.0, 3);
+TRUNCATE bad_tiles;
+INSERT INTO bad_tiles SELECT rast FROM window_tiles UNION ALL SELECT rast FROM window_tiles WHERE rid = 5;
+SELECT count(*) FROM tin_tiles_from_table('bad_tiles', 2.0, 3);
+TRUNCATE bad_tiles;
+SELECT count(*) AS empty_table FROM tin_tiles_from_table('bad_tiles', 2.0, 3);
+DROP TABLE from_table, dem_cut, geo_cut;
 DROP TABLE one_call;

@@ -221,7 +221,9 @@ pub fn place_tiles(tiles: &[(Lattice, usize, usize)]) -> Result<TableGrid, TinEr
         return bad("the table has no raster tiles".into());
     };
     if !first.is_valid() {
-        return bad("the first tile's geotransform is not usable (not finite, or degenerate)".into());
+        return bad(
+            "the first tile's geotransform is not usable (not finite, or degenerate)".into(),
+        );
     }
     let det = first.det();
     let mut at: Vec<(i64, i64)> = Vec::with_capacity(tiles.len());
@@ -229,7 +231,9 @@ pub fn place_tiles(tiles: &[(Lattice, usize, usize)]) -> Result<TableGrid, TinEr
         if w == 0 || h == 0 {
             return bad(format!("tile {k} is empty ({w} x {h} pixels)"));
         }
-        if (l.scale_x, l.scale_y, l.skew_x, l.skew_y) != (first.scale_x, first.scale_y, first.skew_x, first.skew_y) {
+        if (l.scale_x, l.scale_y, l.skew_x, l.skew_y)
+            != (first.scale_x, first.scale_y, first.skew_x, first.skew_y)
+        {
             return bad(format!(
                 "tile {k} has pixel size ({}, {}) and skew ({}, {}), the first tile ({}, {}) and ({}, {}): the tiles must share one pixel grid (ST_SameAlignment)",
                 l.scale_x, l.scale_y, l.skew_x, l.skew_y, first.scale_x, first.scale_y, first.skew_x, first.skew_y
@@ -240,9 +244,17 @@ pub fn place_tiles(tiles: &[(Lattice, usize, usize)]) -> Result<TableGrid, TinEr
         let c = (first.scale_y * dx - first.skew_x * dy) / det;
         let r = (first.scale_x * dy - first.skew_y * dx) / det;
         let (ci, ri) = (c.round(), r.round());
-        if !c.is_finite() || !r.is_finite() || (c - ci).abs() > 1e-6 || (r - ri).abs() > 1e-6 || ci.abs() > 1e15 || ri.abs() > 1e15 {
+        if !c.is_finite()
+            || !r.is_finite()
+            || (c - ci).abs() > 1e-6
+            || (r - ri).abs() > 1e-6
+            || ci.abs() > 1e15
+            || ri.abs() > 1e15
+        {
             return bad(format!(
-                "tile {k} starts {c} columns and {r} rows from the first tile: tiles must be a whole number of pixels apart (ST_SameAlignment)"
+                "tile {k} starts {} columns and {} rows from the first tile: tiles must be a whole number of pixels apart (ST_SameAlignment)",
+                c + 0.0,
+                r + 0.0
             ));
         }
         at.push((ci as i64, ri as i64));
@@ -266,9 +278,14 @@ pub fn place_tiles(tiles: &[(Lattice, usize, usize)]) -> Result<TableGrid, TinEr
                 "tile {k} starts at pixel column {oc}, row {or} of the table: not on the grid of {tile_width} x {tile_height} pixel tiles (cut every tile but the last of a row or column to the same size, as raster2pgsql -t does)"
             ));
         }
-        let (tx, ty) = ((oc / tile_width as u64) as usize, (or / tile_height as u64) as usize);
+        let (tx, ty) = (
+            (oc / tile_width as u64) as usize,
+            (or / tile_height as u64) as usize,
+        );
         if let Some(j) = seen.insert((tx, ty), k) {
-            return bad(format!("tiles {j} and {k} take the same place (tile column {tx}, row {ty})"));
+            return bad(format!(
+                "tiles {j} and {k} take the same place (tile column {tx}, row {ty})"
+            ));
         }
         placed.push(Placed {
             tx,
@@ -296,9 +313,10 @@ pub struct Block<'a> {
 
 /// The samples (common-lattice column, row, value) a tile of a table is
 /// built from: its own valid pixels, the first column of the tile to its
-/// right, the first row of the one below and the first pixel of the one
-/// below-right (each when that tile is there and adjoins it), as
-/// [`build_tiles`] takes them from one raster.
+/// right and the first row of the one below (each when that tile is there
+/// and adjoins it), and the first pixel of the one below-right when all
+/// three are, as [`build_tiles`] takes them from one raster. A missing
+/// tile leaves a hole its neighbours do not reach into.
 pub fn keep_border_samples(
     own: &Block,
     right: Option<&Block>,
@@ -308,14 +326,20 @@ pub fn keep_border_samples(
     let p = own.place;
     let (w, h) = (p.width as i64, p.height as i64);
     let mut out = Vec::with_capacity((p.width + 1) * (p.height + 1));
-    let adjoins = |b: &&Block, dc: i64, dr: i64| b.place.col == p.col + dc && b.place.row == p.row + dr;
+    let adjoins =
+        |b: &&Block, dc: i64, dr: i64| b.place.col == p.col + dc && b.place.row == p.row + dr;
     let right = right.filter(|b| adjoins(b, w, 0));
     let below = below.filter(|b| adjoins(b, 0, h));
-    let corner = corner.filter(|b| adjoins(b, w, h));
+    // the corner joins the border column to the border row: only with both
+    let corner = corner.filter(|b| right.is_some() && below.is_some() && adjoins(b, w, h));
     let mut push = |b: &Block, c: usize, r: usize| {
         if let Some(&v) = b.values.get(r * b.place.width + c) {
             if (b.valid)(v) {
-                out.push([(b.place.col + c as i64) as f64, (b.place.row + r as i64) as f64, v]);
+                out.push([
+                    (b.place.col + c as i64) as f64,
+                    (b.place.row + r as i64) as f64,
+                    v,
+                ]);
             }
         }
     };
