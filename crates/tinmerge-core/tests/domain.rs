@@ -129,9 +129,9 @@ fn outline_matches_the_block_rule() {
         |c: usize, r: usize| !(((5..9).contains(&c) && (4..7).contains(&r)) || (c == 15 && r == 3));
     let (n, _) = check("hole", 20, 12, &holed);
     assert!(n >= 2, "the hole is a ring of its own");
-    let checker = |c: usize, r: usize| ((c / 2) + (r / 2)) % 2 == 0;
+    let checker = |c: usize, r: usize| ((c / 2) + (r / 2)).is_multiple_of(2);
     check("checkerboard", 16, 16, &checker);
-    let lone = |c: usize, r: usize| (c * 7 + r * 3) % 5 == 0;
+    let lone = |c: usize, r: usize| (c * 7 + r * 3).is_multiple_of(5);
     check("lone pixels", 15, 15, &lone);
     let diag = |c: usize, r: usize| c + r >= 6 && c + r <= 14;
     check("diagonal band", 12, 12, &diag);
