@@ -91,3 +91,28 @@ pub fn check() -> Result<(), TinError> {
     }
     Ok(())
 }
+
+/// The Rust heap this backend has had live at its peak since the last reset,
+/// in bytes, and the heap live now: what the large-terrain benchmark reports
+/// as a build's peak memory (the counting allocator of
+/// `tinmerge_core::tin::memory`; PostgreSQL's own `palloc` memory is not in
+/// it). `reset => true` first starts a new peak from what is live now. Only
+/// in builds with the `bench` feature (`make bench` installs one).
+#[cfg(feature = "bench")]
+#[pg_extern(volatile, parallel_unsafe)]
+fn _tin_heap_peak(reset: bool) -> TableIterator<'static, (name!(peak, i64), name!(live, i64))> {
+    if reset {
+        memory::reset_peak();
+    }
+    let as_i64 = |b: usize| i64::try_from(b).unwrap_or(i64::MAX);
+    TableIterator::once((as_i64(memory::peak()), as_i64(memory::live())))
+}
+
+#[cfg(feature = "bench")]
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_heap_peak(boolean) IS 'Internal (benchmark builds only): the peak and the live Rust heap of this backend in bytes since the last reset (reset => true starts a new peak).';
+"#,
+    name = "tin_heap_peak_comment",
+    requires = [_tin_heap_peak]
+);
