@@ -22,6 +22,7 @@ psql:
 
 bench:
 	scripts/bench.sh
+	scripts/bench-big.sh
 
 clean:
 	scripts/cluster.sh stop

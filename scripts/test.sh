@@ -64,6 +64,9 @@ tests/concurrency.sh
 echo "== sharding: 3 clusters, postgres_fdw, merges pushed to the shards, answers against one node"
 tests/sharding.sh
 
+echo "== a terrain bigger than one value at test size: 4.5 million pixels as tiles, checked against PostGIS"
+tests/big.sh
+
 echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 python3 tests/properties/check_hierarchy.py
 echo "== coverage-weighted raster statistics against exactextract"

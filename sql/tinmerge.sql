@@ -38,7 +38,7 @@ RETURNS tin AS $$ SELECT @extschema@._tin_from_raster($1::bytea, $2, $3, $4, $5)
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean) IS
-'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true makes every sample on the edges of the convex hull a vertex of every level, so tiles that share a border row or column of pixels have the same surface along it (see docs/scaling.md, tiled terrains).';
+'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true decides the vertices on each side of the convex hull from that side''s samples alone, simplified to each level''s tolerance, so tiles that share a border row or column of pixels have the same vertices and the same surface along it at every level (see docs/scaling.md, tiled terrains).';
 
 CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1, keep_border boolean DEFAULT false)
 RETURNS tin AS $$ SELECT @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3, $4) $$
@@ -53,7 +53,7 @@ $$ SELECT * FROM @extschema@._tin_tiles($1::bytea, $2, $3, $4, $5) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_tiles(raster, int, float8, int, int) IS
-'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles share their seam samples as vertices of every level and their surfaces agree along the seams. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
+'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles have the same vertices on their shared seam at every level and their surfaces agree along it. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
 CREATE FUNCTION tin_tiles_from_table(tiles regclass, tolerance float8, levels int DEFAULT 5, rast_column name DEFAULT 'rast', band int DEFAULT 1)
 RETURNS TABLE(tx int, ty int, t tin) AS
 $$ SELECT * FROM @extschema@._tin_tiles_table($1::oid, $4::text, $2, $3, $5) $$

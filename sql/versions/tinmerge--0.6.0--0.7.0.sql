@@ -50,7 +50,7 @@ $$ SELECT * FROM @extschema@._tin_tiles($1::bytea, $2, $3, $4, $5) $$
 LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_tiles(raster, int, float8, int, int) IS
-'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles share their seam samples as vertices of every level and their surfaces agree along the seams. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
+'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles have the same vertices on their shared seam at every level and their surfaces agree along it. Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
 CREATE FUNCTION _tin_tiles_table("tab" oid, "column" text, "tolerance" double precision, "levels" int, "band" int)
 RETURNS TABLE ("tx" int, "ty" int, "t" tin)
 STABLE STRICT PARALLEL RESTRICTED COST 100000
@@ -133,3 +133,8 @@ COMMENT ON FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8) IS
 'tin_quantized_mesh of a terrain stored as tiles (tins sharing their seams: tin_tiles, or tin_from_raster with keep_border): one tile from every tin given, as one mesh (seam vertices one vertex, normals summed over the tins, no wall along a seam), at the level the zoom chooses from each level''s largest error over the tins. Pass the tins whose extent meets the tile, e.g. array_agg(t) over the tile table with a GiST index on the tins'' extent in degrees (docs/serving.md). The tins must share their SRID and number of levels. An empty array is off the terrain.';
 COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) IS
 'tin_quantized_mesh_layer of a terrain stored as tiles: the bounds of all the tins, the levels'' largest errors over them.';
+
+-- keep_border builds choose the vertices on the hull's sides per level (no
+-- longer every border pixel at every level)
+COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean) IS
+'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true decides the vertices on each side of the convex hull from that side''s samples alone, simplified to each level''s tolerance, so tiles that share a border row or column of pixels have the same vertices and the same surface along it at every level (see docs/scaling.md, tiled terrains).';

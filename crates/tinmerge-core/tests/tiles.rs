@@ -1,12 +1,17 @@
 //! Tiles of one terrain: two tiles of the DEM sharing one column of samples,
-//! each built on its own with `keep_border`, have the same surface along the
-//! shared column (heights continuous across the seam at every level), and
-//! every seam sample is a vertex of both. Without `keep_border` the seam
-//! samples are not all vertices: each build then refines the straight hull
-//! edge along the seam on its own, and the two surfaces agree only as far as
-//! the two greedy builds happen to choose the same seam vertices (on this
-//! DEM they nearly do); the option makes the agreement a property of the
+//! each built on its own with `keep_border`, have the same vertices on the
+//! shared column at every level, so the same surface along it (heights
+//! continuous across the seam at every level), within each level's
+//! tolerance of the seam samples. Without `keep_border` each build refines
+//! the straight hull edge along the seam in its own greedy order, and the
+//! two surfaces agree only as far as the two builds happen to choose the
+//! same seam vertices; the option makes the agreement a property of the
 //! construction.
+//! And it costs the surface nothing: until 0.7.0 the option made every seam
+//! sample a vertex of every level, and the fans of slivers from the border
+//! at the coarse levels persisted into the finest (3.6x the triangles of a
+//! free build on the 105-megapixel benchmark's tiles, draped lines 1.65x as
+//! long as on the raster); the test bounds the extra triangles.
 mod common;
 
 use tinmerge_core::merge::point::height;
@@ -29,11 +34,13 @@ fn tile(d: &common::Dem, c0: usize, c1: usize) -> Vec<[f64; 3]> {
 }
 
 /// Largest |left - right| over the seam points both tiles cover (samples of
-/// the seam column and the midpoints between consecutive ones), per level,
-/// and how many seam samples are not answered by their own value.
-fn seam(d: &common::Dem, col: usize, a: &Tin, b: &Tin) -> (Vec<f64>, usize, usize) {
+/// the seam column and the midpoints between consecutive ones), per level;
+/// how many seam points were compared; and the largest |height - sample|
+/// at the seam samples per level.
+fn seam(d: &common::Dem, col: usize, a: &Tin, b: &Tin) -> (Vec<f64>, usize, Vec<f64>) {
     let mut worst = vec![0.0f64; a.levels.len()];
-    let (mut points, mut not_vertex) = (0, 0);
+    let mut off = vec![0.0f64; a.levels.len()];
+    let mut points = 0;
     for r in 0..d.height {
         let v = d.values[r * d.width + col];
         if v.is_nan() || Some(v) == d.nodata {
@@ -42,21 +49,30 @@ fn seam(d: &common::Dem, col: usize, a: &Tin, b: &Tin) -> (Vec<f64>, usize, usiz
         let (x, y) = d.centre(col, r);
         let (_, y2) = d.centre(col, r + 1);
         for (py, exact) in [(y, Some(v)), ((y + y2) / 2.0, None)] {
-            for (l, w) in worst.iter_mut().enumerate() {
+            for l in 0..worst.len() {
                 let (Some(ha), Some(hb)) = (height(a, l, x, py), height(b, l, x, py)) else {
                     continue;
                 };
                 points += 1;
-                *w = w.max((ha - hb).abs());
+                worst[l] = worst[l].max((ha - hb).abs());
                 if let Some(v) = exact {
-                    if ha != v || hb != v {
-                        not_vertex += 1;
-                    }
+                    off[l] = off[l].max((ha - v).abs()).max((hb - v).abs());
                 }
             }
         }
     }
-    (worst, points, not_vertex)
+    (worst, points, off)
+}
+
+/// The y of the vertices of level `l` on the vertical line x = `x`, sorted.
+fn seam_vertices(t: &Tin, l: usize, x: f64) -> Vec<f64> {
+    let mut ys: Vec<f64> = t.verts[..t.levels[l].num_vertices as usize]
+        .iter()
+        .filter(|v| v[0] == x)
+        .map(|v| v[1])
+        .collect();
+    ys.sort_by(f64::total_cmp);
+    ys
 }
 
 #[test]
@@ -72,31 +88,61 @@ fn shared_border_column_gives_a_continuous_surface() {
     .unwrap();
     left.sanity_check().unwrap();
     right.sanity_check().unwrap();
-    let (worst, points, not_vertex) = seam(&d, col, &left, &right);
-    eprintln!("keep_border: {points} seam points, worst |left - right| per level {worst:?}");
+    let (worst, points, off) = seam(&d, col, &left, &right);
+    eprintln!("keep_border: {points} seam points, worst |left - right| per level {worst:?}, worst |height - sample| {off:?}");
     assert!(points > 500, "{points} seam points");
-    assert_eq!(
-        not_vertex, 0,
-        "seam samples that are not vertices of both tiles"
-    );
+    let (x, _) = d.centre(col, 0);
     for (l, w) in worst.iter().enumerate() {
+        let (a, b) = (seam_vertices(&left, l, x), seam_vertices(&right, l, x));
+        assert!(a.len() >= 2, "level {l}: the seam's ends are vertices");
+        assert_eq!(a, b, "level {l}: the two tiles' vertices on the seam");
         assert!(
             *w <= 1e-9,
             "level {l}: heights differ by {w} across the seam"
         );
+        assert!(
+            off[l] <= tols[l] + 1e-9,
+            "level {l}: a seam sample is {} from the surface, tolerance {}",
+            off[l],
+            tols[l]
+        );
     }
-    // without the option the seam samples are not all vertices
+    // the coarse levels keep few seam vertices: the border is simplified
+    // like the rest of the surface, not taken whole
+    let column = (0..d.height)
+        .filter(|&r| {
+            let v = d.values[r * d.width + col];
+            !v.is_nan() && Some(v) != d.nodata
+        })
+        .count();
+    assert!(
+        seam_vertices(&left, 0, x).len() * 2 < column,
+        "level 0 keeps {} of the {column} seam samples",
+        seam_vertices(&left, 0, x).len()
+    );
+    // without the option each build decides its seam vertices in its own
+    // greedy order: on this DEM they come out the same (a seam sample's
+    // error depends on the seam vertices only), but nothing makes them
+    // (ties are broken by face order, and a sliver face of scattered
+    // samples takes every sample in it)
     let free = BuildOptions::default();
     let l2 = build_with(tile(&d, 0, col), &tols, 32616, free, &mut || Ok(())).unwrap();
     let r2 = build_with(tile(&d, col, d.width - 1), &tols, 32616, free, &mut || {
         Ok(())
     })
     .unwrap();
-    let (worst2, _, not_vertex2) = seam(&d, col, &l2, &r2);
-    eprintln!("without keep_border: {not_vertex2} seam samples not vertices, worst {worst2:?}");
+    let apart = (0..tols.len())
+        .filter(|&l| seam_vertices(&l2, l, x) != seam_vertices(&r2, l, x))
+        .count();
+    eprintln!("without keep_border: {apart} levels with different seam vertices");
+    // and the option costs the surface little: triangles of the finest
+    // level against the free builds'
+    let finest = |t: &Tin| t.levels[t.levels.len() - 1].tris.len();
+    let (kept, freed) = (finest(&left) + finest(&right), finest(&l2) + finest(&r2));
+    eprintln!("finest triangles: keep_border {kept}, free {freed}");
     assert!(
-        not_vertex2 > 0,
-        "free builds keep every seam sample: the option shows nothing"
+        kept * 100 <= freed * 110,
+        "keep_border makes {kept} finest triangles, free builds {freed}"
     );
     let count = |t: &Tin| t.levels.iter().map(|l| l.num_vertices).collect::<Vec<_>>();
     eprintln!(
@@ -219,10 +265,13 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
                     let mid = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
                     for l in 0..tols.len() {
                         let (ha, hb) = (height(a, l, p[0], p[1]), height(b, l, p[0], p[1]));
-                        assert_eq!(
-                            (ha, hb),
-                            (Some(v), Some(v)),
-                            "{name}: seam sample ({c}, {r}) level {l}"
+                        let (Some(ha), Some(hb)) = (ha, hb) else {
+                            panic!("{name}: seam sample ({c}, {r}) level {l} outside a tile: {ha:?} {hb:?}");
+                        };
+                        assert!(
+                            (ha - hb).abs() <= 1e-9 && (ha - v).abs() <= tols[l] + 1e-9,
+                            "{name}: seam sample ({c}, {r}) level {l}: {ha} / {hb}, sample {v}, tolerance {}",
+                            tols[l]
                         );
                         let (ma, mb) = (height(a, l, mid[0], mid[1]), height(b, l, mid[0], mid[1]));
                         if let (Some(ma), Some(mb)) = (ma, mb) {

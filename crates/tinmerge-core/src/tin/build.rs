@@ -156,20 +156,23 @@ fn convex_hull(pts: &[[f64; 3]]) -> Vec<usize> {
     h
 }
 
-/// Samples exactly on the edges of the convex hull `hull` (corners
-/// excluded), edge by edge, in order along each edge.
-fn border_samples(
+/// The sides of the convex hull `hull`: for each edge, every sample exactly
+/// on it, both corners included, ordered along it from its corner that is
+/// smaller in (x, y) order. Two tiles sharing a seam list the seam's samples
+/// in the same order whichever way round their hulls go.
+fn hull_sides(
     pts: &[[f64; 3]],
     hull: &[usize],
     interrupt: &mut Interrupt<'_>,
-) -> Result<Vec<usize>, TinError> {
-    let mut out = Vec::new();
+) -> Result<Vec<Vec<usize>>, TinError> {
+    let mut out = Vec::with_capacity(hull.len());
     for k in 0..hull.len() {
         interrupt()?;
-        let (a, b) = (&pts[hull[k]], &pts[hull[(k + 1) % hull.len()]]);
+        let (ia, ib) = (hull[k], hull[(k + 1) % hull.len()]);
+        let (a, b) = (&pts[ia], &pts[ib]);
         let (x0, x1) = (a[0].min(b[0]), a[0].max(b[0]));
         let (y0, y1) = (a[1].min(b[1]), a[1].max(b[1]));
-        let mut on: Vec<(f64, usize)> = Vec::new();
+        let mut on: Vec<(f64, usize)> = vec![(0.0, ia)];
         for (i, p) in pts.iter().enumerate() {
             if p[0] < x0 || p[0] > x1 || p[1] < y0 || p[1] > y1 {
                 continue;
@@ -179,10 +182,64 @@ fn border_samples(
                 on.push((d, i));
             }
         }
+        on.push((f64::INFINITY, ib));
         on.sort_by(|u, v| u.0.total_cmp(&v.0));
-        out.extend(on.into_iter().map(|(_, i)| i));
+        let mut side: Vec<usize> = on.into_iter().map(|(_, i)| i).collect();
+        if (b[0], b[1]) < (a[0], a[1]) {
+            side.reverse();
+        }
+        out.push(side);
     }
     Ok(out)
+}
+
+/// One level's choice of border vertices on a hull side (`keep_border`): a
+/// Douglas-Peucker split of the side's height profile, from the positions
+/// already `chosen` (at first its two corners), until every sample of the
+/// side is within `tol` of the straight line between the chosen samples on
+/// either side of it. Each gap is split at its first worst sample, and the
+/// error is measured from coordinate differences only, so tiles whose
+/// lattices differ by whole pixels choose the same samples of a shared
+/// seam. Marks the new choices in `chosen`, pushes their sample indices to
+/// `new` and returns the worst error left.
+fn choose_border(
+    pts: &[[f64; 3]],
+    side: &[usize],
+    chosen: &mut [bool],
+    tol: f64,
+    new: &mut Vec<usize>,
+) -> f64 {
+    let err = |i: usize, j: usize, k: usize| -> f64 {
+        let (p, q, s) = (&pts[side[i]], &pts[side[j]], &pts[side[k]]);
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        let t = if dx.abs() >= dy.abs() {
+            (s[0] - p[0]) / dx
+        } else {
+            (s[1] - p[1]) / dy
+        };
+        (s[2] - (p[2] + t * (q[2] - p[2]))).abs()
+    };
+    let marks: Vec<usize> = (0..side.len()).filter(|&k| chosen[k]).collect();
+    let mut gaps: Vec<(usize, usize)> = marks.windows(2).map(|w| (w[0], w[1])).collect();
+    let mut worst = 0.0f64;
+    while let Some((i, j)) = gaps.pop() {
+        let mut best = (0.0f64, usize::MAX);
+        for k in i + 1..j {
+            let e = err(i, j, k);
+            if e > best.0 {
+                best = (e, k);
+            }
+        }
+        if best.0 > tol {
+            chosen[best.1] = true;
+            new.push(side[best.1]);
+            gaps.push((i, best.1));
+            gaps.push((best.1, j));
+        } else {
+            worst = worst.max(best.0);
+        }
+    }
+    worst
 }
 
 #[derive(Clone, Copy)]
@@ -222,6 +279,10 @@ struct Builder {
     vz: Vec<f64>,
     grid: SampleGrid,
     inserted: Vec<bool>,
+    /// Samples on the hull's sides under `keep_border`: never a candidate of
+    /// the greedy refinement (`choose_border` decides them, the same way in
+    /// every tile sharing the side).
+    reserved: Vec<bool>,
     faces: Vec<FaceState>,
     heap: BinaryHeap<Entry>,
 }
@@ -244,12 +305,12 @@ impl Builder {
         ];
         let mut best = 0.0f64;
         let mut cand = NONE;
-        let inserted = &self.inserted;
+        let (inserted, reserved) = (&self.inserted, &self.reserved);
         // a sliver's plane says nothing about the samples in it (and
         // `snapshot` leaves slivers out): they must all become vertices
         let sliver = crate::geom::is_sliver(&c[0], &c[1], &c[2]);
         self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
-            if inserted[i] {
+            if inserted[i] || (!reserved.is_empty() && reserved[i]) {
                 return;
             }
             let e = if sliver {
@@ -497,10 +558,16 @@ impl Builder {
 /// Choices of a build beyond samples and tolerances.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BuildOptions {
-    /// Make every sample on the convex hull's boundary a vertex of every
-    /// level (not only the hull's corners). Tiles of one raster that share
-    /// a border row or column of samples then have the very same surface
-    /// along that border: heights are continuous across tile seams.
+    /// Decide the vertices on each side of the convex hull from that side's
+    /// samples alone: at every level, a Douglas-Peucker split of the side's
+    /// height profile to the level's tolerance (`choose_border`), and no
+    /// other sample of the side. Tiles of one raster that share a border
+    /// row or column of samples then have the same vertices along it at
+    /// every level, so the very same surface there: heights are continuous
+    /// across tile seams. (Until 0.7.0 every sample of the hull's sides was
+    /// a vertex of every level: the coarse levels were fans of slivers from
+    /// the border, whose edges persisted into the finest level and made its
+    /// surface steep and jagged.)
     pub keep_border: bool,
 }
 
@@ -559,25 +626,45 @@ pub fn build_with(
         vz: Vec::new(),
         grid,
         inserted: vec![false; n],
+        reserved: vec![false; if opts.keep_border { n } else { 0 }],
         faces: Vec::new(),
         heap: BinaryHeap::new(),
     };
     for &i in &hull {
         b.insert_sample(i, None)?;
     }
-    if opts.keep_border {
-        for i in border_samples(&b.grid.pts, &hull, interrupt)? {
-            if !b.inserted[i] {
-                b.insert_sample(i, None)?;
-            }
-        }
+    let sides = if opts.keep_border {
+        hull_sides(&b.grid.pts, &hull, interrupt)?
+    } else {
+        Vec::new()
+    };
+    for &i in sides.iter().flatten() {
+        b.reserved[i] = true;
     }
+    let mut chosen: Vec<Vec<bool>> = sides
+        .iter()
+        .map(|s| (0..s.len()).map(|k| k == 0 || k + 1 == s.len()).collect())
+        .collect();
     let mut raw_levels = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {
         if l > 0 {
             b.constrain_all_edges();
         }
-        let max_error = b.refine(tol, interrupt)?;
+        // keep_border: the sides' vertices of this level first, chosen from
+        // the side's samples alone (a seam's two tiles agree on them)
+        let mut border_error = 0.0f64;
+        let mut new = Vec::new();
+        for (side, chosen) in sides.iter().zip(chosen.iter_mut()) {
+            interrupt()?;
+            border_error =
+                border_error.max(choose_border(&b.grid.pts, side, chosen, tol, &mut new));
+        }
+        for i in new {
+            if !b.inserted[i] {
+                b.insert_sample(i, None)?;
+            }
+        }
+        let max_error = b.refine(tol, interrupt)?.max(border_error);
         raw_levels.push((tol, max_error, b.cdt.num_vertices() as u32, b.snapshot()));
     }
     let verts: Vec<[f64; 3]> = (0..b.cdt.num_vertices())

@@ -4,10 +4,11 @@
 //! Tile `(tx, ty)` holds the pixels of columns `tx * n .. (tx + 1) * n` and
 //! rows `ty * n .. (ty + 1) * n` of an `n`-pixel tiling, *plus the first
 //! column of its right neighbour and the first row of the one below* (where
-//! they exist), and is built with `keep_border`, so every sample on its
-//! hull is a vertex of every level. Two neighbouring tiles then share a
-//! column (or row) of samples that are vertices of both, and their surfaces
-//! are the same along the seam at every level.
+//! they exist), and is built with `keep_border`, so the vertices on each
+//! side of its hull are chosen from that side's samples alone, level by
+//! level. Two neighbouring tiles then share a column (or row) of samples
+//! and choose the same vertices on it, and their surfaces are the same
+//! along the seam at every level.
 //!
 //! Every tile is built on the raster's own pixel lattice with the pixels'
 //! whole-raster column and row numbers, so a shared pixel centre is the very
