@@ -82,12 +82,12 @@ SELECT 'tiles built' AS what, count(*) AS tins, sum(tin_num_triangles(t)) AS fin
 FROM big_tins;
 SELECT 'build memory' AS what,
        CASE WHEN $peak < 0 THEN 'n/a (install with TINMERGE_FEATURES=bench)' ELSE round($peak / 1048576.0, 1)::text END AS rust_heap_peak_mb,
-       CASE WHEN $peak < 0 THEN NULL ELSE round($peak::numeric / ($threads * ($TILE + 1) * ($TILE + 1)), 1) END AS bytes_per_sample_in_flight,
+       CASE WHEN $peak < 0 THEN NULL ELSE round($peak::numeric / (2 * (SELECT count(DISTINCT ST_UpperLeftX(rast)) FROM big_tiles) * $TILE * $TILE + $threads * ($TILE + 1) * ($TILE + 1)), 1) END AS bytes_per_pixel_held,
        CASE WHEN $peak < 0 THEN NULL ELSE round($peak::numeric / (SELECT sum(ST_Count(rast)) FROM big_tiles), 2) END AS bytes_per_sample_of_raster,
        round($hwm / 1024.0, 1) AS backend_peak_rss_mb;
 SQL
 
-echo "== features: $NPTS random points, $NLINES lines of 1 km, $NPOLYS polygons (circles of 100 m radius), seeded"
+echo "== features: $NPTS random points, $NLINES lines of 1 km, $NPOLYS polygons (circles of 100 m radius) and $((NPOLYS / 10)) of 1 km², seeded"
 q <<SQL
 SELECT setseed(0.5);
 CREATE TABLE ext AS SELECT ST_XMin(e) x0, ST_YMin(e) y0, ST_XMax(e) - ST_XMin(e) w, ST_YMax(e) - ST_YMin(e) h
@@ -99,8 +99,10 @@ FROM (SELECT i, x0 + 1000 + random() * (w - 2000) x, y0 + 1000 + random() * (h -
       FROM ext, generate_series(1, $NLINES) i) s;
 CREATE TABLE big_polys AS SELECT i AS id, ST_Buffer(ST_SetSRID(ST_MakePoint(x0 + 200 + random() * (w - 400), y0 + 200 + random() * (h - 400)), 32616), 100) AS geom
 FROM ext, generate_series(1, $NPOLYS) i;
+CREATE TABLE big_polys_km AS SELECT i AS id, ST_Buffer(ST_SetSRID(ST_MakePoint(x0 + 600 + random() * (w - 1200), y0 + 600 + random() * (h - 1200)), 32616), 564.19) AS geom
+FROM ext, generate_series(1, greatest($NPOLYS / 10, 1)) i;
 CREATE INDEX ON big_pts USING gist (geom);
-ANALYZE big_pts; ANALYZE big_lines; ANALYZE big_polys;
+ANALYZE big_pts; ANALYZE big_lines; ANALYZE big_polys; ANALYZE big_polys_km;
 SQL
 
 # the queries, both ways; one core each (max_parallel_workers_per_gather = 0)
@@ -110,14 +112,17 @@ L_TIN="SELECT l.id, sum(s.length2d) AS len2d, sum(s.length3d) AS len3d FROM big_
 L_PG="SELECT id, ST_3DLength(ST_MakeLine(ST_MakePoint(x, y, z) ORDER BY path)) AS len3d FROM (SELECT l.id, d.path, ST_X(d.geom) x, ST_Y(d.geom) y, (SELECT ST_Value(r.rast, 1, d.geom) FROM big_tiles r WHERE ST_Intersects(r.rast, d.geom) LIMIT 1) z FROM big_lines l, ST_DumpPoints(ST_Segmentize(l.geom, (SELECT ST_ScaleX(rast) FROM big_tiles LIMIT 1))) d) s WHERE z IS NOT NULL GROUP BY id"
 A_TIN="SELECT b.id, sum(s.area2d) AS area2d, sum(s.area3d) AS area3d, sum(s.mean_z * s.area2d) / nullif(sum(s.area2d), 0) AS mean_z FROM big_polys b JOIN big_tins k ON tin_envelope(k.t) && b.geom, LATERAL tin_area_stats(k.t, ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3)) s GROUP BY b.id"
 A_PG="SELECT b.id, (ST_SummaryStatsAgg(ST_Clip(r.rast, b.geom), 1, true)).mean AS mean_z FROM big_polys b JOIN big_tiles r ON ST_Intersects(r.rast, b.geom) GROUP BY b.id"
+K_TIN="${A_TIN//big_polys/big_polys_km}"
+K_PG="${A_PG//big_polys/big_polys_km}"
 
 # cold: the first run in a new connection; warm: the median of the next runs.
 # count(s::text) needs every column of every row: with count(*) alone the
 # planner would drop the unused heights and statistics (and never call the
 # functions that make them).
-cold_warm() { # label query warm_runs
+cold_warm() { # label query warm_runs [setting]
   scripts/cluster.sh psql -qAt -F ' | ' -d "$DB" \
     -c "SET max_parallel_workers_per_gather = 0" \
+    -c "${4:-SELECT}" \
     -c "SET client_min_messages = warning" \
     -c "CREATE TEMP TABLE r AS SELECT median_ms AS cold FROM bench('', \$q\$SELECT count(s::text) FROM ($2) s\$q\$, 1)" \
     -c "SELECT '$1', (SELECT cold FROM r), median_ms FROM bench('', \$q\$SELECT count(s::text) FROM ($2) s\$q\$, $3)"
@@ -125,11 +130,14 @@ cold_warm() { # label query warm_runs
 echo "== merges (ms; one core per query): what | cold (first query of a connection) | warm median"
 {
   cold_warm "$NPTS points, tinmerge: tin_height over the tin tiles (GiST on tin_envelope)" "$P_TIN" 3
+  cold_warm "$NPTS points, tinmerge, tinmerge.cache_size = 4GB (every tile stays decoded)" "$P_TIN" 3 "SET tinmerge.cache_size = '4GB'"
   cold_warm "$NPTS points, PostGIS: ST_Value over the raster tiles (GiST on ST_ConvexHull)" "$P_PG" 1
   cold_warm "$NLINES lines, tinmerge: tin_line_segments per tile piece, summed (2D, 3D length)" "$L_TIN" 3
   cold_warm "$NLINES lines, PostGIS: ST_Segmentize to the pixel size, ST_Value per vertex, ST_3DLength" "$L_PG" 1
   cold_warm "$NPOLYS polygons, tinmerge: tin_area_stats per tile piece (area 2D/3D, mean z)" "$A_TIN" 3
   cold_warm "$NPOLYS polygons, PostGIS: ST_SummaryStatsAgg(ST_Clip(rast, polygon)) (mean z)" "$A_PG" 1
+  cold_warm "$((NPOLYS / 10)) polygons of 1 km², tinmerge: tin_area_stats per tile piece" "$K_TIN" 3
+  cold_warm "$((NPOLYS / 10)) polygons of 1 km², PostGIS: ST_SummaryStatsAgg(ST_Clip(rast, polygon))" "$K_PG" 1
 } | tee "$dir/merges$FACTOR.txt"
 
 echo "== answers, tinmerge against PostGIS (the tin interpolates a surface within $TOL m of every pixel; PostGIS reads the pixel a point falls in)"
@@ -149,6 +157,10 @@ SELECT 'polygons: mean z, tinmerge - PostGIS' AS what, count(*) AS compared,
        round(percentile_cont(0.5) WITHIN GROUP (ORDER BY abs(a.mean_z - b.mean_z))::numeric, 3) AS median_abs_diff_m,
        round(max(abs(a.mean_z - b.mean_z))::numeric, 3) AS max_abs_diff_m
 FROM ($A_TIN) a JOIN ($A_PG) b USING (id);
+SELECT 'polygons of 1 km²: mean z, tinmerge - PostGIS' AS what, count(*) AS compared,
+       round(percentile_cont(0.5) WITHIN GROUP (ORDER BY abs(a.mean_z - b.mean_z))::numeric, 3) AS median_abs_diff_m,
+       round(max(abs(a.mean_z - b.mean_z))::numeric, 3) AS max_abs_diff_m
+FROM ($K_TIN) a JOIN ($K_PG) b USING (id);
 SQL
 
 echo "== checks (PostGIS as the oracle)"
