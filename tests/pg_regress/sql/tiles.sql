@@ -144,6 +144,42 @@ SELECT count(*) AS bands,
        count(*) FILTER (WHERE abs(tiled.a3 - single.a3) > 0.01 * single.a3) AS area3d_differ_over_1pct
 FROM tiled JOIN single USING (id);
 
+-- volumes against the tile table: cut and fill of each band against the
+-- window's median height, per tile piece, summed. The tiles and the single
+-- tin are different surfaces within 2 m of every pixel, so their net
+-- volumes (cut - fill) differ by less than 2 x 2 m x the band's area.
+WITH wbands AS (
+  SELECT b.id, ST_Intersection(b.geom, w.env) AS geom
+  FROM contour_bands b, (SELECT tin_envelope(t) AS env FROM window_tin) w
+  WHERE ST_Intersects(b.geom, w.env)
+), base AS (
+  SELECT percentile_cont(0.5) WITHIN GROUP (ORDER BY val) AS z FROM dem_window, ST_PixelAsPoints(rast) p
+), tiled AS (
+  SELECT b.id, sum(v.cut) AS cut, sum(v.fill) AS fill
+  FROM wbands b JOIN tin_tiles k ON tin_envelope(k.t) && b.geom, base,
+       tin_volume(k.t, ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), base.z) v
+  GROUP BY b.id
+), single AS (
+  SELECT b.id, v.cut, v.fill, ST_Area(b.geom) AS area FROM wbands b, window_tin w, base, tin_volume(w.t, b.geom, base.z) v
+)
+SELECT count(*) AS bands, count(*) FILTER (WHERE single.cut + single.fill > 0) AS with_volume,
+       count(*) FILTER (WHERE abs((tiled.cut - tiled.fill) - (single.cut - single.fill)) > 2 * 2.0 * area) AS net_volume_beyond_bound
+FROM tiled JOIN single USING (id);
+
+-- drapes against the tile table: the draped pieces merged back into one
+-- line per contour (ST_LineMerge joins them where they meet on a seam;
+-- their heights there agree, as the seam crossings above show): as many
+-- parts as the contour in the window, and its planar length
+WITH draped AS (
+  SELECT p.contour AS id, ST_LineMerge(ST_Collect(d.geom)) AS geom
+  FROM tile_pieces p, ST_Dump(tin_drape(p.t, p.geom)) d GROUP BY p.contour
+)
+SELECT count(*) AS contours,
+       count(*) FILTER (WHERE ST_NumGeometries(d.geom) <> ST_NumGeometries(ST_LineMerge(c.geom))) AS parts_differ,
+       count(*) FILTER (WHERE abs(ST_Length(d.geom) - ST_Length(c.geom)) > 1e-6 * ST_Length(c.geom)) AS length_differs,
+       bool_and(ST_Zmflag(d.geom) = 2) AS all_3d
+FROM draped d JOIN tile_contours c USING (id);
+
 -- tin_tiles: the same pattern in one call, from the window raster itself
 -- (no ST_Union, no ST_Clip). Each tile is the tin the SQL pattern built for
 -- the tile with the same envelope: the same triangles at every level (as
