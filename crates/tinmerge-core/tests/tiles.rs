@@ -263,15 +263,14 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
                     let (qx, qy) = lat.centre(w[1].0 as f64, w[1].1 as f64);
                     let (p, q) = ([px, py], [qx, qy]);
                     let mid = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
-                    for l in 0..tols.len() {
+                    for (l, &tol) in tols.iter().enumerate() {
                         let (ha, hb) = (height(a, l, p[0], p[1]), height(b, l, p[0], p[1]));
                         let (Some(ha), Some(hb)) = (ha, hb) else {
                             panic!("{name}: seam sample ({c}, {r}) level {l} outside a tile: {ha:?} {hb:?}");
                         };
                         assert!(
-                            (ha - hb).abs() <= 1e-9 && (ha - v).abs() <= tols[l] + 1e-9,
-                            "{name}: seam sample ({c}, {r}) level {l}: {ha} / {hb}, sample {v}, tolerance {}",
-                            tols[l]
+                            (ha - hb).abs() <= 1e-9 && (ha - v).abs() <= tol + 1e-9,
+                            "{name}: seam sample ({c}, {r}) level {l}: {ha} / {hb}, sample {v}, tolerance {tol}"
                         );
                         let (ma, mb) = (height(a, l, mid[0], mid[1]), height(b, l, mid[0], mid[1]));
                         if let (Some(ma), Some(mb)) = (ma, mb) {
