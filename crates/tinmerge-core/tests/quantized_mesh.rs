@@ -601,29 +601,12 @@ fn tile_addresses_are_checked() {
 #[test]
 fn tiled_terrain_is_one_mesh() {
     use tinmerge_core::serve::quantized_mesh::{encode_many, Source};
-    use tinmerge_core::tin::tiles::build_tiles;
     let d = common::read_dem("jacksboro_fault_dem.tif");
-    let lat = d.lattice();
-    let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
     let tols = default_tolerances(2.0, 3).unwrap();
-    let mut tins: Vec<Tin> = Vec::new();
-    build_tiles(
-        &d.values,
-        d.width,
-        d.height,
-        &valid,
-        &lat,
-        150,
-        &tols,
-        4326,
-        &mut || Ok(()),
-        &|_, _, t| t,
-        &mut |t| {
-            tins.push(t);
-            Ok(())
-        },
-    )
-    .unwrap();
+    let tins: Vec<Tin> = common::tiles_of(&d, 150, &tols, 4326)
+        .into_iter()
+        .map(|(_, _, t)| t)
+        .collect();
     assert!(tins.len() >= 4);
     let whole = build(d.samples(), &tols, 4326, &mut || Ok(())).unwrap();
     for level in [0, 2] {

@@ -164,7 +164,6 @@ fn shared_border_column_gives_a_continuous_surface() {
 fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
     use tinmerge_core::merge::point::height;
     use tinmerge_core::tin::build::build_lattice;
-    use tinmerge_core::tin::tiles::build_tiles;
     let n = 97;
     for (name, file, tol, srid) in [
         ("utm", "jacksboro_fault_dem_utm16n.tif", 2.0, 32616),
@@ -174,24 +173,7 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
         let lat = d.lattice();
         let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
         let tols = default_tolerances(tol, 3).unwrap();
-        let mut tiles: Vec<(usize, usize, Tin)> = Vec::new();
-        build_tiles(
-            &d.values,
-            d.width,
-            d.height,
-            &valid,
-            &lat,
-            n,
-            &tols,
-            srid,
-            &mut || Ok(()),
-            &|tx, ty, t| (tx, ty, t),
-            &mut |t| {
-                tiles.push(t);
-                Ok(())
-            },
-        )
-        .unwrap();
+        let tiles = common::tiles_of(&d, n, &tols, srid);
         let (nx, ny) = (d.width.div_ceil(n), d.height.div_ceil(n));
         // the test's own cut: own pixels plus one more column and row
         let mut expect = 0;
@@ -301,9 +283,7 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
 fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
     use rand::{seq::SliceRandom, SeedableRng};
     use tinmerge_core::tin::lattice::Lattice;
-    use tinmerge_core::tin::tiles::{
-        build_tile, build_tiles, keep_border_samples, place_tiles, Block,
-    };
+    use tinmerge_core::tin::tiles::{build_tile, keep_border_samples, place_tiles, Block};
     let n = 97;
     for (name, file, tol, srid) in [
         ("utm", "jacksboro_fault_dem_utm16n.tif", 2.0, 32616),
@@ -313,24 +293,10 @@ fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
         let lat = d.lattice();
         let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
         let tols = default_tolerances(tol, 3).unwrap();
-        let mut whole: Vec<(usize, usize, Vec<u8>)> = Vec::new();
-        build_tiles(
-            &d.values,
-            d.width,
-            d.height,
-            &valid,
-            &lat,
-            n,
-            &tols,
-            srid,
-            &mut || Ok(()),
-            &|tx, ty, t| (tx, ty, tinmerge_core::tin::layout::encode(&t)),
-            &mut |t| {
-                whole.push(t);
-                Ok(())
-            },
-        )
-        .unwrap();
+        let whole: Vec<(usize, usize, Vec<u8>)> = common::tiles_of(&d, n, &tols, srid)
+            .into_iter()
+            .map(|(tx, ty, t)| (tx, ty, tinmerge_core::tin::layout::encode(&t)))
+            .collect();
         // the table: (own lattice, width, height, values), shuffled
         let mut table: Vec<(Lattice, usize, usize, Vec<f64>)> = Vec::new();
         for r0 in (0..d.height).step_by(n) {

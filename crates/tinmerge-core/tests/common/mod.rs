@@ -144,6 +144,38 @@ pub fn geo_tin(tolerance: f64) -> tinmerge_core::tin::Tin {
     .unwrap()
 }
 
+/// A DEM cut into `n`-pixel tiles with `build_tiles` (each tile's tin with
+/// its neighbours' border samples, keep_border), as (tx, ty, tin) in the
+/// order built.
+#[allow(dead_code)]
+pub fn tiles_of(
+    d: &Dem,
+    n: usize,
+    tols: &[f64],
+    srid: i32,
+) -> Vec<(usize, usize, tinmerge_core::tin::Tin)> {
+    let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
+    let mut tiles = Vec::new();
+    tinmerge_core::tin::tiles::build_tiles(
+        &d.values,
+        d.width,
+        d.height,
+        &valid,
+        &d.lattice(),
+        n,
+        tols,
+        srid,
+        &mut || Ok(()),
+        &|tx, ty, t| (tx, ty, t),
+        &mut |t| {
+            tiles.push(t);
+            Ok(())
+        },
+    )
+    .unwrap();
+    tiles
+}
+
 /// Convex polygon clipped to the left of the line a -> b (Sutherland-Hodgman
 /// step): the tests' own clipper, independent of the extension's.
 pub fn clip_half(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
