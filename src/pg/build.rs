@@ -21,12 +21,17 @@ use tinmerge_core::tin::tiles::build_tiles;
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
 /// already allocated); otherwise hand `tinmerge.threads` to the core.
-fn reserve_build(func: &str, samples: usize, levels: usize) {
+/// Raster builds (`on_lattice`) have their own, smaller estimate.
+fn reserve_build(func: &str, samples: usize, levels: usize, on_lattice: bool) {
     super::threads::apply();
-    memory::reserve(
-        tinmerge_core::tin::build::build_bytes(samples, levels).saturating_sub(samples * 24),
-        || format!("{func}: building a tin from {samples} samples at {levels} levels"),
-    );
+    let bytes = if on_lattice {
+        tinmerge_core::tin::build::lattice_build_bytes(samples, levels)
+    } else {
+        tinmerge_core::tin::build::build_bytes(samples, levels)
+    };
+    memory::reserve(bytes.saturating_sub(samples * 24), || {
+        format!("{func}: building a tin from {samples} samples at {levels} levels")
+    });
 }
 
 /// One band of a raster argument (an ERROR for a band that is not there
@@ -154,7 +159,8 @@ fn _tin_tiles(
     super::threads::apply();
     let at_once = tinmerge_core::tin::par::threads().max(1);
     memory::reserve(
-        tinmerge_core::tin::build::build_bytes(per_tile, tols.len()).saturating_mul(at_once),
+        tinmerge_core::tin::build::lattice_build_bytes(per_tile, tols.len())
+            .saturating_mul(at_once),
         || {
             format!(
                 "tin_tiles: building {at_once} tiles of {per_tile} samples at {} levels at once",
@@ -195,7 +201,7 @@ COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use t
 /// The build behind both `tin_from_raster` forms.
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
     let (pts, lattice, srid) = raster_samples(rast, band);
-    reserve_build("tin_from_raster", pts.len(), tols.len());
+    reserve_build("tin_from_raster", pts.len(), tols.len(), true);
     let opts = BuildOptions { keep_border };
     TinOut::from_tin_on(
         &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
@@ -224,7 +230,7 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     }
     let mut samples = Vec::new();
     g.geom.for_each_coord(&mut |c| samples.push(*c));
-    reserve_build("tin_from_points", samples.len(), tols.len());
+    reserve_build("tin_from_points", samples.len(), tols.len(), false);
     TinOut::from_tin(&build(samples, &tols, g.srid, &mut interrupt).or_raise())
 }
 
@@ -338,7 +344,7 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
         return None;
     }
     let tols = default_tolerances(tolerance, levels).or_raise();
-    reserve_build("tin_from_points_agg", st.samples.len(), tols.len());
+    reserve_build("tin_from_points_agg", st.samples.len(), tols.len(), false);
     let tin = build(
         std::mem::take(&mut st.samples),
         &tols,
@@ -615,7 +621,7 @@ impl TableTiles {
         self.load_rows(first..=last + 1);
         let per_tile = (self.grid.tile_width + 1) * (self.grid.tile_height + 1);
         memory::reserve(
-            tinmerge_core::tin::build::build_bytes(per_tile, self.tols.len())
+            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len())
                 .saturating_mul(batch.len()),
             || {
                 format!("tin_tiles_from_table: building {} tiles of {per_tile} samples at {} levels at once", batch.len(), self.tols.len())

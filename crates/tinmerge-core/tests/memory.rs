@@ -15,7 +15,7 @@ mod common;
 use common::read_dem;
 use tinmerge_core::io::raster;
 use tinmerge_core::merge::overlay::overlay;
-use tinmerge_core::tin::build::{build, default_tolerances};
+use tinmerge_core::tin::build::{build, build_lattice, default_tolerances, BuildOptions};
 use tinmerge_core::tin::{layout, memory};
 
 /// The extension installs the counting allocator in its crate root; this
@@ -111,6 +111,44 @@ fn estimates_bound_the_measured_peaks() {
         if f == 1 && levels == 5 {
             tins.push(tin);
         }
+        // the same samples on their pixel lattice: tin_from_raster's build,
+        // the finer levels refined parent by parent
+        let lattice_samples: Vec<[f64; 3]> = (0..dem.height)
+            .flat_map(|r| (0..dem.width).map(move |c| (c, r)))
+            .filter_map(|(c, r)| {
+                let v = dem.values[r * dem.width + c];
+                let noise = if f == 1 {
+                    0.0
+                } else {
+                    ((r * dem.width + c) * 7919 % 13) as f64 * 0.37
+                };
+                (!v.is_nan() && Some(v) != dem.nodata).then_some([c as f64, r as f64, v + noise])
+            })
+            .collect();
+        let n = lattice_samples.len();
+        let tols = default_tolerances(tol, levels as i32).unwrap();
+        let lat = dem.lattice();
+        let (peak, tin) = peak_of(move || {
+            build_lattice(
+                lattice_samples,
+                &lat,
+                &tols,
+                32616,
+                BuildOptions::default(),
+                &mut || Ok(()),
+            )
+            .unwrap()
+        });
+        let peak = peak + n * 24;
+        let est = tinmerge_core::tin::build::lattice_build_bytes(n, levels);
+        let verts = tin.verts.len();
+        row(
+            "build on the lattice",
+            format!("{n} samples, {verts} verts, {levels} lv"),
+            peak,
+            est,
+        );
+        upper_bound("build on the lattice", peak, est);
     }
 
     // decoding a stored value

@@ -19,39 +19,55 @@
 use super::mesh::Mesh;
 use super::{TinError, NONE};
 
-/// Neighbour links of a triangle list (edge matching by sort).
+/// Neighbour links of a triangle list: `nbrs[t][j]` is the triangle across
+/// the edge of `t` opposite its corner `j`, or NONE. Edges are matched
+/// through each vertex's incident triangles (a CSR list, 12 bytes a
+/// triangle and 4 a vertex: a sort of every edge took 48 bytes a triangle,
+/// the peak of a build's last step); an edge in more than two triangles is
+/// an error.
 pub fn compute_neighbours(tris: &[[u32; 3]]) -> Result<Vec<[u32; 3]>, TinError> {
-    let mut e: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(tris.len() * 3);
+    let nv = tris.iter().flatten().max().map_or(0, |&m| m as usize + 1);
+    // start[v]..start[v + 1]: the triangles incident to v, in `inc`
+    let mut start = vec![0u32; nv + 1];
+    for &v in tris.iter().flatten() {
+        start[v as usize + 1] += 1;
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut inc = vec![0u32; start[nv] as usize];
+    for (t, tri) in tris.iter().enumerate() {
+        for &v in tri {
+            inc[start[v as usize] as usize] = t as u32;
+            start[v as usize] += 1;
+        }
+    }
+    // each start[v] now holds the old start[v + 1]: shift back
+    for v in (1..=nv).rev() {
+        start[v] = start[v - 1];
+    }
+    start[0] = 0;
+    let mut nbrs = vec![[NONE; 3]; tris.len()];
     for (t, tri) in tris.iter().enumerate() {
         for j in 0..3 {
             let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
-            e.push((a.min(b), a.max(b), t as u32, j as u8));
-        }
-    }
-    e.sort_unstable();
-    let mut nbrs = vec![[NONE; 3]; tris.len()];
-    let mut i = 0;
-    while i < e.len() {
-        let mut k = i + 1;
-        while k < e.len() && e[k].0 == e[i].0 && e[k].1 == e[i].1 {
-            k += 1;
-        }
-        match k - i {
-            1 => {}
-            2 => {
-                nbrs[e[i].2 as usize][e[i].3 as usize] = e[i + 1].2;
-                nbrs[e[i + 1].2 as usize][e[i + 1].3 as usize] = e[i].2;
-            }
-            _ => {
-                return Err(TinError::Corrupt(format!(
-                    "edge {}-{} is shared by {} triangles",
-                    e[i].0,
-                    e[i].1,
-                    k - i
-                )))
+            let around = &inc[start[a as usize] as usize..start[a as usize + 1] as usize];
+            let mut others = around
+                .iter()
+                .filter(|&&u| u as usize != t && tris[u as usize].contains(&b));
+            if let Some(&u) = others.next() {
+                let more = 1 + others.count();
+                if more > 1 || a == b {
+                    return Err(TinError::Corrupt(format!(
+                        "edge {}-{} is shared by {} triangles",
+                        a.min(b),
+                        a.max(b),
+                        more + 1
+                    )));
+                }
+                nbrs[t][j] = u;
             }
         }
-        i = k;
     }
     Ok(nbrs)
 }

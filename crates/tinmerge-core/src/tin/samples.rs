@@ -23,6 +23,16 @@ pub(crate) fn c2(p: &[f64; 3]) -> Coord<f64> {
 impl SampleGrid {
     /// Bucket `pts` (finite, at least one) with about `per_bucket` samples per bucket.
     pub fn new(pts: Vec<[f64; 3]>, per_bucket: f64) -> SampleGrid {
+        Self::new_indexed(pts, per_bucket, false).0
+    }
+
+    /// [`SampleGrid::new`], and when `with_order` the position in `pts` of
+    /// each bucketed sample (`grid.pts[k] == pts[order[k]]`).
+    pub fn new_indexed(
+        pts: Vec<[f64; 3]>,
+        per_bucket: f64,
+        with_order: bool,
+    ) -> (SampleGrid, Vec<u32>) {
         let b = super::Bbox::of(&pts);
         let w = (b.max_x - b.min_x).max(0.0);
         let h = (b.max_y - b.min_y).max(0.0);
@@ -56,12 +66,17 @@ impl SampleGrid {
         }
         let mut fill = g.start.clone();
         let mut sorted = vec![[0.0; 3]; pts.len()];
-        for (p, &k) in pts.iter().zip(&keys) {
-            sorted[fill[k as usize] as usize] = *p;
+        let mut order = vec![0u32; if with_order { pts.len() } else { 0 }];
+        for (i, (p, &k)) in pts.iter().zip(&keys).enumerate() {
+            let at = fill[k as usize] as usize;
+            sorted[at] = *p;
+            if with_order {
+                order[at] = i as u32;
+            }
             fill[k as usize] += 1;
         }
         g.pts = sorted;
-        g
+        (g, order)
     }
 
     #[inline]
