@@ -5,7 +5,8 @@
 mod common;
 
 use std::time::Instant;
-use tinmerge_core::tin::build::{build, default_tolerances};
+use tinmerge_core::tin::build::{build, build_lattice, default_tolerances, BuildOptions};
+use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::{layout, locate, Tin};
 
 /// Brute-force max |surface - sample| per level over all samples, by
@@ -71,14 +72,85 @@ fn brute_force_errors(tin: &Tin, samples: &[[f64; 3]]) -> Vec<(f64, usize)> {
     out
 }
 
+/// The lattice frame itself: pixel (col, row) at (col, row), so a tin
+/// built on it is in the samples' own coordinates.
+const IDENTITY: Lattice = Lattice {
+    ip_x: -0.5,
+    ip_y: -0.5,
+    scale_x: 1.0,
+    scale_y: 1.0,
+    skew_x: 0.0,
+    skew_y: 0.0,
+};
+
+/// A band's valid pixels as lattice samples (col, row, z).
+fn lattice_samples(values: &[f64], w: usize, nodata: Option<f64>) -> Vec<[f64; 3]> {
+    values
+        .iter()
+        .enumerate()
+        .filter(|(_, &v)| !v.is_nan() && Some(v) != nodata)
+        .map(|(i, &v)| [(i % w) as f64, (i / w) as f64, v])
+        .collect()
+}
+
 #[test]
 fn jacksboro_utm_tolerance_2m_5_levels() {
     let dem = common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    let samples = dem.samples();
-    assert!(samples.len() > 100_000, "{} valid samples", samples.len());
+    check_dem_build(dem.samples(), false);
+    // tin_from_raster's build: on the lattice, finer levels parent by parent
+    check_dem_build(lattice_samples(&dem.values, dem.width, dem.nodata), true);
+}
+
+/// The geographic DEM (odd pixel sizes, a nodata border) on its lattice.
+#[test]
+fn geographic_dem_on_its_lattice() {
+    let dem = common::read_dem("jacksboro_fault_dem.tif");
+    check_dem_build(lattice_samples(&dem.values, dem.width, dem.nodata), true);
+}
+
+/// Lattice samples too sparse for their window (here 1 pixel in 60 of a
+/// 2,408 x 2,541 window) are built in one triangulation, as scattered
+/// samples are: the same guarantees.
+#[test]
+fn sparse_lattice_builds() {
+    let dem = common::read_dem("jacksboro_fault_dem_utm16n.tif");
+    let (_, w, _, values) = dem.upsampled(7);
+    let sparse: Vec<[f64; 3]> = lattice_samples(&values, w, dem.nodata)
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| (i * 7919) % 60 == 0)
+        .map(|(_, p)| p)
+        .collect();
+    // sparser than the build reads in place (8 pixels a sample + 2^20)
+    let h = values.len() / w;
+    assert!(
+        sparse.len() * 8 + (1 << 20) < w * h,
+        "{} samples",
+        sparse.len()
+    );
+    check_dem_build(sparse, true);
+}
+
+/// Build `samples` (lattice samples on `IDENTITY` when `on_lattice`), and
+/// check the invariants, the errors at every sample by brute force, the
+/// storage round trip and point location.
+fn check_dem_build(samples: Vec<[f64; 3]>, on_lattice: bool) {
+    assert!(samples.len() > 20_000, "{} valid samples", samples.len());
     let tols = default_tolerances(2.0, 5).unwrap();
     let t0 = Instant::now();
-    let tin = build(samples.clone(), &tols, 32616, &mut || Ok(())).unwrap();
+    let tin = if on_lattice {
+        build_lattice(
+            samples.clone(),
+            &IDENTITY,
+            &tols,
+            32616,
+            BuildOptions::default(),
+            &mut || Ok(()),
+        )
+        .unwrap()
+    } else {
+        build(samples.clone(), &tols, 32616, &mut || Ok(())).unwrap()
+    };
     let dt = t0.elapsed();
     tin.sanity_check().unwrap();
     let counts: Vec<usize> = tin.levels.iter().map(|l| l.tris.len()).collect();
@@ -119,7 +191,7 @@ fn jacksboro_utm_tolerance_2m_5_levels() {
 }
 
 #[test]
-fn geographic_dem_builds_too() {
+fn geographic_dem_builds_too_scattered() {
     let dem = common::read_dem("jacksboro_fault_dem.tif");
     let tin = build(
         dem.samples(),
@@ -134,7 +206,8 @@ fn geographic_dem_builds_too() {
 /// `tinmerge.threads`: a build on 2 threads (faces measured, parents found
 /// on the pool) stores the very same bytes as a build on 1, for the UTM DEM
 /// and for the 3x finer copy (1.07M samples: the first insertions of each
-/// level re-measure faces large enough to go to the threads).
+/// level re-measure faces large enough to go to the threads), scattered
+/// and on the lattice (parents refined on the pool).
 #[test]
 fn threads_build_identical_values() {
     use tinmerge_core::tin::par;
@@ -151,13 +224,28 @@ fn threads_build_identical_values() {
             }
         }
     }
-    for (samples, tol, levels) in [(dem.samples(), 2.0, 5), (fine, 4.0, 3)] {
+    let fine_lattice = lattice_samples(&values, w, dem.nodata);
+    let coarse_lattice = lattice_samples(&dem.values, dem.width, dem.nodata);
+    for (samples, tol, levels, on_lattice) in [
+        (dem.samples(), 2.0, 5, false),
+        (fine, 4.0, 3, false),
+        (coarse_lattice, 2.0, 5, true),
+        (fine_lattice, 1.0, 5, true),
+    ] {
         let tols = default_tolerances(tol, levels).unwrap();
         let mut bytes = Vec::new();
         for n in [1, 2] {
             par::set_threads(n);
             let t0 = Instant::now();
-            let tin = build(samples.clone(), &tols, 32616, &mut || Ok(())).unwrap();
+            let tin = if on_lattice {
+                let opts = BuildOptions::default();
+                build_lattice(samples.clone(), &IDENTITY, &tols, 32616, opts, &mut || {
+                    Ok(())
+                })
+            } else {
+                build(samples.clone(), &tols, 32616, &mut || Ok(()))
+            }
+            .unwrap();
             eprintln!("{} samples, {n} threads: {:?}", samples.len(), t0.elapsed());
             bytes.push(layout::encode(&tin));
         }

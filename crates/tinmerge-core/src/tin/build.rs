@@ -9,6 +9,17 @@
 //! splits it) and every new triangle stays inside one triangle of level `i`.
 //! Errors are measured exactly at every sample inside each triangle.
 //!
+//! A raster's build (samples on the pixel lattice, [`build_lattice`]) reads
+//! the heights in place ([`super::dense`]) and refines every level after
+//! the first parent by parent ([`refine_by_parents`]): each triangle of
+//! level `i` is refined alone, in a small triangulation of its own pixels,
+//! after the vertices on its edges are chosen from each edge's own pixels
+//! by a Douglas-Peucker split (so the two triangles sharing an edge agree
+//! without knowing of each other). No triangulation of the whole finest
+//! level is ever alive: on the DEM upsampled 4x (1.9 million samples, 5
+//! levels) the peak heap is 97 bytes a sample against 220 in one
+//! triangulation, and the build 2.2x faster on one core.
+//!
 //! ```
 //! use tinmerge_core::tin::build::build;
 //! // a 20 x 20 grid of samples of a tilted plane with one bump
@@ -26,9 +37,10 @@
 //! tin.sanity_check().unwrap();
 //! ```
 
+use super::dense::Dense;
 use super::hierarchy::{child_starts, compute_neighbours};
 use super::lattice::Lattice;
-use super::samples::{c2, SampleGrid};
+use super::samples::{c2, SampleGrid, Samples};
 use super::{grid, interpolate, locate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
 use robust::orient2d;
@@ -203,14 +215,14 @@ fn hull_sides(
 /// seam. Marks the new choices in `chosen`, pushes their sample indices to
 /// `new` and returns the worst error left.
 fn choose_border(
-    pts: &[[f64; 3]],
+    point: &dyn Fn(usize) -> [f64; 3],
     side: &[usize],
     chosen: &mut [bool],
     tol: f64,
     new: &mut Vec<usize>,
 ) -> f64 {
     let err = |i: usize, j: usize, k: usize| -> f64 {
-        let (p, q, s) = (&pts[side[i]], &pts[side[j]], &pts[side[k]]);
+        let (p, q, s) = (point(side[i]), point(side[j]), point(side[k]));
         let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
         let t = if dx.abs() >= dy.abs() {
             (s[0] - p[0]) / dx
@@ -273,13 +285,13 @@ impl Ord for Entry {
     }
 }
 
-struct Builder<'g> {
+struct Builder<'g, S: Samples> {
     cdt: Cdt,
     /// z of each triangulation vertex (by spade vertex index).
     vz: Vec<f64>,
     /// the sample (index in `grid.pts`) each triangulation vertex is
     vsample: Vec<u32>,
-    grid: &'g SampleGrid,
+    grid: &'g S,
     inserted: Vec<bool>,
     /// Samples on the hull's sides under `keep_border`: never a candidate of
     /// the greedy refinement (`choose_border` decides them, the same way in
@@ -289,7 +301,7 @@ struct Builder<'g> {
     heap: BinaryHeap<Entry>,
 }
 
-impl Builder<'_> {
+impl<S: Samples> Builder<'_, S> {
     fn vert3(&self, h: FixedVertexHandle) -> [f64; 3] {
         let p = self.cdt.vertex(h).position();
         [p.x, p.y, self.vz[h.index()]]
@@ -355,6 +367,15 @@ impl Builder<'_> {
         }
     }
 
+    /// The vertices (positions, by triangulation index) and the sample
+    /// each one is, the triangulation dropped.
+    fn finish(self) -> (Vec<[f64; 3]>, Vec<u32>) {
+        let verts = (0..self.cdt.num_vertices())
+            .map(|i| self.vert3(FixedVertexHandle::from_index(i)))
+            .collect();
+        (verts, self.vsample)
+    }
+
     /// Re-measure one inner face and queue it.
     fn scan_face(&mut self, face: FaceHandle) {
         let m = self.measure(face);
@@ -378,7 +399,7 @@ impl Builder<'_> {
         i: usize,
         hint: Option<FixedVertexHandle>,
     ) -> Result<FixedVertexHandle, TinError> {
-        let p = self.grid.pts[i];
+        let p = self.grid.point(i);
         let before = self.cdt.num_vertices();
         let pt = Point2::new(p[0], p[1]);
         let h = match hint {
@@ -617,12 +638,10 @@ struct RawLevel {
     parents: Vec<u32>,
 }
 
-/// The build. Scattered samples (`on_lattice` false) are refined level by
-/// level in one constrained triangulation of the whole domain. Lattice
-/// samples build level 0 that way and every finer level parent by parent
-/// ([`refine_by_parents`]): only one parent's triangulation is alive at a
-/// time, so the peak memory is the samples and the levels' triangles, not
-/// a triangulation of every vertex of the finest level.
+/// The build. Lattice samples (`on_lattice`) that fill most of their
+/// window of the lattice are built in place there ([`build_dense`]);
+/// scattered samples, and lattice samples too sparse for that, are refined
+/// level by level in one constrained triangulation of the whole domain.
 fn build_inner(
     samples: Vec<[f64; 3]>,
     tolerances: &[f64],
@@ -632,6 +651,18 @@ fn build_inner(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
+    if on_lattice && samples.len() <= MAX_SAMPLES {
+        if let Some(p) = samples.iter().find(|p| !p[2].is_finite()) {
+            return Err(TinError::InvalidParameter(format!(
+                "sample coordinates must be finite, got ({}, {}, {})",
+                p[0], p[1], p[2]
+            )));
+        }
+        if let Some(d) = dense_of(&samples) {
+            drop(samples);
+            return build_dense(d, tolerances, srid, opts, interrupt);
+        }
+    }
     let pts = prepare_samples(samples)?;
     if pts.len() < 3 {
         return Err(TinError::Degenerate(format!(
@@ -669,10 +700,27 @@ fn build_inner(
         b.insert_sample(i, None)?;
     }
     let sides = if opts.keep_border {
-        hull_sides(&b.grid.pts, &hull, interrupt)?
+        hull_sides(&grid.pts, &hull, interrupt)?
     } else {
         Vec::new()
     };
+    let raw_levels = refine_levels(&mut b, &sides, tolerances, interrupt)?;
+    let (verts, _) = b.finish();
+    drop(grid);
+    // on a lattice the grid indexes are built once, by `Lattice::to_world`
+    assemble(verts, raw_levels, srid, !on_lattice, interrupt)
+}
+
+/// Refine `b` (its hull inserted) to each of `tolerances` in turn, every
+/// edge of a level made a constraint of the next; on each level the
+/// vertices of the hull's `sides` (keep_border) are chosen first, from the
+/// side's samples alone (a seam's two tiles agree on them).
+fn refine_levels<S: Samples>(
+    b: &mut Builder<'_, S>,
+    sides: &[Vec<usize>],
+    tolerances: &[f64],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<RawLevel>, TinError> {
     for &i in sides.iter().flatten() {
         b.reserved[i] = true;
     }
@@ -681,20 +729,22 @@ fn build_inner(
         .map(|s| (0..s.len()).map(|k| k == 0 || k + 1 == s.len()).collect())
         .collect();
     let mut raw_levels: Vec<RawLevel> = Vec::with_capacity(tolerances.len());
-    // levels refined in the one triangulation: level 0 only on a lattice
-    let whole = if on_lattice { 1 } else { tolerances.len() };
-    for (l, &tol) in tolerances.iter().enumerate().take(whole) {
+    for (l, &tol) in tolerances.iter().enumerate() {
         if l > 0 {
             b.constrain_all_edges();
         }
-        // keep_border: the sides' vertices of this level first, chosen from
-        // the side's samples alone (a seam's two tiles agree on them)
         let mut border_error = 0.0f64;
         let mut new = Vec::new();
         for (side, chosen) in sides.iter().zip(chosen.iter_mut()) {
             interrupt()?;
-            border_error =
-                border_error.max(choose_border(&b.grid.pts, side, chosen, tol, &mut new));
+            let grid = b.grid;
+            border_error = border_error.max(choose_border(
+                &|i| grid.point(i),
+                side,
+                chosen,
+                tol,
+                &mut new,
+            ));
         }
         for i in new {
             if !b.inserted[i] {
@@ -710,25 +760,230 @@ fn build_inner(
             parents: Vec::new(),
         });
     }
-    let mut verts: Vec<[f64; 3]> = (0..b.cdt.num_vertices())
-        .map(|i| b.vert3(FixedVertexHandle::from_index(i)))
-        .collect();
-    let vsample = std::mem::take(&mut b.vsample);
-    drop(b);
-    if whole < tolerances.len() {
-        refine_by_parents(
-            &grid,
-            &mut verts,
-            vsample,
-            &mut raw_levels,
-            &tolerances[whole..],
-            opts.keep_border,
-            interrupt,
-        )?;
+    Ok(raw_levels)
+}
+
+/// Largest lattice window, in pixels per sample, read in place
+/// ([`build_dense`]); sparser samples are bucketed.
+const DENSE_PIXELS_PER_SAMPLE: usize = 8;
+
+/// The samples of a lattice build in place on their window of the lattice,
+/// when it is not much larger than they are and no pixel is given twice.
+fn dense_of(samples: &[[f64; 3]]) -> Option<Dense> {
+    let (mut c0, mut r0, mut c1, mut r1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
+    for p in samples {
+        let (c, r) = (p[0] as i64, p[1] as i64);
+        (c0, r0, c1, r1) = (c0.min(c), r0.min(r), c1.max(c), r1.max(r));
     }
-    drop(grid);
-    // on a lattice the grid indexes are built once, by `Lattice::to_world`
-    assemble(verts, raw_levels, srid, !on_lattice, interrupt)
+    if samples.is_empty() {
+        return None;
+    }
+    let (w, h) = ((c1 - c0 + 1) as usize, (r1 - r0 + 1) as usize);
+    if w.checked_mul(h)? > DENSE_PIXELS_PER_SAMPLE * samples.len() + (1 << 20) {
+        return None;
+    }
+    let mut d = Dense {
+        c0,
+        r0,
+        width: w,
+        height: h,
+        z: vec![f64::NAN; w * h],
+    };
+    for p in samples {
+        let i = d.index(p[0] as i64, p[1] as i64);
+        if !d.z[i].is_nan() {
+            return None;
+        }
+        d.z[i] = p[2];
+    }
+    Some(d)
+}
+
+/// A lattice build on the samples in place ([`Dense`]): the hull from each
+/// row's first and last pixel with data, its sides' samples by gcd steps,
+/// level 0 refined in one triangulation and the finer levels parent by
+/// parent on windows of the lattice.
+fn build_dense(
+    d: Dense,
+    tolerances: &[f64],
+    srid: i32,
+    opts: BuildOptions,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    let mut ends: Vec<usize> = Vec::new();
+    for r in 0..d.height {
+        let row = r * d.width..(r + 1) * d.width;
+        let first = row.clone().find(|&i| d.valid(i));
+        let last = row.rev().find(|&i| d.valid(i));
+        if let (Some(a), Some(b)) = (first, last) {
+            ends.push(a);
+            if b != a {
+                ends.push(b);
+            }
+        }
+    }
+    let count = d.z.iter().filter(|z| !z.is_nan()).count();
+    if count < 3 {
+        return Err(TinError::Degenerate(format!(
+            "need at least 3 samples with distinct x,y to build a tin, got {count}"
+        )));
+    }
+    ends.sort_by_key(|&i| d.col_row(i));
+    let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
+    let hull: Vec<usize> = convex_hull(&pts).into_iter().map(|k| ends[k]).collect();
+    if hull.len() < 3 {
+        return Err(TinError::Degenerate(
+            "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
+        ));
+    }
+    let whole = d.window(d.c0, d.r0, d.width, d.height);
+    let n = whole.len();
+    let mut b = Builder {
+        cdt: Cdt::new(),
+        vz: Vec::new(),
+        vsample: Vec::new(),
+        grid: &whole,
+        inserted: vec![false; n],
+        reserved: vec![false; if opts.keep_border { n } else { 0 }],
+        faces: Vec::new(),
+        heap: BinaryHeap::new(),
+    };
+    for &i in &hull {
+        b.insert_sample(i, None)?;
+    }
+    let sides: Vec<Vec<usize>> = if opts.keep_border {
+        (0..hull.len())
+            .map(|k| lattice_side(&d, hull[k], hull[(k + 1) % hull.len()]))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut raw_levels = refine_levels(&mut b, &sides, &tolerances[..1], interrupt)?;
+    let (mut verts, vsample) = b.finish();
+    refine_by_parents(
+        &mut verts,
+        vsample,
+        &mut raw_levels,
+        &tolerances[1..],
+        &Parents {
+            samples: n,
+            point: &|s| d.point(s as usize),
+            cell_area: 1.0,
+            keep_border: opts.keep_border,
+            refine: &|t, corners, free, tol| refine_parent_dense(&d, t, corners, free, tol),
+        },
+        interrupt,
+    )?;
+    drop(d);
+    assemble(verts, raw_levels, srid, false, interrupt)
+}
+
+/// The samples with data on the segment between samples `a` and `b` of a
+/// lattice, both ends included, in the segment's canonical order (from its
+/// end smaller in (x, y)), as [`hull_sides`] gives them.
+fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
+    let mut side = vec![a];
+    d.on_segment(a, b, &mut side);
+    side.push(b);
+    if d.col_row(b) < d.col_row(a) {
+        side.reverse();
+    }
+    side
+}
+
+/// [`refine_parent`] on a window of the lattice (`corners` are [`Dense`]
+/// samples): no copy of the samples, and the ones on each edge found by
+/// gcd steps.
+fn refine_parent_dense(
+    d: &Dense,
+    parent: u32,
+    corners: [u32; 3],
+    free: [bool; 3],
+    tol: f64,
+) -> Result<ParentOut, TinError> {
+    let cr = corners.map(|s| d.col_row(s as usize));
+    let (c0, c1) = (
+        cr.iter().map(|p| p.0).min().unwrap_or(0),
+        cr.iter().map(|p| p.0).max().unwrap_or(0),
+    );
+    let (r0, r1) = (
+        cr.iter().map(|p| p.1).min().unwrap_or(0),
+        cr.iter().map(|p| p.1).max().unwrap_or(0),
+    );
+    let win = d.window(c0, r0, (c1 - c0 + 1) as usize, (r1 - r0 + 1) as usize);
+    let n = win.len();
+    let mut b = Builder {
+        cdt: Cdt::new(),
+        vz: Vec::new(),
+        vsample: Vec::new(),
+        grid: &win,
+        inserted: vec![false; n],
+        reserved: vec![false; if free.iter().all(|&f| f) { 0 } else { n }],
+        faces: Vec::new(),
+        heap: BinaryHeap::new(),
+    };
+    let mut hint = None;
+    for s in corners {
+        hint = Some(b.insert_sample(win.local(s as usize), hint)?);
+    }
+    let mut err = 0.0f64;
+    let mut new = Vec::new();
+    for k in 0..3 {
+        if free[k] {
+            continue;
+        }
+        let side: Vec<usize> = lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize)
+            .into_iter()
+            .map(|g| win.local(g))
+            .collect();
+        if side.len() <= 2 {
+            continue;
+        }
+        for &i in &side[1..side.len() - 1] {
+            b.reserved[i] = true;
+        }
+        let mut chosen: Vec<bool> = (0..side.len())
+            .map(|j| j == 0 || j + 1 == side.len())
+            .collect();
+        err = err.max(choose_border(
+            &|i| win.point(i),
+            &side,
+            &mut chosen,
+            tol,
+            &mut new,
+        ));
+    }
+    for i in new {
+        if !b.inserted[i] {
+            hint = Some(b.insert_sample(i, hint)?);
+        }
+    }
+    err = err.max(b.refine(tol, &mut || Ok(()))?);
+    let tris = b.snapshot();
+    let samples = b
+        .vsample
+        .iter()
+        .map(|&k| win.global(k as usize) as u32)
+        .collect();
+    Ok(ParentOut {
+        parent,
+        samples,
+        tris,
+        err,
+    })
+}
+
+/// What [`refine_by_parents`] needs of the samples: how many slots, each
+/// one's position, the area of about one, and how to refine one parent
+/// (its index, its corners' samples counter-clockwise, which of its edges
+/// are hull sides whose samples stay free, the tolerance).
+struct Parents<'a> {
+    samples: usize,
+    point: &'a (dyn Fn(u32) -> [f64; 3] + Sync),
+    cell_area: f64,
+    keep_border: bool,
+    #[allow(clippy::type_complexity)]
+    refine: &'a (dyn Fn(u32, [u32; 3], [bool; 3], f64) -> Result<ParentOut, TinError> + Sync),
 }
 
 /// Samples' worth of parents handed to a thread at once.
@@ -748,15 +1003,15 @@ const GROUP_SAMPLES: f64 = 16384.0;
 /// with an earlier parent keeps its number), so the result does not depend
 /// on the thread count. `vsample` is the sample of each vertex in `verts`.
 fn refine_by_parents(
-    grid: &SampleGrid,
     verts: &mut Vec<[f64; 3]>,
     mut vsample: Vec<u32>,
     raw: &mut Vec<RawLevel>,
     tolerances: &[f64],
-    keep_border: bool,
+    on: &Parents<'_>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
-    let mut vertex_of = vec![NONE; grid.pts.len()];
+    let keep_border = on.keep_border;
+    let mut vertex_of = vec![NONE; on.samples];
     for (v, &s) in vsample.iter().enumerate() {
         vertex_of[s as usize] = v as u32;
     }
@@ -785,7 +1040,7 @@ fn refine_by_parents(
             let [a, b, c] = tri.map(|v| verts[v as usize]);
             acc += ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs()
                 / 2.0
-                / grid.cell_area()
+                / on.cell_area
                 + 1.0;
             if acc >= GROUP_SAMPLES {
                 groups.push(start..t + 1);
@@ -806,7 +1061,7 @@ fn refine_by_parents(
                         let corners = prev[t].map(|v| corner_samples[v as usize]);
                         // edge k runs from corner k to k + 1, opposite corner k + 2
                         let free = [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
-                        refine_parent(grid, t as u32, corners, free, tol)
+                        (on.refine)(t as u32, corners, free, tol)
                     })
                     .collect::<Result<Vec<_>, TinError>>()
             },
@@ -821,7 +1076,7 @@ fn refine_by_parents(
                             let v = &mut vertex_of[s as usize];
                             if *v == NONE {
                                 *v = verts.len() as u32;
-                                verts.push(grid.pts[s as usize]);
+                                verts.push((on.point)(s));
                                 vsample.push(s);
                             }
                             *v
@@ -854,110 +1109,6 @@ struct ParentOut {
     samples: Vec<u32>,
     tris: Vec<[u32; 3]>,
     err: f64,
-}
-
-/// Refine the triangle of lattice samples `corners` (counter-clockwise)
-/// to `tol`: the vertices on each edge `k` (corner `k` to `k + 1`) chosen
-/// by [`choose_border`] unless `free[k]` (a hull side without keep_border,
-/// whose samples are the greedy refinement's candidates), then greedy
-/// insertion of the samples inside, in a Delaunay triangulation of the
-/// triangle's own samples.
-fn refine_parent(
-    grid: &SampleGrid,
-    parent: u32,
-    corners: [u32; 3],
-    free: [bool; 3],
-    tol: f64,
-) -> Result<ParentOut, TinError> {
-    let c = corners.map(|s| grid.pts[s as usize]);
-    let mut ids: Vec<u32> = corners.to_vec();
-    let mut on_edge: [Vec<u32>; 3] = Default::default();
-    grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
-        let i = i as u32;
-        if corners.contains(&i) {
-            return;
-        }
-        for k in 0..3 {
-            if orient2d(c2(&c[k]), c2(&c[(k + 1) % 3]), c2(p)) == 0.0 {
-                if !free[k] {
-                    on_edge[k].push(ids.len() as u32);
-                }
-                break;
-            }
-        }
-        ids.push(i);
-    });
-    let local: Vec<[f64; 3]> = ids.iter().map(|&i| grid.pts[i as usize]).collect();
-    let n = local.len();
-    let (lg, order) = SampleGrid::new_indexed(local, 1.0, true);
-    let mut at = vec![0usize; n];
-    for (k, &o) in order.iter().enumerate() {
-        at[o as usize] = k;
-    }
-    let any_fixed = on_edge.iter().any(|e| !e.is_empty());
-    let mut b = Builder {
-        cdt: Cdt::new(),
-        vz: Vec::new(),
-        vsample: Vec::new(),
-        grid: &lg,
-        inserted: vec![false; n],
-        reserved: vec![false; if any_fixed { n } else { 0 }],
-        faces: Vec::new(),
-        heap: BinaryHeap::new(),
-    };
-    let mut hint = None;
-    for &k in &at[..3] {
-        hint = Some(b.insert_sample(k, hint)?);
-    }
-    let mut err = 0.0f64;
-    let mut new = Vec::new();
-    for k in 0..3 {
-        if on_edge[k].is_empty() {
-            continue;
-        }
-        let (i0, i1) = (at[k], at[(k + 1) % 3]);
-        let (a, z) = (lg.pts[i0], lg.pts[i1]);
-        let mut along: Vec<(f64, usize)> = on_edge[k]
-            .iter()
-            .map(|&j| {
-                let p = &lg.pts[at[j as usize]];
-                ((p[0] - a[0]).abs() + (p[1] - a[1]).abs(), at[j as usize])
-            })
-            .collect();
-        along.sort_by(|u, v| u.0.total_cmp(&v.0));
-        let mut side: Vec<usize> = std::iter::once(i0)
-            .chain(along.into_iter().map(|(_, i)| i))
-            .chain(std::iter::once(i1))
-            .collect();
-        if (z[0], z[1]) < (a[0], a[1]) {
-            side.reverse();
-        }
-        for &i in &side[1..side.len() - 1] {
-            b.reserved[i] = true;
-        }
-        let mut chosen: Vec<bool> = (0..side.len())
-            .map(|j| j == 0 || j + 1 == side.len())
-            .collect();
-        err = err.max(choose_border(&lg.pts, &side, &mut chosen, tol, &mut new));
-    }
-    for i in new {
-        if !b.inserted[i] {
-            hint = Some(b.insert_sample(i, hint)?);
-        }
-    }
-    err = err.max(b.refine(tol, &mut || Ok(()))?);
-    let tris = b.snapshot();
-    let samples = b
-        .vsample
-        .iter()
-        .map(|&k| ids[order[k as usize] as usize])
-        .collect();
-    Ok(ParentOut {
-        parent,
-        samples,
-        tris,
-        err,
-    })
 }
 
 /// Build a hierarchy from raster samples given on the pixel lattice,

@@ -15,6 +15,7 @@
 pub mod build;
 pub mod check;
 pub mod compact;
+pub mod dense;
 pub mod domain;
 pub mod grid;
 pub mod hierarchy;

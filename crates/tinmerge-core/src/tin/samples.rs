@@ -3,6 +3,52 @@
 
 use robust::{orient2d, Coord};
 
+/// Where a build's samples come from: the bucketed scattered samples
+/// ([`SampleGrid`]) or a window of a raster's pixel lattice
+/// ([`super::dense::DenseWindow`]). Samples are numbered `0..len()`.
+pub trait Samples: Sync {
+    /// Number of sample slots (a window's nodata pixels included).
+    fn len(&self) -> usize;
+    /// Whether there are no sample slots.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Sample `i`: x, y, z.
+    fn point(&self, i: usize) -> [f64; 3];
+    /// Area holding about one sample.
+    fn cell_area(&self) -> f64;
+    /// Calls `f(index, sample)` for every sample in the closed triangle
+    /// `a, b, c` (counter-clockwise), decided exactly.
+    fn for_each_in_triangle(
+        &self,
+        a: &[f64; 3],
+        b: &[f64; 3],
+        c: &[f64; 3],
+        f: impl FnMut(usize, &[f64; 3]),
+    );
+}
+
+impl Samples for SampleGrid {
+    fn len(&self) -> usize {
+        self.pts.len()
+    }
+    fn point(&self, i: usize) -> [f64; 3] {
+        self.pts[i]
+    }
+    fn cell_area(&self) -> f64 {
+        SampleGrid::cell_area(self)
+    }
+    fn for_each_in_triangle(
+        &self,
+        a: &[f64; 3],
+        b: &[f64; 3],
+        c: &[f64; 3],
+        f: impl FnMut(usize, &[f64; 3]),
+    ) {
+        SampleGrid::for_each_in_triangle(self, a, b, c, f)
+    }
+}
+
 /// Samples sorted into square buckets (CSR layout). Indices used by callers
 /// refer to the bucket-sorted order in [`SampleGrid::pts`].
 pub struct SampleGrid {
@@ -23,16 +69,6 @@ pub(crate) fn c2(p: &[f64; 3]) -> Coord<f64> {
 impl SampleGrid {
     /// Bucket `pts` (finite, at least one) with about `per_bucket` samples per bucket.
     pub fn new(pts: Vec<[f64; 3]>, per_bucket: f64) -> SampleGrid {
-        Self::new_indexed(pts, per_bucket, false).0
-    }
-
-    /// [`SampleGrid::new`], and when `with_order` the position in `pts` of
-    /// each bucketed sample (`grid.pts[k] == pts[order[k]]`).
-    pub fn new_indexed(
-        pts: Vec<[f64; 3]>,
-        per_bucket: f64,
-        with_order: bool,
-    ) -> (SampleGrid, Vec<u32>) {
         let b = super::Bbox::of(&pts);
         let w = (b.max_x - b.min_x).max(0.0);
         let h = (b.max_y - b.min_y).max(0.0);
@@ -66,17 +102,12 @@ impl SampleGrid {
         }
         let mut fill = g.start.clone();
         let mut sorted = vec![[0.0; 3]; pts.len()];
-        let mut order = vec![0u32; if with_order { pts.len() } else { 0 }];
-        for (i, (p, &k)) in pts.iter().zip(&keys).enumerate() {
-            let at = fill[k as usize] as usize;
-            sorted[at] = *p;
-            if with_order {
-                order[at] = i as u32;
-            }
+        for (p, &k) in pts.iter().zip(&keys) {
+            sorted[fill[k as usize] as usize] = *p;
             fill[k as usize] += 1;
         }
         g.pts = sorted;
-        (g, order)
+        g
     }
 
     #[inline]
