@@ -870,7 +870,7 @@ fn build_dense(
             point: &|s| d.point(s as usize),
             cell_area: 1.0,
             keep_border: opts.keep_border,
-            refine: &|t, corners, free, tol| refine_parent_dense(&d, t, corners, free, tol),
+            refine: &|sc, t, corners, free, tol| refine_parent_dense(&d, sc, t, corners, free, tol),
         },
         interrupt,
     )?;
@@ -896,6 +896,7 @@ fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
 /// gcd steps.
 fn refine_parent_dense(
     d: &Dense,
+    scratch: &mut Scratch,
     parent: u32,
     corners: [u32; 3],
     free: [bool; 3],
@@ -912,16 +913,7 @@ fn refine_parent_dense(
     );
     let win = d.window(c0, r0, (c1 - c0 + 1) as usize, (r1 - r0 + 1) as usize);
     let n = win.len();
-    let mut b = Builder {
-        cdt: Cdt::new(),
-        vz: Vec::new(),
-        vsample: Vec::new(),
-        grid: &win,
-        inserted: vec![false; n],
-        reserved: vec![false; if free.iter().all(|&f| f) { 0 } else { n }],
-        faces: Vec::new(),
-        heap: BinaryHeap::new(),
-    };
+    let mut b = scratch.builder(&win, n, !free.iter().all(|&f| f));
     let mut hint = None;
     for s in corners {
         hint = Some(b.insert_sample(win.local(s as usize), hint)?);
@@ -965,12 +957,66 @@ fn refine_parent_dense(
         .iter()
         .map(|&k| win.global(k as usize) as u32)
         .collect();
+    scratch.keep(b);
     Ok(ParentOut {
         parent,
         samples,
         tris,
         err,
     })
+}
+
+/// A builder's buffers, kept from one parent to the next on a thread: a
+/// parent's triangulation is small, and allocating it anew for each (two
+/// threads allocating at once through the counting allocator's shared
+/// counters) made the build slower on 2 threads than on 1.
+#[derive(Default)]
+struct Scratch {
+    cdt: Cdt,
+    vz: Vec<f64>,
+    vsample: Vec<u32>,
+    inserted: Vec<bool>,
+    reserved: Vec<bool>,
+    faces: Vec<FaceState>,
+    heap: BinaryHeap<Entry>,
+}
+
+impl Scratch {
+    /// A builder on `grid` (`n` samples; `reserve`: flags for reserved
+    /// samples) made of these buffers, emptied.
+    fn builder<'g, S: Samples>(&mut self, grid: &'g S, n: usize, reserve: bool) -> Builder<'g, S> {
+        let mut b = Builder {
+            cdt: std::mem::take(&mut self.cdt),
+            vz: std::mem::take(&mut self.vz),
+            vsample: std::mem::take(&mut self.vsample),
+            grid,
+            inserted: std::mem::take(&mut self.inserted),
+            reserved: std::mem::take(&mut self.reserved),
+            faces: std::mem::take(&mut self.faces),
+            heap: std::mem::take(&mut self.heap),
+        };
+        b.cdt.clear();
+        b.vz.clear();
+        b.vsample.clear();
+        b.inserted.clear();
+        b.inserted.resize(n, false);
+        b.reserved.clear();
+        b.reserved.resize(if reserve { n } else { 0 }, false);
+        b.faces.clear();
+        b.heap.clear();
+        b
+    }
+
+    /// Take the buffers back from a finished builder.
+    fn keep<S: Samples>(&mut self, b: Builder<'_, S>) {
+        self.cdt = b.cdt;
+        self.vz = b.vz;
+        self.vsample = b.vsample;
+        self.inserted = b.inserted;
+        self.reserved = b.reserved;
+        self.faces = b.faces;
+        self.heap = b.heap;
+    }
 }
 
 /// What [`refine_by_parents`] needs of the samples: how many slots, each
@@ -983,7 +1029,8 @@ struct Parents<'a> {
     cell_area: f64,
     keep_border: bool,
     #[allow(clippy::type_complexity)]
-    refine: &'a (dyn Fn(u32, [u32; 3], [bool; 3], f64) -> Result<ParentOut, TinError> + Sync),
+    refine: &'a (dyn Fn(&mut Scratch, u32, [u32; 3], [bool; 3], f64) -> Result<ParentOut, TinError>
+             + Sync),
 }
 
 /// Samples' worth of parents handed to a thread at once.
@@ -1056,12 +1103,13 @@ fn refine_by_parents(
         super::par::map_batched(
             &groups,
             |g| {
+                let mut scratch = Scratch::default();
                 g.clone()
                     .map(|t| {
                         let corners = prev[t].map(|v| corner_samples[v as usize]);
                         // edge k runs from corner k to k + 1, opposite corner k + 2
                         let free = [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
-                        (on.refine)(t as u32, corners, free, tol)
+                        (on.refine)(&mut scratch, t as u32, corners, free, tol)
                     })
                     .collect::<Result<Vec<_>, TinError>>()
             },

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Build benchmark in SQL, on issue 25's case: the bundled UTM DEM
+# ST_Rescale'd 4x (nearest neighbour: 1.89 million valid pixels), 2 m at the
+# finest of 5 levels. One tin (tin_from_raster: level 0 in one triangulation,
+# the finer levels parent by parent on the pixel lattice), the same pixel
+# centres as scattered points (tin_from_points: every level in one
+# triangulation of the whole domain, the way every build went until 0.7.0),
+# and 256-pixel tiles (tin_tiles_from_table); 1 and 2 threads; median of 3
+# wall times, and the Rust heap's peak in the backend (the counting
+# allocator; a bench build). Not a test: timings are noisy.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh >/dev/null
+[ "${TINMERGE_SKIP_INSTALL:-}" = 1 ] || TINMERGE_FEATURES=bench scripts/install.sh >/dev/null
+scripts/cluster.sh start >/dev/null
+db=tinmerge_bench_build
+q() { scripts/cluster.sh psql -qAt -d $db "$@"; }
+scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREATE DATABASE $db"
+q -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
+scripts/load-data.sh $db >/dev/null
+q <<'SQL'
+CREATE TABLE dem_x4 AS SELECT ST_Rescale(rast, ST_ScaleX(rast) / 4, ST_ScaleY(rast) / 4, 'NearestNeighbor') AS rast FROM dem;
+CREATE TABLE dem_x4_tiles AS SELECT ST_Tile(rast, 256, 256) AS rast FROM dem_x4;
+CREATE TABLE dem_x4_pts AS SELECT ST_SetSRID(ST_Collect(ST_MakePoint(ST_X(geom), ST_Y(geom), val)), 32616) AS geom FROM dem_x4, ST_PixelAsCentroids(rast, 1, true);
+SQL
+n=$(q -c "SELECT sum(ST_Count(rast)) FROM dem_x4")
+echo "== one tin, points, tiles: DEM x4 ($n valid pixels), 2 m, 5 levels"
+echo "| build | threads | median s (of 3) | samples/s | Rust heap peak MB | bytes a sample | finest triangles |"
+echo "|---|---:|---:|---:|---:|---:|---:|"
+row() { # label, threads, statement making table out(t tin)
+  q -F ' | ' <<SQL
+SET tinmerge.threads = $2;
+SET tinmerge.max_memory = '8GB';
+CREATE TEMP TABLE runs(ms float8, peak bigint);
+DO \$\$
+DECLARE t0 timestamptz; p bigint;
+BEGIN
+  FOR i IN 1..3 LOOP
+    DROP TABLE IF EXISTS out;
+    PERFORM _tin_heap_peak(true);
+    t0 := clock_timestamp();
+    EXECUTE \$q\$ $3 \$q\$;
+    SELECT peak INTO p FROM _tin_heap_peak(false);
+    INSERT INTO runs VALUES (extract(epoch FROM clock_timestamp() - t0) * 1000, p);
+  END LOOP;
+END \$\$;
+SELECT '| $1', $2, round((percentile_cont(0.5) WITHIN GROUP (ORDER BY ms) / 1000)::numeric, 2),
+       round($n / (percentile_cont(0.5) WITHIN GROUP (ORDER BY ms) / 1000)),
+       round(max(peak) / 1e6, 1), round(max(peak)::numeric / $n, 1),
+       (SELECT sum(tin_num_triangles(t)) FROM out) || ' |'
+FROM runs;
+SQL
+}
+for th in 1 2; do
+  row "tin_from_raster (one tin)" $th "CREATE TABLE out AS SELECT tin_from_raster(rast, 2.0, 5) AS t FROM dem_x4"
+  row "tin_from_points of the pixel centres (one triangulation)" $th "CREATE TABLE out AS SELECT tin_from_points(geom, 2.0, 5) AS t FROM dem_x4_pts"
+  row "tin_tiles_from_table, 256-pixel tiles" $th "CREATE TABLE out AS SELECT t FROM tin_tiles_from_table('dem_x4_tiles', 2.0, 5)"
+done
