@@ -417,25 +417,15 @@ fn generated_grids_have_no_slivers_or_cracks() {
             g.name
         );
         // the hierarchy's own invariants, exactly, in the frame it was built in
-        // pixel (col, row) at (col, row): the lattice frame itself
-        let identity = tinmerge_core::tin::lattice::Lattice {
-            ip_x: -0.5,
-            ip_y: -0.5,
-            scale_x: 1.0,
-            scale_y: 1.0,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        };
-        let in_lattice =
-            build_lattice(
-                lattice_samples,
-                &identity,
-                &tols,
-                4326,
-                opts,
-                &mut || Ok(()),
-            )
-            .unwrap();
+        let in_lattice = build_lattice(
+            lattice_samples,
+            &common::IDENTITY,
+            &tols,
+            4326,
+            opts,
+            &mut || Ok(()),
+        )
+        .unwrap();
         in_lattice
             .sanity_check()
             .unwrap_or_else(|e| panic!("{}: {e}", g.name));

@@ -6,7 +6,6 @@ mod common;
 
 use std::time::Instant;
 use tinmerge_core::tin::build::{build, build_lattice, default_tolerances, BuildOptions};
-use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::{layout, locate, Tin};
 
 /// Brute-force max |surface - sample| per level over all samples, by
@@ -72,17 +71,6 @@ fn brute_force_errors(tin: &Tin, samples: &[[f64; 3]]) -> Vec<(f64, usize)> {
     out
 }
 
-/// The lattice frame itself: pixel (col, row) at (col, row), so a tin
-/// built on it is in the samples' own coordinates.
-const IDENTITY: Lattice = Lattice {
-    ip_x: -0.5,
-    ip_y: -0.5,
-    scale_x: 1.0,
-    scale_y: 1.0,
-    skew_x: 0.0,
-    skew_y: 0.0,
-};
-
 /// A band's valid pixels as lattice samples (col, row, z).
 fn lattice_samples(values: &[f64], w: usize, nodata: Option<f64>) -> Vec<[f64; 3]> {
     values
@@ -141,7 +129,7 @@ fn check_dem_build(samples: Vec<[f64; 3]>, on_lattice: bool) {
     let tin = if on_lattice {
         build_lattice(
             samples.clone(),
-            &IDENTITY,
+            &common::IDENTITY,
             &tols,
             32616,
             BuildOptions::default(),
@@ -239,9 +227,14 @@ fn threads_build_identical_values() {
             let t0 = Instant::now();
             let tin = if on_lattice {
                 let opts = BuildOptions::default();
-                build_lattice(samples.clone(), &IDENTITY, &tols, 32616, opts, &mut || {
-                    Ok(())
-                })
+                build_lattice(
+                    samples.clone(),
+                    &common::IDENTITY,
+                    &tols,
+                    32616,
+                    opts,
+                    &mut || Ok(()),
+                )
             } else {
                 build(samples.clone(), &tols, 32616, &mut || Ok(()))
             }

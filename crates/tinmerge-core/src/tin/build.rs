@@ -680,25 +680,7 @@ fn build_inner(
     let sorted: Vec<[f64; 3]> = order.iter().map(|&i| grid.pts[i]).collect();
     let hull: Vec<usize> = convex_hull(&sorted).into_iter().map(|k| order[k]).collect();
     drop(sorted);
-    if hull.len() < 3 {
-        return Err(TinError::Degenerate(
-            "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
-        ));
-    }
-    let n = grid.pts.len();
-    let mut b = Builder {
-        cdt: Cdt::new(),
-        vz: Vec::new(),
-        vsample: Vec::new(),
-        grid: &grid,
-        inserted: vec![false; n],
-        reserved: vec![false; if opts.keep_border { n } else { 0 }],
-        faces: Vec::new(),
-        heap: BinaryHeap::new(),
-    };
-    for &i in &hull {
-        b.insert_sample(i, None)?;
-    }
+    let mut b = start(&grid, &hull, opts.keep_border)?;
     let sides = if opts.keep_border {
         hull_sides(&grid.pts, &hull, interrupt)?
     } else {
@@ -709,6 +691,25 @@ fn build_inner(
     drop(grid);
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
     assemble(verts, raw_levels, srid, !on_lattice, interrupt)
+}
+
+/// A builder of the whole domain on `grid`, its convex `hull` (sample
+/// indices) inserted; `keep_border`: flags for the hull sides' samples.
+fn start<'g, S: Samples>(
+    grid: &'g S,
+    hull: &[usize],
+    keep_border: bool,
+) -> Result<Builder<'g, S>, TinError> {
+    if hull.len() < 3 {
+        return Err(TinError::Degenerate(
+            "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
+        ));
+    }
+    let mut b = Scratch::default().builder(grid, grid.len(), keep_border);
+    for &i in hull {
+        b.insert_sample(i, None)?;
+    }
+    Ok(b)
 }
 
 /// Refine `b` (its hull inserted) to each of `tolerances` in turn, every
@@ -831,26 +832,9 @@ fn build_dense(
     ends.sort_by_key(|&i| d.col_row(i));
     let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
     let hull: Vec<usize> = convex_hull(&pts).into_iter().map(|k| ends[k]).collect();
-    if hull.len() < 3 {
-        return Err(TinError::Degenerate(
-            "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
-        ));
-    }
     let whole = d.window(d.c0, d.r0, d.width, d.height);
     let n = whole.len();
-    let mut b = Builder {
-        cdt: Cdt::new(),
-        vz: Vec::new(),
-        vsample: Vec::new(),
-        grid: &whole,
-        inserted: vec![false; n],
-        reserved: vec![false; if opts.keep_border { n } else { 0 }],
-        faces: Vec::new(),
-        heap: BinaryHeap::new(),
-    };
-    for &i in &hull {
-        b.insert_sample(i, None)?;
-    }
+    let mut b = start(&whole, &hull, opts.keep_border)?;
     let sides: Vec<Vec<usize>> = if opts.keep_border {
         (0..hull.len())
             .map(|k| lattice_side(&d, hull[k], hull[(k + 1) % hull.len()]))

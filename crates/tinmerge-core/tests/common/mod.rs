@@ -6,6 +6,17 @@ use std::fs::File;
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;
 
+/// The lattice frame itself: pixel (col, row) at (col, row), so a tin
+/// built on it by `build_lattice` is in the samples' own coordinates.
+pub const IDENTITY: tinmerge_core::tin::lattice::Lattice = tinmerge_core::tin::lattice::Lattice {
+    ip_x: -0.5,
+    ip_y: -0.5,
+    scale_x: 1.0,
+    scale_y: 1.0,
+    skew_x: 0.0,
+    skew_y: 0.0,
+};
+
 pub struct Dem {
     pub width: usize,
     pub height: usize,
