@@ -833,7 +833,6 @@ fn build_dense(
     let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
     let hull: Vec<usize> = convex_hull(&pts).into_iter().map(|k| ends[k]).collect();
     let whole = d.window(d.c0, d.r0, d.width, d.height);
-    let n = whole.len();
     let mut b = start(&whole, &hull, opts.keep_border)?;
     let sides: Vec<Vec<usize>> = if opts.keep_border {
         (0..hull.len())
@@ -845,17 +844,12 @@ fn build_dense(
     let mut raw_levels = refine_levels(&mut b, &sides, &tolerances[..1], interrupt)?;
     let (mut verts, vsample) = b.finish();
     refine_by_parents(
+        &d,
         &mut verts,
         vsample,
         &mut raw_levels,
         &tolerances[1..],
-        &Parents {
-            samples: n,
-            point: &|s| d.point(s as usize),
-            cell_area: 1.0,
-            keep_border: opts.keep_border,
-            refine: &|sc, t, corners, free, tol| refine_parent_dense(&d, sc, t, corners, free, tol),
-        },
+        opts.keep_border,
         interrupt,
     )?;
     drop(d);
@@ -875,10 +869,14 @@ fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
     side
 }
 
-/// [`refine_parent`] on a window of the lattice (`corners` are [`Dense`]
-/// samples): no copy of the samples, and the ones on each edge found by
-/// gcd steps.
-fn refine_parent_dense(
+/// Refine the triangle of [`Dense`] samples `corners` (counter-clockwise)
+/// to `tol`, on the window of the lattice around it: the vertices on each
+/// edge `k` (corner `k` to `k + 1`, its samples found by gcd steps) chosen
+/// by [`choose_border`] unless `free[k]` (a hull side without keep_border,
+/// whose samples are the greedy refinement's candidates), then greedy
+/// insertion of the samples inside, in a Delaunay triangulation of the
+/// triangle's own samples.
+fn refine_parent(
     d: &Dense,
     scratch: &mut Scratch,
     parent: u32,
@@ -1003,20 +1001,6 @@ impl Scratch {
     }
 }
 
-/// What [`refine_by_parents`] needs of the samples: how many slots, each
-/// one's position, the area of about one, and how to refine one parent
-/// (its index, its corners' samples counter-clockwise, which of its edges
-/// are hull sides whose samples stay free, the tolerance).
-struct Parents<'a> {
-    samples: usize,
-    point: &'a (dyn Fn(u32) -> [f64; 3] + Sync),
-    cell_area: f64,
-    keep_border: bool,
-    #[allow(clippy::type_complexity)]
-    refine: &'a (dyn Fn(&mut Scratch, u32, [u32; 3], [bool; 3], f64) -> Result<ParentOut, TinError>
-             + Sync),
-}
-
 /// Samples' worth of parents handed to a thread at once.
 const GROUP_SAMPLES: f64 = 16384.0;
 
@@ -1034,15 +1018,15 @@ const GROUP_SAMPLES: f64 = 16384.0;
 /// with an earlier parent keeps its number), so the result does not depend
 /// on the thread count. `vsample` is the sample of each vertex in `verts`.
 fn refine_by_parents(
+    d: &Dense,
     verts: &mut Vec<[f64; 3]>,
     mut vsample: Vec<u32>,
     raw: &mut Vec<RawLevel>,
     tolerances: &[f64],
-    on: &Parents<'_>,
+    keep_border: bool,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
-    let keep_border = on.keep_border;
-    let mut vertex_of = vec![NONE; on.samples];
+    let mut vertex_of = vec![NONE; d.z.len()];
     for (v, &s) in vsample.iter().enumerate() {
         vertex_of[s as usize] = v as u32;
     }
@@ -1069,10 +1053,9 @@ fn refine_by_parents(
         let (mut start, mut acc) = (0usize, 0.0f64);
         for (t, tri) in prev.iter().enumerate() {
             let [a, b, c] = tri.map(|v| verts[v as usize]);
-            acc += ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs()
-                / 2.0
-                / on.cell_area
-                + 1.0;
+            // about the pixels inside (one a unit of lattice area)
+            acc +=
+                ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs() / 2.0 + 1.0;
             if acc >= GROUP_SAMPLES {
                 groups.push(start..t + 1);
                 (start, acc) = (t + 1, 0.0);
@@ -1093,7 +1076,7 @@ fn refine_by_parents(
                         let corners = prev[t].map(|v| corner_samples[v as usize]);
                         // edge k runs from corner k to k + 1, opposite corner k + 2
                         let free = [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
-                        (on.refine)(&mut scratch, t as u32, corners, free, tol)
+                        refine_parent(d, &mut scratch, t as u32, corners, free, tol)
                     })
                     .collect::<Result<Vec<_>, TinError>>()
             },
@@ -1108,7 +1091,7 @@ fn refine_by_parents(
                             let v = &mut vertex_of[s as usize];
                             if *v == NONE {
                                 *v = verts.len() as u32;
-                                verts.push((on.point)(s));
+                                verts.push(d.point(s as usize));
                                 vsample.push(s);
                             }
                             *v
