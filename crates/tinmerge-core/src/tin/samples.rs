@@ -50,9 +50,12 @@ impl Samples for SampleGrid {
 }
 
 /// Samples sorted into square buckets (CSR layout). Indices used by callers
-/// refer to the bucket-sorted order in [`SampleGrid::pts`].
+/// refer to the bucket-sorted order in [`SampleGrid::pts`]; `ids`, when
+/// given ([`SampleGrid::with_ids`]), is each sample's number in the
+/// caller's own numbering, in the same order.
 pub struct SampleGrid {
     pub pts: Vec<[f64; 3]>,
+    pub ids: Vec<u32>,
     ox: f64,
     oy: f64,
     cell: f64,
@@ -67,8 +70,15 @@ pub(crate) fn c2(p: &[f64; 3]) -> Coord<f64> {
 }
 
 impl SampleGrid {
-    /// Bucket `pts` (finite, at least one) with about `per_bucket` samples per bucket.
+    /// Bucket `pts` (finite, at least one) with about `per_bucket` samples
+    /// per bucket, sorted in place (no copy of the samples is made).
     pub fn new(pts: Vec<[f64; 3]>, per_bucket: f64) -> SampleGrid {
+        SampleGrid::with_ids(pts, Vec::new(), per_bucket)
+    }
+
+    /// [`SampleGrid::new`] carrying a number for each sample (`ids`, as
+    /// long as `pts`, or empty), permuted with it.
+    pub fn with_ids(mut pts: Vec<[f64; 3]>, mut ids: Vec<u32>, per_bucket: f64) -> SampleGrid {
         let b = super::Bbox::of(&pts);
         let w = (b.max_x - b.min_x).max(0.0);
         let h = (b.max_y - b.min_y).max(0.0);
@@ -86,6 +96,7 @@ impl SampleGrid {
         let ny = (h / cell).floor() as usize + 1;
         let mut g = SampleGrid {
             pts: Vec::new(),
+            ids: Vec::new(),
             ox: b.min_x,
             oy: b.min_y,
             cell,
@@ -93,21 +104,69 @@ impl SampleGrid {
             ny,
             start: vec![0; nx * ny + 1],
         };
-        let keys: Vec<u32> = pts.iter().map(|p| g.bucket_of(p[0], p[1]) as u32).collect();
-        for &k in &keys {
-            g.start[k as usize + 1] += 1;
+        for p in &pts {
+            let k = g.bucket_of(p[0], p[1]);
+            g.start[k + 1] += 1;
         }
         for i in 0..nx * ny {
             g.start[i + 1] += g.start[i];
         }
-        let mut fill = g.start.clone();
-        let mut sorted = vec![[0.0; 3]; pts.len()];
-        for (p, &k) in pts.iter().zip(&keys) {
-            sorted[fill[k as usize] as usize] = *p;
-            fill[k as usize] += 1;
+        // in-place counting sort: each sample swapped straight to the next
+        // free place of its bucket
+        let with_ids = ids.len() == pts.len() && !ids.is_empty();
+        let mut fill: Vec<u32> = g.start[..nx * ny].to_vec();
+        for k in 0..nx * ny {
+            let end = g.start[k + 1];
+            while fill[k] < end {
+                let i = fill[k] as usize;
+                let kk = g.bucket_of(pts[i][0], pts[i][1]);
+                if kk == k {
+                    fill[k] += 1;
+                } else {
+                    let j = fill[kk] as usize;
+                    pts.swap(i, j);
+                    if with_ids {
+                        ids.swap(i, j);
+                    }
+                    fill[kk] += 1;
+                }
+            }
         }
-        g.pts = sorted;
+        g.pts = pts;
+        g.ids = if with_ids { ids } else { Vec::new() };
         g
+    }
+
+    /// The sample at exactly `(x, y)`, if there is one.
+    pub fn find(&self, x: f64, y: f64) -> Option<usize> {
+        let k = self.bucket_of(x, y);
+        let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
+        (s..e).find(|&i| self.pts[i][0] == x && self.pts[i][1] == y)
+    }
+
+    /// Calls `f(index, sample)` for every sample in the closed box
+    /// `x0..=x1`, `y0..=y1`.
+    pub fn for_each_in_box(
+        &self,
+        x0: f64,
+        y0: f64,
+        x1: f64,
+        y1: f64,
+        mut f: impl FnMut(usize, &[f64; 3]),
+    ) {
+        if !(x0 <= x1 && y0 <= y1) {
+            return;
+        }
+        let (c0, c1) = (self.col(x0), self.col(x1));
+        for r in self.row(y0)..=self.row(y1) {
+            let s = self.start[r * self.nx + c0] as usize;
+            let e = self.start[r * self.nx + c1 + 1] as usize;
+            for (i, p) in self.pts[s..e].iter().enumerate() {
+                if p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1 {
+                    f(s + i, p);
+                }
+            }
+        }
     }
 
     #[inline]
