@@ -2,10 +2,10 @@
 # Build benchmark in SQL, on issue 25's case: the bundled UTM DEM
 # ST_Rescale'd 4x (nearest neighbour: 1.89 million valid pixels), 2 m at the
 # finest of 5 levels. One tin (tin_from_raster: level 0 in one triangulation,
-# the finer levels parent by parent on the pixel lattice), the same pixel
-# centres as scattered points (tin_from_points: every level in one
-# triangulation of the whole domain, the way every build went until 0.7.0),
-# and 256-pixel tiles (tin_tiles_from_table); 1 and 2 threads; median of 3
+# the finer levels parent by parent on the pixel lattice, heights read in
+# place), the same pixel centres as scattered points (tin_from_points:
+# bucketed, the finer levels parent by parent with each edge's samples
+# found up to rounding), and 256-pixel tiles (tin_tiles_from_table); 1 and 2 threads; median of 3
 # wall times, and the Rust heap's peak in the backend (the counting
 # allocator; a bench build). Not a test: timings are noisy.
 set -euo pipefail
@@ -53,6 +53,6 @@ SQL
 }
 for th in 1 2; do
   row "tin_from_raster (one tin)" $th "CREATE TABLE out AS SELECT tin_from_raster(rast, 2.0, 5) AS t FROM dem_x4"
-  row "tin_from_points of the pixel centres (one triangulation)" $th "CREATE TABLE out AS SELECT tin_from_points(geom, 2.0, 5) AS t FROM dem_x4_pts"
+  row "tin_from_points of the pixel centres" $th "CREATE TABLE out AS SELECT tin_from_points(geom, 2.0, 5) AS t FROM dem_x4_pts"
   row "tin_tiles_from_table, 256-pixel tiles" $th "CREATE TABLE out AS SELECT t FROM tin_tiles_from_table('dem_x4_tiles', 2.0, 5)"
 done

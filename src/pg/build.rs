@@ -228,10 +228,16 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
             ),
         );
     }
-    let mut samples = Vec::new();
+    // exactly as many places as samples, and the parsed geometry gone
+    // before the build: the input is 24 bytes a sample at the build's peak
+    let mut n = 0usize;
+    g.geom.for_each_coord(&mut |_| n += 1);
+    let mut samples = Vec::with_capacity(n);
     g.geom.for_each_coord(&mut |c| samples.push(*c));
+    let srid = g.srid;
+    drop(g);
     reserve_build("tin_from_points", samples.len(), tols.len(), false);
-    TinOut::from_tin(&build(samples, &tols, g.srid, &mut interrupt).or_raise())
+    TinOut::from_tin(&build(samples, &tols, srid, &mut interrupt).or_raise())
 }
 
 extension_sql!(
@@ -345,8 +351,11 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
     }
     let tols = default_tolerances(tolerance, levels).or_raise();
     reserve_build("tin_from_points_agg", st.samples.len(), tols.len(), false);
+    // the places the doubling left unused handed back before the build
+    let mut samples = std::mem::take(&mut st.samples);
+    samples.shrink_to_fit();
     let tin = build(
-        std::mem::take(&mut st.samples),
+        samples,
         &tols,
         st.srid.unwrap_or(0),
         &mut interrupt,
