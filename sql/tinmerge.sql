@@ -188,21 +188,21 @@ COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
 'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. Planar SRIDs only.';
 
 -- raster merge
-CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false)
+CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false, half_open boolean DEFAULT false)
 RETURNS TABLE(triangle int, count bigint, sum float8, mean float8, min float8, max float8, mode float8) AS
-$$ SELECT * FROM @extschema@._tin_raster_stats($1, $2::bytea, $3, $4, $5) $$
+$$ SELECT * FROM @extschema@._tin_raster_zonal($1, $2::bytea, $3, $4, $5, $6) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000
 SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_raster_stats(tin, raster, int, int, boolean) IS
-'Zonal statistics of a raster band per triangle of a level (NULL = finest). By default (scanline sweep) a pixel belongs to the triangle containing its centre (a centre on a shared edge goes to the triangle east of it, north of an east-west edge; on a vertex to the triangle just east-north-east of it; on the outer boundary to the triangle it lies on). With weighted => true every pixel a triangle overlaps counts by the exact fraction of its area inside the triangle, as exactextract does: count = pixels overlapped, sum = sum of value x fraction, mean = sum / sum of fractions, mode = value of greatest total coverage. Nodata pixels are skipped; triangles receiving no pixel are not returned; mode ties go to the smallest value. The raster must be north-up, in-db, with the tin''s SRID.';
+COMMENT ON FUNCTION tin_raster_stats(tin, raster, int, int, boolean, boolean) IS
+'Zonal statistics of a raster band per triangle of a level (NULL = finest). By default (scanline sweep) a pixel belongs to the triangle containing its centre (a centre on a shared edge goes to the triangle east of it, north of an east-west edge; on a vertex to the triangle just east-north-east of it; on the outer boundary to the triangle it lies on). With weighted => true every pixel a triangle overlaps counts by the exact fraction of its area inside the triangle, as exactextract does: count = pixels overlapped, sum = sum of value x fraction, mean = sum / sum of fractions, mode = value of greatest total coverage. With half_open => true a centre on the domain''s outer boundary counts only where the domain continues east of it (north of an east-west side), the rule of shared edges: over a table of tiles sharing their seams (tin_tiles) every seam centre is then counted by exactly one tile, the one a single tin of their union gives it to, and centres on the union''s west and south sides are not counted (weighted statistics need no such option: coverage fractions add up across seams). Nodata pixels are skipped; triangles receiving no pixel are not returned; mode ties go to the smallest value. The raster must be north-up, in-db, with the tin''s SRID.';
 
-CREATE FUNCTION tin_raster_pixels(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1)
+CREATE FUNCTION tin_raster_pixels(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, half_open boolean DEFAULT false)
 RETURNS TABLE(triangle int, col int, "row" int, value float8) AS
-$$ SELECT * FROM @extschema@._tin_raster_pixels($1, $2::bytea, $3, $4) $$
+$$ SELECT * FROM @extschema@._tin_raster_owners($1, $2::bytea, $3, $4, $5) $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100000
 SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_raster_pixels(tin, raster, int, int) IS
-'Every valid pixel of a raster band with the triangle of a level (NULL = finest) containing its centre (the rule of tin_raster_stats), in raster order; col and row numbered from 1 as in ST_Value. Nodata pixels and pixels outside the tin are left out.';
+COMMENT ON FUNCTION tin_raster_pixels(tin, raster, int, int, boolean) IS
+'Every valid pixel of a raster band with the triangle of a level (NULL = finest) containing its centre (the rule of tin_raster_stats, half_open included), in raster order; col and row numbered from 1 as in ST_Value. Nodata pixels and pixels outside the tin are left out.';
 
 CREATE FUNCTION tin_paint(t tin, rast raster, level int DEFAULT NULL)
 RETURNS TABLE(triangle int, r float8, g float8, b float8) AS

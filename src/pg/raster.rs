@@ -124,14 +124,16 @@ fn raster_level<'a>(
 
 type StatsRow = (i32, i64, f64, f64, f64, f64, Option<f64>);
 
+/// `tin_raster_stats`: zonal statistics per triangle (see its comment).
 #[allow(clippy::type_complexity)]
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_raster_stats(
+fn _tin_raster_zonal(
     t: Option<TinArg>,
     rast: Option<&[u8]>,
     level: Option<i32>,
     band: Option<i32>,
     weighted: Option<bool>,
+    half_open: Option<bool>,
 ) -> TableIterator<
     'static,
     (
@@ -144,12 +146,16 @@ fn _tin_raster_stats(
         name!(mode, Option<f64>),
     ),
 > {
-    let (Some(t), Some(rast), Some(band), Some(weighted)) = (t, rast, band, weighted) else {
+    let (Some(t), Some(rast), Some(band), Some(weighted), Some(half_open)) =
+        (t, rast, band, weighted, half_open)
+    else {
         return TableIterator::new(Vec::<StatsRow>::new());
     };
-    let Some((gt, grid, b)) = raster_arg(t.header().srid, rast, band, "tin_raster_stats") else {
+    let Some((gt, mut grid, b)) = raster_arg(t.header().srid, rast, band, "tin_raster_stats")
+    else {
         return TableIterator::new(Vec::<StatsRow>::new());
     };
+    grid.half_open = half_open;
     let mut keep = None;
     let lv = raster_level(&t, level, &gt, grid.width, grid.height, &mut keep);
     super::threads::apply();
@@ -183,19 +189,48 @@ fn _tin_raster_stats(
 
 extension_sql!(
     r#"
-ALTER FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean) ROWS 10000;
-COMMENT ON FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean) IS 'Internal: use tin_raster_stats(tin, raster, int, int, boolean).';
+ALTER FUNCTION _tin_raster_zonal(tin, bytea, int, int, boolean, boolean) ROWS 10000;
+COMMENT ON FUNCTION _tin_raster_zonal(tin, bytea, int, int, boolean, boolean) IS 'Internal: use tin_raster_stats(tin, raster, int, int, boolean, boolean).';
 "#,
-    name = "tin_raster_stats_sql",
-    requires = [_tin_raster_stats]
+    name = "tin_raster_zonal_sql",
+    requires = [_tin_raster_zonal]
 );
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_raster_pixels(
+/// 0.1.0 to 0.6.0's `_tin_raster_stats` (without `half_open`), kept as a
+/// symbol only: their install scripts declare it, and a database still on
+/// one of them calls it. 0.7.0's `tin_raster_stats` calls
+/// `_tin_raster_zonal`.
+#[allow(clippy::type_complexity)]
+#[pg_extern(sql = false)]
+fn _tin_raster_stats(
     t: Option<TinArg>,
     rast: Option<&[u8]>,
     level: Option<i32>,
     band: Option<i32>,
+    weighted: Option<bool>,
+) -> TableIterator<
+    'static,
+    (
+        name!(triangle, i32),
+        name!(count, i64),
+        name!(sum, f64),
+        name!(mean, f64),
+        name!(min, f64),
+        name!(max, f64),
+        name!(mode, Option<f64>),
+    ),
+> {
+    _tin_raster_zonal(t, rast, level, band, weighted, Some(false))
+}
+
+/// `tin_raster_pixels`: every valid pixel with the triangle owning it.
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_raster_owners(
+    t: Option<TinArg>,
+    rast: Option<&[u8]>,
+    level: Option<i32>,
+    band: Option<i32>,
+    half_open: Option<bool>,
 ) -> TableIterator<
     'static,
     (
@@ -205,12 +240,14 @@ fn _tin_raster_pixels(
         name!(value, f64),
     ),
 > {
-    let (Some(t), Some(rast), Some(band)) = (t, rast, band) else {
+    let (Some(t), Some(rast), Some(band), Some(half_open)) = (t, rast, band, half_open) else {
         return TableIterator::new(Vec::new());
     };
-    let Some((gt, grid, b)) = raster_arg(t.header().srid, rast, band, "tin_raster_pixels") else {
+    let Some((gt, mut grid, b)) = raster_arg(t.header().srid, rast, band, "tin_raster_pixels")
+    else {
         return TableIterator::new(Vec::new());
     };
+    grid.half_open = half_open;
     let mut keep = None;
     let lv = raster_level(&t, level, &gt, grid.width, grid.height, &mut keep);
     let w = grid.width;
@@ -231,12 +268,32 @@ fn _tin_raster_pixels(
 
 extension_sql!(
     r#"
-ALTER FUNCTION _tin_raster_pixels(tin, bytea, int, int) ROWS 100000;
-COMMENT ON FUNCTION _tin_raster_pixels(tin, bytea, int, int) IS 'Internal: use tin_raster_pixels(tin, raster, int, int).';
+ALTER FUNCTION _tin_raster_owners(tin, bytea, int, int, boolean) ROWS 100000;
+COMMENT ON FUNCTION _tin_raster_owners(tin, bytea, int, int, boolean) IS 'Internal: use tin_raster_pixels(tin, raster, int, int, boolean).';
 "#,
-    name = "tin_raster_pixels_sql",
-    requires = [_tin_raster_pixels]
+    name = "tin_raster_owners_sql",
+    requires = [_tin_raster_owners]
 );
+
+/// 0.1.0 to 0.6.0's `_tin_raster_pixels` (without `half_open`), kept as a
+/// symbol only (see `_tin_raster_stats`).
+#[pg_extern(sql = false)]
+fn _tin_raster_pixels(
+    t: Option<TinArg>,
+    rast: Option<&[u8]>,
+    level: Option<i32>,
+    band: Option<i32>,
+) -> TableIterator<
+    'static,
+    (
+        name!(triangle, i32),
+        name!(col, i32),
+        name!(row, i32),
+        name!(value, f64),
+    ),
+> {
+    _tin_raster_owners(t, rast, level, band, Some(false))
+}
 
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_paint(

@@ -205,6 +205,52 @@ SELECT l AS level, count(*) AS seam_points, min(tiles) AS min_tiles, max(tiles) 
        sum(tiles - answered) AS unanswered, count(*) FILTER (WHERE spread > 1e-9) AS tiles_disagree,
        count(*) FILTER (WHERE off > 2.0 * 2 ^ (2 - l) + 1e-9) AS beyond_tolerance
 FROM per GROUP BY l ORDER BY l;
+-- raster statistics against the tile table: with half_open => true a pixel
+-- centre on a tin's outer boundary counts only where the domain goes on
+-- east (north) of it, as on a shared edge, so every seam centre is counted
+-- by exactly one tile. The oracle: PostGIS's pixel centres of the window
+-- inside the half-open envelope [xmin, xmax) x [ymin, ymax) of the single
+-- tin (the window has no nodata: its domain is that rectangle). The tiles
+-- and the single tin (with the flag) count exactly those, each once, with
+-- the same sums; without the flag the tiles count every seam centre twice.
+-- Weighted (coverage) statistics need no flag: fractions add up across
+-- seams to the single tin's.
+CREATE TABLE oracle_px AS
+SELECT p.x, p.y, p.val
+FROM dem_window d, ST_PixelAsCentroids(d.rast, 1) c, LATERAL (SELECT ST_X(c.geom) AS x, ST_Y(c.geom) AS y, c.val) p,
+     (SELECT tin_envelope(t) AS e FROM window_tin) w
+WHERE p.x >= ST_XMin(w.e) AND p.x < ST_XMax(w.e) AND p.y >= ST_YMin(w.e) AND p.y < ST_YMax(w.e);
+WITH tiles AS (
+  SELECT l, sum(s.count) AS n, sum(s.sum) AS total
+  FROM one_call k, dem_window d, generate_series(0, 2) l, tin_raster_stats(k.t, d.rast, l, half_open => true) s GROUP BY l
+), single AS (
+  SELECT l, sum(s.count) AS n, sum(s.sum) AS total
+  FROM window_tin w, dem_window d, generate_series(0, 2) l, tin_raster_stats(w.t, d.rast, l, half_open => true) s GROUP BY l
+), closed AS (
+  SELECT l, sum(s.count) AS n FROM one_call k, dem_window d, generate_series(0, 2) l, tin_raster_stats(k.t, d.rast, l) s GROUP BY l
+), closed_single AS (
+  SELECT l, sum(s.count) AS n FROM window_tin w, dem_window d, generate_series(0, 2) l, tin_raster_stats(w.t, d.rast, l) s GROUP BY l
+)
+SELECT t.l AS level, (SELECT count(*) FROM oracle_px) AS oracle_pixels, t.n AS tiles_half_open, s.n AS single_half_open,
+       abs(t.total - (SELECT sum(val) FROM oracle_px)) < 1e-9 * abs(t.total) AS tiles_sum_is_oracle,
+       abs(s.total - (SELECT sum(val) FROM oracle_px)) < 1e-9 * abs(s.total) AS single_sum_is_oracle,
+       c.n - cs.n AS closed_tiles_count_seams_twice
+FROM tiles t JOIN single s USING (l) JOIN closed c USING (l) JOIN closed_single cs USING (l) ORDER BY 1;
+-- pixel by pixel: each oracle centre owned by one tile, the tile whose
+-- half-open envelope holds it (the east / north tile on a seam)
+WITH owned AS (
+  SELECT ST_X(ST_PixelAsCentroid(d.rast, p.col, p.row)) AS x, ST_Y(ST_PixelAsCentroid(d.rast, p.col, p.row)) AS y,
+         tin_envelope(k.t) AS e
+  FROM one_call k, dem_window d, tin_raster_pixels(k.t, d.rast, 1, half_open => true) p
+), per AS (SELECT x, y, count(*) AS n, bool_and(x < ST_XMax(e) AND y < ST_YMax(e)) AS east_north FROM owned GROUP BY x, y)
+SELECT count(*) AS owned_pixels, count(*) FILTER (WHERE n > 1) AS owned_twice,
+       count(*) FILTER (WHERE NOT east_north) AS by_the_west_or_south_tile,
+       (SELECT count(*) FROM oracle_px o LEFT JOIN per p ON (p.x, p.y) = (o.x, o.y) WHERE p.x IS NULL) AS oracle_pixels_missed
+FROM per;
+WITH tiles AS (SELECT sum(s.sum) AS total FROM one_call k, dem_window d, tin_raster_stats(k.t, d.rast, 1, weighted => true) s),
+     single AS (SELECT sum(s.sum) AS total FROM window_tin w, dem_window d, tin_raster_stats(w.t, d.rast, 1, weighted => true) s)
+SELECT abs(t.total - s.total) < 1e-9 * abs(s.total) AS weighted_sums_agree FROM tiles t, single s;
+DROP TABLE oracle_px;
 -- bad arguments
 SELECT count(*) FROM dem_window, tin_tiles(rast, 1, 2.0, 3);
 SELECT count(*) FROM dem_window, tin_tiles(rast, 100, 2.0, 3, band => 2);

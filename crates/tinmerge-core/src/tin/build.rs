@@ -1262,7 +1262,9 @@ fn refine_parent_scattered(
     err = err.max(b.refine(tol, &mut || Ok(()))?);
     let mut tris = b.snapshot();
     if chains.iter().any(|ch| ch.len() > 2) {
-        tris = close_chains(tris, &chains, &b.vsample, &|v| b.vert3(FixedVertexHandle::from_index(v)));
+        tris = close_chains(tris, &chains, &b.vsample, &|v| {
+            b.vert3(FixedVertexHandle::from_index(v))
+        });
     }
     let samples = b
         .vsample
@@ -1300,7 +1302,11 @@ fn close_chains(
     }
     let chains: Vec<Vec<u32>> = chains
         .iter()
-        .map(|ch| ch.iter().filter_map(|l| vertex_of.get(l).copied()).collect())
+        .map(|ch| {
+            ch.iter()
+                .filter_map(|l| vertex_of.get(l).copied())
+                .collect()
+        })
         .collect();
     for (k, ch) in chains.iter().enumerate() {
         for (p, &v) in ch.iter().enumerate() {

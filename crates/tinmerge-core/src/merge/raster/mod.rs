@@ -67,6 +67,14 @@ pub struct PixelGrid {
     pub height: usize,
     pub xs: Axis,
     pub ys: Axis,
+    /// Count the domain as half-open: a centre on its outer boundary goes
+    /// to a triangle only where the point moved east (north) is inside, as
+    /// on a shared edge; the centres the boundary rule would add (see the
+    /// module documentation) are left out. Over tiles whose seams are
+    /// shared edges each seam centre is then handed to exactly one tile,
+    /// the one on the side a single tin of their union hands it to.
+    /// `false` from [`PixelGrid::new`].
+    pub half_open: bool,
 }
 
 /// Monotone coordinates of pixel centres along one axis.
@@ -132,6 +140,7 @@ impl PixelGrid {
             height,
             xs: Axis::new(xs, gt.scale_x),
             ys: Axis::new(ys, gt.scale_y),
+            half_open: false,
         })
     }
 }
@@ -395,7 +404,11 @@ impl<'a, L: RasterLevel> Events<'a, L> {
             *k += 1;
         }
         drop(span_of);
-        let extras = hull_extras(lv, g)?;
+        let extras = if g.half_open {
+            Vec::new()
+        } else {
+            hull_extras(lv, g)?
+        };
         Ok(Events {
             lv,
             g,
@@ -516,6 +529,94 @@ mod tests {
         assert_eq!(dec.range(1.5, 2.5), (1, 3));
         assert_eq!(dec.range(0.0, 0.4), (4, 4));
         assert_eq!(dec.range(3.6, 9.0), (0, 0));
+    }
+
+    /// `half_open`: tiles sharing a seam hand each centre of the seam to
+    /// one of them, and together they hand out exactly the centres of the
+    /// half-open rectangle (the oracle: x0 <= x < x1, y0 <= y < y1), as a
+    /// single tin of their union does with the flag; without it each tile
+    /// also takes the seam's centres and the single tin the closed square.
+    #[test]
+    fn half_open_tiles_count_each_seam_centre_once() {
+        use crate::merge::raster::patch::TinLevel;
+        use crate::tin::build::build;
+        let rect = |x0: f64, x1: f64, y0: f64, y1: f64| {
+            let mut pts = Vec::new();
+            let (mut x, mut y) = (x0, y0);
+            while y <= y1 {
+                while x <= x1 {
+                    // a bump so the tins have inner vertices and diagonals
+                    pts.push([x, y, (x * 0.7).sin() * (y * 0.3).cos()]);
+                    x += 1.0;
+                }
+                x = x0;
+                y += 1.0;
+            }
+            build(pts, &[0.0], 0, &mut || Ok(())).unwrap()
+        };
+        let (west, east, whole) = (
+            rect(0.0, 3.0, 0.0, 5.0),
+            rect(3.0, 7.0, 0.0, 5.0),
+            rect(0.0, 7.0, 0.0, 5.0),
+        );
+        // centres on the integers, and on the half-integers between
+        for step in [1.0, 0.5] {
+            let gt = GeoTransform {
+                scale_x: step,
+                scale_y: -step,
+                ip_x: -1.0 - step / 2.0,
+                ip_y: 6.0 + step / 2.0,
+                skew_x: 0.0,
+                skew_y: 0.0,
+            };
+            let (w, h) = ((9.0 / step) as usize + 1, (7.0 / step) as usize + 1);
+            let mut g = PixelGrid::new(&gt, w, h).unwrap();
+            let counts = |t: &crate::tin::Tin, g: &PixelGrid| {
+                let mut seen = vec![0u32; w * h];
+                let lv = TinLevel::new(t, 0).unwrap();
+                sweep(&lv, g, false, &mut || Ok(()), &mut |_, r, c0, c1| {
+                    for c in c0..c1 {
+                        seen[r * w + c] += 1;
+                    }
+                })
+                .unwrap();
+                seen
+            };
+            let inside = |r: usize, c: usize, closed: bool| {
+                let (x, y) = (g.xs.v[c], g.ys.v[r]);
+                if closed {
+                    (0.0..=7.0).contains(&x) && (0.0..=5.0).contains(&y)
+                } else {
+                    (0.0..7.0).contains(&x) && (0.0..5.0).contains(&y)
+                }
+            };
+            for half_open in [false, true] {
+                g.half_open = half_open;
+                let (a, b, one) = (counts(&west, &g), counts(&east, &g), counts(&whole, &g));
+                for r in 0..h {
+                    for c in 0..w {
+                        let k = r * w + c;
+                        let on_seam = g.xs.v[c] == 3.0 && inside(r, c, true);
+                        let tiles = a[k] + b[k];
+                        if half_open {
+                            assert_eq!(
+                                tiles,
+                                inside(r, c, false) as u32,
+                                "tiles, step {step}, {r} {c}"
+                            );
+                            assert_eq!(
+                                one[k],
+                                inside(r, c, false) as u32,
+                                "single, step {step}, {r} {c}"
+                            );
+                        } else {
+                            assert_eq!(one[k], inside(r, c, true) as u32);
+                            assert_eq!(tiles, inside(r, c, true) as u32 + on_seam as u32);
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]
