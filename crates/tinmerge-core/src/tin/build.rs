@@ -626,17 +626,34 @@ fn build_inner(
         .collect::<Option<Vec<usize>>>()
         .ok_or_else(|| TinError::Degenerate("internal: a hull sample was lost".into()))?;
     drop(hull_xy);
-    let mut b = start(&grid, &hull, opts.keep_border)?;
     let sides = if opts.keep_border {
         hull_sides(&grid.pts, &hull, interrupt)?
     } else {
         Vec::new()
     };
-    let level0 = refine_level0(&mut b, &sides, tolerances[0], interrupt)?;
+    let b = start(&grid, &hull, opts.keep_border)?;
+    let (verts, raw_levels) = build_levels(b, &grid, &sides, tolerances, opts, interrupt)?;
+    drop(grid);
+    // on a lattice the grid indexes are built once, by `Lattice::to_world`
+    assemble(verts, raw_levels, srid, !on_lattice, interrupt)
+}
+
+/// Every level: level 0 refined in `b` (the whole domain, its hull
+/// inserted; the hull's `sides` under keep_border), the finer ones parent by
+/// parent on `src`. The vertices and the levels, for [`assemble`].
+fn build_levels<S: Samples, P: ParentSamples>(
+    mut b: Builder<'_, S>,
+    src: &P,
+    sides: &[Vec<usize>],
+    tolerances: &[f64],
+    opts: BuildOptions,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
+    let level0 = refine_level0(&mut b, sides, tolerances[0], interrupt)?;
     let (mut verts, vsample) = b.finish();
     let mut raw_levels = vec![level0];
     refine_by_parents(
-        &grid,
+        src,
         &mut verts,
         vsample,
         &mut raw_levels,
@@ -644,9 +661,7 @@ fn build_inner(
         opts.keep_border,
         interrupt,
     )?;
-    drop(grid);
-    // on a lattice the grid indexes are built once, by `Lattice::to_world`
-    assemble(verts, raw_levels, srid, !on_lattice, interrupt)
+    Ok((verts, raw_levels))
 }
 
 /// A builder of the whole domain on `grid`, its convex `hull` (sample
@@ -780,7 +795,7 @@ fn build_dense(
     let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
     let hull: Vec<usize> = convex_hull(&pts).into_iter().map(|k| ends[k]).collect();
     let whole = d.window(d.c0, d.r0, d.width, d.height);
-    let mut b = start(&whole, &hull, opts.keep_border)?;
+    let b = start(&whole, &hull, opts.keep_border)?;
     let sides: Vec<Vec<usize>> = if opts.keep_border {
         (0..hull.len())
             .map(|k| lattice_side(&d, hull[k], hull[(k + 1) % hull.len()]))
@@ -788,18 +803,7 @@ fn build_dense(
     } else {
         Vec::new()
     };
-    let level0 = refine_level0(&mut b, &sides, tolerances[0], interrupt)?;
-    let (mut verts, vsample) = b.finish();
-    let mut raw_levels = vec![level0];
-    refine_by_parents(
-        &d,
-        &mut verts,
-        vsample,
-        &mut raw_levels,
-        &tolerances[1..],
-        opts.keep_border,
-        interrupt,
-    )?;
+    let (verts, raw_levels) = build_levels(b, &d, &sides, tolerances, opts, interrupt)?;
     drop(d);
     assemble(verts, raw_levels, srid, false, interrupt)
 }
