@@ -354,13 +354,7 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
     // the places the doubling left unused handed back before the build
     let mut samples = std::mem::take(&mut st.samples);
     samples.shrink_to_fit();
-    let tin = build(
-        samples,
-        &tols,
-        st.srid.unwrap_or(0),
-        &mut interrupt,
-    )
-    .or_raise();
+    let tin = build(samples, &tols, st.srid.unwrap_or(0), &mut interrupt).or_raise();
     Some(TinOut::from_tin(&tin))
 }
 
