@@ -23,7 +23,7 @@ fn main() {
     let d = common::read_dem("jacksboro_fault_dem_utm16n.tif");
     println!("| raster | samples | levels | threads | finest triangles | ms (median of 3) | samples/s | peak heap B/sample |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (f, threads) in [(1usize, 1usize), (4, 1), (4, 2)] {
+    for (f, threads, levels) in [(1usize, 1usize, 5), (4, 1, 5), (4, 2, 5), (4, 1, 1)] {
         par::set_threads(threads);
         let (gt, w, h, values) = d.upsampled(f);
         let lat = tinmerge_core::tin::lattice::Lattice {
@@ -47,7 +47,7 @@ fn main() {
             out
         };
         let n = samples().len();
-        let tols = default_tolerances(2.0, 5).unwrap();
+        let tols = default_tolerances(2.0, levels).unwrap();
         let mut times = Vec::new();
         let mut peak = 0usize;
         let mut tris = 0usize;
@@ -67,7 +67,7 @@ fn main() {
         times.sort_by(f64::total_cmp);
         let ms = times[times.len() / 2];
         println!(
-            "| DEM x{f} | {n} | 5 | {threads} | {tris} | {ms:.0} | {:.0} | {:.0} |",
+            "| DEM x{f} | {n} | {levels} | {threads} | {tris} | {ms:.0} | {:.0} | {:.0} |",
             n as f64 / ms * 1e3,
             peak as f64 / n as f64
         );

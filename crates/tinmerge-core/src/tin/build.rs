@@ -6,6 +6,9 @@
 //! (spade), stop when every triangle is within tolerance 0. Errors are
 //! measured exactly at every sample inside each triangle.
 //!
+//! A level 0 of more than 65,536 vertices is itself finished parent by
+//! parent, over the triangles the greedy insertion had at that count.
+//!
 //! Every finer level is refined parent by parent ([`refine_by_parents`]): a
 //! triangle of level `i` holds exactly its children at level `i+1`, so it
 //! is refined alone, in a small triangulation of its own samples, after the
@@ -442,8 +445,14 @@ impl<S: Samples> Builder<'_, S> {
         }
     }
 
-    /// Refine until every face is within `tol`; returns the measured max error.
-    fn refine(&mut self, tol: f64, interrupt: &mut Interrupt<'_>) -> Result<f64, TinError> {
+    /// Refine until every face is within `tol` or the triangulation has
+    /// `max_vertices`; returns the measured max error.
+    fn refine(
+        &mut self,
+        tol: f64,
+        max_vertices: usize,
+        interrupt: &mut Interrupt<'_>,
+    ) -> Result<f64, TinError> {
         self.heap.clear();
         // every face measured (on threads, in chunks, interrupts between
         // batches), then recorded in face order
@@ -468,7 +477,7 @@ impl<S: Samples> Builder<'_, S> {
             if st.gen != top.gen {
                 continue;
             }
-            if top.err <= tol {
+            if top.err <= tol || self.cdt.num_vertices() >= max_vertices {
                 self.heap.push(top);
                 break;
             }
@@ -649,20 +658,34 @@ fn build_levels<S: Samples, P: ParentSamples>(
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
-    let level0 = refine_level0(&mut b, sides, tolerances[0], interrupt)?;
+    let level0 = refine_level0(&mut b, sides, tolerances[0], SEED_VERTICES, interrupt)?;
     let (mut verts, vsample) = b.finish();
+    // a level 0 of more than SEED_VERTICES vertices is refined parent by
+    // parent too, over the triangles the whole-domain refinement had when
+    // it stopped (the seed, then dropped)
+    let seeded = level0.max_error > tolerances[0];
     let mut raw_levels = vec![level0];
     refine_by_parents(
         src,
         &mut verts,
         vsample,
         &mut raw_levels,
-        &tolerances[1..],
+        &tolerances[usize::from(!seeded)..],
         opts.keep_border,
         interrupt,
     )?;
+    if seeded {
+        raw_levels.remove(0);
+        raw_levels[0].parents = Vec::new();
+    }
     Ok((verts, raw_levels))
 }
+
+/// Vertices level 0 gets in one triangulation of the whole domain; a level
+/// 0 needing more is refined on from there parent by parent (the
+/// triangulation of a vertex costs about 150 bytes; a parent's, only while
+/// it is refined).
+const SEED_VERTICES: usize = 65536;
 
 /// A builder of the whole domain on `grid`, its convex `hull` (sample
 /// indices) inserted; `keep_border`: flags for the hull sides' samples.
@@ -690,6 +713,7 @@ fn refine_level0<S: Samples>(
     b: &mut Builder<'_, S>,
     sides: &[Vec<usize>],
     tol: f64,
+    max_vertices: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<RawLevel, TinError> {
     for &i in sides.iter().flatten() {
@@ -716,7 +740,7 @@ fn refine_level0<S: Samples>(
             b.insert_sample(i, None)?;
         }
     }
-    let max_error = b.refine(tol, interrupt)?.max(border_error);
+    let max_error = b.refine(tol, max_vertices, interrupt)?.max(border_error);
     Ok(RawLevel {
         tolerance: tol,
         max_error,
@@ -884,7 +908,7 @@ fn refine_parent(
             hint = Some(b.insert_sample(i, hint)?);
         }
     }
-    err = err.max(b.refine(tol, &mut || Ok(()))?);
+    err = err.max(b.refine(tol, usize::MAX, &mut || Ok(()))?);
     let tris = b.snapshot();
     let samples = b
         .vsample
@@ -1263,7 +1287,7 @@ fn refine_parent_scattered(
             hint = Some(b.insert_sample(i, hint)?);
         }
     }
-    err = err.max(b.refine(tol, &mut || Ok(()))?);
+    err = err.max(b.refine(tol, usize::MAX, &mut || Ok(()))?);
     let mut tris = b.snapshot();
     if chains.iter().any(|ch| ch.len() > 2) {
         tris = close_chains(tris, &chains, &b.vsample, &|v| {
@@ -1603,7 +1627,7 @@ pub fn from_triangles(
 /// Upper bound of the heap a build from `samples` points with `levels`
 /// levels uses at its peak, input samples included. The finer levels are
 /// refined parent by parent, so the peak is level 0's triangulation or the
-/// finished tin (measured on the DEM with `tests/memory.rs`: 281 bytes a
+/// finished tin (measured on the DEM with `tests/memory.rs`: 209 bytes a
 /// sample at one level of 2 m, 149 at 5 levels, 430 when nearly every
 /// sample is a vertex of every level; `cargo bench --bench build`: 38-50
 /// on point clouds of 1.9 and 9.5 million points).
@@ -1616,9 +1640,10 @@ pub fn build_bytes(samples: usize, levels: usize) -> usize {
 /// [`build_bytes`] for a build on a pixel lattice ([`build_lattice`]),
 /// whose heights are read in place (8 bytes a pixel): the peak is level 0's triangulation or
 /// the finished tin with the last level's arrays being made (measured with
-/// `tests/memory.rs` on the DEM: 286 bytes a sample at 1 level, 152 at 5
-/// levels and 2 m, 409 when nearly every sample is a vertex of every level;
-/// `cargo bench --bench build`: 103 on the DEM upsampled 4x).
+/// `tests/memory.rs` on the DEM: 187 bytes a sample at 1 level, 135 at 5
+/// levels and 2 m, 408 when nearly every sample is a vertex of every level;
+/// `cargo bench --bench build` on the DEM upsampled 4x: 97 at 5 levels, 42
+/// at one).
 pub fn lattice_build_bytes(samples: usize, levels: usize) -> usize {
     samples
         .saturating_mul(300 + 40 * levels)
