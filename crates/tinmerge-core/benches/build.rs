@@ -46,26 +46,13 @@ fn main() {
             }
             out
         };
-        let n = samples().len();
         let tols = default_tolerances(2.0, levels).unwrap();
-        let mut times = Vec::new();
-        let mut peak = 0usize;
-        let mut tris = 0usize;
-        for _ in 0..3 {
-            let s = samples();
-            let base = memory::live() - s.len() * 24;
-            memory::reset_peak();
-            let t0 = Instant::now();
-            let tin = build_lattice(s, &lat, &tols, 32616, BuildOptions::default(), &mut || {
+        let (n, ms, peak, tris) = measure(3, &samples, |s| {
+            build_lattice(s, &lat, &tols, 32616, BuildOptions::default(), &mut || {
                 Ok(())
             })
-            .unwrap();
-            times.push(t0.elapsed().as_secs_f64() * 1e3);
-            peak = memory::peak() - base;
-            tris = tin.levels.last().unwrap().tris.len();
-        }
-        times.sort_by(f64::total_cmp);
-        let ms = times[times.len() / 2];
+            .unwrap()
+        });
         println!(
             "| DEM x{f} | {n} | {levels} | {threads} | {tris} | {ms:.0} | {:.0} | {:.0} |",
             n as f64 / ms * 1e3,
@@ -73,6 +60,31 @@ fn main() {
         );
     }
     cloud(&d);
+}
+
+/// `runs` builds of fresh `input()`: the samples, the median wall time
+/// (ms), the heap's peak above what was live before the input was made
+/// (the input included) and the finest level's triangles.
+fn measure(
+    runs: usize,
+    input: &dyn Fn() -> Vec<[f64; 3]>,
+    build: impl Fn(Vec<[f64; 3]>) -> tinmerge_core::tin::Tin,
+) -> (usize, f64, usize, usize) {
+    let mut times = Vec::new();
+    let (mut n, mut peak, mut tris) = (0usize, 0usize, 0usize);
+    for _ in 0..runs {
+        let s = input();
+        n = s.len();
+        let base = memory::live() - n * 24;
+        memory::reset_peak();
+        let t0 = Instant::now();
+        let tin = build(s);
+        times.push(t0.elapsed().as_secs_f64() * 1e3);
+        peak = memory::peak() - base;
+        tris = tin.levels.last().map_or(0, |l| l.tris.len());
+    }
+    times.sort_by(f64::total_cmp);
+    (n, times[times.len() / 2], peak, tris)
 }
 
 /// The DEM's height at (x, y) interpolated bilinearly between its four
@@ -122,22 +134,10 @@ fn cloud(d: &common::Dem) {
             }
             out
         };
-        let n = points().len();
         let tols = default_tolerances(2.0, 5).unwrap();
-        let mut times = Vec::new();
-        let (mut peak, mut tris) = (0usize, 0usize);
-        for _ in 0..runs {
-            let s = points();
-            let base = memory::live() - s.len() * 24;
-            memory::reset_peak();
-            let t0 = Instant::now();
-            let tin = build(s, &tols, 32616, &mut || Ok(())).unwrap();
-            times.push(t0.elapsed().as_secs_f64() * 1e3);
-            peak = memory::peak() - base;
-            tris = tin.levels.last().unwrap().tris.len();
-        }
-        times.sort_by(f64::total_cmp);
-        let ms = times[times.len() / 2];
+        let (n, ms, peak, tris) = measure(runs, &points, |s| {
+            build(s, &tols, 32616, &mut || Ok(())).unwrap()
+        });
         println!(
             "| DEM, {f}x{f} returns a pixel | {n} | 5 | {threads} | {tris} | {ms:.0} | {:.0} | {:.0} |",
             n as f64 / ms * 1e3,

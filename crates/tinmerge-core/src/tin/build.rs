@@ -50,11 +50,11 @@ use super::{grid, interpolate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use spade::{DelaunayTriangulation, Point2, Triangulation};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+type Dt = DelaunayTriangulation<Point2<f64>>;
 type FaceHandle = spade::handles::FixedFaceHandle<spade::handles::InnerTag>;
 
 /// Samples under the faces around a new vertex above which they are
@@ -293,7 +293,7 @@ impl Ord for Entry {
 }
 
 struct Builder<'g, S: Samples> {
-    cdt: Cdt,
+    dt: Dt,
     /// z of each triangulation vertex (by spade vertex index).
     vz: Vec<f64>,
     /// the sample (index in `grid.pts`) each triangulation vertex is
@@ -310,14 +310,14 @@ struct Builder<'g, S: Samples> {
 
 impl<S: Samples> Builder<'_, S> {
     fn vert3(&self, h: FixedVertexHandle) -> [f64; 3] {
-        let p = self.cdt.vertex(h).position();
+        let p = self.dt.vertex(h).position();
         [p.x, p.y, self.vz[h.index()]]
     }
 
     /// The worst sample of one inner face: (its error, the sample or NONE,
     /// a corner of the face). Read-only: runs on `tin::par`'s threads.
     fn measure(&self, face: FaceHandle) -> (f64, u32, u32) {
-        let f = self.cdt.face(face);
+        let f = self.dt.face(face);
         let vs = f.vertices();
         let c = [
             self.vert3(vs[0].fix()),
@@ -377,7 +377,7 @@ impl<S: Samples> Builder<'_, S> {
     /// The vertices (positions, by triangulation index) and the sample
     /// each one is, the triangulation dropped.
     fn finish(self) -> (Vec<[f64; 3]>, Vec<u32>) {
-        let verts = (0..self.cdt.num_vertices())
+        let verts = (0..self.dt.num_vertices())
             .map(|i| self.vert3(FixedVertexHandle::from_index(i)))
             .collect();
         (verts, self.vsample)
@@ -392,8 +392,8 @@ impl<S: Samples> Builder<'_, S> {
     /// Samples a face's area holds, about (for deciding what is worth
     /// handing to threads).
     fn face_samples(&self, face: FaceHandle) -> f64 {
-        let vs = self.cdt.face(face).vertices();
-        let [a, b, c] = vs.map(|v| self.cdt.vertex(v.fix()).position());
+        let vs = self.dt.face(face).vertices();
+        let [a, b, c] = vs.map(|v| self.dt.vertex(v.fix()).position());
         ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)).abs() / 2.0 / self.grid.cell_area()
     }
 
@@ -407,15 +407,15 @@ impl<S: Samples> Builder<'_, S> {
         hint: Option<FixedVertexHandle>,
     ) -> Result<FixedVertexHandle, TinError> {
         let p = self.grid.point(i);
-        let before = self.cdt.num_vertices();
+        let before = self.dt.num_vertices();
         let pt = Point2::new(p[0], p[1]);
         let h = match hint {
-            Some(v) if v.index() < before => self.cdt.insert_with_hint(pt, v),
-            _ => self.cdt.insert(pt),
+            Some(v) if v.index() < before => self.dt.insert_with_hint(pt, v),
+            _ => self.dt.insert(pt),
         }
         .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
         self.inserted[i] = true;
-        if self.cdt.num_vertices() > before {
+        if self.dt.num_vertices() > before {
             self.vz.push(p[2]);
             self.vsample.push(i as u32);
         }
@@ -426,7 +426,7 @@ impl<S: Samples> Builder<'_, S> {
     /// large (the first insertions of a level), results recorded in order.
     fn rescan_around(&mut self, v: FixedVertexHandle) {
         let faces: Vec<_> = self
-            .cdt
+            .dt
             .vertex(v)
             .out_edges()
             .filter_map(|e| e.face().as_inner().map(|f| f.fix()))
@@ -456,7 +456,7 @@ impl<S: Samples> Builder<'_, S> {
         self.heap.clear();
         // every face measured (on threads, in chunks, interrupts between
         // batches), then recorded in face order
-        let all: Vec<_> = self.cdt.fixed_inner_faces().collect();
+        let all: Vec<_> = self.dt.fixed_inner_faces().collect();
         let chunks: Vec<&[FaceHandle]> = all.chunks(4096).collect();
         let mut ms: Vec<Vec<(f64, u32, u32)>> = Vec::with_capacity(chunks.len());
         super::par::map_batched(
@@ -477,7 +477,7 @@ impl<S: Samples> Builder<'_, S> {
             if st.gen != top.gen {
                 continue;
             }
-            if top.err <= tol || self.cdt.num_vertices() >= max_vertices {
+            if top.err <= tol || self.dt.num_vertices() >= max_vertices {
                 self.heap.push(top);
                 break;
             }
@@ -495,29 +495,84 @@ impl<S: Samples> Builder<'_, S> {
             // its old face must be re-measured without it.
             let idx = top.face as usize;
             if self.faces[idx].gen == st.gen {
-                if let Some(f) = self.cdt.fixed_inner_faces().find(|f| f.index() == idx) {
+                if let Some(f) = self.dt.fixed_inner_faces().find(|f| f.index() == idx) {
                     self.scan_face(f);
                 }
             }
         }
         let mut max = 0.0f64;
-        for f in self.cdt.fixed_inner_faces() {
+        for f in self.dt.fixed_inner_faces() {
             max = max.max(self.faces[f.index()].err);
         }
         Ok(max)
     }
 
+    /// One parent's refinement in this (emptied) builder: its `corners`
+    /// inserted, then on each of its fixed `sides` (samples in the edge's
+    /// canonical order, both corners included) the vertices [`choose_border`]
+    /// picks, the side's other samples reserved, then greedy insertion to
+    /// `tol`. The worst error left, and each side's chosen samples in order
+    /// (its chain).
+    fn refine_parent(
+        &mut self,
+        corners: [usize; 3],
+        sides: &[Vec<usize>],
+        tol: f64,
+    ) -> Result<(f64, Vec<Vec<usize>>), TinError> {
+        let mut hint = None;
+        for s in corners {
+            hint = Some(self.insert_sample(s, hint)?);
+        }
+        let mut err = 0.0f64;
+        let mut new = Vec::new();
+        let mut chains = Vec::with_capacity(sides.len());
+        for side in sides {
+            for &i in &side[1..side.len() - 1] {
+                self.reserved[i] = true;
+            }
+            let mut chosen: Vec<bool> = (0..side.len())
+                .map(|j| j == 0 || j + 1 == side.len())
+                .collect();
+            let grid = self.grid;
+            err = err.max(choose_border(
+                &|i| grid.point(i),
+                side,
+                &mut chosen,
+                tol,
+                &mut new,
+            ));
+            chains.push(
+                side.iter()
+                    .zip(&chosen)
+                    .filter(|(_, &ch)| ch)
+                    .map(|(&i, _)| i)
+                    .collect(),
+            );
+        }
+        for i in new {
+            if !self.inserted[i] {
+                hint = Some(self.insert_sample(i, hint)?);
+            }
+        }
+        Ok((
+            err.max(self.refine(tol, usize::MAX, &mut || Ok(()))?),
+            chains,
+        ))
+    }
+
     /// The current triangles, without slivers (zero area up to rounding).
-    /// Only scattered samples make them, and only along the hull: a sample
-    /// within rounding of a hull edge, inside it, leaves a sliver between
-    /// itself and the edge (spade keeps the convex hull; the edge cannot
-    /// flip), and later samples there split that sliver into more. Leaving
-    /// them out makes the boundary run through those samples (convex up to
-    /// rounding) instead of hiding a crack behind a wall. Interior slivers
-    /// never stay: `split_rounded_constraints` splits the edge. Raster
-    /// builds, decided on the lattice, have none.
+    /// Only scattered samples make them, and only along the triangulation's
+    /// hull (the domain's, or a parent's sides in
+    /// [`refine_parent_scattered`]): a sample within rounding of a hull
+    /// edge leaves a sliver between itself and the edge (spade keeps the
+    /// convex hull; the edge cannot flip), and later samples there split
+    /// that sliver into more. Leaving them out makes the boundary run
+    /// through those samples (convex up to rounding) instead of hiding a
+    /// crack behind a wall; along a parent's side [`close_chains`] then
+    /// meets the neighbour's vertices. Raster builds, decided on the
+    /// lattice, have none.
     fn snapshot(&self) -> Vec<[u32; 3]> {
-        self.cdt
+        self.dt
             .inner_faces()
             .filter(|f| {
                 let v = f.vertices().map(|v| self.vert3(v.fix()));
@@ -596,8 +651,9 @@ struct RawLevel {
 
 /// The build. Lattice samples (`on_lattice`) that fill most of their
 /// window of the lattice are built in place there ([`build_dense`]);
-/// scattered samples, and lattice samples too sparse for that, are refined
-/// level by level in one constrained triangulation of the whole domain.
+/// scattered samples, and lattice samples too sparse for that, are
+/// bucketed ([`SampleGrid`]) and built the same way on them
+/// ([`build_levels`]).
 fn build_inner(
     samples: Vec<[f64; 3]>,
     tolerances: &[f64],
@@ -744,7 +800,7 @@ fn refine_level0<S: Samples>(
     Ok(RawLevel {
         tolerance: tol,
         max_error,
-        num_vertices: b.cdt.num_vertices() as u32,
+        num_vertices: b.dt.num_vertices() as u32,
         tris: b.snapshot(),
         parents: Vec::new(),
     })
@@ -872,43 +928,16 @@ fn refine_parent(
     let win = d.window(c0, r0, (c1 - c0 + 1) as usize, (r1 - r0 + 1) as usize);
     let n = win.len();
     let mut b = scratch.builder(&win, n, !free.iter().all(|&f| f));
-    let mut hint = None;
-    for s in corners {
-        hint = Some(b.insert_sample(win.local(s as usize), hint)?);
-    }
-    let mut err = 0.0f64;
-    let mut new = Vec::new();
-    for k in 0..3 {
-        if free[k] {
-            continue;
-        }
-        let side: Vec<usize> = lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize)
-            .into_iter()
-            .map(|g| win.local(g))
-            .collect();
-        if side.len() <= 2 {
-            continue;
-        }
-        for &i in &side[1..side.len() - 1] {
-            b.reserved[i] = true;
-        }
-        let mut chosen: Vec<bool> = (0..side.len())
-            .map(|j| j == 0 || j + 1 == side.len())
-            .collect();
-        err = err.max(choose_border(
-            &|i| win.point(i),
-            &side,
-            &mut chosen,
-            tol,
-            &mut new,
-        ));
-    }
-    for i in new {
-        if !b.inserted[i] {
-            hint = Some(b.insert_sample(i, hint)?);
-        }
-    }
-    err = err.max(b.refine(tol, usize::MAX, &mut || Ok(()))?);
+    let sides: Vec<Vec<usize>> = (0..3)
+        .filter(|&k| !free[k])
+        .map(|k| {
+            lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize)
+                .into_iter()
+                .map(|g| win.local(g))
+                .collect()
+        })
+        .collect();
+    let (err, _) = b.refine_parent(corners.map(|s| win.local(s as usize)), &sides, tol)?;
     let tris = b.snapshot();
     let samples = b
         .vsample
@@ -930,7 +959,7 @@ fn refine_parent(
 /// counters) made the build slower on 2 threads than on 1.
 #[derive(Default)]
 struct Scratch {
-    cdt: Cdt,
+    dt: Dt,
     vz: Vec<f64>,
     vsample: Vec<u32>,
     inserted: Vec<bool>,
@@ -944,7 +973,7 @@ impl Scratch {
     /// samples) made of these buffers, emptied.
     fn builder<'g, S: Samples>(&mut self, grid: &'g S, n: usize, reserve: bool) -> Builder<'g, S> {
         let mut b = Builder {
-            cdt: std::mem::take(&mut self.cdt),
+            dt: std::mem::take(&mut self.dt),
             vz: std::mem::take(&mut self.vz),
             vsample: std::mem::take(&mut self.vsample),
             grid,
@@ -953,7 +982,7 @@ impl Scratch {
             faces: std::mem::take(&mut self.faces),
             heap: std::mem::take(&mut self.heap),
         };
-        b.cdt.clear();
+        b.dt.clear();
         b.vz.clear();
         b.vsample.clear();
         b.inserted.clear();
@@ -967,7 +996,7 @@ impl Scratch {
 
     /// Take the buffers back from a finished builder.
     fn keep<S: Samples>(&mut self, b: Builder<'_, S>) {
-        self.cdt = b.cdt;
+        self.dt = b.dt;
         self.vz = b.vz;
         self.vsample = b.vsample;
         self.inserted = b.inserted;
@@ -1242,52 +1271,21 @@ fn refine_parent_scattered(
         pos[k as usize] = l;
     }
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
-    let mut hint = None;
-    for &l in &pos[..3] {
-        hint = Some(b.insert_sample(l, hint)?);
-    }
-    let mut err = 0.0f64;
-    let mut new = Vec::new();
-    let mut chains: Vec<Vec<usize>> = Vec::new();
-    for k in 0..3 {
-        if free[k] {
-            continue;
-        }
-        on[k].sort_by(|u, v| {
-            u.0.total_cmp(&v.0)
-                .then(u.1.total_cmp(&v.1))
-                .then(u.2.total_cmp(&v.2))
-        });
-        let mut side = vec![pos[ends[k].0]];
-        side.extend(on[k].iter().map(|e| pos[e.3 as usize]));
-        side.push(pos[ends[k].1]);
-        for &i in &side[1..side.len() - 1] {
-            b.reserved[i] = true;
-        }
-        let mut chosen: Vec<bool> = (0..side.len())
-            .map(|j| j == 0 || j + 1 == side.len())
-            .collect();
-        err = err.max(choose_border(
-            &|i| local.pts[i],
-            &side,
-            &mut chosen,
-            tol,
-            &mut new,
-        ));
-        chains.push(
-            side.iter()
-                .zip(&chosen)
-                .filter(|(_, &ch)| ch)
-                .map(|(&i, _)| i)
-                .collect(),
-        );
-    }
-    for i in new {
-        if !b.inserted[i] {
-            hint = Some(b.insert_sample(i, hint)?);
-        }
-    }
-    err = err.max(b.refine(tol, usize::MAX, &mut || Ok(()))?);
+    let sides: Vec<Vec<usize>> = (0..3)
+        .filter(|&k| !free[k])
+        .map(|k| {
+            on[k].sort_by(|u, v| {
+                u.0.total_cmp(&v.0)
+                    .then(u.1.total_cmp(&v.1))
+                    .then(u.2.total_cmp(&v.2))
+            });
+            let mut side = vec![pos[ends[k].0]];
+            side.extend(on[k].iter().map(|e| pos[e.3 as usize]));
+            side.push(pos[ends[k].1]);
+            side
+        })
+        .collect();
+    let (err, chains) = b.refine_parent([pos[0], pos[1], pos[2]], &sides, tol)?;
     let mut tris = b.snapshot();
     if chains.iter().any(|ch| ch.len() > 2) {
         tris = close_chains(tris, &chains, &b.vsample, &|v| {
