@@ -42,6 +42,7 @@
 //! tin.sanity_check().unwrap();
 //! ```
 
+use super::breaklines::{drops_sample, network, Breakline, Network};
 use super::dense::Dense;
 use super::hierarchy::{child_starts, compute_neighbours};
 use super::lattice::Lattice;
@@ -50,11 +51,21 @@ use super::{grid, interpolate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
-use spade::{DelaunayTriangulation, Point2, Triangulation};
+use spade::{
+    ConstrainedDelaunayTriangulation, DelaunayTriangulation, FloatTriangulation, Point2,
+    Triangulation,
+};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 type Dt = DelaunayTriangulation<Point2<f64>>;
+/// Level 0 of a build with breaklines: their segments are constraint edges.
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// The triangulations a [`Builder`] runs on: spade's Delaunay one, or the
+/// constrained one for a level 0 with breaklines.
+trait Tri: Triangulation<Vertex = Point2<f64>> + Default + Sync {}
+impl<T: Triangulation<Vertex = Point2<f64>> + Default + Sync> Tri for T {}
 type FaceHandle = spade::handles::FixedFaceHandle<spade::handles::InnerTag>;
 
 /// Samples under the faces around a new vertex above which they are
@@ -292,8 +303,8 @@ impl Ord for Entry {
     }
 }
 
-struct Builder<'g, S: Samples> {
-    dt: Dt,
+struct Builder<'g, S: Samples, T: Tri = Dt> {
+    dt: T,
     /// z of each triangulation vertex (by spade vertex index).
     vz: Vec<f64>,
     /// the sample (index in `grid.pts`) each triangulation vertex is
@@ -308,7 +319,7 @@ struct Builder<'g, S: Samples> {
     heap: BinaryHeap<Entry>,
 }
 
-impl<S: Samples> Builder<'_, S> {
+impl<S: Samples, T: Tri> Builder<'_, S, T> {
     fn vert3(&self, h: FixedVertexHandle) -> [f64; 3] {
         let p = self.dt.vertex(h).position();
         [p.x, p.y, self.vz[h.index()]]
@@ -632,7 +643,173 @@ pub fn build_with(
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_inner(samples, tolerances, srid, opts, false, interrupt)
+    build_inner(samples, &[], tolerances, srid, opts, false, interrupt)
+}
+
+/// [`build`] with breaklines ([`super::breaklines`]): every line a union of
+/// edges at every level, hard lines' heights along them, the samples on a
+/// line up to rounding left out ([`super::breaklines::drops_sample`]).
+/// Every breakline point must lie in the samples' convex hull.
+///
+/// ```
+/// use tinmerge_core::tin::breaklines::Breakline;
+/// use tinmerge_core::tin::build::build_breaklines;
+/// let mut pts = Vec::new();
+/// for i in 0..20 {
+///     for j in 0..20 {
+///         pts.push([i as f64, j as f64, (i * j) as f64 * 0.1]);
+///     }
+/// }
+/// // a road at 3 m from (2.5, 2.5) to (16.5, 12.5): an edge at level 0
+/// let road = Breakline { pts: vec![[2.5, 2.5, 3.0], [16.5, 12.5, 3.0]], hard: true };
+/// let tin = build_breaklines(pts, &[road], &[100.0, 0.5], 0, &mut || Ok(())).unwrap();
+/// let (a, b) = ([2.5, 2.5], [16.5, 12.5]);
+/// let l0 = &tin.levels[0];
+/// let has_edge = l0.tris.iter().any(|t| {
+///     let xy = |k: u32| [tin.verts[k as usize][0], tin.verts[k as usize][1]];
+///     (0..3).any(|j| {
+///         let (p, q) = (xy(t[j]), xy(t[(j + 1) % 3]));
+///         (p == a && q == b) || (p == b && q == a)
+///     })
+/// });
+/// assert!(has_edge);
+/// tin.sanity_check().unwrap();
+/// ```
+pub fn build_breaklines(
+    samples: Vec<[f64; 3]>,
+    lines: &[Breakline],
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    build_inner(
+        samples,
+        lines,
+        tolerances,
+        srid,
+        BuildOptions::default(),
+        false,
+        interrupt,
+    )
+}
+
+/// The samples' height at (x, y): linear in the Delaunay triangulation of
+/// the samples around it (a box grown until it holds the point), None
+/// outside the samples' hull.
+fn sample_height(grid: &SampleGrid, x: f64, y: f64) -> Option<f64> {
+    let mut r = 2.0 * grid.cell_area().sqrt();
+    if !(r.is_finite() && r > 0.0) {
+        r = 1.0;
+    }
+    for _ in 0..64 {
+        let mut dt = Dt::new();
+        let mut zs = Vec::new();
+        let mut n = 0usize;
+        grid.for_each_in_box(x - r, y - r, x + r, y + r, |_, p| {
+            n += 1;
+            if let Ok(h) = dt.insert(Point2::new(p[0], p[1])) {
+                if h.index() == zs.len() {
+                    zs.push(p[2]);
+                }
+            }
+        });
+        if dt.num_vertices() >= 3 {
+            let z = dt
+                .barycentric()
+                .interpolate(|v| zs[v.fix().index()], Point2::new(x, y));
+            if z.is_some() {
+                return z;
+            }
+        }
+        if n == grid.len() {
+            return None;
+        }
+        r *= 2.0;
+    }
+    None
+}
+
+/// The breaklines as a network ([`super::breaklines::network`]) and the
+/// samples of a build with them: those not on a line, and the network's
+/// vertices, prepared ([`prepare_samples`]).
+fn with_breaklines(
+    pts: Vec<[f64; 3]>,
+    lines: &[Breakline],
+    tol: f64,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<[f64; 3]>, Network), TinError> {
+    let hull: Vec<[f64; 3]> = convex_hull(&pts).into_iter().map(|k| pts[k]).collect();
+    let grid = SampleGrid::new(pts, 1.0);
+    let net = network(lines, tol, &|x, y| sample_height(&grid, x, y), interrupt)?;
+    for v in &net.verts {
+        if hull.len() >= 3
+            && (0..hull.len())
+                .any(|k| orient2d(c2(&hull[k]), c2(&hull[(k + 1) % hull.len()]), c2(v)) < 0.0)
+        {
+            return Err(TinError::InvalidParameter(format!(
+                "breakline point ({} {}) is outside the samples' extent (their convex hull): clip the breaklines to it first, e.g. ST_Intersection(breaklines, ST_ConvexHull(samples))",
+                v[0], v[1]
+            )));
+        }
+    }
+    let mut dropped = vec![false; grid.len()];
+    for (k, s) in net.segs.iter().enumerate() {
+        if k % 256 == 0 {
+            interrupt()?;
+        }
+        let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
+        let m = 1e-9 * (a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()) + 1.0);
+        grid.for_each_in_box(
+            a[0].min(b[0]) - m,
+            a[1].min(b[1]) - m,
+            a[0].max(b[0]) + m,
+            a[1].max(b[1]) + m,
+            |i, p| {
+                if !dropped[i] && drops_sample(&a, &b, net.hard[k], p) {
+                    dropped[i] = true;
+                }
+            },
+        );
+    }
+    let mut kept: Vec<[f64; 3]> = grid
+        .pts
+        .iter()
+        .zip(&dropped)
+        .filter(|(_, &d)| !d)
+        .map(|(p, _)| *p)
+        .collect();
+    drop(grid);
+    kept.extend_from_slice(&net.verts);
+    Ok((prepare_samples(kept)?, net))
+}
+
+/// Level 0's constraint edges: the network's vertices inserted (they are
+/// samples of `b`'s grid) and its segments added as constraints.
+fn add_network<S: Samples>(
+    b: &mut Builder<'_, S, Cdt>,
+    net: &Network,
+    find: &dyn Fn(f64, f64) -> Option<usize>,
+) -> Result<(), TinError> {
+    let mut handles = Vec::with_capacity(net.verts.len());
+    let mut hint = None;
+    for v in &net.verts {
+        let i = find(v[0], v[1])
+            .ok_or_else(|| TinError::Degenerate("internal: a breakline vertex was lost".into()))?;
+        let h = b.insert_sample(i, hint)?;
+        hint = Some(h);
+        handles.push(h);
+    }
+    for s in &net.segs {
+        let (p, q) = (handles[s[0] as usize], handles[s[1] as usize]);
+        if p != q && b.dt.try_add_constraint(p, q).is_empty() {
+            let a = net.verts[s[0] as usize];
+            return Err(TinError::InvalidParameter(format!(
+                "breakline segment from ({} {}) cannot be an edge: it crosses another within rounding; snap the breaklines (ST_Snap, ST_Node) first",
+                a[0], a[1]
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// One level of the build before [`assemble`].
@@ -656,6 +833,7 @@ struct RawLevel {
 /// ([`build_levels`]).
 fn build_inner(
     samples: Vec<[f64; 3]>,
+    lines: &[Breakline],
     tolerances: &[f64],
     srid: i32,
     opts: BuildOptions,
@@ -663,6 +841,11 @@ fn build_inner(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
+    if !lines.is_empty() && (on_lattice || opts.keep_border) {
+        return Err(TinError::InvalidParameter(
+            "internal: breaklines are built on scattered samples without keep_border".into(),
+        ));
+    }
     if on_lattice && samples.len() <= MAX_SAMPLES {
         if let Some(p) = samples.iter().find(|p| !p[2].is_finite()) {
             return Err(TinError::InvalidParameter(format!(
@@ -675,7 +858,12 @@ fn build_inner(
             return build_dense(d, tolerances, srid, opts, interrupt);
         }
     }
-    let pts = prepare_samples(samples)?;
+    let mut pts = prepare_samples(samples)?;
+    let mut net = Network::default();
+    if !lines.is_empty() && pts.len() >= 3 {
+        let tol = *tolerances.last().unwrap_or(&0.0);
+        (pts, net) = with_breaklines(pts, lines, tol, interrupt)?;
+    }
     if pts.len() < 3 {
         return Err(TinError::Degenerate(format!(
             "need at least 3 samples with distinct x,y to build a tin, got {}",
@@ -696,8 +884,14 @@ fn build_inner(
     } else {
         Vec::new()
     };
-    let b = start(&grid, &hull, opts.keep_border)?;
-    let (verts, raw_levels) = build_levels(b, &grid, &sides, tolerances, opts, interrupt)?;
+    let (verts, raw_levels) = if net.segs.is_empty() {
+        let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border)?;
+        build_levels(b, &grid, &sides, tolerances, opts, interrupt)?
+    } else {
+        let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, opts.keep_border)?;
+        add_network(&mut b, &net, &|x, y| grid.find(x, y))?;
+        build_levels(b, &grid, &sides, tolerances, opts, interrupt)?
+    };
     drop(grid);
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
     assemble(verts, raw_levels, srid, !on_lattice, interrupt)
@@ -706,8 +900,8 @@ fn build_inner(
 /// Every level: level 0 refined in `b` (the whole domain, its hull
 /// inserted; the hull's `sides` under keep_border), the finer ones parent by
 /// parent on `src`. The vertices and the levels, for [`assemble`].
-fn build_levels<S: Samples, P: ParentSamples>(
-    mut b: Builder<'_, S>,
+fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
+    mut b: Builder<'_, S, T>,
     src: &P,
     sides: &[Vec<usize>],
     tolerances: &[f64],
@@ -745,11 +939,11 @@ const SEED_VERTICES: usize = 65536;
 
 /// A builder of the whole domain on `grid`, its convex `hull` (sample
 /// indices) inserted; `keep_border`: flags for the hull sides' samples.
-fn start<'g, S: Samples>(
+fn start<'g, S: Samples, T: Tri>(
     grid: &'g S,
     hull: &[usize],
     keep_border: bool,
-) -> Result<Builder<'g, S>, TinError> {
+) -> Result<Builder<'g, S, T>, TinError> {
     if hull.len() < 3 {
         return Err(TinError::Degenerate(
             "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
@@ -765,8 +959,8 @@ fn start<'g, S: Samples>(
 /// Level 0: refine `b` (its hull inserted) to `tol`, the vertices of the
 /// hull's `sides` (keep_border) chosen first, from each side's samples
 /// alone (a seam's two tiles agree on them).
-fn refine_level0<S: Samples>(
-    b: &mut Builder<'_, S>,
+fn refine_level0<S: Samples, T: Tri>(
+    b: &mut Builder<'_, S, T>,
     sides: &[Vec<usize>],
     tol: f64,
     max_vertices: usize,
@@ -875,7 +1069,7 @@ fn build_dense(
     let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
     let hull: Vec<usize> = convex_hull(&pts).into_iter().map(|k| ends[k]).collect();
     let whole = d.window(d.c0, d.r0, d.width, d.height);
-    let b = start(&whole, &hull, opts.keep_border)?;
+    let b: Builder<'_, _, Dt> = start(&whole, &hull, opts.keep_border)?;
     let sides: Vec<Vec<usize>> = if opts.keep_border {
         (0..hull.len())
             .map(|k| lattice_side(&d, hull[k], hull[(k + 1) % hull.len()]))
@@ -958,8 +1152,8 @@ fn refine_parent(
 /// threads allocating at once through the counting allocator's shared
 /// counters) made the build slower on 2 threads than on 1.
 #[derive(Default)]
-struct Scratch {
-    dt: Dt,
+struct Scratch<T: Tri = Dt> {
+    dt: T,
     vz: Vec<f64>,
     vsample: Vec<u32>,
     inserted: Vec<bool>,
@@ -968,10 +1162,15 @@ struct Scratch {
     heap: BinaryHeap<Entry>,
 }
 
-impl Scratch {
+impl<T: Tri> Scratch<T> {
     /// A builder on `grid` (`n` samples; `reserve`: flags for reserved
     /// samples) made of these buffers, emptied.
-    fn builder<'g, S: Samples>(&mut self, grid: &'g S, n: usize, reserve: bool) -> Builder<'g, S> {
+    fn builder<'g, S: Samples>(
+        &mut self,
+        grid: &'g S,
+        n: usize,
+        reserve: bool,
+    ) -> Builder<'g, S, T> {
         let mut b = Builder {
             dt: std::mem::take(&mut self.dt),
             vz: std::mem::take(&mut self.vz),
@@ -995,7 +1194,7 @@ impl Scratch {
     }
 
     /// Take the buffers back from a finished builder.
-    fn keep<S: Samples>(&mut self, b: Builder<'_, S>) {
+    fn keep<S: Samples>(&mut self, b: Builder<'_, S, T>) {
         self.dt = b.dt;
         self.vz = b.vz;
         self.vsample = b.vsample;
@@ -1414,7 +1613,13 @@ pub fn build_lattice(
         )));
     }
     let tin = lattice.to_world(build_inner(
-        samples, tolerances, srid, opts, true, interrupt,
+        samples,
+        &[],
+        tolerances,
+        srid,
+        opts,
+        true,
+        interrupt,
     )?);
     for v in &tin.verts {
         super::check_xy("a pixel centre", v[0], v[1])?;

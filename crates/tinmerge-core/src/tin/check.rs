@@ -239,6 +239,16 @@ impl Tin {
     /// domain per level, nesting, persistence of coarse edges, constrained
     /// Delaunay). Meant for tests: O(n log n).
     pub fn sanity_check(&self) -> Result<(), TinError> {
+        self.sanity_check_constrained(&|_, _| false)
+    }
+
+    /// [`Tin::sanity_check`] for a tin built with breaklines: a level-0
+    /// edge for which `constraint(a, b)` holds (the test's own knowledge
+    /// of where its breaklines run) need not be locally Delaunay.
+    pub fn sanity_check_constrained(
+        &self,
+        constraint: &dyn Fn(&[f64; 3], &[f64; 3]) -> bool,
+    ) -> Result<(), TinError> {
         validate_structure(self)?;
         let mut domain_area = None;
         for (l, lv) in self.levels.iter().enumerate() {
@@ -340,6 +350,13 @@ impl Tin {
                     }
                     if l > 0 && lv.parent[t] != lv.parent[nb as usize] {
                         continue; // on a persisted coarser edge: a constraint
+                    }
+                    let (ea, eb) = (
+                        self.verts[tri[(j + 1) % 3] as usize],
+                        self.verts[tri[(j + 2) % 3] as usize],
+                    );
+                    if l == 0 && constraint(&ea, &eb) {
+                        continue; // a breakline
                     }
                     let ot = lv.tris[nb as usize];
                     let k = (0..3)

@@ -12,6 +12,7 @@
 //!   are a contiguous range (`Level::child_start`);
 //! - every edge of level `i` is a union of edges of level `i+1`.
 
+pub mod breaklines;
 pub mod build;
 pub mod check;
 pub mod compact;

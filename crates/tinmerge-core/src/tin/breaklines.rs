@@ -1,0 +1,504 @@
+//! Breaklines: lines the triangulation must have as edges at every level
+//! (roads, dam crests, shorelines, ridge lines).
+//!
+//! A **hard** breakline carries its own heights: the surface along it is
+//! the line itself (its Z interpolated along each segment). A **soft**
+//! breakline only says where the edges go: its vertices take their heights
+//! from the samples (linear interpolation in the Delaunay triangulation of
+//! the samples around each vertex).
+//!
+//! [`network`] makes the lines one planar straight-line graph: equal points
+//! merged, crossings and touchings made vertices of both lines (a vertex of
+//! one line lying on another, up to rounding, splits that one), segments
+//! split there. Its vertices become samples of the build and level 0 holds
+//! every segment as a constraint edge ([`super::build`]); parent-by-parent
+//! refinement keeps a coarse edge a union of finer ones, so every breakline
+//! is a union of edges at every level.
+//!
+//! Samples lying on a breakline up to rounding ([`drops_sample`]) are left
+//! out of the build: a hard line's heights replace them, and a sample a
+//! hair beside an edge that cannot flip would make a sliver. A soft line
+//! keeps the samples exactly on it (they split its edges like any vertex).
+//!
+//! ```
+//! use tinmerge_core::tin::breaklines::{network, Breakline};
+//! // two hard lines crossing at (5, 5)
+//! let lines = vec![
+//!     Breakline { pts: vec![[0.0, 0.0, 10.0], [10.0, 10.0, 20.0]], hard: true },
+//!     Breakline { pts: vec![[0.0, 10.0, 15.0], [10.0, 0.0, 15.0]], hard: true },
+//! ];
+//! let net = network(&lines, 0.5, &|_, _| None, &mut || Ok(())).unwrap();
+//! assert_eq!(net.verts.len(), 5);
+//! assert_eq!(net.segs.len(), 4);
+//! assert!(net.verts.iter().any(|v| v[0] == 5.0 && v[1] == 5.0 && v[2] == 15.0));
+//! ```
+
+use super::TinError;
+use crate::geom::{crossing, is_sliver, orient};
+use crate::interrupt::Interrupt;
+use rustc_hash::FxHashMap;
+
+/// One breakline: its points in order (z ignored for a soft one).
+#[derive(Clone, Debug)]
+pub struct Breakline {
+    pub pts: Vec<[f64; 3]>,
+    pub hard: bool,
+}
+
+/// The breaklines as one planar graph.
+#[derive(Clone, Debug, Default)]
+pub struct Network {
+    /// x, y and the height of every vertex
+    pub verts: Vec<[f64; 3]>,
+    /// segments by vertex index, no two crossing or overlapping
+    pub segs: Vec<[u32; 2]>,
+    /// whether each segment is part of a hard breakline
+    pub hard: Vec<bool>,
+}
+
+/// Most vertices of all breaklines of one build.
+pub const MAX_BREAKLINE_VERTICES: usize = 1_000_000;
+
+/// Position of `p` along segment `a`–`b`, 0 at `a`, 1 at `b`.
+fn param(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)
+}
+
+/// Whether `p` lies on the open segment `a`–`b` up to rounding (not at
+/// either end).
+fn on_open_segment(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> bool {
+    if p[..2] == a[..2] || p[..2] == b[..2] || !is_sliver(a, b, p) {
+        return false;
+    }
+    let t = param(a, b, p);
+    t > 0.0 && t < 1.0
+}
+
+/// Whether a sample at `p` is left out of a build with segment `a`–`b`:
+/// on the closed segment up to rounding, except (for a soft segment) exactly
+/// on it, where it simply splits the edge.
+pub fn drops_sample(a: &[f64; 3], b: &[f64; 3], hard: bool, p: &[f64; 3]) -> bool {
+    if p[..2] == a[..2] || p[..2] == b[..2] {
+        return true;
+    }
+    if !is_sliver(a, b, p) {
+        return false;
+    }
+    let t = param(a, b, p);
+    let slack = 1e-9;
+    if !(-slack..=1.0 + slack).contains(&t) {
+        return false;
+    }
+    hard || orient(a, b, p) != 0.0 || t <= 0.0 || t >= 1.0
+}
+
+/// A coarse bucketing of segments by their boxes, so each pair of nearby
+/// segments (or a point and the segments near it) is found without looking
+/// at all of them.
+struct Buckets {
+    x0: f64,
+    y0: f64,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<u32>>,
+}
+
+impl Buckets {
+    fn new(verts: &[[f64; 3]], segs: &[[u32; 2]]) -> Buckets {
+        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+        for v in verts {
+            x0 = x0.min(v[0]);
+            y0 = y0.min(v[1]);
+            x1 = x1.max(v[0]);
+            y1 = y1.max(v[1]);
+        }
+        let n = (segs.len() as f64).sqrt().ceil().clamp(1.0, 1024.0);
+        let cell = ((x1 - x0).max(y1 - y0) / n).max(f64::MIN_POSITIVE) * (1.0 + 1e-9);
+        let nx = (((x1 - x0) / cell) as usize + 1).min(1024);
+        let ny = (((y1 - y0) / cell) as usize + 1).min(1024);
+        let mut b = Buckets {
+            x0,
+            y0,
+            cell,
+            nx,
+            ny,
+            cells: vec![Vec::new(); nx * ny],
+        };
+        for (k, s) in segs.iter().enumerate() {
+            let (p, q) = (verts[s[0] as usize], verts[s[1] as usize]);
+            let (c0, r0) = b.cell_of(p[0].min(q[0]), p[1].min(q[1]));
+            let (c1, r1) = b.cell_of(p[0].max(q[0]), p[1].max(q[1]));
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    b.cells[r * nx + c].push(k as u32);
+                }
+            }
+        }
+        b
+    }
+
+    /// The cell of a point, one cell of margin either way (rounding).
+    fn cell_of(&self, x: f64, y: f64) -> (usize, usize) {
+        let c = ((x - self.x0) / self.cell).floor().max(0.0) as usize;
+        let r = ((y - self.y0) / self.cell).floor().max(0.0) as usize;
+        (c.min(self.nx - 1), r.min(self.ny - 1))
+    }
+
+    /// Segments whose cells meet the box around `p` and `q`, each once.
+    fn near(&self, p: &[f64; 3], q: &[f64; 3], out: &mut Vec<u32>) {
+        out.clear();
+        let (c0, r0) = self.cell_of(p[0].min(q[0]), p[1].min(q[1]));
+        let (c1, r1) = self.cell_of(p[0].max(q[0]), p[1].max(q[1]));
+        for r in r0.saturating_sub(1)..=(r1 + 1).min(self.ny - 1) {
+            for c in c0.saturating_sub(1)..=(c1 + 1).min(self.nx - 1) {
+                out.extend_from_slice(&self.cells[r * self.nx + c]);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+}
+
+/// Height of a point along a hard segment.
+fn along(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> f64 {
+    let t = param(a, b, p).clamp(0.0, 1.0);
+    a[2] + t * (b[2] - a[2])
+}
+
+/// Vertices of the network under construction: equal (x, y) merged; a
+/// hard height, where one is known, per vertex.
+struct Verts {
+    pts: Vec<[f64; 3]>,
+    hard_z: Vec<Option<f64>>,
+    index: FxHashMap<(u64, u64), u32>,
+    tol: f64,
+}
+
+impl Verts {
+    fn add(&mut self, x: f64, y: f64, z: Option<f64>) -> Result<u32, TinError> {
+        let key = (x.to_bits(), y.to_bits());
+        if let Some(&k) = self.index.get(&key) {
+            self.set_z(k, z)?;
+            return Ok(k);
+        }
+        if self.pts.len() >= MAX_BREAKLINE_VERTICES {
+            return Err(TinError::TooLarge(format!(
+                "breaklines have more than {MAX_BREAKLINE_VERTICES} vertices"
+            )));
+        }
+        let k = self.pts.len() as u32;
+        self.index.insert(key, k);
+        self.pts.push([x, y, z.unwrap_or(f64::NAN)]);
+        self.hard_z.push(z);
+        Ok(k)
+    }
+
+    /// Give vertex `k` the hard height `z`: an ERROR where it already has
+    /// another one (two hard breaklines meeting at different heights: a
+    /// bridge, which a surface cannot hold).
+    fn set_z(&mut self, k: u32, z: Option<f64>) -> Result<(), TinError> {
+        let Some(z) = z else { return Ok(()) };
+        match self.hard_z[k as usize] {
+            None => {
+                self.hard_z[k as usize] = Some(z);
+                self.pts[k as usize][2] = z;
+            }
+            Some(old) if (old - z).abs() > self.tol => {
+                let p = self.pts[k as usize];
+                return Err(TinError::InvalidParameter(format!(
+                    "hard breaklines meet at ({} {}) at different heights, {old} and {z}: a surface has one height there (a bridge over a road cannot be both; leave one out or make it soft)",
+                    p[0], p[1]
+                )));
+            }
+            Some(_) => {}
+        }
+        Ok(())
+    }
+}
+
+/// The breaklines as one planar graph (see the module docs). `tol`: the
+/// finest level's tolerance, how far apart two hard heights may be where
+/// lines meet; `soft_z(x, y)`: the samples' height at a point (None where
+/// the samples say nothing, an ERROR then).
+pub fn network(
+    lines: &[Breakline],
+    tol: f64,
+    soft_z: &dyn Fn(f64, f64) -> Option<f64>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Network, TinError> {
+    let mut v = Verts {
+        pts: Vec::new(),
+        hard_z: Vec::new(),
+        index: FxHashMap::default(),
+        tol,
+    };
+    let mut segs: Vec<([u32; 2], bool)> = Vec::new();
+    for (li, line) in lines.iter().enumerate() {
+        interrupt()?;
+        let mut prev: Option<u32> = None;
+        let before = segs.len();
+        for p in &line.pts {
+            if !(p[0].is_finite() && p[1].is_finite()) {
+                return Err(TinError::InvalidParameter(format!(
+                    "breakline {} has a point that is not finite: ({} {})",
+                    li + 1,
+                    p[0],
+                    p[1]
+                )));
+            }
+            super::check_xy("a breakline point", p[0], p[1])?;
+            if line.hard && !p[2].is_finite() {
+                return Err(TinError::InvalidParameter(format!(
+                    "hard breakline {} has no finite Z at ({} {}): hard breaklines carry their heights (LINESTRING Z); pass lines without heights as soft_breaklines",
+                    li + 1,
+                    p[0],
+                    p[1]
+                )));
+            }
+            let k = v.add(p[0], p[1], line.hard.then_some(p[2]))?;
+            if let Some(j) = prev {
+                if j != k {
+                    segs.push(([j, k], line.hard));
+                }
+            }
+            prev = Some(k);
+        }
+        if segs.len() == before {
+            return Err(TinError::InvalidParameter(format!(
+                "breakline {} has fewer than two distinct points",
+                li + 1
+            )));
+        }
+    }
+    if segs.is_empty() {
+        return Ok(Network::default());
+    }
+    // crossings: a new vertex on both segments
+    let plain: Vec<[u32; 2]> = segs.iter().map(|s| s.0).collect();
+    let buckets = Buckets::new(&v.pts, &plain);
+    let mut near = Vec::new();
+    let mut cuts: Vec<Vec<u32>> = vec![Vec::new(); segs.len()];
+    for i in 0..segs.len() {
+        if i % 1024 == 0 {
+            interrupt()?;
+        }
+        let [a, b] = segs[i].0.map(|k| v.pts[k as usize]);
+        buckets.near(&a, &b, &mut near);
+        for &j in near.iter().filter(|&&j| j as usize > i) {
+            let j = j as usize;
+            let [c, d] = segs[j].0.map(|k| v.pts[k as usize]);
+            // a proper crossing: each segment's ends strictly on either side
+            // of the other, none of them on it up to rounding
+            let (o1, o2) = (orient(&a, &b, &c), orient(&a, &b, &d));
+            let (o3, o4) = (orient(&c, &d, &a), orient(&c, &d, &b));
+            if !(o1 * o2 < 0.0 && o3 * o4 < 0.0) {
+                continue;
+            }
+            if [c, d].iter().any(|p| is_sliver(&a, &b, p))
+                || [a, b].iter().any(|p| is_sliver(&c, &d, p))
+            {
+                continue;
+            }
+            // canonical order of the two segments, so the point is the
+            // same whichever is asked first
+            let x = crossing([a[0], a[1]], [b[0], b[1]], [c[0], c[1]], [d[0], d[1]]);
+            let p = [x[0], x[1], 0.0];
+            let zi = segs[i].1.then(|| along(&a, &b, &p));
+            let zj = segs[j].1.then(|| along(&c, &d, &p));
+            let k = v.add(x[0], x[1], zi)?;
+            v.set_z(k, zj)?;
+            cuts[i].push(k);
+            cuts[j].push(k);
+        }
+    }
+    // every vertex on a segment (up to rounding, strictly inside) splits it
+    for (i, seg) in segs.iter().enumerate() {
+        if i % 1024 == 0 {
+            interrupt()?;
+        }
+        let [a, b] = seg.0.map(|k| v.pts[k as usize]);
+        for (k, p) in v.pts.iter().enumerate() {
+            // (quadratic in the worst case; breaklines are few beside
+            // samples, and the box test is cheap)
+            let m = 1e-9 * (a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()) + 1.0);
+            if p[0] < a[0].min(b[0]) - m
+                || p[0] > a[0].max(b[0]) + m
+                || p[1] < a[1].min(b[1]) - m
+                || p[1] > a[1].max(b[1]) + m
+            {
+                continue;
+            }
+            if on_open_segment(&a, &b, p) && !cuts[i].contains(&(k as u32)) {
+                cuts[i].push(k as u32);
+            }
+        }
+    }
+    let mut out: Vec<([u32; 2], bool)> = Vec::with_capacity(segs.len());
+    for (i, (s, hard)) in segs.iter().enumerate() {
+        let [a, b] = s.map(|k| v.pts[k as usize]);
+        let mut on: Vec<(f64, u32)> = cuts[i]
+            .iter()
+            .map(|&k| (param(&a, &b, &v.pts[k as usize]), k))
+            .collect();
+        on.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut chain = vec![s[0]];
+        chain.extend(on.iter().map(|&(_, k)| k));
+        chain.push(s[1]);
+        for &k in &chain[1..chain.len() - 1] {
+            if *hard {
+                let z = along(&a, &b, &v.pts[k as usize]);
+                v.set_z(k, Some(z))?;
+            }
+        }
+        for w in chain.windows(2) {
+            if w[0] != w[1] {
+                let e = if w[0] < w[1] {
+                    [w[0], w[1]]
+                } else {
+                    [w[1], w[0]]
+                };
+                out.push((e, *hard));
+            }
+        }
+    }
+    out.sort_unstable();
+    // a segment of a hard and of a soft line is hard
+    out.dedup_by(|later, first| {
+        if later.0 == first.0 {
+            first.1 |= later.1;
+            true
+        } else {
+            false
+        }
+    });
+    // what is left must not cross (it cannot, unless lines run within
+    // rounding of each other without touching)
+    let plain: Vec<[u32; 2]> = out.iter().map(|s| s.0).collect();
+    let buckets = Buckets::new(&v.pts, &plain);
+    for (i, s) in plain.iter().enumerate() {
+        let [a, b] = s.map(|k| v.pts[k as usize]);
+        buckets.near(&a, &b, &mut near);
+        for &j in near.iter().filter(|&&j| j as usize > i) {
+            let t = plain[j as usize];
+            if t.contains(&s[0]) || t.contains(&s[1]) {
+                continue;
+            }
+            let [c, d] = t.map(|k| v.pts[k as usize]);
+            let touch = [c, d]
+                .iter()
+                .any(|p| is_sliver(&a, &b, p) && (0.0..=1.0).contains(&param(&a, &b, p)))
+                || [a, b]
+                    .iter()
+                    .any(|p| is_sliver(&c, &d, p) && (0.0..=1.0).contains(&param(&c, &d, p)));
+            let (o1, o2) = (orient(&a, &b, &c), orient(&a, &b, &d));
+            let (o3, o4) = (orient(&c, &d, &a), orient(&c, &d, &b));
+            if touch || (o1 * o2 < 0.0 && o3 * o4 < 0.0) {
+                return Err(TinError::InvalidParameter(format!(
+                    "breaklines run within rounding of each other near ({} {}) without meeting at a vertex; snap them (ST_Snap, ST_Node) first",
+                    a[0], a[1]
+                )));
+            }
+        }
+    }
+    // heights: hard where known, the samples' elsewhere
+    let mut verts = v.pts;
+    for (k, p) in verts.iter_mut().enumerate() {
+        p[2] = match v.hard_z[k] {
+            Some(z) => z,
+            None => soft_z(p[0], p[1]).ok_or_else(|| {
+                TinError::InvalidParameter(format!(
+                    "soft breakline point ({} {}) is outside the samples: a soft breakline takes its heights from the samples around it",
+                    p[0], p[1]
+                ))
+            })?,
+        };
+    }
+    Ok(Network {
+        verts,
+        segs: out.iter().map(|s| s.0).collect(),
+        hard: out.iter().map(|s| s.1).collect(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn net(lines: Vec<Breakline>) -> Result<Network, TinError> {
+        network(&lines, 0.1, &|x, y| Some(x + y), &mut || Ok(()))
+    }
+
+    #[test]
+    fn t_junction_splits_the_line_it_touches() {
+        let n = net(vec![
+            Breakline {
+                pts: vec![[0.0, 0.0, 0.0], [10.0, 0.0, 10.0]],
+                hard: true,
+            },
+            Breakline {
+                pts: vec![[4.0, 0.0, f64::NAN], [4.0, 5.0, f64::NAN]],
+                hard: false,
+            },
+        ])
+        .unwrap();
+        assert_eq!(n.segs.len(), 3);
+        // the soft line's end on the hard line takes the hard height
+        let k = n
+            .verts
+            .iter()
+            .position(|p| p[0] == 4.0 && p[1] == 0.0)
+            .unwrap();
+        assert_eq!(n.verts[k][2], 4.0);
+        // the other end: the samples' height
+        let k = n
+            .verts
+            .iter()
+            .position(|p| p[0] == 4.0 && p[1] == 5.0)
+            .unwrap();
+        assert_eq!(n.verts[k][2], 9.0);
+    }
+
+    #[test]
+    fn bridge_is_an_error() {
+        let e = net(vec![
+            Breakline {
+                pts: vec![[0.0, 0.0, 0.0], [10.0, 10.0, 0.0]],
+                hard: true,
+            },
+            Breakline {
+                pts: vec![[0.0, 10.0, 5.0], [10.0, 0.0, 5.0]],
+                hard: true,
+            },
+        ]);
+        assert!(e.unwrap_err().to_string().contains("different heights"));
+    }
+
+    #[test]
+    fn overlapping_lines_share_their_segments() {
+        let n = net(vec![
+            Breakline {
+                pts: vec![[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]],
+                hard: true,
+            },
+            Breakline {
+                pts: vec![[5.0, 0.0, f64::NAN], [15.0, 0.0, f64::NAN]],
+                hard: false,
+            },
+        ])
+        .unwrap();
+        // 0-5 hard, 5-10 both (hard), 10-15 soft
+        assert_eq!(n.segs.len(), 3);
+        assert_eq!(n.hard.iter().filter(|&&h| h).count(), 2);
+    }
+
+    #[test]
+    fn hard_line_without_z_is_an_error() {
+        let e = net(vec![Breakline {
+            pts: vec![[0.0, 0.0, f64::NAN], [1.0, 0.0, 1.0]],
+            hard: true,
+        }]);
+        assert!(e.unwrap_err().to_string().contains("no finite Z"));
+    }
+}
