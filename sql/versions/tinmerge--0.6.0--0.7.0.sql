@@ -11,8 +11,7 @@
 -- tins sharing their seams
 -- (docs/scaling.md), the aggregate tin_from_points_agg, and the surface
 -- analyses tin_contours and tin_slope_aspect; Cesium quantized-mesh tiles
--- (tin_quantized_mesh, tin_quantized_mesh_layer). tin_raster_stats and
--- tin_raster_pixels take half_open (at the end).
+-- (tin_quantized_mesh, tin_quantized_mesh_layer).
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -139,40 +138,3 @@ COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) IS
 -- longer every border pixel at every level)
 COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean) IS
 'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true decides the vertices on each side of the convex hull from that side''s samples alone, simplified to each level''s tolerance, so tiles that share a border row or column of pixels have the same vertices and the same surface along it at every level (see docs/scaling.md, tiled terrains).';
-
--- tin_raster_stats and tin_raster_pixels gain half_open (tiled terrains:
--- each seam pixel counted by one tile); they call the new internal
--- _tin_raster_zonal and _tin_raster_owners, and the old internal functions
--- are dropped (their symbols stay in the library)
-DROP FUNCTION tin_raster_stats(tin, raster, int, int, boolean);
-DROP FUNCTION tin_raster_pixels(tin, raster, int, int);
-DROP FUNCTION _tin_raster_stats(tin, bytea, int, int, boolean);
-DROP FUNCTION _tin_raster_pixels(tin, bytea, int, int);
-CREATE FUNCTION _tin_raster_zonal("t" tin, "rast" bytea, "level" int, "band" int, "weighted" boolean, "half_open" boolean)
-RETURNS TABLE ("triangle" int, "count" bigint, "sum" double precision, "mean" double precision, "min" double precision, "max" double precision, "mode" double precision)
-IMMUTABLE PARALLEL SAFE COST 10000
-LANGUAGE c AS 'MODULE_PATHNAME', '_tin_raster_zonal_wrapper';
-ALTER FUNCTION _tin_raster_zonal(tin, bytea, int, int, boolean, boolean) ROWS 10000;
-COMMENT ON FUNCTION _tin_raster_zonal(tin, bytea, int, int, boolean, boolean) IS 'Internal: use tin_raster_stats(tin, raster, int, int, boolean, boolean).';
-CREATE FUNCTION _tin_raster_owners("t" tin, "rast" bytea, "level" int, "band" int, "half_open" boolean)
-RETURNS TABLE ("triangle" int, "col" int, "row" int, "value" double precision)
-IMMUTABLE PARALLEL SAFE COST 10000
-LANGUAGE c AS 'MODULE_PATHNAME', '_tin_raster_owners_wrapper';
-ALTER FUNCTION _tin_raster_owners(tin, bytea, int, int, boolean) ROWS 100000;
-COMMENT ON FUNCTION _tin_raster_owners(tin, bytea, int, int, boolean) IS 'Internal: use tin_raster_pixels(tin, raster, int, int, boolean).';
-CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false, half_open boolean DEFAULT false)
-RETURNS TABLE(triangle int, count bigint, sum float8, mean float8, min float8, max float8, mode float8) AS
-$$ SELECT * FROM @extschema@._tin_raster_zonal($1, $2::bytea, $3, $4, $5, $6) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000
-SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_raster_stats(tin, raster, int, int, boolean, boolean) IS
-'Zonal statistics of a raster band per triangle of a level (NULL = finest). By default (scanline sweep) a pixel belongs to the triangle containing its centre (a centre on a shared edge goes to the triangle east of it, north of an east-west edge; on a vertex to the triangle just east-north-east of it; on the outer boundary to the triangle it lies on). With weighted => true every pixel a triangle overlaps counts by the exact fraction of its area inside the triangle, as exactextract does: count = pixels overlapped, sum = sum of value x fraction, mean = sum / sum of fractions, mode = value of greatest total coverage. With half_open => true a centre on the domain''s outer boundary counts only where the domain continues east of it (north of an east-west side), the rule of shared edges: over a table of tiles sharing their seams (tin_tiles) every seam centre is then counted by exactly one tile, the one a single tin of their union gives it to, and centres on the union''s west and south sides are not counted (weighted statistics need no such option: coverage fractions add up across seams). Nodata pixels are skipped; triangles receiving no pixel are not returned; mode ties go to the smallest value. The raster must be north-up, in-db, with the tin''s SRID.';
-
-CREATE FUNCTION tin_raster_pixels(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, half_open boolean DEFAULT false)
-RETURNS TABLE(triangle int, col int, "row" int, value float8) AS
-$$ SELECT * FROM @extschema@._tin_raster_owners($1, $2::bytea, $3, $4, $5) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100000
-SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_raster_pixels(tin, raster, int, int, boolean) IS
-'Every valid pixel of a raster band with the triangle of a level (NULL = finest) containing its centre (the rule of tin_raster_stats, half_open included), in raster order; col and row numbered from 1 as in ST_Value. Nodata pixels and pixels outside the tin are left out.';
-

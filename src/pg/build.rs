@@ -13,8 +13,9 @@ use pgrx::{pg_sys, Internal, PgMemoryContexts};
 
 use super::args::GeomArg;
 use tinmerge_core::io::{ewkb, gserialized, raster};
+use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    build, build_lattice, check_tolerances, default_tolerances, BuildOptions,
+    build, build_breaklines, build_lattice, check_tolerances, default_tolerances, BuildOptions,
 };
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tiles::build_tiles;
@@ -105,13 +106,74 @@ COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Inter
     requires = [_tin_from_raster]
 );
 
-#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_from_raster_tolerances(
-    rast: &[u8],
-    tolerances: Vec<Option<f64>>,
-    band: i32,
-    keep_border: bool,
-) -> TinOut {
+/// The build of `tin_from_raster` with breaklines (its wrapper calls
+/// `_tin_from_raster` without them). Not STRICT: the breaklines may be
+/// NULL; any other NULL argument gives NULL.
+#[allow(clippy::too_many_arguments)]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_from_raster_breaklines(
+    rast: Option<&[u8]>,
+    tolerance: Option<f64>,
+    levels: Option<i32>,
+    band: Option<i32>,
+    keep_border: Option<bool>,
+    breaklines: Option<&[u8]>,
+    soft_breaklines: Option<&[u8]>,
+) -> Option<TinOut> {
+    let (rast, tolerance, levels, band, keep_border) =
+        (rast?, tolerance?, levels?, band?, keep_border?);
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    Some(build_raster_breaklines(
+        rast,
+        &tols,
+        band,
+        keep_border,
+        breaklines,
+        soft_breaklines,
+    ))
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_from_raster_breaklines(bytea, float8, int, int, boolean, bytea, bytea) IS 'Internal: use tin_from_raster(raster, ..., breaklines, soft_breaklines).';
+"#,
+    name = "tin_from_raster_breaklines_sql",
+    requires = [_tin_from_raster_breaklines]
+);
+
+/// `tin_from_raster(raster, float8[], ...)` with breaklines; NULLs as for
+/// [`_tin_from_raster_breaklines`].
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_from_raster_tolerances_breaklines(
+    rast: Option<&[u8]>,
+    tolerances: Option<Vec<Option<f64>>>,
+    band: Option<i32>,
+    keep_border: Option<bool>,
+    breaklines: Option<&[u8]>,
+    soft_breaklines: Option<&[u8]>,
+) -> Option<TinOut> {
+    let (rast, tolerances, band, keep_border) = (rast?, tolerances?, band?, keep_border?);
+    let tols = explicit_tolerances(tolerances);
+    Some(build_raster_breaklines(
+        rast,
+        &tols,
+        band,
+        keep_border,
+        breaklines,
+        soft_breaklines,
+    ))
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_from_raster_tolerances_breaklines(bytea, float8[], int, boolean, bytea, bytea) IS 'Internal: use tin_from_raster(raster, float8[], ..., breaklines, soft_breaklines).';
+"#,
+    name = "tin_from_raster_tolerances_breaklines_sql",
+    requires = [_tin_from_raster_tolerances_breaklines]
+);
+
+/// Per-level tolerances given in SQL, checked.
+fn explicit_tolerances(tolerances: Vec<Option<f64>>) -> Vec<f64> {
     let tols: Vec<f64> = tolerances
         .into_iter()
         .map(|t| {
@@ -124,6 +186,110 @@ fn _tin_from_raster_tolerances(
         })
         .collect();
     check_tolerances(&tols).or_raise();
+    tols
+}
+
+/// The lines of the `breaklines` (hard: Z required) and `soft_breaklines`
+/// (Z ignored) arguments of `func`, in the samples' SRID.
+fn breaklines_arg(
+    func: &str,
+    hard: Option<&[u8]>,
+    soft: Option<&[u8]>,
+    srid: i32,
+) -> Vec<Breakline> {
+    use tinmerge_core::io::ewkb::Geom;
+    fn lines_of(func: &str, arg: &str, g: &Geom, out: &mut Vec<Vec<[f64; 3]>>) {
+        match g {
+            Geom::LineString(l) => out.push(l.clone()),
+            Geom::MultiLineString(ls) => out.extend(ls.iter().cloned()),
+            Geom::Collection(gs) => gs.iter().for_each(|g| lines_of(func, arg, g, out)),
+            other => raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!(
+                    "{func}: {arg} must be LINESTRING or MULTILINESTRING, got {}{}",
+                    other.type_name(),
+                    if matches!(other, Geom::Polygon(_) | Geom::MultiPolygon(_)) {
+                        " (ST_Boundary gives a polygon's rings as lines)"
+                    } else {
+                        ""
+                    }
+                ),
+            ),
+        }
+    }
+    let mut out = Vec::new();
+    for (arg, bytes, is_hard) in [("breaklines", hard, true), ("soft_breaklines", soft, false)] {
+        let Some(bytes) = bytes else { continue };
+        let g = ewkb::read(bytes).or_raise();
+        if g.srid != srid {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!(
+                    "{func}: {arg} have SRID {} but the samples have SRID {srid} (ST_Transform them first)",
+                    g.srid
+                ),
+            );
+        }
+        if is_hard && !g.has_z && !g.geom.is_empty() {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!(
+                    "{func}: breaklines has no Z coordinate: hard breaklines carry their heights (LINESTRING Z); pass lines without heights as soft_breaklines"
+                ),
+            );
+        }
+        let mut lines = Vec::new();
+        lines_of(func, arg, &g.geom, &mut lines);
+        out.extend(lines.into_iter().filter(|l| !l.is_empty()).map(|mut pts| {
+            if !is_hard {
+                pts.iter_mut().for_each(|p| p[2] = f64::NAN);
+            }
+            Breakline { pts, hard: is_hard }
+        }));
+    }
+    out
+}
+
+/// A raster build with breaklines: the valid pixel centres in world
+/// coordinates, built as scattered samples with the lines.
+fn build_raster_breaklines(
+    rast: &[u8],
+    tols: &[f64],
+    band: i32,
+    keep_border: bool,
+    hard: Option<&[u8]>,
+    soft: Option<&[u8]>,
+) -> TinOut {
+    if hard.is_none() && soft.is_none() {
+        return build_raster(rast, tols, band, keep_border);
+    }
+    if keep_border {
+        raise(
+            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
+            "tin_from_raster: keep_border and breaklines cannot be combined (tiles with breaklines are not built yet)",
+        );
+    }
+    let (mut pts, lattice, srid) = raster_samples(rast, band);
+    let lines = breaklines_arg("tin_from_raster", hard, soft, srid);
+    for p in &mut pts {
+        let (x, y) = lattice.centre(p[0], p[1]);
+        (p[0], p[1]) = (x, y);
+    }
+    reserve_build("tin_from_raster", pts.len(), tols.len(), false);
+    TinOut::from_tin_on(
+        &build_breaklines(pts, &lines, tols, srid, &mut interrupt).or_raise(),
+        &lattice,
+    )
+}
+
+#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_from_raster_tolerances(
+    rast: &[u8],
+    tolerances: Vec<Option<f64>>,
+    band: i32,
+    keep_border: bool,
+) -> TinOut {
+    let tols = explicit_tolerances(tolerances);
     build_raster(rast, &tols, band, keep_border)
 }
 
@@ -212,6 +378,41 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     let tols = default_tolerances(tolerance, levels).or_raise();
+    let (samples, srid) = point_samples(pts);
+    reserve_build("tin_from_points", samples.len(), tols.len(), false);
+    TinOut::from_tin(&build(samples, &tols, srid, &mut interrupt).or_raise())
+}
+
+/// `tin_from_points` with breaklines; NULLs as for
+/// [`_tin_from_raster_breaklines`].
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_from_points_breaklines(
+    pts: Option<&[u8]>,
+    tolerance: Option<f64>,
+    levels: Option<i32>,
+    breaklines: Option<&[u8]>,
+    soft_breaklines: Option<&[u8]>,
+) -> Option<TinOut> {
+    let (pts, tolerance, levels) = (pts?, tolerance?, levels?);
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    let (samples, srid) = point_samples(pts);
+    let lines = breaklines_arg("tin_from_points", breaklines, soft_breaklines, srid);
+    reserve_build("tin_from_points", samples.len(), tols.len(), false);
+    Some(TinOut::from_tin(
+        &build_breaklines(samples, &lines, &tols, srid, &mut interrupt).or_raise(),
+    ))
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_from_points_breaklines(bytea, float8, int, bytea, bytea) IS 'Internal: use tin_from_points(geometry, ..., breaklines, soft_breaklines).';
+"#,
+    name = "tin_from_points_breaklines_sql",
+    requires = [_tin_from_points_breaklines]
+);
+
+/// Every vertex of a geometry with Z as a sample, and its SRID.
+fn point_samples(pts: &[u8]) -> (Vec<[f64; 3]>, i32) {
     let g = ewkb::read(pts).or_raise();
     if g.geom.is_empty() {
         raise(
@@ -236,8 +437,7 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     g.geom.for_each_coord(&mut |c| samples.push(*c));
     let srid = g.srid;
     drop(g);
-    reserve_build("tin_from_points", samples.len(), tols.len(), false);
-    TinOut::from_tin(&build(samples, &tols, srid, &mut interrupt).or_raise())
+    (samples, srid)
 }
 
 extension_sql!(

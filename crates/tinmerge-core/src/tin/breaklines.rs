@@ -313,23 +313,17 @@ pub fn network(
             cuts[j].push(k);
         }
     }
-    // every vertex on a segment (up to rounding, strictly inside) splits it
-    for (i, seg) in segs.iter().enumerate() {
-        if i % 1024 == 0 {
+    // every vertex on a segment (up to rounding, strictly inside) splits it:
+    // each vertex against the segments bucketed near it (crossings lie on
+    // their segments, so inside the buckets' extent)
+    for (k, p) in v.pts.iter().enumerate() {
+        if k % 1024 == 0 {
             interrupt()?;
         }
-        let [a, b] = seg.0.map(|k| v.pts[k as usize]);
-        for (k, p) in v.pts.iter().enumerate() {
-            // (quadratic in the worst case; breaklines are few beside
-            // samples, and the box test is cheap)
-            let m = 1e-9 * (a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()) + 1.0);
-            if p[0] < a[0].min(b[0]) - m
-                || p[0] > a[0].max(b[0]) + m
-                || p[1] < a[1].min(b[1]) - m
-                || p[1] > a[1].max(b[1]) + m
-            {
-                continue;
-            }
+        buckets.near(p, p, &mut near);
+        for &i in &near {
+            let i = i as usize;
+            let [a, b] = segs[i].0.map(|k| v.pts[k as usize]);
             if on_open_segment(&a, &b, p) && !cuts[i].contains(&(k as u32)) {
                 cuts[i].push(k as u32);
             }
