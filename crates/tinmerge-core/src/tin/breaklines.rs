@@ -16,9 +16,12 @@
 //! is a union of edges at every level.
 //!
 //! Samples lying on a breakline up to rounding ([`drops_sample`]) are left
-//! out of the build: a hard line's heights replace them, and a sample a
-//! hair beside an edge that cannot flip would make a sliver. A soft line
-//! keeps the samples exactly on it (they split its edges like any vertex).
+//! out of the build: a sample a hair beside an edge that cannot flip would
+//! make a sliver. A hard line's heights replace them; along a soft line its
+//! [`profile`] does: points about one sample spacing apart with the
+//! samples' heights, chosen level by level like the samples of a tile's
+//! seam, so the surface along a soft line follows the terrain rather than
+//! running straight between the line's own vertices.
 //!
 //! ```
 //! use tinmerge_core::tin::breaklines::{network, Breakline};
@@ -76,9 +79,9 @@ fn on_open_segment(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> bool {
 }
 
 /// Whether a sample at `p` is left out of a build with segment `a`–`b`:
-/// on the closed segment up to rounding, except (for a soft segment) exactly
-/// on it, where it simply splits the edge.
-pub fn drops_sample(a: &[f64; 3], b: &[f64; 3], hard: bool, p: &[f64; 3]) -> bool {
+/// on the closed segment up to rounding. A hard line's heights stand for
+/// it; along a soft line, the line's [`profile`] does.
+pub fn drops_sample(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> bool {
     if p[..2] == a[..2] || p[..2] == b[..2] {
         return true;
     }
@@ -87,10 +90,173 @@ pub fn drops_sample(a: &[f64; 3], b: &[f64; 3], hard: bool, p: &[f64; 3]) -> boo
     }
     let t = param(a, b, p);
     let slack = 1e-9;
-    if !(-slack..=1.0 + slack).contains(&t) {
-        return false;
+    (-slack..=1.0 + slack).contains(&t)
+}
+
+/// The parts of `lines` inside the convex polygon `hull` (counter-clockwise,
+/// at least 3 corners): each line cut where it leaves the polygon and
+/// again where it comes back, the cut a hair inside (at most about 1e-9 of
+/// the segment's length) so every point is inside by exact predicates; a
+/// hard line's height at a cut interpolated along its segment. Parts of
+/// fewer than two distinct points are left out, so a line wholly outside
+/// gives nothing.
+///
+/// ```
+/// use tinmerge_core::tin::breaklines::{clip_to_hull, Breakline};
+/// let square = [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 10.0, 0.0], [0.0, 10.0, 0.0]];
+/// let road = Breakline { pts: vec![[-5.0, 5.0, 0.0], [15.0, 5.0, 20.0]], hard: true };
+/// let parts = clip_to_hull(&[road], &square);
+/// assert_eq!(parts.len(), 1);
+/// let [a, b] = [parts[0].pts[0], parts[0].pts[1]];
+/// assert!((a[0] - 0.0).abs() < 1e-6 && (b[0] - 10.0).abs() < 1e-6);
+/// assert!((a[2] - 5.0).abs() < 1e-6 && (b[2] - 15.0).abs() < 1e-6);
+/// ```
+pub fn clip_to_hull(lines: &[Breakline], hull: &[[f64; 3]]) -> Vec<Breakline> {
+    let n = hull.len();
+    let inside = |p: &[f64; 3]| (0..n).all(|k| orient(&hull[k], &hull[(k + 1) % n], p) >= 0.0);
+    let at = |a: &[f64; 3], b: &[f64; 3], t: f64| {
+        [
+            a[0] + t * (b[0] - a[0]),
+            a[1] + t * (b[1] - a[1]),
+            a[2] + t * (b[2] - a[2]),
+        ]
+    };
+    // a cut point at t, moved towards `toward` (the inside) until it is
+    // inside
+    let cut = |a: &[f64; 3], b: &[f64; 3], t: f64, toward: f64| -> Option<[f64; 3]> {
+        let mut eps = 0.0;
+        for _ in 0..40 {
+            let u = t + (toward - t).signum() * eps;
+            if (u - toward) * (t - toward) < 0.0 {
+                return None;
+            }
+            let p = at(a, b, u);
+            if inside(&p) {
+                return Some(p);
+            }
+            eps = if eps == 0.0 { 1e-15 } else { eps * 2.0 };
+        }
+        None
+    };
+    let mut out = Vec::new();
+    for line in lines {
+        if line.pts.iter().all(|p| inside(p)) {
+            out.push(line.clone());
+            continue;
+        }
+        let mut part: Vec<[f64; 3]> = Vec::new();
+        let mut flush = |part: &mut Vec<[f64; 3]>| {
+            part.dedup_by(|x, y| x[..2] == y[..2]);
+            if part.len() >= 2 {
+                out.push(Breakline {
+                    pts: std::mem::take(part),
+                    hard: line.hard,
+                });
+            }
+            part.clear();
+        };
+        for w in line.pts.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            // the interval of t in which a-b is inside every side
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            for k in 0..n {
+                let (fa, fb) = (
+                    orient(&hull[k], &hull[(k + 1) % n], a),
+                    orient(&hull[k], &hull[(k + 1) % n], b),
+                );
+                if fa < 0.0 && fb < 0.0 {
+                    (t0, t1) = (1.0, 0.0);
+                    break;
+                }
+                if fa >= 0.0 && fb >= 0.0 {
+                    continue;
+                }
+                let t = fa / (fa - fb);
+                if fa < 0.0 {
+                    t0 = t0.max(t);
+                } else {
+                    t1 = t1.min(t);
+                }
+            }
+            if t0 >= t1 {
+                flush(&mut part);
+                continue;
+            }
+            let mid = 0.5 * (t0 + t1);
+            let start = if t0 > 0.0 || !inside(a) {
+                cut(a, b, t0, mid)
+            } else {
+                Some(*a)
+            };
+            let end = if t1 < 1.0 || !inside(b) {
+                cut(a, b, t1, mid)
+            } else {
+                Some(*b)
+            };
+            let (Some(p), Some(q)) = (start, end) else {
+                flush(&mut part);
+                continue;
+            };
+            if part.last().is_none_or(|l| l[..2] != p[..2]) {
+                flush(&mut part);
+                part.push(p);
+            }
+            part.push(q);
+            if q[..2] != b[..2] {
+                flush(&mut part);
+            }
+        }
+        flush(&mut part);
     }
-    hard || orient(a, b, p) != 0.0 || t <= 0.0 || t >= 1.0
+    out
+}
+
+/// Most profile points of all soft breaklines of one build.
+pub const MAX_PROFILE_POINTS: usize = 4_000_000;
+
+/// The profile of soft segment `a`–`b`: points along it (its ends left
+/// out) about `step` apart, each with the samples' height there
+/// (`soft_z`). The build holds them as the segment's own samples and
+/// chooses among them level by level (a Douglas-Peucker split of the
+/// profile, as for a tile's seam), so the surface along a soft breakline
+/// follows the samples within each level's tolerance instead of running
+/// straight between the line's own vertices.
+///
+/// ```
+/// use tinmerge_core::tin::breaklines::profile;
+/// let p = profile(&[0.0, 0.0, 0.0], &[10.0, 0.0, 0.0], 2.5, &|x, _| Some(x * x)).unwrap();
+/// assert_eq!(p.len(), 3);
+/// assert_eq!(p[1], [5.0, 0.0, 25.0]);
+/// ```
+pub fn profile(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    step: f64,
+    soft_z: &dyn Fn(f64, f64) -> Option<f64>,
+) -> Result<Vec<[f64; 3]>, TinError> {
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let n = (len / step).floor();
+    if !(n.is_finite() && n >= 2.0) {
+        return Ok(Vec::new());
+    }
+    if n > MAX_PROFILE_POINTS as f64 {
+        return Err(TinError::TooLarge(format!(
+            "a soft breakline segment of length {len} holds more than {MAX_PROFILE_POINTS} sample spacings"
+        )));
+    }
+    let n = n as usize;
+    let mut out = Vec::with_capacity(n - 1);
+    for k in 1..n {
+        let t = k as f64 / n as f64;
+        let (x, y) = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]));
+        let z = soft_z(x, y).ok_or_else(|| {
+            TinError::InvalidParameter(format!(
+                "soft breakline point ({x} {y}) is outside the samples: a soft breakline takes its heights from the samples around it"
+            ))
+        })?;
+        out.push([x, y, z]);
+    }
+    Ok(out)
 }
 
 /// A coarse bucketing of segments by their boxes, so each pair of nearby
@@ -218,27 +384,10 @@ impl Verts {
     }
 }
 
-/// The breaklines as one planar graph (see the module docs). `tol`: the
-/// finest level's tolerance, how far apart two hard heights may be where
-/// lines meet; `soft_z(x, y)`: the samples' height at a point (None where
-/// the samples say nothing, an ERROR then).
-pub fn network(
-    lines: &[Breakline],
-    tol: f64,
-    soft_z: &dyn Fn(f64, f64) -> Option<f64>,
-    interrupt: &mut Interrupt<'_>,
-) -> Result<Network, TinError> {
-    let mut v = Verts {
-        pts: Vec::new(),
-        hard_z: Vec::new(),
-        index: FxHashMap::default(),
-        tol,
-    };
-    let mut segs: Vec<([u32; 2], bool)> = Vec::new();
+/// Every point of every line finite and within the coordinate range, a
+/// hard line's heights finite, and at least two distinct points a line.
+pub fn validate(lines: &[Breakline]) -> Result<(), TinError> {
     for (li, line) in lines.iter().enumerate() {
-        interrupt()?;
-        let mut prev: Option<u32> = None;
-        let before = segs.len();
         for p in &line.pts {
             if !(p[0].is_finite() && p[1].is_finite()) {
                 return Err(TinError::InvalidParameter(format!(
@@ -257,6 +406,40 @@ pub fn network(
                     p[1]
                 )));
             }
+        }
+        if line.pts.iter().all(|p| p[..2] == line.pts[0][..2]) {
+            return Err(TinError::InvalidParameter(format!(
+                "breakline {} has fewer than two distinct points",
+                li + 1
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The breaklines as one planar graph (see the module docs). `tol`: the
+/// finest level's tolerance, how far apart two hard heights may be where
+/// lines meet; `soft_z(x, y)`: the samples' height at a point (None where
+/// the samples say nothing, an ERROR then).
+pub fn network(
+    lines: &[Breakline],
+    tol: f64,
+    soft_z: &dyn Fn(f64, f64) -> Option<f64>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Network, TinError> {
+    let mut v = Verts {
+        pts: Vec::new(),
+        hard_z: Vec::new(),
+        index: FxHashMap::default(),
+        tol,
+    };
+    validate(lines)?;
+    let mut segs: Vec<([u32; 2], bool)> = Vec::new();
+    for (li, line) in lines.iter().enumerate() {
+        interrupt()?;
+        let mut prev: Option<u32> = None;
+        let before = segs.len();
+        for p in &line.pts {
             let k = v.add(p[0], p[1], line.hard.then_some(p[2]))?;
             if let Some(j) = prev {
                 if j != k {

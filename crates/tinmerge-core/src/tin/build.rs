@@ -42,7 +42,7 @@
 //! tin.sanity_check().unwrap();
 //! ```
 
-use super::breaklines::{drops_sample, network, Breakline, Network};
+use super::breaklines::{clip_to_hull, drops_sample, network, profile, Breakline, Network};
 use super::dense::Dense;
 use super::hierarchy::{child_starts, compute_neighbours};
 use super::lattice::Lattice;
@@ -649,7 +649,8 @@ pub fn build_with(
 /// [`build`] with breaklines ([`super::breaklines`]): every line a union of
 /// edges at every level, hard lines' heights along them, the samples on a
 /// line up to rounding left out ([`super::breaklines::drops_sample`]).
-/// Every breakline point must lie in the samples' convex hull.
+/// The parts of the lines outside the samples' convex hull are cut off
+/// ([`super::breaklines::clip_to_hull`]).
 ///
 /// ```
 /// use tinmerge_core::tin::breaklines::Breakline;
@@ -729,25 +730,39 @@ fn sample_height(grid: &SampleGrid, x: f64, y: f64) -> Option<f64> {
     None
 }
 
-/// The breaklines as a network ([`super::breaklines::network`]) and the
-/// samples of a build with them: those not on a line, and the network's
-/// vertices, prepared ([`prepare_samples`]).
+/// The samples of a build with breaklines, their network and each
+/// segment's profile ([`with_breaklines`]).
+type WithBreaklines = (Vec<[f64; 3]>, Network, Vec<Vec<[f64; 3]>>);
+
+/// The breaklines as a network ([`super::breaklines::network`]), the
+/// samples of a build with them (those not on a line, the network's
+/// vertices and the soft segments' profiles, prepared
+/// ([`prepare_samples`])) and each segment's profile
+/// ([`super::breaklines::profile`]; empty for a hard one).
 fn with_breaklines(
     pts: Vec<[f64; 3]>,
     lines: &[Breakline],
     tol: f64,
     interrupt: &mut Interrupt<'_>,
-) -> Result<(Vec<[f64; 3]>, Network), TinError> {
+) -> Result<WithBreaklines, TinError> {
     let hull: Vec<[f64; 3]> = convex_hull(&pts).into_iter().map(|k| pts[k]).collect();
+    if hull.len() < 3 {
+        return Err(TinError::Degenerate(
+            "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
+        ));
+    }
+    // the parts of the lines outside the samples' extent are cut off
+    super::breaklines::validate(lines)?;
+    let lines = clip_to_hull(lines, &hull);
     let grid = SampleGrid::new(pts, 1.0);
-    let net = network(lines, tol, &|x, y| sample_height(&grid, x, y), interrupt)?;
+    let net = network(&lines, tol, &|x, y| sample_height(&grid, x, y), interrupt)?;
+    drop(lines);
     for v in &net.verts {
-        if hull.len() >= 3
-            && (0..hull.len())
-                .any(|k| orient2d(c2(&hull[k]), c2(&hull[(k + 1) % hull.len()]), c2(v)) < 0.0)
+        if (0..hull.len())
+            .any(|k| orient2d(c2(&hull[k]), c2(&hull[(k + 1) % hull.len()]), c2(v)) < 0.0)
         {
-            return Err(TinError::InvalidParameter(format!(
-                "breakline point ({} {}) is outside the samples' extent (their convex hull): clip the breaklines to it first, e.g. ST_Intersection(breaklines, ST_ConvexHull(samples))",
+            return Err(TinError::Degenerate(format!(
+                "internal: breakline point ({} {}) outside the samples' extent after clipping",
                 v[0], v[1]
             )));
         }
@@ -765,11 +780,32 @@ fn with_breaklines(
             a[0].max(b[0]) + m,
             a[1].max(b[1]) + m,
             |i, p| {
-                if !dropped[i] && drops_sample(&a, &b, net.hard[k], p) {
+                if !dropped[i] && drops_sample(&a, &b, p) {
                     dropped[i] = true;
                 }
             },
         );
+    }
+    // soft segments: their profiles, about one sample spacing apart
+    let step = grid.cell_area().sqrt();
+    let mut profiles = Vec::with_capacity(net.segs.len());
+    let mut total = 0usize;
+    for (k, s) in net.segs.iter().enumerate() {
+        interrupt()?;
+        let prof = if net.hard[k] {
+            Vec::new()
+        } else {
+            let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
+            profile(&a, &b, step, &|x, y| sample_height(&grid, x, y))?
+        };
+        total += prof.len();
+        if total > super::breaklines::MAX_PROFILE_POINTS {
+            return Err(TinError::TooLarge(format!(
+                "soft breaklines hold more than {} sample spacings",
+                super::breaklines::MAX_PROFILE_POINTS
+            )));
+        }
+        profiles.push(prof);
     }
     let mut kept: Vec<[f64; 3]> = grid
         .pts
@@ -780,33 +816,72 @@ fn with_breaklines(
         .collect();
     drop(grid);
     kept.extend_from_slice(&net.verts);
-    Ok((prepare_samples(kept)?, net))
+    kept.extend(profiles.iter().flatten());
+    Ok((prepare_samples(kept)?, net, profiles))
 }
 
 /// Level 0's constraint edges: the network's vertices inserted (they are
-/// samples of `b`'s grid) and its segments added as constraints.
+/// samples of `b`'s grid), then each segment with a profile (`sides[k]`:
+/// its samples from end to end, or empty) split at the profile samples
+/// [`choose_border`] picks at `tol` (inserted before the constraints, so
+/// each piece is an edge of its own: they lie on the segment only up to
+/// rounding), and every piece added as a constraint.
 fn add_network<S: Samples>(
     b: &mut Builder<'_, S, Cdt>,
     net: &Network,
+    sides: &[Vec<usize>],
+    tol: f64,
     find: &dyn Fn(f64, f64) -> Option<usize>,
 ) -> Result<(), TinError> {
-    let mut handles = Vec::with_capacity(net.verts.len());
+    let mut ends = Vec::with_capacity(net.verts.len());
+    let mut handle: rustc_hash::FxHashMap<usize, FixedVertexHandle> = Default::default();
     let mut hint = None;
     for v in &net.verts {
         let i = find(v[0], v[1])
             .ok_or_else(|| TinError::Degenerate("internal: a breakline vertex was lost".into()))?;
         let h = b.insert_sample(i, hint)?;
         hint = Some(h);
-        handles.push(h);
+        handle.insert(i, h);
+        ends.push(i);
     }
-    for s in &net.segs {
-        let (p, q) = (handles[s[0] as usize], handles[s[1] as usize]);
-        if p != q && b.dt.try_add_constraint(p, q).is_empty() {
-            let a = net.verts[s[0] as usize];
-            return Err(TinError::InvalidParameter(format!(
-                "breakline segment from ({} {}) cannot be an edge: it crosses another within rounding; snap the breaklines (ST_Snap, ST_Node) first",
-                a[0], a[1]
-            )));
+    for (k, s) in net.segs.iter().enumerate() {
+        let (p, q) = (ends[s[0] as usize], ends[s[1] as usize]);
+        if p == q {
+            continue;
+        }
+        let chain: Vec<usize> = match sides.get(k) {
+            Some(side) if side.len() > 2 => {
+                let mut chosen: Vec<bool> = (0..side.len())
+                    .map(|j| j == 0 || j + 1 == side.len())
+                    .collect();
+                let grid = b.grid;
+                let mut new = Vec::new();
+                choose_border(&|i| grid.point(i), side, &mut chosen, tol, &mut new);
+                for i in new {
+                    let h = b.insert_sample(i, handle.get(&p).copied())?;
+                    handle.insert(i, h);
+                }
+                side.iter()
+                    .zip(&chosen)
+                    .filter(|(_, &c)| c)
+                    .map(|(&i, _)| i)
+                    .collect()
+            }
+            _ => vec![p, q],
+        };
+        for w in chain.windows(2) {
+            let (Some(&hp), Some(&hq)) = (handle.get(&w[0]), handle.get(&w[1])) else {
+                return Err(TinError::Degenerate(
+                    "internal: a breakline vertex was not inserted".into(),
+                ));
+            };
+            if b.dt.try_add_constraint(hp, hq).is_empty() {
+                let a = b.grid.point(w[0]);
+                return Err(TinError::InvalidParameter(format!(
+                    "breakline segment from ({} {}) cannot be an edge: it crosses another within rounding; snap the breaklines (ST_Snap, ST_Node) first",
+                    a[0], a[1]
+                )));
+            }
         }
     }
     Ok(())
@@ -860,9 +935,10 @@ fn build_inner(
     }
     let mut pts = prepare_samples(samples)?;
     let mut net = Network::default();
+    let mut profiles = Vec::new();
     if !lines.is_empty() && pts.len() >= 3 {
         let tol = *tolerances.last().unwrap_or(&0.0);
-        (pts, net) = with_breaklines(pts, lines, tol, interrupt)?;
+        (pts, net, profiles) = with_breaklines(pts, lines, tol, interrupt)?;
     }
     if pts.len() < 3 {
         return Err(TinError::Degenerate(format!(
@@ -888,8 +964,36 @@ fn build_inner(
         let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border)?;
         build_levels(b, &grid, &sides, tolerances, opts, interrupt)?
     } else {
-        let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, opts.keep_border)?;
-        add_network(&mut b, &net, &|x, y| grid.find(x, y))?;
+        // each soft segment's samples from end to end (a hard one: none),
+        // chosen level by level as a tile's seam is; reserved from the
+        // greedy refinement of level 0
+        let find = |p: &[f64; 3]| grid.find(p[0], p[1]);
+        let segment_sides = net
+            .segs
+            .iter()
+            .zip(&profiles)
+            .map(|(s, prof)| {
+                if prof.is_empty() {
+                    return Some(Vec::new());
+                }
+                let mut side = vec![find(&net.verts[s[0] as usize])?];
+                for p in prof {
+                    side.push(find(p)?);
+                }
+                side.push(find(&net.verts[s[1] as usize])?);
+                Some(side)
+            })
+            .collect::<Option<Vec<Vec<usize>>>>()
+            .ok_or_else(|| TinError::Degenerate("internal: a profile sample was lost".into()))?;
+        drop(profiles);
+        let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, true)?;
+        add_network(&mut b, &net, &segment_sides, tolerances[0], &|x, y| {
+            grid.find(x, y)
+        })?;
+        let sides: Vec<Vec<usize>> = segment_sides
+            .into_iter()
+            .filter(|s| !s.is_empty())
+            .collect();
         build_levels(b, &grid, &sides, tolerances, opts, interrupt)?
     };
     drop(grid);
