@@ -95,6 +95,12 @@ SELECT w.name, count(*) AS points,
 FROM win w JOIN bl_tins b USING (name)
 GROUP BY 1 ORDER BY 1;
 CREATE TABLE bl_plain AS SELECT tin_from_raster(rast, 2.0, 4) AS t FROM dem;
+-- the same bytes on one thread as on two
+SET tinmerge.threads = 1;
+SELECT tin_from_raster(rast, 2.0, 4, breaklines => (SELECT ST_Collect(geom) FROM bl_lines l WHERE l.name = 'utm' AND kind <> 'ridge'),
+         soft_breaklines => (SELECT geom FROM bl_lines l WHERE l.name = 'utm' AND kind = 'ridge')) = b.t AS one_thread_same
+FROM dem, bl_tins b WHERE b.name = 'utm';
+RESET tinmerge.threads;
 -- no breaklines (NULL) is the plain build, byte for byte
 SELECT tin_from_raster(rast, 2.0, 4, breaklines => NULL) = p.t AS same,
        tin_from_raster(rast, 2.0, 4, 1, false, NULL, NULL) = p.t AS same_positional

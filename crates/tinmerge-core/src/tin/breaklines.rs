@@ -97,9 +97,11 @@ pub fn drops_sample(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> bool {
 /// at least 3 corners): each line cut where it leaves the polygon and
 /// again where it comes back, the cut a hair inside (at most about 1e-9 of
 /// the segment's length) so every point is inside by exact predicates; a
-/// hard line's height at a cut interpolated along its segment. Parts of
-/// fewer than two distinct points are left out, so a line wholly outside
-/// gives nothing.
+/// hard line's height at a cut interpolated along its segment. A segment
+/// inside only up to about 2e-10 of its coordinates' magnitude (a vertex
+/// on the hull, the rest outside) gives no piece, and parts of fewer than
+/// two distinct points are left out, so a line wholly outside gives
+/// nothing.
 ///
 /// ```
 /// use tinmerge_core::tin::breaklines::{clip_to_hull, Breakline};
@@ -197,6 +199,15 @@ pub fn clip_to_hull(lines: &[Breakline], hull: &[[f64; 3]]) -> Vec<Breakline> {
                 flush(&mut part);
                 continue;
             };
+            // a cut within about a millimetre (at 1e6 m coordinates) of
+            // the segment's inside end: only that end is inside, and a
+            // piece that short would lie "on" every line near it up to
+            // rounding
+            let m = p[0].abs().max(p[1].abs()).max(1.0);
+            if (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) <= 1e6 * f64::EPSILON * m {
+                flush(&mut part);
+                continue;
+            }
             if part.last().is_none_or(|l| l[..2] != p[..2]) {
                 flush(&mut part);
                 part.push(p);
@@ -224,7 +235,8 @@ pub const MAX_PROFILE_POINTS: usize = 4_000_000;
 ///
 /// ```
 /// use tinmerge_core::tin::breaklines::profile;
-/// let p = profile(&[0.0, 0.0, 0.0], &[10.0, 0.0, 0.0], 2.5, &|x, _| Some(x * x)).unwrap();
+/// let p = profile(&[0.0, 0.0, 0.0], &[10.0, 0.0, 0.0], 2.5, &|x, _| Some(x * x), &mut || Ok(()))
+///     .unwrap();
 /// assert_eq!(p.len(), 3);
 /// assert_eq!(p[1], [5.0, 0.0, 25.0]);
 /// ```
@@ -233,6 +245,7 @@ pub fn profile(
     b: &[f64; 3],
     step: f64,
     soft_z: &dyn Fn(f64, f64) -> Option<f64>,
+    interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<[f64; 3]>, TinError> {
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
     let n = (len / step).floor();
@@ -247,6 +260,9 @@ pub fn profile(
     let n = n as usize;
     let mut out = Vec::with_capacity(n - 1);
     for k in 1..n {
+        if k % 4096 == 0 {
+            interrupt()?;
+        }
         let t = k as f64 / n as f64;
         let (x, y) = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]));
         let z = soft_z(x, y).ok_or_else(|| {
@@ -635,6 +651,37 @@ mod tests {
             .position(|p| p[0] == 4.0 && p[1] == 5.0)
             .unwrap();
         assert_eq!(n.verts[k][2], 9.0);
+    }
+
+    #[test]
+    fn vertices_a_rounding_inside_the_hull_give_no_sliver_of_a_piece() {
+        // gdal_contour's contour 623 of the bundled DEM: it comes in from
+        // outside the pixel centres' hull to a vertex one ulp inside its
+        // south side, goes round, and leaves the same way at the same y.
+        // Each cut a hair before such a vertex made a piece of a few ulps
+        // that every segment at that y lay "on" up to rounding: an ERROR.
+        let y = 4036601.162225269f64;
+        let up = f64::from_bits(y.to_bits() + 1);
+        let hull = [
+            [731000.0, y, 0.0],
+            [733000.0, y, 0.0],
+            [733000.0, y + 2000.0, 0.0],
+            [731000.0, y + 2000.0, 0.0],
+        ];
+        let line = Breakline {
+            pts: vec![
+                [732661.582519865, y - 45.0, 500.0],
+                [732661.582519865, up, 500.0],
+                [732604.219465799, y + 47.6, 500.0],
+                [732498.954976564, up, 500.0],
+                [732498.954976564, y - 45.0, 500.0],
+            ],
+            hard: true,
+        };
+        let parts = clip_to_hull(&[line], &hull);
+        assert_eq!(parts.len(), 1, "{parts:?}");
+        assert_eq!(parts[0].pts.len(), 3, "{parts:?}");
+        assert!(network(&parts, 0.1, &|_, _| Some(0.0), &mut || Ok(())).is_ok());
     }
 
     #[test]

@@ -796,7 +796,7 @@ fn with_breaklines(
             Vec::new()
         } else {
             let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
-            profile(&a, &b, step, &|x, y| sample_height(&grid, x, y))?
+            profile(&a, &b, step, &|x, y| sample_height(&grid, x, y), interrupt)?
         };
         total += prof.len();
         if total > super::breaklines::MAX_PROFILE_POINTS {
