@@ -142,7 +142,7 @@ pub fn clip_to_hull(lines: &[Breakline], hull: &[[f64; 3]]) -> Vec<Breakline> {
     };
     let mut out = Vec::new();
     for line in lines {
-        if line.pts.iter().all(|p| inside(p)) {
+        if line.pts.iter().all(&inside) {
             out.push(line.clone());
             continue;
         }
@@ -349,19 +349,67 @@ fn along(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> f64 {
     a[2] + t * (b[2] - a[2])
 }
 
-/// Vertices of the network under construction: equal (x, y) merged; a
+/// Vertices of the network under construction: equal (x, y), or within
+/// `snap` of each other, merged; a
 /// hard height, where one is known, per vertex.
 struct Verts {
     pts: Vec<[f64; 3]>,
     hard_z: Vec<Option<f64>>,
     index: FxHashMap<(u64, u64), u32>,
     tol: f64,
+    /// Two points closer than this (in x and in y) are one vertex: about
+    /// 2e-10 of the largest coordinate, a millimetre at UTM northings. The
+    /// same crossing computed from two lines that overlap up to rounding
+    /// (a hard and a soft line along one diagonal of a geographic grid)
+    /// comes out a few ulps apart; kept apart, the two would leave a crack
+    /// between the triangles on either side.
+    snap: f64,
+    /// Vertices by cell of side `2 * snap`.
+    cells: FxHashMap<(i64, i64), Vec<u32>>,
 }
 
 impl Verts {
+    fn new(lines: &[Breakline], tol: f64) -> Verts {
+        let m = lines
+            .iter()
+            .flat_map(|l| l.pts.iter())
+            .map(|p| p[0].abs().max(p[1].abs()))
+            .fold(1.0f64, f64::max);
+        Verts {
+            pts: Vec::new(),
+            hard_z: Vec::new(),
+            index: FxHashMap::default(),
+            tol,
+            snap: 1e6 * f64::EPSILON * m,
+            cells: FxHashMap::default(),
+        }
+    }
+
+    fn cell(&self, x: f64, y: f64) -> (i64, i64) {
+        let c = 2.0 * self.snap;
+        ((x / c).floor() as i64, (y / c).floor() as i64)
+    }
+
     fn add(&mut self, x: f64, y: f64, z: Option<f64>) -> Result<u32, TinError> {
         let key = (x.to_bits(), y.to_bits());
         if let Some(&k) = self.index.get(&key) {
+            self.set_z(k, z)?;
+            return Ok(k);
+        }
+        let (cx, cy) = self.cell(x, y);
+        let mut near = None;
+        for i in cx - 1..=cx + 1 {
+            for j in cy - 1..=cy + 1 {
+                for &k in self.cells.get(&(i, j)).into_iter().flatten() {
+                    let p = self.pts[k as usize];
+                    if (p[0] - x).abs() <= self.snap && (p[1] - y).abs() <= self.snap {
+                        near = Some(near.map_or(k, |n: u32| n.min(k)));
+                    }
+                }
+            }
+        }
+        if let Some(k) = near {
+            self.index.insert(key, k);
             self.set_z(k, z)?;
             return Ok(k);
         }
@@ -372,6 +420,7 @@ impl Verts {
         }
         let k = self.pts.len() as u32;
         self.index.insert(key, k);
+        self.cells.entry((cx, cy)).or_default().push(k);
         self.pts.push([x, y, z.unwrap_or(f64::NAN)]);
         self.hard_z.push(z);
         Ok(k)
@@ -443,13 +492,8 @@ pub fn network(
     soft_z: &dyn Fn(f64, f64) -> Option<f64>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Network, TinError> {
-    let mut v = Verts {
-        pts: Vec::new(),
-        hard_z: Vec::new(),
-        index: FxHashMap::default(),
-        tol,
-    };
     validate(lines)?;
+    let mut v = Verts::new(lines, tol);
     let mut segs: Vec<([u32; 2], bool)> = Vec::new();
     for (li, line) in lines.iter().enumerate() {
         interrupt()?;
