@@ -449,6 +449,13 @@ fn random_breakline_sets_build_or_refuse_cleanly() {
                     .into_iter()
                     .filter(|(a, b, _)| a[..2] != b[..2])
                     .collect();
+                // the hierarchy's invariants (one convex boundary cycle,
+                // nesting, ...), told which level-0 edges are breaklines
+                tin.sanity_check_constrained(&|p, q| {
+                    segs.iter()
+                        .any(|(a, b, _)| edge_on(a, b, p, q, 1e-9).is_some())
+                })
+                .unwrap_or_else(|e| panic!("case {case}: {e}: {lines:?}"));
                 for (l, lv) in tin.levels.iter().enumerate() {
                     for s in &samples {
                         let near = segs.iter().any(|(a, b, _)| {
