@@ -3,7 +3,8 @@
 -- (docs/upgrading.md). tin_raster_stats and tin_raster_pixels take
 -- half_open (at the end). tin_from_raster and tin_from_points take
 -- breaklines and soft_breaklines (at the end): both are dropped and made
--- anew, with three new internal functions.
+-- anew, with three new internal functions. tin_validate also reports
+-- holes (its comment).
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -95,3 +96,5 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_points(geometry, float8, int, geometry, geometry) IS
 'Builds a tin from every vertex of a geometry with Z (typically MULTIPOINT Z); points with equal x,y are merged (mean z). Error is measured at the samples. breaklines (LINESTRING Z / MULTILINESTRING Z, the points'' SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). NULL for NULL points, tolerance or levels.';
+
+COMMENT ON FUNCTION tin_validate(tin) IS 'Problems of a stored tin, one row each: level, problem (''crack'': a triangle of zero area up to rounding whose corner lies on the opposite edge while the surfaces on the two sides disagree there, a vertical wall; ''sliver'': the same where they agree; ''hole'': an edge without a neighbour inside the domain, a gap between triangles that should meet), triangle id (as in tin_triangles) and a detail. No rows for a sound tin. Tins built by tinmerge 0.2.0 from rasters whose pixel centres do not round exactly (geographic grids, fractional origins) have them: rebuild those (docs/upgrading.md).';

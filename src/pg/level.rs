@@ -46,7 +46,7 @@ fn small_level(t: &TinArg, level: Option<i32>) -> Option<LevelRows> {
     Some((h.srid, rows))
 }
 
-/// Every sliver and hidden crack of a tin (see `tin::check::problems`):
+/// Every sliver, hidden crack and hole of a tin (see `tin::check::problems`):
 /// values built by tinmerge 0.2.0 from grids whose pixel centres round off
 /// their lattice lines have them; rebuild those (docs/upgrading.md).
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
@@ -76,7 +76,7 @@ fn tin_validate(
 extension_sql!(
     r#"
 ALTER FUNCTION tin_validate(tin) ROWS 10;
-COMMENT ON FUNCTION tin_validate(tin) IS 'Problems of a stored tin, one row each: level, problem (''crack'': a triangle of zero area up to rounding whose corner lies on the opposite edge while the surfaces on the two sides disagree there, a vertical wall; ''sliver'': the same where they agree), triangle id (as in tin_triangles) and a detail. No rows for a sound tin. Tins built by tinmerge 0.2.0 from rasters whose pixel centres do not round exactly (geographic grids, fractional origins) have them: rebuild those (docs/upgrading.md).';
+COMMENT ON FUNCTION tin_validate(tin) IS 'Problems of a stored tin, one row each: level, problem (''crack'': a triangle of zero area up to rounding whose corner lies on the opposite edge while the surfaces on the two sides disagree there, a vertical wall; ''sliver'': the same where they agree; ''hole'': an edge without a neighbour inside the domain, a gap between triangles that should meet), triangle id (as in tin_triangles) and a detail. No rows for a sound tin. Tins built by tinmerge 0.2.0 from rasters whose pixel centres do not round exactly (geographic grids, fractional origins) have them: rebuild those (docs/upgrading.md).';
 "#,
     name = "tin_validate_sql",
     requires = [tin_validate]

@@ -386,7 +386,8 @@ pub struct Problem {
     pub level: usize,
     pub triangle: u32,
     /// `"sliver"` (the corner lies on the opposite edge and the surface
-    /// agrees there) or `"crack"` (it does not: a vertical wall).
+    /// agrees there), `"crack"` (it does not: a vertical wall) or
+    /// `"hole"` (an edge without a neighbour inside the domain).
     pub kind: &'static str,
     pub detail: String,
 }
@@ -395,7 +396,8 @@ pub struct Problem {
 /// ([`super::is_sliver`]). Its corner opposite the longest edge lies on
 /// that edge, which the triangle on the other side has whole: a hidden
 /// T-junction. `kind` is `"crack"` when the corner's height differs from
-/// the edge's height there (the sliver is a wall), `"sliver"` otherwise.
+/// the edge's height there (the sliver is a wall), `"sliver"` otherwise;
+/// and every gap between triangles that should meet ([`holes`]).
 pub fn problems(tin: &Tin, interrupt: &mut Interrupt<'_>) -> Result<Vec<Problem>, TinError> {
     let mut out = Vec::new();
     let zspan = (tin.bbox.max_z - tin.bbox.min_z).abs();
@@ -441,6 +443,124 @@ pub fn problems(tin: &Tin, interrupt: &mut Interrupt<'_>) -> Result<Vec<Problem>
                 ),
             });
         }
+        holes(tin, l, &mut out);
     }
     Ok(out)
+}
+
+/// The `"hole"` problems of level `l`: edges without a neighbour that are
+/// not on the domain's outer boundary. A level's triangles on the outside
+/// have an edge without a neighbour each, and those edges make one cycle;
+/// any other cycle (or a vertex where two such edges start) is a gap
+/// between triangles that should meet: two vertices a few ulps apart where
+/// there should be one, for example, which no sliver shows (its two sides
+/// simply do not share vertices). Each triangle on such an edge is
+/// reported once.
+fn holes(tin: &Tin, l: usize, out: &mut Vec<Problem>) {
+    let lv = &tin.levels[l];
+    let mut next: std::collections::HashMap<u32, (u32, u32)> = Default::default();
+    let mut bad: Vec<(u32, String)> = Vec::new();
+    for (t, tri) in lv.tris.iter().enumerate() {
+        for j in 0..3 {
+            if lv.nbrs[t][j] == NONE {
+                let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+                if let Some((_, t0)) = next.insert(a, (b, t as u32)) {
+                    let why = format!("two edges without a neighbour start at vertex {a}");
+                    bad.push((t0, why.clone()));
+                    bad.push((t as u32, why));
+                }
+            }
+        }
+    }
+    // the cycles of those edges, by signed area; the largest is the outside
+    let mut seen: std::collections::HashSet<u32> = Default::default();
+    let mut cycles: Vec<(f64, Vec<u32>)> = Vec::new();
+    let mut starts: Vec<u32> = next.keys().copied().collect();
+    starts.sort_unstable();
+    for s in starts {
+        if seen.contains(&s) {
+            continue;
+        }
+        let (mut cur, mut area, mut tris) = (s, 0.0, Vec::new());
+        while seen.insert(cur) {
+            let Some(&(n, t)) = next.get(&cur) else { break };
+            let (a, b) = (tin.verts[cur as usize], tin.verts[n as usize]);
+            area += a[0] * b[1] - b[0] * a[1];
+            tris.push(t);
+            cur = n;
+        }
+        cycles.push((area, tris));
+    }
+    let outer = cycles
+        .iter()
+        .enumerate()
+        .max_by(|x, y| x.1 .0.total_cmp(&y.1 .0))
+        .map(|(i, _)| i);
+    for (i, (area, tris)) in cycles.iter().enumerate() {
+        if Some(i) != outer {
+            for &t in tris {
+                bad.push((
+                    t,
+                    format!(
+                        "an edge without a neighbour inside the domain (a gap of {} edges, area {:.3e})",
+                        tris.len(),
+                        -area / 2.0
+                    ),
+                ));
+            }
+        }
+    }
+    bad.sort_by_key(|b| b.0);
+    bad.dedup_by_key(|b| b.0);
+    for (t, detail) in bad {
+        out.push(Problem {
+            level: l,
+            triangle: t,
+            kind: "hole",
+            detail,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tin::build::from_triangles;
+
+    /// A square cut into four triangles around its centre, where the two
+    /// upper triangles use a second centre vertex a few ulps from the first
+    /// (what two computations of one crossing gave before breaklines merged
+    /// such points): no sliver anywhere, but a gap. `problems` reports the
+    /// triangles on it as holes; the sound square has no problem.
+    #[test]
+    fn a_gap_between_triangles_is_a_hole() {
+        let c = 0.5f64;
+        let c2 = f64::from_bits(c.to_bits() + 3);
+        let verts = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [c, c, 1.0],
+            [c2, c, 1.0],
+        ];
+        let sound = from_triangles(
+            verts.clone(),
+            vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]],
+            0,
+            &mut || Ok(()),
+        )
+        .unwrap();
+        assert!(problems(&sound, &mut || Ok(())).unwrap().is_empty());
+        let gap = from_triangles(
+            verts,
+            vec![[0, 1, 4], [1, 2, 4], [2, 3, 5], [3, 0, 4]],
+            0,
+            &mut || Ok(()),
+        )
+        .unwrap();
+        let p = problems(&gap, &mut || Ok(())).unwrap();
+        assert!(!p.is_empty() && p.iter().all(|p| p.kind == "hole"), "{p:?}");
+        assert!(p.iter().any(|p| p.triangle == 2), "{p:?}");
+    }
 }
