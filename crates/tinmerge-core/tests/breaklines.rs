@@ -128,6 +128,17 @@ fn segments(lines: &[Breakline]) -> Vec<([f64; 3], [f64; 3], bool)> {
         .collect()
 }
 
+/// The area a level's triangles cover.
+fn domain_area(tin: &Tin, lv: &tinmerge_core::tin::Level) -> f64 {
+    lv.tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| tin.verts[v as usize]);
+            0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+        })
+        .sum()
+}
+
 fn check(d: &Dem, srid: i32, seed: u64, tol: f64) {
     let lines = lines_for(d, seed);
     let samples = d.samples();
@@ -315,14 +326,7 @@ fn breaklines_are_cut_at_the_samples_hull() {
     let ring = LineString::from(hull.exterior().0.clone());
     let px = d.scale_x.abs();
     for (l, lv) in tin.levels.iter().enumerate() {
-        let area: f64 = lv
-            .tris
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| tin.verts[v as usize]);
-                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
-            })
-            .sum();
+        let area = domain_area(&tin, lv);
         assert!(
             (area - hull.unsigned_area()).abs() <= 1e-9 * area,
             "level {l}: domain {area} against the hull's {}",
@@ -599,14 +603,7 @@ fn a_line_through_a_hull_corner_keeps_the_domain() {
                 .unwrap();
             assert!(problems(&tin, &mut || Ok(())).unwrap().is_empty());
             for (l, lv) in tin.levels.iter().enumerate() {
-                let area: f64 = lv
-                    .tris
-                    .iter()
-                    .map(|t| {
-                        let [a, b, c] = t.map(|v| tin.verts[v as usize]);
-                        0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
-                    })
-                    .sum();
+                let area = domain_area(&tin, lv);
                 assert!(
                     (area - side * side).abs() <= 1e-9 * side * side,
                     "hard {hard}, line {p:?}-{q:?}, level {l}: domain {area}, the grid's {}",
