@@ -93,6 +93,12 @@ pub fn drops_sample(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> bool {
     (-slack..=1.0 + slack).contains(&t)
 }
 
+/// Two points of the lines closer than this times the magnitude of their
+/// coordinates (in x and in y) are one point: about 2e-10, a millimetre at
+/// UTM northings, far below any survey and far above the rounding of a
+/// computed crossing or cut.
+const SNAP: f64 = 1e6 * f64::EPSILON;
+
 /// The parts of `lines` inside the convex polygon `hull` (counter-clockwise,
 /// at least 3 corners): each line cut where it leaves the polygon and
 /// again where it comes back, the cut a hair inside (at most about 1e-9 of
@@ -204,7 +210,7 @@ pub fn clip_to_hull(lines: &[Breakline], hull: &[[f64; 3]]) -> Vec<Breakline> {
             // piece that short would lie "on" every line near it up to
             // rounding
             let m = p[0].abs().max(p[1].abs()).max(1.0);
-            if (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) <= 1e6 * f64::EPSILON * m {
+            if (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) <= SNAP * m {
                 flush(&mut part);
                 continue;
             }
@@ -380,7 +386,7 @@ impl Verts {
             hard_z: Vec::new(),
             index: FxHashMap::default(),
             tol,
-            snap: 1e6 * f64::EPSILON * m,
+            snap: SNAP * m,
             cells: FxHashMap::default(),
         }
     }
