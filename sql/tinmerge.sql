@@ -33,23 +33,23 @@ SELECT pg_catalog.set_config('search_path',
            WHERE s IS NOT NULL GROUP BY s) d) || ', pg_temp',
     true);
 
-CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1, keep_border boolean DEFAULT false, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL)
-RETURNS tin AS $$ SELECT CASE WHEN $6 IS NULL AND $7 IS NULL
+CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1, keep_border boolean DEFAULT false, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL, boundary geometry DEFAULT NULL)
+RETURNS tin AS $$ SELECT CASE WHEN $6 IS NULL AND $7 IS NULL AND $8 IS NULL
   THEN @extschema@._tin_from_raster($1::bytea, $2, $3, $4, $5)
-  ELSE @extschema@._tin_from_raster_breaklines($1::bytea, $2, $3, $4, $5, $6::bytea, $7::bytea) END $$
+  ELSE @extschema@._tin_from_raster_domain($1::bytea, $2, $3, $4, $5, $6::bytea, $7::bytea, $8::bytea) END $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
 SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean, geometry, geometry) IS
-'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true decides the vertices on each side of the convex hull from that side''s samples alone, simplified to each level''s tolerance, so tiles that share a border row or column of pixels have the same vertices and the same surface along it at every level (see docs/scaling.md, tiled terrains). breaklines (LINESTRING Z / MULTILINESTRING Z, the raster''s SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). NULL for a NULL raster, tolerance, levels, band or keep_border.';
+COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean, geometry, geometry, geometry) IS
+'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample; levels 1..16. keep_border => true decides the vertices on each side of the convex hull from that side''s samples alone, simplified to each level''s tolerance, so tiles that share a border row or column of pixels have the same vertices and the same surface along it at every level (see docs/scaling.md, tiled terrains). breaklines (LINESTRING Z / MULTILINESTRING Z, the raster''s SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). boundary (POLYGON / MULTIPOLYGON, holes allowed, valid, the same SRID) limits the terrain to its area within the samples'' convex hull, concave parts and holes included: its rings there are edges at every level with heights from the samples, the samples outside it are left out, and every merge answers NULL or no rows outside it (the triangles there are void, not returned by tin_triangles; docs/breaklines.md). Breaklines outside the boundary shape nothing that is returned. NULL for a NULL raster, tolerance, levels, band or keep_border.';
 
-CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1, keep_border boolean DEFAULT false, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL)
-RETURNS tin AS $$ SELECT CASE WHEN $5 IS NULL AND $6 IS NULL
+CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1, keep_border boolean DEFAULT false, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL, boundary geometry DEFAULT NULL)
+RETURNS tin AS $$ SELECT CASE WHEN $5 IS NULL AND $6 IS NULL AND $7 IS NULL
   THEN @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3, $4)
-  ELSE @extschema@._tin_from_raster_tolerances_breaklines($1::bytea, $2, $3, $4, $5::bytea, $6::bytea) END $$
+  ELSE @extschema@._tin_from_raster_tolerances_domain($1::bytea, $2, $3, $4, $5::bytea, $6::bytea, $7::bytea) END $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
 SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean, geometry, geometry) IS
-'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border, breaklines and soft_breaklines as for tin_from_raster(raster, float8, int, int, boolean, geometry, geometry).';
+COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean, geometry, geometry, geometry) IS
+'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border, breaklines, soft_breaklines and boundary as for tin_from_raster(raster, float8, int, int, boolean, geometry, geometry, geometry).';
 
 CREATE FUNCTION tin_tiles(rast raster, tile_px int, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1)
 RETURNS TABLE(tx int, ty int, t tin) AS
@@ -66,14 +66,14 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_tiles_from_table(regclass, float8, int, name, int) IS
 'Builds one band (of the raster column rast_column) of a table of raster tiles (raster2pgsql -t, ST_Tile: one pixel grid, tiles cut at multiples of one size) as a grid of tins in one call: tile (tx, ty) (numbered from 0 from the top-left tile, west to east and north to south) is built from its own pixels plus the first column of the tile to its right, the first row of the one below and the first pixel of the one below-right, as tin_tiles(raster, ...) builds the tiles of one raster, so seams agree at every level. Tiles are read a row at a time and built on tinmerge.threads threads, so memory stays bounded by two rows of tiles whatever the table''s size. Tiles whose pixel size, skew or SRID differ, or that are not a whole number of pixels apart, raise an ERROR (22023). Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
 
-CREATE FUNCTION tin_from_points(pts geometry, tolerance float8, levels int DEFAULT 5, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL)
-RETURNS tin AS $$ SELECT CASE WHEN $4 IS NULL AND $5 IS NULL
+CREATE FUNCTION tin_from_points(pts geometry, tolerance float8, levels int DEFAULT 5, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL, boundary geometry DEFAULT NULL)
+RETURNS tin AS $$ SELECT CASE WHEN $4 IS NULL AND $5 IS NULL AND $6 IS NULL
   THEN @extschema@._tin_from_points($1::bytea, $2, $3)
-  ELSE @extschema@._tin_from_points_breaklines($1::bytea, $2, $3, $4::bytea, $5::bytea) END $$
+  ELSE @extschema@._tin_from_points_domain($1::bytea, $2, $3, $4::bytea, $5::bytea, $6::bytea) END $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
 SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_from_points(geometry, float8, int, geometry, geometry) IS
-'Builds a tin from every vertex of a geometry with Z (typically MULTIPOINT Z); points with equal x,y are merged (mean z). Error is measured at the samples. breaklines (LINESTRING Z / MULTILINESTRING Z, the points'' SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). NULL for NULL points, tolerance or levels.';
+COMMENT ON FUNCTION tin_from_points(geometry, float8, int, geometry, geometry, geometry) IS
+'Builds a tin from every vertex of a geometry with Z (typically MULTIPOINT Z); points with equal x,y are merged (mean z). Error is measured at the samples. breaklines (LINESTRING Z / MULTILINESTRING Z, the points'' SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). boundary (POLYGON / MULTIPOLYGON, holes allowed, valid, the same SRID) limits the terrain to its area within the samples'' convex hull, concave parts and holes included: its rings there are edges at every level with heights from the samples, the samples outside it are left out, and every merge answers NULL or no rows outside it (the triangles there are void, not returned by tin_triangles; docs/breaklines.md). Breaklines outside the boundary shape nothing that is returned. NULL for NULL points, tolerance or levels.';
 
 CREATE FUNCTION tin_envelope(t tin)
 RETURNS geometry AS $$ SELECT @extschema@._tin_envelope($1)::geometry $$

@@ -62,7 +62,7 @@ fn tin_slope_aspect(
     };
     let (tin, l) = tin_level(&t, level);
     super::area::refuse_geographic(None, tin.srid, &tin.bbox, "tin_slope_aspect");
-    let n = tin.levels[l].tris.len();
+    let n = tin.levels[l].num_domain();
     let mut rows = Vec::with_capacity(n);
     let mut check = interrupt;
     let mut tick = tinmerge_core::interrupt::Ticker::new(&mut check);

@@ -13,9 +13,11 @@ use pgrx::{pg_sys, Internal, PgMemoryContexts};
 
 use super::args::GeomArg;
 use tinmerge_core::io::{ewkb, gserialized, raster};
+use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    build, build_breaklines, build_lattice, check_tolerances, default_tolerances, BuildOptions,
+    boundary_holds_all, build, build_breaklines, build_domain, build_lattice, check_tolerances,
+    default_tolerances, BuildOptions,
 };
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tiles::build_tiles;
@@ -110,7 +112,7 @@ COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Inter
 /// `_tin_from_raster` without them). Not STRICT: the breaklines may be
 /// NULL; any other NULL argument gives NULL.
 #[allow(clippy::too_many_arguments)]
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(sql = false)]
 fn _tin_from_raster_breaklines(
     rast: Option<&[u8]>,
     tolerance: Option<f64>,
@@ -123,27 +125,58 @@ fn _tin_from_raster_breaklines(
     let (rast, tolerance, levels, band, keep_border) =
         (rast?, tolerance?, levels?, band?, keep_border?);
     let tols = default_tolerances(tolerance, levels).or_raise();
-    Some(build_raster_breaklines(
+    Some(build_raster_constrained(
         rast,
         &tols,
         band,
         keep_border,
         breaklines,
         soft_breaklines,
+        None,
+    ))
+}
+
+/// The build of `tin_from_raster` with breaklines or a boundary (its
+/// wrapper calls `_tin_from_raster` without them). Not STRICT: the
+/// breaklines and the boundary may be NULL; any other NULL argument gives
+/// NULL.
+#[allow(clippy::too_many_arguments)]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_from_raster_domain(
+    rast: Option<&[u8]>,
+    tolerance: Option<f64>,
+    levels: Option<i32>,
+    band: Option<i32>,
+    keep_border: Option<bool>,
+    breaklines: Option<&[u8]>,
+    soft_breaklines: Option<&[u8]>,
+    boundary: Option<&[u8]>,
+) -> Option<TinOut> {
+    let (rast, tolerance, levels, band, keep_border) =
+        (rast?, tolerance?, levels?, band?, keep_border?);
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    Some(build_raster_constrained(
+        rast,
+        &tols,
+        band,
+        keep_border,
+        breaklines,
+        soft_breaklines,
+        boundary,
     ))
 }
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION _tin_from_raster_breaklines(bytea, float8, int, int, boolean, bytea, bytea) IS 'Internal: use tin_from_raster(raster, ..., breaklines, soft_breaklines).';
+COMMENT ON FUNCTION _tin_from_raster_domain(bytea, float8, int, int, boolean, bytea, bytea, bytea) IS 'Internal: use tin_from_raster(raster, ..., breaklines, soft_breaklines, boundary).';
 "#,
-    name = "tin_from_raster_breaklines_sql",
-    requires = [_tin_from_raster_breaklines]
+    name = "tin_from_raster_domain_sql",
+    requires = [_tin_from_raster_domain]
 );
 
 /// `tin_from_raster(raster, float8[], ...)` with breaklines; NULLs as for
 /// [`_tin_from_raster_breaklines`].
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(sql = false)]
 fn _tin_from_raster_tolerances_breaklines(
     rast: Option<&[u8]>,
     tolerances: Option<Vec<Option<f64>>>,
@@ -154,22 +187,49 @@ fn _tin_from_raster_tolerances_breaklines(
 ) -> Option<TinOut> {
     let (rast, tolerances, band, keep_border) = (rast?, tolerances?, band?, keep_border?);
     let tols = explicit_tolerances(tolerances);
-    Some(build_raster_breaklines(
+    Some(build_raster_constrained(
         rast,
         &tols,
         band,
         keep_border,
         breaklines,
         soft_breaklines,
+        None,
+    ))
+}
+
+/// `tin_from_raster(raster, float8[], ...)` with breaklines or a
+/// boundary; NULLs as for [`_tin_from_raster_domain`].
+#[allow(clippy::too_many_arguments)]
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_from_raster_tolerances_domain(
+    rast: Option<&[u8]>,
+    tolerances: Option<Vec<Option<f64>>>,
+    band: Option<i32>,
+    keep_border: Option<bool>,
+    breaklines: Option<&[u8]>,
+    soft_breaklines: Option<&[u8]>,
+    boundary: Option<&[u8]>,
+) -> Option<TinOut> {
+    let (rast, tolerances, band, keep_border) = (rast?, tolerances?, band?, keep_border?);
+    let tols = explicit_tolerances(tolerances);
+    Some(build_raster_constrained(
+        rast,
+        &tols,
+        band,
+        keep_border,
+        breaklines,
+        soft_breaklines,
+        boundary,
     ))
 }
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION _tin_from_raster_tolerances_breaklines(bytea, float8[], int, boolean, bytea, bytea) IS 'Internal: use tin_from_raster(raster, float8[], ..., breaklines, soft_breaklines).';
+COMMENT ON FUNCTION _tin_from_raster_tolerances_domain(bytea, float8[], int, boolean, bytea, bytea, bytea) IS 'Internal: use tin_from_raster(raster, float8[], ..., breaklines, soft_breaklines, boundary).';
 "#,
-    name = "tin_from_raster_tolerances_breaklines_sql",
-    requires = [_tin_from_raster_tolerances_breaklines]
+    name = "tin_from_raster_tolerances_domain_sql",
+    requires = [_tin_from_raster_tolerances_domain]
 );
 
 /// Per-level tolerances given in SQL, checked.
@@ -250,34 +310,85 @@ fn breaklines_arg(
     out
 }
 
-/// A raster build with breaklines: the valid pixel centres in world
-/// coordinates, built as scattered samples with the lines.
-fn build_raster_breaklines(
+/// The `boundary` argument of `func` (POLYGON or MULTIPOLYGON, holes
+/// allowed, in the samples' SRID), checked.
+fn boundary_arg(func: &str, bytes: Option<&[u8]>, srid: i32) -> Option<Area> {
+    use tinmerge_core::io::ewkb::Geom;
+    let g = ewkb::read(bytes?).or_raise();
+    if g.srid != srid {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func}: boundary has SRID {} but the samples have SRID {srid} (ST_Transform it first)",
+                g.srid
+            ),
+        );
+    }
+    let polys = match g.geom {
+        Geom::Polygon(p) => vec![p],
+        Geom::MultiPolygon(ps) => ps,
+        other => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func}: boundary must be POLYGON or MULTIPOLYGON, got {}",
+                other.type_name()
+            ),
+        ),
+    };
+    let polys: Vec<Vec<Vec<[f64; 2]>>> = polys
+        .into_iter()
+        .map(|p| {
+            p.into_iter()
+                .map(|r| r.into_iter().map(|c| [c[0], c[1]]).collect())
+                .collect()
+        })
+        .collect();
+    match tinmerge_core::tin::build::boundary(polys) {
+        Ok(a) => Some(a),
+        Err(e) => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("{func}: {e}"),
+        ),
+    }
+}
+
+/// A raster build with breaklines or a boundary: the valid pixel centres
+/// in world coordinates, built as scattered samples with them.
+#[allow(clippy::too_many_arguments)]
+fn build_raster_constrained(
     rast: &[u8],
     tols: &[f64],
     band: i32,
     keep_border: bool,
     hard: Option<&[u8]>,
     soft: Option<&[u8]>,
+    boundary: Option<&[u8]>,
 ) -> TinOut {
-    if hard.is_none() && soft.is_none() {
+    if hard.is_none() && soft.is_none() && boundary.is_none() {
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
         raise(
             PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-            "tin_from_raster: keep_border and breaklines cannot be combined (tiles with breaklines are not built yet)",
+            "tin_from_raster: keep_border cannot be combined with breaklines or a boundary (tiles with them are not built yet)",
         );
     }
     let (mut pts, lattice, srid) = raster_samples(rast, band);
     let lines = breaklines_arg("tin_from_raster", hard, soft, srid);
+    let area = boundary_arg("tin_from_raster", boundary, srid);
     for p in &mut pts {
         let (x, y) = lattice.centre(p[0], p[1]);
         (p[0], p[1]) = (x, y);
     }
+    // a boundary holding the whole raster: the build without it, on the
+    // pixel lattice
+    if lines.is_empty() && area.as_ref().is_some_and(|a| boundary_holds_all(a, &pts)) {
+        drop(pts);
+        return build_raster(rast, tols, band, keep_border);
+    }
     reserve_build("tin_from_raster", pts.len(), tols.len(), false);
     TinOut::from_tin_on(
-        &build_breaklines(pts, &lines, tols, srid, &mut interrupt).or_raise(),
+        &build_domain(pts, &lines, area.as_ref(), tols, srid, &mut interrupt).or_raise(),
         &lattice,
     )
 }
@@ -385,7 +496,7 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
 
 /// `tin_from_points` with breaklines; NULLs as for
 /// [`_tin_from_raster_breaklines`].
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(sql = false)]
 fn _tin_from_points_breaklines(
     pts: Option<&[u8]>,
     tolerance: Option<f64>,
@@ -403,12 +514,34 @@ fn _tin_from_points_breaklines(
     ))
 }
 
+/// `tin_from_points` with breaklines or a boundary; NULLs as for
+/// [`_tin_from_raster_domain`].
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_from_points_domain(
+    pts: Option<&[u8]>,
+    tolerance: Option<f64>,
+    levels: Option<i32>,
+    breaklines: Option<&[u8]>,
+    soft_breaklines: Option<&[u8]>,
+    boundary: Option<&[u8]>,
+) -> Option<TinOut> {
+    let (pts, tolerance, levels) = (pts?, tolerance?, levels?);
+    let tols = default_tolerances(tolerance, levels).or_raise();
+    let (samples, srid) = point_samples(pts);
+    let lines = breaklines_arg("tin_from_points", breaklines, soft_breaklines, srid);
+    let area = boundary_arg("tin_from_points", boundary, srid);
+    reserve_build("tin_from_points", samples.len(), tols.len(), false);
+    Some(TinOut::from_tin(
+        &build_domain(samples, &lines, area.as_ref(), &tols, srid, &mut interrupt).or_raise(),
+    ))
+}
+
 extension_sql!(
     r#"
-COMMENT ON FUNCTION _tin_from_points_breaklines(bytea, float8, int, bytea, bytea) IS 'Internal: use tin_from_points(geometry, ..., breaklines, soft_breaklines).';
+COMMENT ON FUNCTION _tin_from_points_domain(bytea, float8, int, bytea, bytea, bytea) IS 'Internal: use tin_from_points(geometry, ..., breaklines, soft_breaklines, boundary).';
 "#,
-    name = "tin_from_points_breaklines_sql",
-    requires = [_tin_from_points_breaklines]
+    name = "tin_from_points_domain_sql",
+    requires = [_tin_from_points_domain]
 );
 
 /// Every vertex of a geometry with Z as a sample, and its SRID.

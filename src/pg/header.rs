@@ -46,12 +46,15 @@ fn level_info(t: &TinArg, level: Option<i32>) -> tinmerge_core::tin::layout::Lev
 
 #[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_num_triangles(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<i32> {
-    t.map(|t| level_info(&t, level).num_triangles as i32)
+    t.map(|t| {
+        let li = level_info(&t, level);
+        (li.num_triangles - li.num_void) as i32
+    })
 }
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_num_triangles(tin, int) IS 'Triangles at a level (NULL = finest; header only).';
+COMMENT ON FUNCTION tin_num_triangles(tin, int) IS 'Triangles at a level (NULL = finest; header only), in the domain: the void triangles outside a boundary are not counted.';
 "#,
     name = "tin_num_triangles_sql",
     requires = [tin_num_triangles]

@@ -30,8 +30,9 @@ fn small_level(t: &TinArg, level: Option<i32>) -> Option<LevelRows> {
     let h = s.header();
     let l = resolve_level(level, h.levels.len()).or_raise();
     let total: u64 = h.levels.iter().map(|x| x.num_triangles as u64).sum();
-    let n = h.levels[l].num_triangles;
-    if n as u64 * 8 > total {
+    // the level's triangles in the domain (the void ones are the last)
+    let n = h.levels[l].num_triangles - h.levels[l].num_void;
+    if h.levels[l].num_triangles as u64 * 8 > total {
         return None;
     }
     let mut fetch = t.fetch();
@@ -108,7 +109,7 @@ fn _tin_triangles(
     }
     let tin = t.tin();
     let l = tin.level_index(level).or_raise();
-    let n = tin.levels[l].tris.len();
+    let n = tin.levels[l].num_domain();
     TableIterator::new((0..n).map(move |i| {
         let p = tin.levels[l].parent[i];
         let c = tin.corners(l, i as u32);
@@ -137,7 +138,7 @@ fn _tin_as_geometry(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> 
     }
     let tin = t.tin();
     let l = tin.level_index(level).or_raise();
-    let n = tin.levels[l].tris.len() as u32;
+    let n = tin.levels[l].num_domain() as u32;
     Some(ewkb::Writer::tin(
         tin.srid,
         (0..n).map(|i| tin.corners(l, i)),

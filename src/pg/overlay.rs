@@ -66,7 +66,8 @@ fn _tin_overlay(
         return TableIterator::new(Vec::<OverlayRow>::new());
     };
     let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay");
-    TableIterator::new((0..o.tris.len()).map(move |t| {
+    let rows: Vec<usize> = o.domain().collect();
+    TableIterator::new(rows.into_iter().map(move |t| {
         (
             t as i32,
             o.tri_a[t] as i32,

@@ -20,7 +20,7 @@
 //! a hard one (a T-junction within rounding) and two overlapping lines.
 mod common;
 
-use common::{read_dem, Dem};
+use common::{along, edge_on, read_dem, Dem};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use tinmerge_core::merge::point::height;
@@ -100,25 +100,6 @@ fn lines_for(d: &Dem, seed: u64) -> Vec<Breakline> {
         hard: true,
     });
     out
-}
-
-/// Parameter of p along a-b and its distance from the line, in units of
-/// the segment's length.
-fn along(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> (f64, f64) {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let l2 = dx * dx + dy * dy;
-    let t = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2;
-    let d = ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() / l2;
-    (t, d)
-}
-
-/// Whether edge p-q lies on segment a-b (both ends on its line within
-/// `eps` of its length, inside its extent).
-fn edge_on(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3], eps: f64) -> Option<(f64, f64)> {
-    let (tp, dp) = along(a, b, p);
-    let (tq, dq) = along(a, b, q);
-    (dp <= eps && dq <= eps && tp.min(tq) >= -eps && tp.max(tq) <= 1.0 + eps)
-        .then(|| (tp.min(tq), tp.max(tq)))
 }
 
 fn segments(lines: &[Breakline]) -> Vec<([f64; 3], [f64; 3], bool)> {

@@ -517,6 +517,7 @@ fn oracle_sees_a_hidden_t_junction() {
         tolerance: 0.0,
         max_error: 0.0,
         num_vertices: 5,
+        num_void: 0,
         tris,
         nbrs,
         parent: vec![NONE; 4],

@@ -123,7 +123,8 @@ pub fn contours(
     // triangles by the height range they span, so each height visits only
     // the triangles it cuts: sorted by lowest corner
     let mut order: Vec<(f64, f64, u32)> = Vec::with_capacity(lv.tris.len());
-    for (t, tri) in lv.tris.iter().enumerate() {
+    // the domain's triangles (the void ones are the last)
+    for (t, tri) in lv.tris[..lv.num_domain()].iter().enumerate() {
         let mut z = [0.0; 3];
         for j in 0..3 {
             z[j] = verts

@@ -200,7 +200,9 @@ pub fn footprint(
     let mut seen: HashSet<u32> = HashSet::new();
     let mut queue: Vec<u32> = Vec::new();
     let (cx, cy) = rect.centre();
-    match locate::locate(tin, level, cx, cy) {
+    // the search runs through void triangles too (the rectangle may meet
+    // the domain on both sides of a hole); they are left out at the end
+    match infallible(locate::locate_hull_in(tin, level, cx, cy)) {
         Some(t) => queue.push(t),
         None => {
             // Centre outside: the rectangle, if it meets the domain, crosses
@@ -236,6 +238,7 @@ pub fn footprint(
             }
         }
     }
+    out.retain(|&t| !lv.is_void(t));
     out.sort_unstable();
     Ok(out)
 }

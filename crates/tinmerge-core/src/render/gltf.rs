@@ -275,7 +275,9 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
         .collect();
     // area-weighted vertex normals
     let mut nrm = vec![[0.0f64; 3]; nv];
-    for t in &lv.tris {
+    // the domain's triangles (the void ones are the last)
+    let tris = &lv.tris[..lv.num_domain()];
+    for t in tris {
         let p = t.map(|i| pos[i as usize].map(f64::from));
         let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
         let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
@@ -335,15 +337,14 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
         let a = chunk.floats(cols.as_flattened(), nv, "VEC3", None);
         attributes.insert("COLOR_0".into(), json!(a));
     }
-    let idx: Vec<u8> = lv
-        .tris
+    let idx: Vec<u8> = tris
         .iter()
         .flatten()
         .flat_map(|i| i.to_le_bytes())
         .collect();
     let view = chunk.view(&idx, Some(ELEMENT_ARRAY_BUFFER));
     let ind = chunk.accessor(
-        json!({"bufferView": view, "componentType": 5125, "count": lv.tris.len() * 3, "type": "SCALAR"}),
+        json!({"bufferView": view, "componentType": 5125, "count": tris.len() * 3, "type": "SCALAR"}),
     );
     let mut doc = json!({
         "asset": {"version": "2.0", "generator": "tinmerge"},

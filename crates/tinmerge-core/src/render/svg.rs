@@ -135,7 +135,7 @@ enum Legend {
 
 fn colours(tin: &Tin, level: usize, opts: &SvgOptions) -> Result<(Vec<Rgb>, Legend), TinError> {
     let lv = &tin.levels[level];
-    let n = lv.num_triangles();
+    let n = lv.num_domain();
     let caption = |d: &str| opts.legend.unwrap_or(d).to_string();
     match opts.fill {
         Fill::Height => {
@@ -376,7 +376,7 @@ pub fn tin_svg(
         max_y: b.max_y,
         scale,
     };
-    let n = lv.num_triangles();
+    let n = lv.num_domain();
     let edges = (width - 2.0 * MARGIN) * map_h / n.max(1) as f64 > 40.0;
     let mut out = String::with_capacity(200 + n * 96);
     let _ = write!(

@@ -211,7 +211,7 @@ pub fn needed(
     };
     let mut used = vec![false; lv.num_vertices as usize];
     match footprint {
-        None => out.triangles = (0..lv.tris.len() as u32).collect(),
+        None => out.triangles = (0..lv.num_domain() as u32).collect(),
         Some(f) if f[0] < f[2] && f[1] < f[3] => {
             // the triangles meeting the rectangle, by the area merge's flat
             // sweep at this level alone (no scan of the level)

@@ -49,6 +49,7 @@ use super::lattice::Lattice;
 use super::samples::{c2, SampleGrid, Samples};
 use super::{grid, interpolate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
+use crate::merge::area::polygon::{Area, Where};
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
 use spade::{
@@ -643,7 +644,7 @@ pub fn build_with(
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_inner(samples, &[], tolerances, srid, opts, false, interrupt)
+    build_inner(samples, &[], None, tolerances, srid, opts, false, interrupt)
 }
 
 /// [`build`] with breaklines ([`super::breaklines`]): every line a union of
@@ -683,9 +684,125 @@ pub fn build_breaklines(
     srid: i32,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
+    build_domain(samples, lines, None, tolerances, srid, interrupt)
+}
+
+/// The `boundary` of a build ([`build_domain`]) from polygons given as
+/// rings of (x, y) (the first ring of each polygon its shell, the others
+/// holes): finite coordinates, and valid as OGC polygons are (rings
+/// simple, holes inside their shell, polygons not overlapping), checked
+/// with `geo`'s validation; an error says what is wrong.
+pub fn boundary(polygons: Vec<Vec<Vec<[f64; 2]>>>) -> Result<Area, TinError> {
+    use geo::algorithm::Validation;
+    use geo::{Coord, LineString, MultiPolygon, Polygon};
+    if let Some(p) = polygons
+        .iter()
+        .flatten()
+        .flatten()
+        .find(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        return Err(TinError::InvalidParameter(format!(
+            "boundary coordinates must be finite, got ({} {})",
+            p[0], p[1]
+        )));
+    }
+    if polygons.iter().all(|p| p.is_empty()) {
+        return Err(TinError::InvalidParameter("boundary is empty".into()));
+    }
+    let ring =
+        |r: &Vec<[f64; 2]>| LineString::new(r.iter().map(|p| Coord { x: p[0], y: p[1] }).collect());
+    let mp = MultiPolygon::new(
+        polygons
+            .iter()
+            .filter(|p| !p.is_empty())
+            .map(|p| Polygon::new(ring(&p[0]), p[1..].iter().map(ring).collect()))
+            .collect(),
+    );
+    if let Err(e) = mp.check_validation() {
+        return Err(TinError::InvalidParameter(format!(
+            "boundary is not a valid polygon: {e} (ST_MakeValid repairs it)"
+        )));
+    }
+    Ok(Area::new(polygons))
+}
+
+/// Whether `area` holds the samples' whole convex hull (no ring enters
+/// it, no sample is outside): a build with it as boundary is the build
+/// without ([`build_domain`] would give the same triangles; a raster
+/// build then stays on its lattice).
+pub fn boundary_holds_all(area: &Area, samples: &[[f64; 3]]) -> bool {
+    if samples
+        .iter()
+        .any(|p| area.locate([p[0], p[1]]) == Where::Outside)
+    {
+        return false;
+    }
+    let hull: Vec<[f64; 3]> = convex_hull(samples)
+        .into_iter()
+        .map(|k| samples[k])
+        .collect();
+    if hull.len() < 3 {
+        return true;
+    }
+    let rings: Vec<Breakline> = area
+        .rings
+        .iter()
+        .map(|r| Breakline {
+            pts: r.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+            hard: false,
+        })
+        .collect();
+    clip_to_hull(&rings, &hull).is_empty()
+}
+
+/// [`build_breaklines`] with a `boundary`: the domain is the boundary's
+/// area clipped to the samples' convex hull, holes and concave parts
+/// included. Its rings within the hull are edges at every level, like soft
+/// breaklines (heights from the samples on both sides); the samples
+/// outside it are left out; the triangles outside it (between the rings
+/// and the hull, in the holes) are void ([`super::Level::num_void`]), so
+/// every level still triangulates the hull of what is left and no merge
+/// answers there. Breaklines outside the domain shape only void triangles.
+///
+/// ```
+/// use tinmerge_core::merge::area::polygon::Area;
+/// use tinmerge_core::tin::build::build_domain;
+/// let mut pts = Vec::new();
+/// for i in 0..=20 {
+///     for j in 0..=20 {
+///         pts.push([i as f64, j as f64, (i * j) as f64 * 0.1]);
+///     }
+/// }
+/// // an L-shaped boundary with a square hole, reaching past the samples
+/// let shell = vec![[-5.0, -5.0], [12.0, -5.0], [12.0, 10.0], [25.0, 10.0],
+///                  [25.0, 25.0], [-5.0, 25.0], [-5.0, -5.0]];
+/// let hole = vec![[2.0, 12.0], [6.0, 12.0], [6.0, 16.0], [2.0, 16.0], [2.0, 12.0]];
+/// let b = Area::new(vec![vec![shell, hole]]);
+/// let tin = build_domain(pts, &[], Some(&b), &[5.0, 0.5], 0, &mut || Ok(())).unwrap();
+/// tin.sanity_check().unwrap();
+/// for l in &tin.levels {
+///     // the domain: the square 0..20 less the corner 12..20 x 0..10 and the hole
+///     let area: f64 = (0..l.num_domain())
+///         .map(|t| {
+///             let [a, b, c] = l.tris[t].map(|v| tin.verts[v as usize]);
+///             ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) / 2.0
+///         })
+///         .sum();
+///     assert!((area - (400.0 - 80.0 - 16.0)).abs() < 1e-9);
+/// }
+/// ```
+pub fn build_domain(
+    samples: Vec<[f64; 3]>,
+    lines: &[Breakline],
+    boundary: Option<&Area>,
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
     build_inner(
         samples,
         lines,
+        boundary,
         tolerances,
         srid,
         BuildOptions::default(),
@@ -742,6 +859,7 @@ type WithBreaklines = (Vec<[f64; 3]>, Network, Vec<Vec<[f64; 3]>>);
 fn with_breaklines(
     pts: Vec<[f64; 3]>,
     lines: &[Breakline],
+    boundary: Option<&Area>,
     tol: f64,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<WithBreaklines, TinError> {
@@ -753,7 +871,15 @@ fn with_breaklines(
     }
     // the parts of the lines outside the samples' extent are cut off
     super::breaklines::validate(lines)?;
-    let lines = clip_to_hull(lines, &hull);
+    let mut lines = lines.to_vec();
+    if let Some(area) = boundary {
+        // the boundary's rings: soft lines (heights from the samples)
+        lines.extend(area.rings.iter().map(|r| Breakline {
+            pts: r.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+            hard: false,
+        }));
+    }
+    let lines = clip_to_hull(&lines, &hull);
     let grid = SampleGrid::new(pts, 1.0);
     let net = network(&lines, tol, &|x, y| sample_height(&grid, x, y), interrupt)?;
     drop(lines);
@@ -806,6 +932,17 @@ fn with_breaklines(
             )));
         }
         profiles.push(prof);
+    }
+    // the samples outside the boundary: no vertex of the domain
+    if let Some(area) = boundary {
+        for (k, p) in grid.pts.iter().enumerate() {
+            if k % 65536 == 0 {
+                interrupt()?;
+            }
+            if area.locate([p[0], p[1]]) == Where::Outside {
+                dropped[k] = true;
+            }
+        }
     }
     let mut kept: Vec<[f64; 3]> = grid
         .pts
@@ -899,6 +1036,9 @@ struct RawLevel {
     /// each triangle's parent, by index in the previous level's `tris`;
     /// (empty at level 0)
     parents: Vec<u32>,
+    /// level 0: which triangles are void (outside the domain; empty: none);
+    /// the finer levels inherit it from their parents
+    void: Vec<bool>,
 }
 
 /// The build. Lattice samples (`on_lattice`) that fill most of their
@@ -906,9 +1046,11 @@ struct RawLevel {
 /// scattered samples, and lattice samples too sparse for that, are
 /// bucketed ([`SampleGrid`]) and built the same way on them
 /// ([`build_levels`]).
+#[allow(clippy::too_many_arguments)]
 fn build_inner(
     samples: Vec<[f64; 3]>,
     lines: &[Breakline],
+    boundary: Option<&Area>,
     tolerances: &[f64],
     srid: i32,
     opts: BuildOptions,
@@ -916,7 +1058,8 @@ fn build_inner(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
-    if !lines.is_empty() && (on_lattice || opts.keep_border) {
+    let constrained = !lines.is_empty() || boundary.is_some();
+    if constrained && (on_lattice || opts.keep_border) {
         return Err(TinError::InvalidParameter(
             "internal: breaklines are built on scattered samples without keep_border".into(),
         ));
@@ -936,9 +1079,12 @@ fn build_inner(
     let mut pts = prepare_samples(samples)?;
     let mut net = Network::default();
     let mut profiles = Vec::new();
-    if !lines.is_empty() && pts.len() >= 3 {
+    if constrained && pts.len() >= 3 {
         let tol = *tolerances.last().unwrap_or(&0.0);
-        (pts, net, profiles) = with_breaklines(pts, lines, tol, interrupt)?;
+        (pts, net, profiles) = with_breaklines(pts, lines, boundary, tol, interrupt)?;
+    }
+    if boundary.is_some() && net.segs.is_empty() && pts.len() < 3 {
+        return Err(no_domain());
     }
     if pts.len() < 3 {
         return Err(TinError::Degenerate(format!(
@@ -997,8 +1143,44 @@ fn build_inner(
         build_levels(b, &grid, &sides, tolerances, opts, interrupt)?
     };
     drop(grid);
+    let mut raw_levels = raw_levels;
+    if let Some(area) = boundary {
+        mark_void(&verts, &mut raw_levels[0], area, interrupt)?;
+    }
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
     assemble(verts, raw_levels, srid, !on_lattice, interrupt)
+}
+
+/// The error of a boundary that leaves nothing of the samples' extent.
+fn no_domain() -> TinError {
+    TinError::InvalidParameter(
+        "the boundary does not overlap the samples' extent: the tin would have no domain".into(),
+    )
+}
+
+/// Level 0's void triangles: those whose centroid is outside `area`. The
+/// boundary's rings within the hull are edges of level 0, so no triangle
+/// has parts on both sides; the finer levels inherit ([`assemble`]).
+fn mark_void(
+    verts: &[[f64; 3]],
+    level0: &mut RawLevel,
+    area: &Area,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(), TinError> {
+    let mut void = Vec::with_capacity(level0.tris.len());
+    for (k, t) in level0.tris.iter().enumerate() {
+        if k % 65536 == 0 {
+            interrupt()?;
+        }
+        let [a, b, c] = t.map(|v| verts[v as usize]);
+        let g = [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0];
+        void.push(area.locate(g) == Where::Outside);
+    }
+    if void.iter().all(|&v| v) {
+        return Err(no_domain());
+    }
+    level0.void = void;
+    Ok(())
 }
 
 /// Every level: level 0 refined in `b` (the whole domain, its hull
@@ -1101,6 +1283,7 @@ fn refine_level0<S: Samples, T: Tri>(
         num_vertices: b.dt.num_vertices() as u32,
         tris: b.snapshot(),
         parents: Vec::new(),
+        void: Vec::new(),
     })
 }
 
@@ -1422,6 +1605,7 @@ fn refine_by_parents<P: ParentSamples>(
             num_vertices: verts.len() as u32,
             tris,
             parents,
+            void: Vec::new(),
         });
     }
     Ok(())
@@ -1719,6 +1903,7 @@ pub fn build_lattice(
     let tin = lattice.to_world(build_inner(
         samples,
         &[],
+        None,
         tolerances,
         srid,
         opts,
@@ -1805,7 +1990,13 @@ fn assemble(
             num_vertices,
             tris,
             parents,
+            void,
         } = raw_level;
+        // a triangle is void when its parent is; at level 0 when marked
+        let prev_domain = match l {
+            0 => 0,
+            _ => tin.levels[l - 1].num_domain() as u32,
+        };
         if !parents.is_empty() && parents.len() != tris.len() {
             return Err(TinError::Degenerate(format!(
                 "internal: {} parents for {} triangles at level {l}",
@@ -1843,7 +2034,14 @@ fn assemble(
                     l - 1
                 )));
             };
-            Ok((parent, morton(&tin.bbox, x, y), *t, i as u32))
+            // void triangles last: at level 0 by their mark, below by
+            // their parent (the void ones are the previous level's last)
+            let first = if l == 0 {
+                u32::from(void.get(i).copied().unwrap_or(false))
+            } else {
+                parent
+            };
+            Ok((first, morton(&tin.bbox, x, y), *t, i as u32))
         };
         let chunks: Vec<std::ops::Range<usize>> = (0..tris.len())
             .step_by(4096)
@@ -1868,7 +2066,16 @@ fn assemble(
         keyed.sort_unstable();
         interrupt()?;
         let tris: Vec<[u32; 3]> = keyed.iter().map(|k| k.2).collect();
-        let parent: Vec<u32> = keyed.iter().map(|k| k.0).collect();
+        let num_void = if l == 0 {
+            keyed.iter().filter(|k| k.0 == 1).count()
+        } else {
+            keyed.iter().filter(|k| k.0 >= prev_domain).count()
+        } as u32;
+        let parent: Vec<u32> = if l == 0 {
+            vec![NONE; keyed.len()]
+        } else {
+            keyed.iter().map(|k| k.0).collect()
+        };
         position = vec![0; keyed.len()];
         for (k, e) in keyed.iter().enumerate() {
             position[e.3 as usize] = k as u32;
@@ -1884,6 +2091,7 @@ fn assemble(
             tolerance,
             max_error,
             num_vertices,
+            num_void,
             tris,
             nbrs,
             parent,
@@ -1912,6 +2120,26 @@ pub fn from_triangles(
     srid: i32,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
+    from_triangles_void(verts, tris, Vec::new(), srid, interrupt)
+}
+
+/// [`from_triangles`] with the triangles that are void (`void[t]`; empty:
+/// none): the overlay of tins with void triangles.
+pub fn from_triangles_void(
+    verts: Vec<[f64; 3]>,
+    tris: Vec<[u32; 3]>,
+    void: Vec<bool>,
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    if !void.is_empty() && void.len() != tris.len() {
+        return Err(TinError::InvalidParameter(
+            "internal: void flags and triangles differ in number".into(),
+        ));
+    }
+    if !void.is_empty() && void.iter().all(|&v| v) {
+        return Err(TinError::Degenerate("no triangles to make a tin of".into()));
+    }
     if tris.is_empty() {
         return Err(TinError::Degenerate("no triangles to make a tin of".into()));
     }
@@ -1927,6 +2155,7 @@ pub fn from_triangles(
         num_vertices: n as u32,
         tris,
         parents: Vec::new(),
+        void,
     };
     assemble(verts, vec![level], srid, true, interrupt)
 }

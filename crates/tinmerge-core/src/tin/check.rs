@@ -95,6 +95,12 @@ pub fn validate_structure_checked(
         if nt == 0 || lv.nbrs.len() != nt || lv.parent.len() != nt {
             return Err(bad(format!("level {l}: inconsistent triangle arrays")));
         }
+        if lv.num_void as usize > nt {
+            return Err(bad(format!(
+                "level {l}: {} void triangles of {nt}",
+                lv.num_void
+            )));
+        }
         // triangles, then parents, in runs checked on `tinmerge.threads`
         // (the first error in triangle order is the one reported)
         let runs: Vec<std::ops::Range<usize>> = (0..nt)
@@ -161,6 +167,11 @@ pub fn validate_structure_checked(
                 if p as usize >= pl.tris.len() || p < last {
                     return Err(bad(format!(
                         "level {l}: triangle {t} has parent {p}, out of range or not sorted"
+                    )));
+                }
+                if pl.is_void(p) != lv.is_void(t as u32) {
+                    return Err(bad(format!(
+                        "level {l}: triangle {t} is void and its parent {p} is not, or the other way round"
                     )));
                 }
                 let pt = pl.tris[p as usize].map(|v| tin.verts[v as usize]);

@@ -4,7 +4,8 @@
 //! ```text
 //! offset size  field
 //!      0    4  magic "TINM"
-//!      4    2  format version (4 written; 1 and 3 still read)
+//!      4    2  format version (4 written, 5 when a level has void
+//!              triangles; 1 and 3 still read)
 //!      6    2  flags (0)
 //!      8    4  header length (version 1: 856, version 3: 864, version 4: 920)
 //!     12    4  SRID (i32)
@@ -15,7 +16,9 @@
 //!     40   48  bbox: min x, min y, max x, max y, min z, max z (f64)
 //!     88  768  16 level records of 48 bytes (unused ones zero):
 //!              tolerance f64, max error f64, triangles u32, vertices u32,
-//!              grid nx u32, grid ny u32, grid cell size f64, reserved 8
+//!              grid nx u32, grid ny u32, grid cell size f64,
+//!              (version 5) void triangles u32 (the last ones of the
+//!              level: outside the domain), reserved 4
 //!    856    8  (version 3) header hash: xxh3-64 of bytes 0..856 with the
 //!              content hash zeroed
 //!    856   48  (version 4) the raster lattice of the vertices: ip x, ip y,
@@ -23,6 +26,8 @@
 //!    904    4  (version 4) vertex coding (0 raw, 1 lattice + f32 z,
 //!              2 lattice + f64 z; [`super::compact::VertexCoding`])
 //!    908    4  (version 4) reserved (0)
+//! Version 5 is version 4 with void triangles (see [`super::Level::num_void`]):
+//! an older reader must refuse it, not show the void as terrain.
 //!    912    8  (version 4) header hash: xxh3-64 of bytes 0..912 with the
 //!              content hash zeroed
 //! ```
@@ -65,6 +70,13 @@ use xxhash_rust::xxh3::Xxh3;
 pub const MAGIC: &[u8; 4] = b"TINM";
 /// The format version [`encode`] writes.
 pub const VERSION: u16 = 4;
+/// Format 4 with void triangles (a domain that is not the convex hull):
+/// written when a level has any, so that a reader of format 4 refuses it.
+pub const VERSION_5: u16 = 5;
+/// Formats 4 and 5 (compact, in groups).
+pub fn is_compact(version: u16) -> bool {
+    version == VERSION || version == VERSION_5
+}
 /// Format 3: the body of format 1 in checksummed blocks.
 pub const VERSION_3: u16 = 3;
 /// The first format: the body unblocked, one hash for the whole value.
@@ -95,6 +107,8 @@ pub struct LevelInfo {
     pub grid_nx: u32,
     pub grid_ny: u32,
     pub grid_cell: f64,
+    /// Version 5: the level's last `num_void` triangles are void.
+    pub num_void: u32,
 }
 
 /// The fixed header, readable from the first [`HEADER_LEN`] bytes alone.
@@ -202,7 +216,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         Some(l) => l,
         None => {
             return Err(corrupt(format!(
-                "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3} and {VERSION})"
+                "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3}, {VERSION} and {VERSION_5})"
             )))
         }
     };
@@ -243,8 +257,8 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         max_z: r.f64()?,
     };
     let mut levels = Vec::with_capacity(nl as usize);
-    for _ in 0..nl {
-        levels.push(LevelInfo {
+    for l in 0..nl {
+        let li = LevelInfo {
             tolerance: r.f64()?,
             max_error: r.f64()?,
             num_triangles: r.u32()?,
@@ -252,11 +266,24 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
             grid_nx: r.u32()?,
             grid_ny: r.u32()?,
             grid_cell: r.f64()?,
-        });
-        r.take(8)?;
+            num_void: r.u32()?,
+        };
+        r.take(4)?;
+        if version != VERSION_5 && li.num_void != 0 {
+            return Err(corrupt(format!(
+                "level {l}: void triangles in a format-{version} value"
+            )));
+        }
+        if li.num_void > li.num_triangles {
+            return Err(corrupt(format!(
+                "level {l}: {} void triangles of {}",
+                li.num_void, li.num_triangles
+            )));
+        }
+        levels.push(li);
     }
     r.pos = FIXED_LEN;
-    let (lattice, vertex_coding) = if version == VERSION {
+    let (lattice, vertex_coding) = if is_compact(version) {
         let l = Lattice {
             ip_x: r.f64()?,
             ip_y: r.f64()?,
@@ -294,7 +321,7 @@ pub fn header_len(version: u16) -> Option<usize> {
     match version {
         VERSION_1 => Some(FIXED_LEN),
         VERSION_3 => Some(HEADER_LEN_V3),
-        VERSION => Some(HEADER_LEN_V4),
+        VERSION | VERSION_5 => Some(HEADER_LEN_V4),
         _ => None,
     }
 }
@@ -449,7 +476,9 @@ pub fn reseal(b: &mut [u8]) {
             }
         }
     }
-    if b.len() >= HEADER_LEN_V4 && b[4..6] == VERSION.to_le_bytes() {
+    if b.len() >= HEADER_LEN_V4
+        && (b[4..6] == VERSION.to_le_bytes() || b[4..6] == VERSION_5.to_le_bytes())
+    {
         let hh = header_hash(b);
         b[HEADER_LEN_V4 - 8..HEADER_LEN_V4].copy_from_slice(&hh.to_le_bytes());
         // the groups the directory names, as far as it and the value go
@@ -528,7 +557,12 @@ pub fn encode_on(tin: &Tin, lattice: Option<&Lattice>) -> Vec<u8> {
         ))
     });
     let mut out = fixed_header(tin, VERSION_1);
-    out[4..6].copy_from_slice(&VERSION.to_le_bytes());
+    let version = if tin.levels.iter().any(|l| l.num_void > 0) {
+        VERSION_5
+    } else {
+        VERSION
+    };
+    out[4..6].copy_from_slice(&version.to_le_bytes());
     out[8..12].copy_from_slice(&(HEADER_LEN_V4 as u32).to_le_bytes());
     let lat = lattice.filter(|_| coding != VertexCoding::Raw);
     for v in lat.map_or([0.0; 6], |l| {
@@ -634,7 +668,8 @@ fn fixed_header(tin: &Tin, version: u16) -> Vec<u8> {
                 out.extend_from_slice(&lv.grid.nx.to_le_bytes());
                 out.extend_from_slice(&lv.grid.ny.to_le_bytes());
                 out.extend_from_slice(&lv.grid.cell.to_le_bytes());
-                out.extend_from_slice(&[0u8; 8]);
+                out.extend_from_slice(&lv.num_void.to_le_bytes());
+                out.extend_from_slice(&[0u8; 4]);
             }
             None => out.extend_from_slice(&[0u8; LEVEL_RECORD]),
         }
@@ -689,7 +724,7 @@ pub fn decode(b: &[u8]) -> Result<Tin, TinError> {
 /// the validation (a cancel does not wait for a whole 15 MB value).
 pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, TinError> {
     let h = read_header(b)?;
-    if h.version == VERSION {
+    if is_compact(h.version) {
         if h.total_len != b.len() as u64 {
             return Err(corrupt(format!(
                 "length mismatch: value has {} bytes, header says {}",
@@ -775,6 +810,7 @@ fn level_of(
         tolerance: li.tolerance,
         max_error: li.max_error,
         num_vertices: li.num_vertices,
+        num_void: li.num_void,
         tris,
         nbrs,
         parent,
@@ -980,7 +1016,7 @@ pub fn from_hex(s: &str) -> Result<Vec<u8>, TinError> {
 /// format 4: the arrays its counts imply, the child ranges, the group list
 /// and one group's scratch).
 pub fn decode_bytes(h: &Header) -> usize {
-    if h.version != VERSION {
+    if !is_compact(h.version) {
         return (h.total_len as usize)
             .saturating_mul(5)
             .saturating_div(2)

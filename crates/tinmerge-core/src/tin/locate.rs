@@ -214,14 +214,32 @@ pub fn canonical_in<M: Mesh>(m: &M, level: usize, t: u32, x: f64, y: f64) -> Res
     Ok(best)
 }
 
-/// Triangle at `level` containing (x, y), or None outside the domain or for
-/// non-finite coordinates.
+/// Triangle at `level` containing (x, y), or None outside the domain (off
+/// the hull, or on a void triangle: [`super::Level::num_void`]) or for
+/// non-finite coordinates. A point on the domain's boundary is in it: the
+/// smallest id wins on shared edges, and the void triangles are the last.
 pub fn locate(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
     infallible(locate_in(tin, level, x, y))
 }
 
 /// [`locate`] on any indexed mesh.
 pub fn locate_in<M: Indexed>(m: &M, level: usize, x: f64, y: f64) -> Result<Option<u32>, M::Err> {
+    Ok(locate_hull_in(m, level, x, y)?.filter(|&t| !m.is_void(level, t)))
+}
+
+/// [`locate_hull_in`] on a decoded tin.
+pub fn locate_hull(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
+    infallible(locate_hull_in(tin, level, x, y))
+}
+
+/// [`locate_in`] over the whole triangulation, void triangles included
+/// (what a walk starts from): None only off the convex hull.
+pub fn locate_hull_in<M: Indexed>(
+    m: &M,
+    level: usize,
+    x: f64,
+    y: f64,
+) -> Result<Option<u32>, M::Err> {
     if !(x.is_finite() && y.is_finite()) {
         return Ok(None);
     }

@@ -14,6 +14,14 @@ pub trait Mesh {
     type Err;
     fn num_levels(&self) -> usize;
     fn num_triangles(&self, level: usize) -> usize;
+    /// Triangles of `level` in the domain: the first ones; the rest are
+    /// void ([`super::Level::num_void`]).
+    fn num_domain(&self, level: usize) -> usize;
+    /// Whether `t` is void: outside the domain.
+    #[inline]
+    fn is_void(&self, level: usize, t: u32) -> bool {
+        t as usize >= self.num_domain(level)
+    }
     /// Vertices of all levels (level ids index a prefix).
     fn num_vertices(&self) -> usize;
     /// Vertex ids of triangle `t`, counter-clockwise.
@@ -64,6 +72,10 @@ impl Mesh for Tin {
     #[inline]
     fn num_triangles(&self, level: usize) -> usize {
         self.levels[level].tris.len()
+    }
+    #[inline]
+    fn num_domain(&self, level: usize) -> usize {
+        self.levels[level].num_domain()
     }
     #[inline]
     fn tri(&self, level: usize, t: u32) -> Result<[u32; 3], Infallible> {
@@ -133,6 +145,10 @@ impl Mesh for LevelRef<'_> {
     #[inline]
     fn num_triangles(&self, _: usize) -> usize {
         self.level.tris.len()
+    }
+    #[inline]
+    fn num_domain(&self, _: usize) -> usize {
+        self.level.num_domain()
     }
     #[inline]
     fn tri(&self, _: usize, t: u32) -> Result<[u32; 3], Infallible> {

@@ -125,6 +125,15 @@ pub struct Level {
     pub max_error: f64,
     /// This level uses vertices `0..num_vertices`.
     pub num_vertices: u32,
+    /// The last `num_void` triangles are *void*: outside the domain (a
+    /// build's `boundary`, a hole in it). Each level still triangulates the
+    /// samples' convex hull, so walks and neighbours work as on any tin,
+    /// but no merge answers on a void triangle: a point there has no
+    /// height, a line or an area has no piece there, a pixel there no
+    /// owner. A child is void exactly when its parent is (checked on
+    /// decode), so the void ones are the last of every level. 0 for a
+    /// domain that is the whole hull.
+    pub num_void: u32,
     /// Vertex ids of each triangle, counter-clockwise.
     pub tris: Vec<[u32; 3]>,
     /// `nbrs[t][j]` is the triangle across the edge opposite vertex `j`
@@ -142,6 +151,17 @@ pub struct Level {
 impl Level {
     pub fn num_triangles(&self) -> usize {
         self.tris.len()
+    }
+
+    /// Triangles in the domain: `0..num_domain()` (the rest are void).
+    pub fn num_domain(&self) -> usize {
+        self.tris.len().saturating_sub(self.num_void as usize)
+    }
+
+    /// Whether triangle `t` is void ([`Level::num_void`]).
+    #[inline]
+    pub fn is_void(&self, t: u32) -> bool {
+        t as usize >= self.num_domain()
     }
 }
 

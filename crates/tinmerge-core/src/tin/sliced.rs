@@ -97,7 +97,7 @@ impl SlicedTin {
         let header = layout::read_header(head)?;
         let counts = header.level_counts();
         let (plan, kind) = match header.version {
-            layout::VERSION => {
+            layout::VERSION | layout::VERSION_5 => {
                 let plan = layout::plan(&header);
                 // the directory and a checksummed byte per group at least
                 let least =
@@ -192,7 +192,7 @@ impl SlicedTin {
     /// the directory page by page.
     pub fn prefix_len(header: &Header) -> u64 {
         let end = match header.version {
-            layout::VERSION => (HEADER_LEN_V4 as u64)
+            layout::VERSION | layout::VERSION_5 => (HEADER_LEN_V4 as u64)
                 .saturating_add(layout::plan(header).num_groups().saturating_mul(4)),
             _ => layout::HEADER_LEN as u64,
         };
@@ -497,6 +497,11 @@ impl Mesh for Reader<'_> {
             .levels
             .get(level)
             .map_or(0, |l| l.num_triangles as usize)
+    }
+    fn num_domain(&self, level: usize) -> usize {
+        self.s.header.levels.get(level).map_or(0, |l| {
+            (l.num_triangles as usize).saturating_sub(l.num_void as usize)
+        })
     }
 
     fn tri(&self, level: usize, t: u32) -> Result<[u32; 3], TinError> {

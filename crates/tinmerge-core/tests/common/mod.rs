@@ -206,3 +206,28 @@ pub fn clip_half(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
     }
     out
 }
+
+/// Parameter of p along a-b and its distance from the line, in units of
+/// the segment's length.
+pub fn along(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> (f64, f64) {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2;
+    let d = ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() / l2;
+    (t, d)
+}
+
+/// Whether edge p-q lies on segment a-b (both ends on its line within
+/// `eps` of its length, inside its extent).
+pub fn edge_on(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    p: &[f64; 3],
+    q: &[f64; 3],
+    eps: f64,
+) -> Option<(f64, f64)> {
+    let (tp, dp) = along(a, b, p);
+    let (tq, dq) = along(a, b, q);
+    (dp <= eps && dq <= eps && tp.min(tq) >= -eps && tp.max(tq) <= 1.0 + eps)
+        .then(|| (tp.min(tq), tp.max(tq)))
+}

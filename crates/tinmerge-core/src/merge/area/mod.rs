@@ -153,6 +153,12 @@ impl Sink for RingSink {
     fn wants_points(&self) -> bool {
         self.want_pieces
     }
+    /// The sweep spreads over void triangles like any other (the polygon
+    /// may reach the domain on both sides of a hole); [`sweep`] leaves
+    /// them out of its answer.
+    fn wants_void(&self) -> bool {
+        true
+    }
     fn point(&mut self, tri: u32, p: P2, _along: f64) {
         let pair = (tri, self.ring, self.seg);
         if self.pairs.last() != Some(&pair) {
@@ -598,6 +604,13 @@ where
         prev_boundary = boundary;
     }
     out.boundary = prev_boundary;
+    // void triangles are off the domain: no part of the answer (a void
+    // triangle's descendants are void, a domain triangle's are not)
+    for (l, ins) in out.inside.iter_mut().enumerate() {
+        ins.retain(|&t| !tin.is_void(l, t));
+    }
+    out.boundary.retain(|&t| !tin.is_void(level, t));
+    out.chains.retain(|(t, _)| !tin.is_void(level, *t));
     Ok(out)
 }
 

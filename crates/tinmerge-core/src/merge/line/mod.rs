@@ -124,6 +124,11 @@ pub trait Sink {
     fn wants_points(&self) -> bool {
         true
     }
+    /// Whether the sink is told of void triangles too (false: the walk
+    /// reports a void triangle as leaving the domain).
+    fn wants_void(&self) -> bool {
+        false
+    }
     /// A point of the cut line, in the piece of triangle `tri`; `along` is
     /// the planar distance from the start of the part.
     fn point(&mut self, tri: u32, p: P2, along: f64);
@@ -230,13 +235,21 @@ where
 
     #[inline]
     fn emit(&mut self, t: u32, p: P2, along: f64) {
+        // a void triangle is off the domain: the line leaves it there
+        if !self.sink.wants_void() && self.tin.is_void(self.level, t) {
+            if self.open {
+                self.sink.brk();
+                self.open = false;
+            }
+            return;
+        }
         self.sink.point(t, p, along);
         self.open = true;
     }
 
     /// Start a part at its first vertex.
     pub fn start_part(&mut self, p: P2) -> Result<(), TinError> {
-        self.cur = locate::locate_in(self.tin, self.level, p[0], p[1])?;
+        self.cur = locate::locate_hull_in(self.tin, self.level, p[0], p[1])?;
         self.open = false;
         Ok(())
     }

@@ -88,6 +88,12 @@ impl Sink for Visited {
     fn wants_points(&self) -> bool {
         false
     }
+    /// The triangles walked are the seeds of the search near the line:
+    /// void ones too (the search goes through them; [`Near::ordered`]
+    /// leaves them out).
+    fn wants_void(&self) -> bool {
+        true
+    }
     fn point(&mut self, tri: u32, _p: P2, _along: f64) {
         if self.tris.last() != Some(&tri) {
             self.tris.push(tri);
@@ -244,8 +250,13 @@ impl<'a> Near<'a> {
 
     /// Triangles in order of first approach.
     pub fn ordered(&self) -> Vec<u32> {
-        let mut v: Vec<(u64, f64, u32)> =
-            self.found.iter().map(|(&t, &(s, a))| (s, a, t)).collect();
+        let lv = &self.tin.levels[self.level];
+        let mut v: Vec<(u64, f64, u32)> = self
+            .found
+            .iter()
+            .filter(|(&t, _)| !lv.is_void(t))
+            .map(|(&t, &(s, a))| (s, a, t))
+            .collect();
         v.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
         v.into_iter().map(|x| x.2).collect()
     }

@@ -137,7 +137,7 @@ pub fn overlay_cdt(
     // B's vertices inside A's domain
     for (j, v) in b.verts[..nvb].iter().enumerate() {
         tk.tick()?;
-        if out_b[j] == NONE && locate::locate(a, level_a, v[0], v[1]).is_some() {
+        if out_b[j] == NONE && locate::locate_hull(a, level_a, v[0], v[1]).is_some() {
             out_b[j] = pts.push(xy(v), NONE, j as u32);
         }
     }
@@ -237,6 +237,9 @@ pub fn overlay_cdt(
     pieces.sort_unstable();
     pieces.dedup();
 
+    // a crossing rounded onto another point (a breakline's vertex lies on
+    // B's edge up to rounding) is that point
+    let (pts, pieces) = merge_coincident(pts, pieces);
     // one constrained triangulation of all points and pieces
     let Points { pts, src_a, src_b } = pts;
     let n_in = pts.len();
@@ -306,15 +309,61 @@ pub fn overlay_cdt(
     Ok(o)
 }
 
+/// Points at the same position made one (the first; its sources those of
+/// any of them), the pieces renumbered, those reduced to a point dropped.
+fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[usize; 2]>) {
+    let mut first: rustc_hash::FxHashMap<(u64, u64), u32> = Default::default();
+    let mut id = Vec::with_capacity(pts.pts.len());
+    let mut out = Points {
+        pts: Vec::with_capacity(pts.pts.len()),
+        src_a: Vec::with_capacity(pts.pts.len()),
+        src_b: Vec::with_capacity(pts.pts.len()),
+    };
+    for (k, p) in pts.pts.iter().enumerate() {
+        // -0.0 and 0.0 are one position
+        let key = ((p.x + 0.0).to_bits(), (p.y + 0.0).to_bits());
+        match first.get(&key) {
+            Some(&j) => {
+                let j = j as usize;
+                if out.src_a[j] == NONE {
+                    out.src_a[j] = pts.src_a[k];
+                }
+                if out.src_b[j] == NONE {
+                    out.src_b[j] = pts.src_b[k];
+                }
+                id.push(j);
+            }
+            None => {
+                let j = out.push([p.x, p.y], pts.src_a[k], pts.src_b[k]);
+                first.insert(key, j);
+                id.push(j as usize);
+            }
+        }
+    }
+    if out.pts.len() == pts.pts.len() {
+        return (out, pieces);
+    }
+    for q in pieces.iter_mut() {
+        *q = [id[q[0]], id[q[1]]];
+        if q[0] > q[1] {
+            q.swap(0, 1);
+        }
+    }
+    pieces.retain(|q| q[0] != q[1]);
+    pieces.sort_unstable();
+    pieces.dedup();
+    (out, pieces)
+}
+
 /// The triangle of `tin` holding an output triangle (its centroid; for a
 /// sliver whose rounded centroid falls just outside the domain, the hull
 /// triangle the walk ends in).
 fn owner(tin: &Tin, level: usize, x: f64, y: f64, c: &[[f64; 2]; 3]) -> Result<u32, TinError> {
-    if let Some(t) = locate::locate(tin, level, x, y) {
+    if let Some(t) = locate::locate_hull(tin, level, x, y) {
         return Ok(t);
     }
     for p in c {
-        if let Some(t) = locate::locate(tin, level, p[0], p[1]) {
+        if let Some(t) = locate::locate_hull(tin, level, p[0], p[1]) {
             return Ok(t);
         }
     }

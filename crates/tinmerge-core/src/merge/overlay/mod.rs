@@ -71,9 +71,25 @@ pub fn overlay(
     level_b: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
-    guarded(interrupt, |check| {
+    let mut o = guarded(interrupt, |check| {
         overlay_dispatch(a, level_a, b, level_b, check)
-    })
+    })?;
+    mark_void(&mut o, a, level_a, b, level_b);
+    Ok(o)
+}
+
+/// The output triangles in a void triangle of A or of B.
+fn mark_void(o: &mut Overlay, a: &Tin, level_a: usize, b: &Tin, level_b: usize) {
+    let (la, lb) = (&a.levels[level_a], &b.levels[level_b]);
+    if la.num_void == 0 && lb.num_void == 0 {
+        return;
+    }
+    o.void = o
+        .tri_a
+        .iter()
+        .zip(&o.tri_b)
+        .map(|(&ta, &tb)| la.is_void(ta) || lb.is_void(tb))
+        .collect();
 }
 
 /// The overlay always built as one constrained triangulation (the robust
@@ -85,9 +101,11 @@ pub fn overlay_constrained(
     level_b: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
-    guarded(interrupt, |check| {
+    let mut o = guarded(interrupt, |check| {
         overlay_cdt(a, level_a, b, level_b, check)
-    })
+    })?;
+    mark_void(&mut o, a, level_a, b, level_b);
+    Ok(o)
 }
 
 /// Runs `f`, turning a panic inside spade into an error; a panic raised by

@@ -23,9 +23,24 @@ pub struct Overlay {
     /// Why the face-by-face path ([`crate::merge::overlay::faces`]) was not used and
     /// the constrained triangulation built instead (None: faces path).
     pub fallback: Option<String>,
+    /// Output triangles off the common domain: in a void triangle of A or
+    /// of B ([`crate::tin::Level::num_void`]); empty when there are none.
+    /// They keep the triangulation convex; no answer is made of them.
+    pub void: Vec<bool>,
 }
 
 impl Overlay {
+    /// Whether output triangle `t` is off the common domain.
+    #[inline]
+    pub fn is_void(&self, t: usize) -> bool {
+        self.void.get(t).copied().unwrap_or(false)
+    }
+
+    /// The output triangles in the common domain.
+    pub fn domain(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.tris.len()).filter(|&t| !self.is_void(t))
+    }
+
     /// Planar area of output triangle `t`.
     pub fn area(&self, t: usize) -> f64 {
         let [a, b, c] = self.tris[t].map(|v| self.pts[v as usize]);
@@ -53,7 +68,7 @@ impl Overlay {
 /// are linear, and the triangle is split at the zero line of A - B.
 pub fn difference(o: &Overlay) -> (f64, f64, f64) {
     let (mut cut, mut fill, mut changed) = (0.0, 0.0, 0.0);
-    for t in 0..o.tris.len() {
+    for t in o.domain() {
         let area = o.area(t);
         let d = o.tris[t].map(|v| o.za[v as usize] - o.zb[v as usize]);
         if d.iter().all(|&x| x == 0.0) {

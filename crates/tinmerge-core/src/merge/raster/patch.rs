@@ -79,6 +79,12 @@ fn push_hull(
     Ok(())
 }
 
+/// Neighbours with the void ones (ids `num_domain..`) as [`NONE`]: the
+/// domain's boundary is its hull for the sweep.
+fn off_domain(nb: [u32; 3], num_domain: usize) -> [u32; 3] {
+    nb.map(|n| if n as usize >= num_domain { NONE } else { n })
+}
+
 /// A whole level of a decoded tin (positions are ids).
 pub struct TinLevel<'a> {
     tin: &'a Tin,
@@ -98,7 +104,9 @@ impl<'a> TinLevel<'a> {
 impl RasterLevel for TinLevel<'_> {
     #[inline]
     fn count(&self) -> usize {
-        self.tin.levels[self.level].tris.len()
+        // the void triangles are the last ones: outside the domain, they
+        // own no pixel
+        self.tin.levels[self.level].num_domain()
     }
     #[inline]
     fn id(&self, k: usize) -> u32 {
@@ -118,8 +126,9 @@ impl RasterLevel for TinLevel<'_> {
                 .ok_or_else(|| TinError::Corrupt("raster sweep: vertex id".into()))
         };
         let mut out = Vec::new();
-        for (k, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
-            push_hull(&mut out, k, *tri, *nb, &mut vert)?;
+        let n = lv.num_domain();
+        for (k, (tri, nb)) in lv.tris[..n].iter().zip(&lv.nbrs[..n]).enumerate() {
+            push_hull(&mut out, k, *tri, off_domain(*nb, n), &mut vert)?;
         }
         Ok(out)
     }
@@ -171,7 +180,14 @@ impl Patch {
         for (k, &t) in ids.iter().enumerate() {
             let tri = m.tri(level, t)?;
             cs.push([vert(tri[0])?, vert(tri[1])?, vert(tri[2])?]);
-            push_hull(&mut hull, k, tri, m.nbrs(level, t)?, &mut vert)?;
+            let n = m.num_domain(level);
+            push_hull(
+                &mut hull,
+                k,
+                tri,
+                off_domain(m.nbrs(level, t)?, n),
+                &mut vert,
+            )?;
             if k % 4096 == 4095 {
                 interrupt()?;
             }

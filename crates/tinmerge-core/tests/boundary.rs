@@ -1,0 +1,334 @@
+//! A build's `boundary` (issue 26) on both bundled DEMs (geographic and
+//! UTM with its nodata border), against `geo` as the oracle, at every
+//! level. The boundary is a concave polygon with a hole, reaching past the
+//! samples on one side, plus a second polygon (a MULTIPOLYGON):
+//! - the domain (the triangles that are not void) has the area of
+//!   boundary ∩ convex hull of the samples (`geo` BooleanOps), to 1e-9;
+//! - every domain triangle lies in that region and every void one off it
+//!   (centroids, `geo` point-in-polygon);
+//! - every sample in the region is within the level's tolerance, and the
+//!   height is None at every sample off it;
+//! - the line merge: the pieces' planar length equals the length of the
+//!   lines clipped to the region (`geo` clip);
+//! - the area merge: coverage times triangle area sums to the area of the
+//!   polygon ∩ region;
+//! - the raster merge: the pixels handed to triangles are the pixel
+//!   centres in the region (`geo`, away from its boundary by rounding);
+//! - the overlay with a plain tin: its domain triangles cover the region
+//!   ∩ the other tin's hull;
+//! - the value survives encode/decode (format 5) and the hierarchy's
+//!   invariants hold (`sanity_check`, `check::problems`).
+mod common;
+
+use common::{edge_on, read_dem, Dem};
+use geo::{
+    Area as _, BooleanOps, Contains, ConvexHull, Coord, Euclidean, Length, LineString,
+    MultiLineString, MultiPoint, MultiPolygon, Point, Polygon,
+};
+use tinmerge_core::merge::area::polygon::Area;
+use tinmerge_core::merge::area::{area_rows, sweep, Method};
+use tinmerge_core::merge::line::{pieces, Part};
+use tinmerge_core::merge::overlay::overlay;
+use tinmerge_core::merge::point::height;
+use tinmerge_core::merge::raster::patch::TinLevel;
+use tinmerge_core::merge::raster::stats::zonal_stats;
+use tinmerge_core::merge::raster::PixelGrid;
+use tinmerge_core::tin::build::{boundary, build, build_domain, default_tolerances};
+use tinmerge_core::tin::check::problems;
+use tinmerge_core::tin::layout::{decode, encode, read_header, VERSION_5};
+use tinmerge_core::tin::Tin;
+
+/// World coordinates of fractional pixel position (col, row).
+fn world(d: &Dem, c: f64, r: f64) -> [f64; 2] {
+    [
+        d.origin_x + (c + 0.5) * d.scale_x,
+        d.origin_y - (r + 0.5) * d.scale_y,
+    ]
+}
+
+/// The boundary's polygons in world coordinates: a concave shell reaching
+/// past the east edge with a hole, and a small separate square.
+fn polygons(d: &Dem) -> Vec<Vec<Vec<[f64; 2]>>> {
+    let (w, h) = (d.width as f64, d.height as f64);
+    let ring = |pts: &[(f64, f64)]| -> Vec<[f64; 2]> {
+        let mut r: Vec<[f64; 2]> = pts.iter().map(|&(c, r)| world(d, c * w, r * h)).collect();
+        r.push(r[0]);
+        r
+    };
+    let shell = ring(&[
+        (0.08, 0.10),
+        (0.70, 0.06),
+        (0.52, 0.43),
+        (1.30, 0.50),
+        (0.81, 0.77),
+        (0.17, 0.70),
+    ]);
+    // a hole around (0.35, 0.40), clockwise in the picture
+    let hole = ring(&[(0.30, 0.33), (0.42, 0.37), (0.40, 0.48), (0.27, 0.45)]);
+    let square = ring(&[(0.10, 0.82), (0.25, 0.82), (0.25, 0.95), (0.10, 0.95)]);
+    vec![vec![shell, hole], vec![square]]
+}
+
+fn geo_mp(polys: &[Vec<Vec<[f64; 2]>>]) -> MultiPolygon<f64> {
+    let ls =
+        |r: &Vec<[f64; 2]>| LineString::new(r.iter().map(|p| Coord { x: p[0], y: p[1] }).collect());
+    MultiPolygon::new(
+        polys
+            .iter()
+            .map(|p| Polygon::new(ls(&p[0]), p[1..].iter().map(ls).collect()))
+            .collect(),
+    )
+}
+
+fn tri_area(c: &[[f64; 3]; 3]) -> f64 {
+    ((c[1][0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1])) / 2.0
+}
+
+/// The samples' convex hull as a polygon.
+fn hull_of(samples: &[[f64; 3]]) -> Polygon<f64> {
+    MultiPoint::new(samples.iter().map(|p| Point::new(p[0], p[1])).collect()).convex_hull()
+}
+
+/// Whether `p` is in `region` and at least `eps` from its boundary (the
+/// oracle's verdict is safe from rounding there).
+fn clearly(region: &MultiPolygon<f64>, p: [f64; 2], eps: f64) -> Option<bool> {
+    use geo::Distance;
+    let pt = Point::new(p[0], p[1]);
+    let near = region
+        .0
+        .iter()
+        .flat_map(|poly| std::iter::once(poly.exterior()).chain(poly.interiors()))
+        .any(|r| Euclidean.distance(&pt, r) < eps);
+    (!near).then(|| region.contains(&pt))
+}
+
+fn check(name: &str, srid: i32) {
+    let d = read_dem(name);
+    let samples = d.samples();
+    let tols = default_tolerances(2.0, 4).unwrap();
+    let polys = polygons(&d);
+    let area = boundary(polys.clone()).unwrap();
+    let tin = build_domain(samples.clone(), &[], Some(&area), &tols, srid, &mut || {
+        Ok(())
+    })
+    .unwrap();
+    // the invariants, told that the rings' edges need not be Delaunay
+    let segs: Vec<([f64; 3], [f64; 3])> = polys
+        .iter()
+        .flatten()
+        .flat_map(|r| {
+            r.windows(2)
+                .map(|w| ([w[0][0], w[0][1], 0.0], [w[1][0], w[1][1], 0.0]))
+        })
+        .collect();
+    tin.sanity_check_constrained(&|p, q| {
+        segs.iter()
+            .any(|(a, b)| edge_on(a, b, p, q, 1e-9).is_some())
+    })
+    .unwrap();
+    assert!(problems(&tin, &mut || Ok(())).unwrap().is_empty());
+    let region = geo_mp(&polys).intersection(&MultiPolygon::new(vec![hull_of(&samples)]));
+    let want = region.unsigned_area();
+    let scale = d.scale_x;
+    let eps = 1e-6 * scale;
+    for (l, lv) in tin.levels.iter().enumerate() {
+        assert!(lv.num_void > 0, "{name} level {l}: no void triangle");
+        let got: f64 = (0..lv.num_domain())
+            .map(|t| tri_area(&tin.corners(l, t as u32)))
+            .sum();
+        assert!(
+            (got - want).abs() <= 1e-9 * want,
+            "{name} level {l}: domain area {got}, boundary ∩ hull {want}"
+        );
+        for t in 0..lv.tris.len() as u32 {
+            let c = tin.corners(l, t);
+            let g = [
+                (c[0][0] + c[1][0] + c[2][0]) / 3.0,
+                (c[0][1] + c[1][1] + c[2][1]) / 3.0,
+            ];
+            if let Some(inside) = clearly(&region, g, 1e-9 * scale) {
+                assert_eq!(inside, !lv.is_void(t), "{name} level {l} triangle {t}");
+            }
+        }
+        // the error bound in the region, nothing off it
+        let (mut n_in, mut n_out) = (0, 0);
+        for s in &samples {
+            match clearly(&region, [s[0], s[1]], eps) {
+                Some(true) => {
+                    let z =
+                        height(&tin, l, s[0], s[1]).expect("a sample in the domain has a height");
+                    assert!(
+                        (z - s[2]).abs() <= lv.tolerance + 1e-9,
+                        "{name} level {l}: error {} at ({} {})",
+                        (z - s[2]).abs(),
+                        s[0],
+                        s[1]
+                    );
+                    n_in += 1;
+                }
+                Some(false) => {
+                    assert_eq!(height(&tin, l, s[0], s[1]), None, "{name} level {l}");
+                    n_out += 1;
+                }
+                None => {}
+            }
+        }
+        assert!(
+            n_in > 1000 && n_out > 1000,
+            "{name}: {n_in} in, {n_out} out"
+        );
+    }
+
+    // lines: three crossing the hole, the notch and the gap
+    let (w, h) = (d.width as f64, d.height as f64);
+    let lines: Vec<Vec<[f64; 2]>> = vec![
+        vec![world(&d, -0.1 * w, 0.41 * h), world(&d, 1.1 * w, 0.39 * h)],
+        vec![
+            world(&d, 0.2 * w, 0.02 * h),
+            world(&d, 0.6 * w, 0.6 * h),
+            world(&d, 0.15 * w, 0.98 * h),
+        ],
+        vec![world(&d, 0.9 * w, 0.1 * h), world(&d, 0.45 * w, 0.35 * h)],
+    ];
+    let mls = MultiLineString::new(
+        lines
+            .iter()
+            .map(|l| LineString::new(l.iter().map(|p| Coord { x: p[0], y: p[1] }).collect()))
+            .collect(),
+    );
+    let want_len = Euclidean.length(&region.clip(&mls, false));
+    let parts: Vec<Part> = lines.iter().map(|l| Part::new(l.clone())).collect();
+    // a polygon over the hole, the notch and off the data
+    let cover = vec![vec![
+        world(&d, 0.2 * w, 0.2 * h),
+        world(&d, 1.2 * w, 0.3 * h),
+        world(&d, 0.6 * w, 0.9 * h),
+        world(&d, 0.2 * w, 0.2 * h),
+    ]];
+    let want_cover = geo_mp(&[cover.clone()])
+        .intersection(&region)
+        .unsigned_area();
+    let cover = Area::new(vec![cover]);
+    for l in 0..tin.levels.len() {
+        let ps = pieces(&tin, l, &parts).unwrap();
+        let got: f64 = ps.iter().map(|p| p.length2d()).sum();
+        // geo's clip (i_overlay) rounds to a fixed grid over the extent:
+        // about 1e-9 of it
+        assert!(
+            (got - want_len).abs() <= 1e-8 * want_len,
+            "{name} level {l}: pieces {got}, clipped lines {want_len}"
+        );
+        assert!(ps.iter().all(|p| !tin.levels[l].is_void(p.triangle)));
+        let s = sweep(&tin, l, &cover, Method::Hierarchy, &mut || Ok(())).unwrap();
+        let rows = area_rows(&tin, &cover, &s, true, &mut || Ok(())).unwrap();
+        let got: f64 = rows
+            .iter()
+            .map(|r| r.coverage * tri_area(&tin.corners(r.level, r.triangle)))
+            .sum();
+        assert!(
+            (got - want_cover).abs() <= 1e-9 * want_cover,
+            "{name} level {l}: area rows {got}, polygon ∩ domain {want_cover}"
+        );
+    }
+
+    // the raster merge: the DEM's own pixels at the finest level
+    let gt = tinmerge_core::io::raster::GeoTransform {
+        scale_x: d.scale_x,
+        scale_y: -d.scale_y,
+        ip_x: d.origin_x,
+        ip_y: d.origin_y,
+        skew_x: 0.0,
+        skew_y: 0.0,
+    };
+    let g = PixelGrid::new(&gt, d.width, d.height).unwrap();
+    let fin = tin.levels.len() - 1;
+    let lv = TinLevel::new(&tin, fin).unwrap();
+    let st = zonal_stats(&lv, &g, &d.values, d.nodata, false, &mut || Ok(())).unwrap();
+    let got: usize = st.iter().map(|z| z.count as usize).sum();
+    let (mut lo, mut hi) = (0usize, 0usize);
+    for s in &samples {
+        match clearly(&region, [s[0], s[1]], eps) {
+            Some(true) => {
+                lo += 1;
+                hi += 1
+            }
+            None => hi += 1,
+            Some(false) => {}
+        }
+    }
+    assert!(
+        lo <= got && got <= hi,
+        "{name}: {got} pixels handed, {lo}..={hi} in the region"
+    );
+    assert!(st.iter().all(|z| !tin.levels[fin].is_void(z.triangle)));
+
+    // the overlay with a plain tin of every other sample
+    let other: Vec<[f64; 3]> = samples.iter().step_by(2).copied().collect();
+    let b = build(other.clone(), &[tols[0]], srid, &mut || Ok(())).unwrap();
+    let o = overlay(&tin, 1, &b, 0, &mut || Ok(())).unwrap();
+    let got: f64 = o.domain().map(|t| o.area(t)).sum();
+    let want_o = region
+        .intersection(&MultiPolygon::new(vec![hull_of(&other)]))
+        .unsigned_area();
+    assert!(
+        (got - want_o).abs() <= 1e-9 * want_o,
+        "{name}: overlay {got}, region ∩ hull {want_o}"
+    );
+
+    // storage: format 5, the same tin back
+    let bytes = encode(&tin);
+    assert_eq!(read_header(&bytes).unwrap().version, VERSION_5);
+    let back: Tin = decode(&bytes).unwrap();
+    assert_eq!(back, tin);
+}
+
+#[test]
+fn boundary_on_the_utm_dem() {
+    check("jacksboro_fault_dem_utm16n.tif", 32616);
+}
+
+#[test]
+fn boundary_on_the_geographic_dem() {
+    check("jacksboro_fault_dem.tif", 4326);
+}
+
+/// A boundary that holds the whole hull gives the plain build, byte for
+/// byte; one that misses the samples, an error; an invalid one, an error
+/// naming the problem.
+#[test]
+fn boundary_edge_cases() {
+    let d = read_dem("jacksboro_fault_dem.tif");
+    let samples = d.samples();
+    let tols = default_tolerances(8.0, 3).unwrap();
+    let (w, h) = (d.width as f64, d.height as f64);
+    let big = vec![vec![vec![
+        world(&d, -1.0, -1.0),
+        world(&d, w + 1.0, -1.0),
+        world(&d, w + 1.0, h + 1.0),
+        world(&d, -1.0, h + 1.0),
+        world(&d, -1.0, -1.0),
+    ]]];
+    let a = boundary(big).unwrap();
+    let t = build_domain(samples.clone(), &[], Some(&a), &tols, 4326, &mut || Ok(())).unwrap();
+    let plain = build(samples.clone(), &tols, 4326, &mut || Ok(())).unwrap();
+    assert_eq!(encode(&t), encode(&plain));
+    let away = vec![vec![vec![
+        world(&d, 2.0 * w, 0.0),
+        world(&d, 3.0 * w, 0.0),
+        world(&d, 3.0 * w, h),
+        world(&d, 2.0 * w, 0.0),
+    ]]];
+    let a = boundary(away).unwrap();
+    let e = build_domain(samples.clone(), &[], Some(&a), &tols, 4326, &mut || Ok(())).unwrap_err();
+    assert!(e.to_string().contains("does not overlap"), "{e}");
+    // a bow tie
+    let bow = vec![vec![vec![
+        world(&d, 0.0, 0.0),
+        world(&d, w, h),
+        world(&d, w, 0.0),
+        world(&d, 0.0, h),
+        world(&d, 0.0, 0.0),
+    ]]];
+    let e = boundary(bow).unwrap_err();
+    assert!(e.to_string().contains("ST_MakeValid"), "{e}");
+}

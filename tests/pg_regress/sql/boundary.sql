@@ -1,0 +1,125 @@
+-- Issue 26: a build's boundary (POLYGON / MULTIPOLYGON with holes). On the
+-- UTM DEM (nodata border) and the geographic one, a concave shell reaching
+-- past the data with a hole, and a separate square. Oracles are PostGIS
+-- alone, from tin_triangles' output and the rasters' own pixels:
+-- - the triangles of every level cover boundary ∩ convex hull of the valid
+--   pixel centres: same area (to 1e-9) and nothing outside it;
+-- - tin_height and tin_locate are NULL at every pixel centre off that
+--   region and within each level's tolerance on it;
+-- - the merges on the non-convex holed domain agree with PostGIS on the
+--   same region: lines (tin_line_segments vs ST_Intersection), areas
+--   (tin_area_triangles' coverage vs ST_Intersection), rasters
+--   (tin_raster_stats' pixel count vs the centres in the region) and the
+--   overlay with a plain tin (area of the common domain);
+-- - bad boundaries one per line.
+\set VERBOSITY terse
+SET extra_float_digits = 0;
+-- a point at fractions (fx, fy) of a raster's extent
+CREATE FUNCTION bd_pt(r raster, fx float8, fy float8) RETURNS geometry
+LANGUAGE sql IMMUTABLE AS $$
+  SELECT ST_SetSRID(ST_MakePoint(ST_XMin(e) + fx * (ST_XMax(e) - ST_XMin(e)),
+                                 ST_YMax(e) - fy * (ST_YMax(e) - ST_YMin(e))), ST_SRID(r))
+  FROM (SELECT ST_Envelope(r) AS e) s $$;
+CREATE FUNCTION bd_ring(r raster, VARIADIC f float8[]) RETURNS geometry
+LANGUAGE sql IMMUTABLE AS $$
+  SELECT ST_MakeLine(array_agg(bd_pt(r, f[i], f[i + 1]) ORDER BY i) || bd_pt(r, f[1], f[2]))
+  FROM generate_series(1, array_length(f, 1), 2) i $$;
+CREATE TABLE bd AS
+SELECT d.name, d.rast, ST_PixelWidth(d.rast) AS px,
+       ST_Collect(
+         ST_MakePolygon(bd_ring(d.rast, 0.08,0.10, 0.70,0.06, 0.52,0.43, 1.30,0.50, 0.81,0.77, 0.17,0.70),
+                        ARRAY[bd_ring(d.rast, 0.30,0.33, 0.42,0.37, 0.40,0.48, 0.27,0.45)]),
+         ST_MakePolygon(bd_ring(d.rast, 0.10,0.82, 0.25,0.82, 0.25,0.95, 0.10,0.95))) AS boundary
+FROM (SELECT 'utm' AS name, rast FROM dem UNION ALL SELECT 'geo', rast FROM dem_geo) d;
+ALTER TABLE bd ADD COLUMN t tin, ADD COLUMN region geometry;
+UPDATE bd SET t = tin_from_raster(rast, 2.0, 4, boundary => boundary),
+  region = ST_Intersection(boundary,
+    (SELECT ST_ConvexHull(ST_Collect(geom)) FROM ST_PixelAsCentroids(rast)));
+SELECT name, GeometryType(boundary) AS boundary, ST_NumInteriorRings(ST_GeometryN(region, 1)) AS holes,
+       NOT ST_Contains(ST_ConvexHull(region), region) IS NULL AS concave FROM bd ORDER BY name;
+-- every level covers the region: the same area, and no triangle sticks out
+-- (GEOS's difference of a small triangle along the rings leaves up to
+-- about 1e-8 of it)
+SELECT b.name, l AS level,
+       abs(sum(ST_Area(tr.geom)) / ST_Area(b.region) - 1) < 1e-9 AS same_area,
+       bool_and(ST_Area(ST_Difference(ST_Force2D(tr.geom), b.region)) < 1e-6 * ST_Area(tr.geom)) AS inside,
+       count(*) = tin_num_triangles(b.t, l) AS counted
+FROM bd b, generate_series(0, 3) l, tin_triangles(b.t, l) tr
+GROUP BY b.name, l, b.region, b.t ORDER BY 1, 2;
+-- pixel centres: NULL off the region, within each level's tolerance on it
+-- (centres within 1e-6 pixel of the region's boundary are left out)
+SELECT b.name, l AS level,
+       count(*) FILTER (WHERE ST_Intersects(b.region, c.geom)) AS centres_in,
+       count(*) FILTER (WHERE NOT ST_Intersects(b.region, c.geom)) AS centres_out,
+       bool_and((tin_height(b.t, c.geom, l) IS NULL) = NOT ST_Intersects(b.region, c.geom)) AS null_off_the_region,
+       bool_and((tin_locate(b.t, c.geom, l) IS NULL) = NOT ST_Intersects(b.region, c.geom)) AS located,
+       max(abs(tin_height(b.t, c.geom, l) - c.val)) <= 2.0 * 2 ^ (3 - l) + 1e-6 AS within_tolerance
+FROM bd b, generate_series(0, 3) l, ST_PixelAsCentroids(b.rast) c
+WHERE NOT ST_DWithin(ST_Boundary(b.region), c.geom, 1e-6 * b.px)
+GROUP BY b.name, l ORDER BY 1, 2;
+-- lines through the hole, the notch and off the data: the pieces add up to
+-- the lines clipped to the region, and each piece lies in it
+CREATE TABLE bd_lines AS
+SELECT b.name, ST_Collect(ARRAY[
+  ST_MakeLine(bd_pt(b.rast, -0.1, 0.41), bd_pt(b.rast, 1.1, 0.39)),
+  ST_MakeLine(ARRAY[bd_pt(b.rast, 0.2, 0.02), bd_pt(b.rast, 0.6, 0.6), bd_pt(b.rast, 0.15, 0.98)]),
+  ST_MakeLine(bd_pt(b.rast, 0.9, 0.1), bd_pt(b.rast, 0.45, 0.35))]) AS geom
+FROM bd b;
+SELECT b.name, l AS level,
+       abs(sum(s.length2d) / ST_Length(ST_Intersection(ln.geom, b.region)) - 1) < 1e-9 AS same_length,
+       bool_and(ST_DWithin(b.region, ST_Force2D(s.geom), 1e-6 * b.px)) AS inside
+FROM bd b JOIN bd_lines ln USING (name), generate_series(0, 3) l, tin_line_segments(b.t, ln.geom, l) s
+GROUP BY b.name, l, ln.geom, b.region ORDER BY 1, 2;
+-- tin_line_triangles: the triangles crossed, none of them outside
+SELECT b.name, count(*) > 0 AS crossed,
+       bool_and(tr.triangle < tin_num_triangles(b.t)) AS in_the_domain
+FROM bd b JOIN bd_lines ln USING (name), tin_line_triangles(b.t, ln.geom) tr
+GROUP BY b.name ORDER BY 1;
+-- an area over the hole, the notch and off the data: coverage times area
+-- adds up to the polygon clipped to the region, at every level
+SELECT b.name, l AS level,
+       abs(sum(a.coverage * ST_Area(tr.geom)) / ST_Area(ST_Intersection(p.geom, b.region)) - 1) < 1e-9 AS same_area
+FROM bd b, generate_series(0, 3) l,
+     LATERAL (SELECT ST_MakePolygon(bd_ring(b.rast, 0.2,0.2, 1.2,0.3, 0.6,0.9)) AS geom) p,
+     tin_area_triangles(b.t, p.geom, l) a
+     JOIN tin_triangles(b.t, l) tr ON tr.id = a.triangle
+GROUP BY b.name, l, p.geom, b.region ORDER BY 1, 2;
+-- the raster merge: the pixels handed to triangles are the valid centres
+-- in the region (none is within 1e-6 pixel of its boundary here)
+-- (the centres within 1e-6 pixel of its boundary may go either way)
+SELECT name, handed BETWEEN clearly_in AND clearly_in + on_its_boundary AS same_pixels, on_its_boundary > 0 AS some_on_it
+FROM (SELECT b.name,
+        (SELECT sum(count) FROM tin_raster_stats(b.t, b.rast)) AS handed,
+        (SELECT count(*) FROM ST_PixelAsCentroids(b.rast) c WHERE ST_Intersects(b.region, c.geom)
+           AND NOT ST_DWithin(ST_Boundary(b.region), c.geom, 1e-6 * b.px)) AS clearly_in,
+        (SELECT count(*) FROM ST_PixelAsCentroids(b.rast) c
+         WHERE ST_DWithin(ST_Boundary(b.region), c.geom, 1e-6 * b.px)) AS on_its_boundary
+      FROM bd b) s ORDER BY 1;
+-- the overlay with a plain tin of the same raster: the common domain is
+-- the region
+SELECT b.name, abs(sum(ST_Area(o.geom_a)) / ST_Area(b.region) - 1) < 1e-9 AS same_area,
+       count(*) > 0 AS triangles
+FROM bd b, tin_overlay(b.t, tin_from_raster(b.rast, 8.0, 1), 1, 0) o
+GROUP BY b.name, b.region ORDER BY 1;
+-- a boundary holding the whole raster gives the plain build, byte for byte
+SELECT name, tin_from_raster(rast, 2.0, 4, boundary => ST_Expand(ST_Envelope(rast), px))
+             = tin_from_raster(rast, 2.0, 4) AS plain FROM bd ORDER BY 1;
+-- tin_from_points with a boundary: the same region
+SELECT b.name, abs(sum(ST_Area(tr.geom)) / ST_Area(b.region) - 1) < 1e-9 AS same_area
+FROM bd b,
+     LATERAL (SELECT tin_from_points(ST_SetSRID(ST_Collect(ST_MakePoint(ST_X(geom), ST_Y(geom), val)), ST_SRID(b.rast)), 4.0, 2,
+                                     boundary => b.boundary) AS t
+              FROM ST_PixelAsCentroids(b.rast)) p,
+     tin_triangles(p.t) tr
+GROUP BY b.name, b.region ORDER BY 1;
+-- NULLs and bad boundaries, one per line
+SELECT tin_from_raster(NULL::raster, 2.0, 4, boundary => (SELECT boundary FROM bd WHERE name = 'geo')) IS NULL AS null_raster;
+SELECT tin_from_raster(rast, 2.0, 2, boundary => ST_SetSRID(ST_MakePolygon(ST_MakeLine(ARRAY[bd_pt(rast, 0.1, 0.1), bd_pt(rast, 0.9, 0.9), bd_pt(rast, 0.9, 0.1), bd_pt(rast, 0.1, 0.9), bd_pt(rast, 0.1, 0.1)])), 4326)) FROM bd WHERE name = 'geo';
+SELECT tin_from_raster(rast, 2.0, 2, boundary => ST_Boundary(boundary)) FROM bd WHERE name = 'geo';
+SELECT tin_from_raster(rast, 2.0, 2, boundary => ST_Transform(boundary, 3857)) FROM bd WHERE name = 'geo';
+SELECT tin_from_raster(rast, 2.0, 2, boundary => ST_Translate(boundary, 10, 0)) FROM bd WHERE name = 'geo';
+SELECT tin_from_raster(rast, 2.0, 2, keep_border => true, boundary => boundary) FROM bd WHERE name = 'geo';
+DROP TABLE bd_lines;
+DROP TABLE bd;
+DROP FUNCTION bd_ring(raster, float8[]);
+DROP FUNCTION bd_pt(raster, float8, float8);
