@@ -19,6 +19,7 @@ use tinmerge_core::tin::build::{
     boundary_holds_all, build, build_breaklines, build_domain, build_lattice, check_tolerances,
     default_tolerances, BuildOptions,
 };
+use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tiles::build_tiles;
 
@@ -133,6 +134,7 @@ fn _tin_from_raster_breaklines(
         breaklines,
         soft_breaklines,
         None,
+        true,
     ))
 }
 
@@ -151,9 +153,10 @@ fn _tin_from_raster_domain(
     breaklines: Option<&[u8]>,
     soft_breaklines: Option<&[u8]>,
     boundary: Option<&[u8]>,
+    fill_gaps: Option<bool>,
 ) -> Option<TinOut> {
-    let (rast, tolerance, levels, band, keep_border) =
-        (rast?, tolerance?, levels?, band?, keep_border?);
+    let (rast, tolerance, levels, band, keep_border, fill_gaps) =
+        (rast?, tolerance?, levels?, band?, keep_border?, fill_gaps?);
     let tols = default_tolerances(tolerance, levels).or_raise();
     Some(build_raster_constrained(
         rast,
@@ -163,12 +166,13 @@ fn _tin_from_raster_domain(
         breaklines,
         soft_breaklines,
         boundary,
+        fill_gaps,
     ))
 }
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION _tin_from_raster_domain(bytea, float8, int, int, boolean, bytea, bytea, bytea) IS 'Internal: use tin_from_raster(raster, ..., breaklines, soft_breaklines, boundary).';
+COMMENT ON FUNCTION _tin_from_raster_domain(bytea, float8, int, int, boolean, bytea, bytea, bytea, boolean) IS 'Internal: use tin_from_raster(raster, ..., breaklines, soft_breaklines, boundary, fill_gaps).';
 "#,
     name = "tin_from_raster_domain_sql",
     requires = [_tin_from_raster_domain]
@@ -195,6 +199,7 @@ fn _tin_from_raster_tolerances_breaklines(
         breaklines,
         soft_breaklines,
         None,
+        true,
     ))
 }
 
@@ -210,8 +215,10 @@ fn _tin_from_raster_tolerances_domain(
     breaklines: Option<&[u8]>,
     soft_breaklines: Option<&[u8]>,
     boundary: Option<&[u8]>,
+    fill_gaps: Option<bool>,
 ) -> Option<TinOut> {
-    let (rast, tolerances, band, keep_border) = (rast?, tolerances?, band?, keep_border?);
+    let (rast, tolerances, band, keep_border, fill_gaps) =
+        (rast?, tolerances?, band?, keep_border?, fill_gaps?);
     let tols = explicit_tolerances(tolerances);
     Some(build_raster_constrained(
         rast,
@@ -221,12 +228,13 @@ fn _tin_from_raster_tolerances_domain(
         breaklines,
         soft_breaklines,
         boundary,
+        fill_gaps,
     ))
 }
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION _tin_from_raster_tolerances_domain(bytea, float8[], int, boolean, bytea, bytea, bytea) IS 'Internal: use tin_from_raster(raster, float8[], ..., breaklines, soft_breaklines, boundary).';
+COMMENT ON FUNCTION _tin_from_raster_tolerances_domain(bytea, float8[], int, boolean, bytea, bytea, bytea, boolean) IS 'Internal: use tin_from_raster(raster, float8[], ..., breaklines, soft_breaklines, boundary, fill_gaps).';
 "#,
     name = "tin_from_raster_tolerances_domain_sql",
     requires = [_tin_from_raster_tolerances_domain]
@@ -352,8 +360,9 @@ fn boundary_arg(func: &str, bytes: Option<&[u8]>, srid: i32) -> Option<Area> {
     }
 }
 
-/// A raster build with breaklines or a boundary: the valid pixel centres
-/// in world coordinates, built as scattered samples with them.
+/// A raster build with breaklines, a boundary or over the valid pixels
+/// only (`fill_gaps` false): the valid pixel centres in world
+/// coordinates, built as scattered samples with them.
 #[allow(clippy::too_many_arguments)]
 fn build_raster_constrained(
     rast: &[u8],
@@ -363,32 +372,53 @@ fn build_raster_constrained(
     hard: Option<&[u8]>,
     soft: Option<&[u8]>,
     boundary: Option<&[u8]>,
+    fill_gaps: bool,
 ) -> TinOut {
-    if hard.is_none() && soft.is_none() && boundary.is_none() {
+    if hard.is_none() && soft.is_none() && boundary.is_none() && fill_gaps {
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
         raise(
             PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-            "tin_from_raster: keep_border cannot be combined with breaklines or a boundary (tiles with them are not built yet)",
+            "tin_from_raster: keep_border cannot be combined with breaklines, a boundary or fill_gaps => false (tiles with them are not built yet)",
         );
     }
     let (mut pts, lattice, srid) = raster_samples(rast, band);
     let lines = breaklines_arg("tin_from_raster", hard, soft, srid);
-    let area = boundary_arg("tin_from_raster", boundary, srid);
+    let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
+        .into_iter()
+        .collect();
+    if !fill_gaps {
+        // the valid pixels' own squares, holes included
+        let (w, h) = pts.iter().fold((0usize, 0usize), |(w, h), p| {
+            (w.max(p[0] as usize + 1), h.max(p[1] as usize + 1))
+        });
+        let mut valid = vec![false; w * h];
+        for p in &pts {
+            valid[p[1] as usize * w + p[0] as usize] = true;
+        }
+        let rings = cell_outline(w, h, &|c, r| valid[r * w + c]);
+        drop(valid);
+        areas.push(outline_area(&rings, &|c, r| {
+            let (x, y) = lattice.centre(c - 0.5, r - 0.5);
+            [x, y]
+        }));
+    }
     for p in &mut pts {
         let (x, y) = lattice.centre(p[0], p[1]);
         (p[0], p[1]) = (x, y);
     }
-    // a boundary holding the whole raster: the build without it, on the
+    // boundaries holding the whole raster: the build without them, on the
     // pixel lattice
-    if lines.is_empty() && area.as_ref().is_some_and(|a| boundary_holds_all(a, &pts)) {
+    areas.retain(|a| !boundary_holds_all(a, &pts));
+    if lines.is_empty() && areas.is_empty() {
         drop(pts);
         return build_raster(rast, tols, band, keep_border);
     }
     reserve_build("tin_from_raster", pts.len(), tols.len(), false);
+    let areas: Vec<&Area> = areas.iter().collect();
     TinOut::from_tin_on(
-        &build_domain(pts, &lines, area.as_ref(), tols, srid, &mut interrupt).or_raise(),
+        &build_domain(pts, &lines, &areas, tols, srid, &mut interrupt).or_raise(),
         &lattice,
     )
 }
@@ -532,7 +562,15 @@ fn _tin_from_points_domain(
     let area = boundary_arg("tin_from_points", boundary, srid);
     reserve_build("tin_from_points", samples.len(), tols.len(), false);
     Some(TinOut::from_tin(
-        &build_domain(samples, &lines, area.as_ref(), &tols, srid, &mut interrupt).or_raise(),
+        &build_domain(
+            samples,
+            &lines,
+            &area.iter().collect::<Vec<_>>(),
+            &tols,
+            srid,
+            &mut interrupt,
+        )
+        .or_raise(),
     ))
 }
 

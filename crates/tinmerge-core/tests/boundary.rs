@@ -108,10 +108,7 @@ fn check(name: &str, srid: i32) {
     let tols = default_tolerances(2.0, 4).unwrap();
     let polys = polygons(&d);
     let area = boundary(polys.clone()).unwrap();
-    let tin = build_domain(samples.clone(), &[], Some(&area), &tols, srid, &mut || {
-        Ok(())
-    })
-    .unwrap();
+    let tin = build_domain(samples.clone(), &[], &[&area], &tols, srid, &mut || Ok(())).unwrap();
     // the invariants, told that the rings' edges need not be Delaunay
     let segs: Vec<([f64; 3], [f64; 3])> = polys
         .iter()
@@ -309,7 +306,7 @@ fn boundary_edge_cases() {
         world(&d, -1.0, -1.0),
     ]]];
     let a = boundary(big).unwrap();
-    let t = build_domain(samples.clone(), &[], Some(&a), &tols, 4326, &mut || Ok(())).unwrap();
+    let t = build_domain(samples.clone(), &[], &[&a], &tols, 4326, &mut || Ok(())).unwrap();
     let plain = build(samples.clone(), &tols, 4326, &mut || Ok(())).unwrap();
     assert_eq!(encode(&t), encode(&plain));
     let away = vec![vec![vec![
@@ -319,7 +316,7 @@ fn boundary_edge_cases() {
         world(&d, 2.0 * w, 0.0),
     ]]];
     let a = boundary(away).unwrap();
-    let e = build_domain(samples.clone(), &[], Some(&a), &tols, 4326, &mut || Ok(())).unwrap_err();
+    let e = build_domain(samples.clone(), &[], &[&a], &tols, 4326, &mut || Ok(())).unwrap_err();
     assert!(e.to_string().contains("does not overlap"), "{e}");
     // a bow tie
     let bow = vec![vec![vec![
@@ -331,4 +328,84 @@ fn boundary_edge_cases() {
     ]]];
     let e = boundary(bow).unwrap_err();
     assert!(e.to_string().contains("ST_MakeValid"), "{e}");
+}
+
+/// The domain of the valid pixels (`fill_gaps => false`): the UTM DEM's
+/// nodata border, the geographic DEM with a block of nodata inside. The
+/// domain's area is that of the valid pixels' squares (`geo` union of
+/// the squares) clipped to the hull of the valid centres, and the height
+/// is None at every nodata centre.
+#[test]
+fn domain_of_the_valid_pixels() {
+    use tinmerge_core::tin::domain::{cell_outline, outline_area};
+    for (name, srid, hole) in [
+        ("jacksboro_fault_dem_utm16n.tif", 32616, false),
+        ("jacksboro_fault_dem.tif", 4326, true),
+    ] {
+        let mut d = read_dem(name);
+        if hole {
+            d.nodata = Some(-9999.0);
+            for r in 150..170 {
+                for c in 200..230 {
+                    d.values[r * d.width + c] = -9999.0;
+                }
+            }
+        }
+        let ok = |v: f64| !(v.is_nan() || Some(v) == d.nodata);
+        let (w, h) = (d.width, d.height);
+        let rings = cell_outline(w, h, &|c, r| ok(d.values[r * w + c]));
+        let area = outline_area(&rings, &|c, r| world(&d, c - 0.5, r - 0.5));
+        let samples = d.samples();
+        let tin = build_domain(
+            samples.clone(),
+            &[],
+            &[&area],
+            &[8.0, 2.0],
+            srid,
+            &mut || Ok(()),
+        )
+        .unwrap();
+        // the oracle: the union of the valid squares, by geo
+        let mut squares = Vec::new();
+        for r in 0..h {
+            for c in 0..w {
+                if ok(d.values[r * w + c]) {
+                    let p = |dc: f64, dr: f64| {
+                        let q = world(&d, c as f64 - 0.5 + dc, r as f64 - 0.5 + dr);
+                        Coord { x: q[0], y: q[1] }
+                    };
+                    squares.push(Polygon::new(
+                        LineString::new(vec![
+                            p(0., 0.),
+                            p(1., 0.),
+                            p(1., 1.),
+                            p(0., 1.),
+                            p(0., 0.),
+                        ]),
+                        vec![],
+                    ));
+                }
+            }
+        }
+        let cells = geo::unary_union(&squares);
+        let region = cells.intersection(&MultiPolygon::new(vec![hull_of(&samples)]));
+        let want = region.unsigned_area();
+        for (l, lv) in tin.levels.iter().enumerate() {
+            let got: f64 = (0..lv.num_domain())
+                .map(|t| tri_area(&tin.corners(l, t as u32)))
+                .sum();
+            assert!(
+                (got - want).abs() <= 1e-9 * want,
+                "{name} level {l}: domain {got}, valid squares ∩ hull {want}"
+            );
+            for r in 0..h {
+                for c in 0..w {
+                    if !ok(d.values[r * w + c]) {
+                        let p = world(&d, c as f64, r as f64);
+                        assert_eq!(height(&tin, l, p[0], p[1]), None, "{name} ({c}, {r})");
+                    }
+                }
+            }
+        }
+    }
 }

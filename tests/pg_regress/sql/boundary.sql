@@ -112,6 +112,56 @@ FROM bd b,
               FROM ST_PixelAsCentroids(b.rast)) p,
      tin_triangles(p.t) tr
 GROUP BY b.name, b.region ORDER BY 1;
+-- fill_gaps => false: the terrain is where the raster has data. The UTM
+-- DEM (nodata on its rotated border) and the geographic one with a lake
+-- and a single pixel set to nodata. Oracles: ST_Polygon (the valid
+-- pixels' squares) clipped to the hull of the valid centres has the
+-- triangles' area; tin_height is NULL wherever ST_Value is NULL (every
+-- pixel centre, and points a third of a pixel off them); every valid
+-- centre is within each level's tolerance; a line over the lake is cut
+-- where the data stops.
+CREATE TABLE gaps AS
+SELECT 'utm' AS name, rast, ST_PixelWidth(rast) AS px FROM dem
+UNION ALL
+SELECT 'geo', ST_SetValues(ST_SetBandNoDataValue(rast, -9999), 1, ARRAY[
+         ROW(ST_Buffer(bd_pt(rast, 0.6, 0.4), 0.05 * (ST_XMax(ST_Envelope(rast)) - ST_XMin(ST_Envelope(rast)))), -9999),
+         ROW(ST_PixelAsCentroid(rast, 100, 200), -9999)]::geomval[]), ST_PixelWidth(rast)
+FROM dem_geo;
+ALTER TABLE gaps ADD COLUMN t tin, ADD COLUMN region geometry, ADD COLUMN nd float8;
+UPDATE gaps SET t = tin_from_raster(rast, 2.0, 4, fill_gaps => false), nd = ST_BandNoDataValue(rast),
+  region = ST_Intersection(ST_Polygon(rast), (SELECT ST_ConvexHull(ST_Collect(geom)) FROM ST_PixelAsCentroids(rast)));
+SELECT name, ST_NumInteriorRings(ST_GeometryN(region, 1)) AS holes,
+       ST_Area(ST_ConvexHull(region)) > ST_Area(region) AS not_the_hull FROM gaps ORDER BY name;
+SELECT g.name, l AS level, abs(sum(ST_Area(tr.geom)) / ST_Area(g.region) - 1) < 1e-9 AS same_area
+FROM gaps g, generate_series(0, 3) l, tin_triangles(g.t, l) tr
+GROUP BY g.name, l, g.region ORDER BY 1, 2;
+-- (a point a third of a pixel off a centre is in that pixel: ST_Value
+-- there is the pixel's value, NULL on nodata; checked with ST_Value itself
+-- at 60 pixels, since ST_Value reads the whole raster each call)
+CREATE TABLE gap_pts AS
+SELECT g.name, NULLIF(c.val, g.nd) AS val, s.off, c.x, c.y,
+       ST_Translate(c.geom, s.off * g.px, -0.5 * s.off * g.px) AS geom
+FROM gaps g, (VALUES (0.0), (0.33)) s(off), ST_PixelAsCentroids(g.rast, 1, false) c;
+SELECT p.name, bool_and(ST_Value(g.rast, p.geom) IS NOT DISTINCT FROM p.val) AS value_of_the_pixel,
+       count(*) FILTER (WHERE p.val IS NULL) > 0 AS some_nodata
+FROM gap_pts p JOIN gaps g USING (name)
+WHERE (p.x * 31 + p.y) % 4001 = 0 OR (p.val IS NULL AND (p.x + p.y) % 997 = 0) GROUP BY p.name ORDER BY 1;
+SELECT g.name, l AS level,
+       count(*) FILTER (WHERE p.val IS NULL) AS nodata_points,
+       bool_and(tin_height(g.t, p.geom, l) IS NULL) FILTER (WHERE p.val IS NULL) AS null_where_st_value_is,
+       max(abs(tin_height(g.t, p.geom, l) - p.val)) FILTER (WHERE p.off = 0) <= 2.0 * 2 ^ (3 - l) + 1e-6 AS within_tolerance
+FROM gaps g JOIN gap_pts p USING (name), generate_series(0, 3) l
+GROUP BY g.name, l ORDER BY 1, 2;
+SELECT g.name, abs(sum(s.length2d) / ST_Length(ST_Intersection(ln.geom, g.region)) - 1) < 1e-9 AS same_length,
+       count(*) > 1 AS pieces
+FROM gaps g, LATERAL (SELECT ST_MakeLine(bd_pt(g.rast, 0.05, 0.4), bd_pt(g.rast, 0.95, 0.42)) AS geom) ln,
+     tin_line_segments(g.t, ln.geom) s
+GROUP BY g.name, ln.geom, g.region ORDER BY 1;
+-- a raster without nodata: fill_gaps => false is the plain build
+SELECT tin_from_raster(rast, 2.0, 4, fill_gaps => false) = tin_from_raster(rast, 2.0, 4) AS plain FROM dem_geo;
+SELECT tin_from_raster(rast, 2.0, 4, fill_gaps => NULL) IS NULL AS null_fill_gaps FROM dem_geo;
+DROP TABLE gap_pts;
+DROP TABLE gaps;
 -- NULLs and bad boundaries, one per line
 SELECT tin_from_raster(NULL::raster, 2.0, 4, boundary => (SELECT boundary FROM bd WHERE name = 'geo')) IS NULL AS null_raster;
 SELECT tin_from_raster(rast, 2.0, 2, boundary => ST_SetSRID(ST_MakePolygon(ST_MakeLine(ARRAY[bd_pt(rast, 0.1, 0.1), bd_pt(rast, 0.9, 0.9), bd_pt(rast, 0.9, 0.1), bd_pt(rast, 0.1, 0.9), bd_pt(rast, 0.1, 0.1)])), 4326)) FROM bd WHERE name = 'geo';

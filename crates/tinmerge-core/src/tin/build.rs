@@ -644,7 +644,7 @@ pub fn build_with(
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_inner(samples, &[], None, tolerances, srid, opts, false, interrupt)
+    build_inner(samples, &[], &[], tolerances, srid, opts, false, interrupt)
 }
 
 /// [`build`] with breaklines ([`super::breaklines`]): every line a union of
@@ -684,7 +684,7 @@ pub fn build_breaklines(
     srid: i32,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_domain(samples, lines, None, tolerances, srid, interrupt)
+    build_domain(samples, lines, &[], tolerances, srid, interrupt)
 }
 
 /// The `boundary` of a build ([`build_domain`]) from polygons given as
@@ -778,7 +778,7 @@ pub fn boundary_holds_all(area: &Area, samples: &[[f64; 3]]) -> bool {
 ///                  [25.0, 25.0], [-5.0, 25.0], [-5.0, -5.0]];
 /// let hole = vec![[2.0, 12.0], [6.0, 12.0], [6.0, 16.0], [2.0, 16.0], [2.0, 12.0]];
 /// let b = Area::new(vec![vec![shell, hole]]);
-/// let tin = build_domain(pts, &[], Some(&b), &[5.0, 0.5], 0, &mut || Ok(())).unwrap();
+/// let tin = build_domain(pts, &[], &[&b], &[5.0, 0.5], 0, &mut || Ok(())).unwrap();
 /// tin.sanity_check().unwrap();
 /// for l in &tin.levels {
 ///     // the domain: the square 0..20 less the corner 12..20 x 0..10 and the hole
@@ -794,7 +794,7 @@ pub fn boundary_holds_all(area: &Area, samples: &[[f64; 3]]) -> bool {
 pub fn build_domain(
     samples: Vec<[f64; 3]>,
     lines: &[Breakline],
-    boundary: Option<&Area>,
+    boundaries: &[&Area],
     tolerances: &[f64],
     srid: i32,
     interrupt: &mut Interrupt<'_>,
@@ -802,7 +802,7 @@ pub fn build_domain(
     build_inner(
         samples,
         lines,
-        boundary,
+        boundaries,
         tolerances,
         srid,
         BuildOptions::default(),
@@ -819,6 +819,7 @@ fn sample_height(grid: &SampleGrid, x: f64, y: f64) -> Option<f64> {
     if !(r.is_finite() && r > 0.0) {
         r = 1.0;
     }
+    let spacing = r / 2.0;
     for _ in 0..64 {
         let mut dt = Dt::new();
         let mut zs = Vec::new();
@@ -838,6 +839,16 @@ fn sample_height(grid: &SampleGrid, x: f64, y: f64) -> Option<f64> {
             if z.is_some() {
                 return z;
             }
+            // a point outside the hull of the samples around it by less
+            // than a sample spacing: a line cut at the samples' hull, whose
+            // long edges (a rotated raster's border) run up to a pixel
+            // beside the outermost samples, or a boundary's corner beside
+            // them. The height at the nearest point of that hull: the
+            // samples' own, where growing the box would reach a far hull
+            // vertex and a sliver across the whole raster
+            if let Some(z) = near_hull_edge(&dt, &zs, x, y, spacing) {
+                return Some(z);
+            }
         }
         if n == grid.len() {
             return None;
@@ -845,6 +856,29 @@ fn sample_height(grid: &SampleGrid, x: f64, y: f64) -> Option<f64> {
         r *= 2.0;
     }
     None
+}
+
+/// The height at (x, y) along the edge of `dt`'s convex hull nearest to
+/// it, when that edge is within `eps` (linear along the edge).
+fn near_hull_edge(dt: &Dt, zs: &[f64], x: f64, y: f64, eps: f64) -> Option<f64> {
+    let mut best: Option<(f64, f64)> = None;
+    for e in dt.convex_hull() {
+        let [a, b] = e.vertices();
+        let (pa, pb) = (a.position(), b.position());
+        let (dx, dy) = (pb.x - pa.x, pb.y - pa.y);
+        let l2 = dx * dx + dy * dy;
+        if l2 == 0.0 {
+            continue;
+        }
+        let t = (((x - pa.x) * dx + (y - pa.y) * dy) / l2).clamp(0.0, 1.0);
+        let (qx, qy) = (pa.x + t * dx, pa.y + t * dy);
+        let d = ((x - qx).powi(2) + (y - qy).powi(2)).sqrt();
+        if d <= eps && best.is_none_or(|(bd, _)| d < bd) {
+            let (za, zb) = (zs[a.fix().index()], zs[b.fix().index()]);
+            best = Some((d, za + t * (zb - za)));
+        }
+    }
+    best.map(|(_, z)| z)
 }
 
 /// The samples of a build with breaklines, their network and each
@@ -859,7 +893,7 @@ type WithBreaklines = (Vec<[f64; 3]>, Network, Vec<Vec<[f64; 3]>>);
 fn with_breaklines(
     pts: Vec<[f64; 3]>,
     lines: &[Breakline],
-    boundary: Option<&Area>,
+    boundaries: &[&Area],
     tol: f64,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<WithBreaklines, TinError> {
@@ -872,7 +906,7 @@ fn with_breaklines(
     // the parts of the lines outside the samples' extent are cut off
     super::breaklines::validate(lines)?;
     let mut lines = lines.to_vec();
-    if let Some(area) = boundary {
+    for area in boundaries {
         // the boundary's rings: soft lines (heights from the samples)
         lines.extend(area.rings.iter().map(|r| Breakline {
             pts: r.iter().map(|p| [p[0], p[1], 0.0]).collect(),
@@ -934,7 +968,7 @@ fn with_breaklines(
         profiles.push(prof);
     }
     // the samples outside the boundary: no vertex of the domain
-    if let Some(area) = boundary {
+    for area in boundaries {
         for (k, p) in grid.pts.iter().enumerate() {
             if k % 65536 == 0 {
                 interrupt()?;
@@ -1050,7 +1084,7 @@ struct RawLevel {
 fn build_inner(
     samples: Vec<[f64; 3]>,
     lines: &[Breakline],
-    boundary: Option<&Area>,
+    boundaries: &[&Area],
     tolerances: &[f64],
     srid: i32,
     opts: BuildOptions,
@@ -1058,7 +1092,7 @@ fn build_inner(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
-    let constrained = !lines.is_empty() || boundary.is_some();
+    let constrained = !lines.is_empty() || !boundaries.is_empty();
     if constrained && (on_lattice || opts.keep_border) {
         return Err(TinError::InvalidParameter(
             "internal: breaklines are built on scattered samples without keep_border".into(),
@@ -1081,9 +1115,9 @@ fn build_inner(
     let mut profiles = Vec::new();
     if constrained && pts.len() >= 3 {
         let tol = *tolerances.last().unwrap_or(&0.0);
-        (pts, net, profiles) = with_breaklines(pts, lines, boundary, tol, interrupt)?;
+        (pts, net, profiles) = with_breaklines(pts, lines, boundaries, tol, interrupt)?;
     }
-    if boundary.is_some() && net.segs.is_empty() && pts.len() < 3 {
+    if !boundaries.is_empty() && net.segs.is_empty() && pts.len() < 3 {
         return Err(no_domain());
     }
     if pts.len() < 3 {
@@ -1144,8 +1178,8 @@ fn build_inner(
     };
     drop(grid);
     let mut raw_levels = raw_levels;
-    if let Some(area) = boundary {
-        mark_void(&verts, &mut raw_levels[0], area, interrupt)?;
+    if !boundaries.is_empty() {
+        mark_void(&verts, &mut raw_levels[0], boundaries, interrupt)?;
     }
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
     assemble(verts, raw_levels, srid, !on_lattice, interrupt)
@@ -1158,13 +1192,14 @@ fn no_domain() -> TinError {
     )
 }
 
-/// Level 0's void triangles: those whose centroid is outside `area`. The
-/// boundary's rings within the hull are edges of level 0, so no triangle
-/// has parts on both sides; the finer levels inherit ([`assemble`]).
+/// Level 0's void triangles: those whose centroid is outside any of the
+/// `boundaries`. Their rings within the hull are edges of level 0, so no
+/// triangle has parts on both sides; the finer levels inherit
+/// ([`assemble`]).
 fn mark_void(
     verts: &[[f64; 3]],
     level0: &mut RawLevel,
-    area: &Area,
+    boundaries: &[&Area],
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
     let mut void = Vec::with_capacity(level0.tris.len());
@@ -1174,7 +1209,7 @@ fn mark_void(
         }
         let [a, b, c] = t.map(|v| verts[v as usize]);
         let g = [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0];
-        void.push(area.locate(g) == Where::Outside);
+        void.push(boundaries.iter().any(|a| a.locate(g) == Where::Outside));
     }
     if void.iter().all(|&v| v) {
         return Err(no_domain());
@@ -1903,7 +1938,7 @@ pub fn build_lattice(
     let tin = lattice.to_world(build_inner(
         samples,
         &[],
-        None,
+        &[],
         tolerances,
         srid,
         opts,

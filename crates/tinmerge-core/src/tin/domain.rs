@@ -1,7 +1,10 @@
-//! Where a raster has data, as polygons on its pixel lattice: the first
-//! step towards building a raster tin over its data instead of over the
-//! convex hull of its valid pixel centres (issue 26). The build does not
-//! use it yet.
+//! Where a raster has data, as polygons on its pixel lattice (issue 26):
+//! [`cell_outline`] is the union of the valid pixels' own squares, what
+//! `ST_Value` answers on; `tin_from_raster(..., fill_gaps => false)` builds
+//! over it ([`outline_area`] as the build's boundary), so the terrain
+//! stops where the data does, holes included. [`valid_outline`] is the
+//! other candidate, the blocks between valid pixel centres (not used by a
+//! build):
 //!
 //! A tin's vertices are pixel centres, so the most it can cover is the
 //! union of the lattice's *blocks*: the square between four neighbouring
@@ -28,6 +31,7 @@
 //! assert_eq!(ring_area2(&rings[0]), 11);
 //! ```
 
+use crate::merge::area::polygon::Area;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// A point of the lattice: `(col, row)` of a pixel centre.
@@ -77,10 +81,14 @@ pub fn valid_outline(
             }
         }
     }
-    // chain the boundary edges into rings, turning most to the left where
-    // two rings touch at a corner (the interior is on the left)
+    rings_of(&edges)
+}
+
+/// The boundary edges (each once, interior on the left) chained into
+/// rings, turning most to the left where two rings touch at a corner.
+fn rings_of(edges: &FxHashSet<(LatticePoint, LatticePoint)>) -> Vec<Vec<LatticePoint>> {
     let mut out: FxHashMap<LatticePoint, Vec<LatticePoint>> = FxHashMap::default();
-    for &(a, b) in &edges {
+    for &(a, b) in edges {
         out.entry(a).or_default().push(b);
     }
     for v in out.values_mut() {
@@ -127,6 +135,47 @@ pub fn valid_outline(
     rings
 }
 
+/// The rings of the union of the valid pixels' own squares (what
+/// `ST_Value` answers on) of a `width x height` raster, as corners of the
+/// pixel grid: corner `(c, r)` is the top-left corner of pixel `(c, r)`, so
+/// pixel `(c, r)` spans `c..c+1 x r..r+1`. Outer rings have positive area,
+/// holes negative ([`ring_area2`]: twice the number of pixels). Where two
+/// rings touch at a corner they are kept apart; collinear corners dropped.
+///
+/// ```
+/// use tinmerge_core::tin::domain::{cell_outline, ring_area2};
+/// // a 3 x 3 raster with a nodata pixel in the middle: a ring and a hole
+/// let rings = cell_outline(3, 3, &|c, r| !(c == 1 && r == 1));
+/// assert_eq!(rings.len(), 2);
+/// let total: i64 = rings.iter().map(|r| ring_area2(r)).sum();
+/// assert_eq!(total, 2 * 8);
+/// ```
+pub fn cell_outline(
+    width: usize,
+    height: usize,
+    valid: &dyn Fn(usize, usize) -> bool,
+) -> Vec<Vec<LatticePoint>> {
+    let mut edges: FxHashSet<(LatticePoint, LatticePoint)> = FxHashSet::default();
+    let mut add = |a: LatticePoint, b: LatticePoint| {
+        if !edges.remove(&(b, a)) {
+            edges.insert((a, b));
+        }
+    };
+    for r in 0..height {
+        for c in 0..width {
+            if !valid(c, r) {
+                continue;
+            }
+            let (ci, ri) = (c as i64, r as i64);
+            let sq = [[ci, ri], [ci + 1, ri], [ci + 1, ri + 1], [ci, ri + 1]];
+            for k in 0..4 {
+                add(sq[k], sq[(k + 1) % 4]);
+            }
+        }
+    }
+    rings_of(&edges)
+}
+
 /// The ring without the points where it runs straight on.
 fn drop_collinear(ring: Vec<LatticePoint>) -> Vec<LatticePoint> {
     let n = ring.len();
@@ -143,4 +192,17 @@ fn drop_collinear(ring: Vec<LatticePoint>) -> Vec<LatticePoint> {
         })
         .map(|i| ring[i])
         .collect()
+}
+
+/// The rings of [`cell_outline`] as a build's boundary: `corner(col, row)`
+/// gives the world position of grid corner `(col, row)`. Inside is decided
+/// by parity over all rings (each ring is its own polygon here: the holes
+/// are not matched to their shells), which is all a build asks of it.
+pub fn outline_area(rings: &[Vec<LatticePoint>], corner: &dyn Fn(f64, f64) -> [f64; 2]) -> Area {
+    Area::new(
+        rings
+            .iter()
+            .map(|r| vec![r.iter().map(|p| corner(p[0] as f64, p[1] as f64)).collect()])
+            .collect(),
+    )
 }
