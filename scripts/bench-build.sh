@@ -7,7 +7,9 @@
 # bucketed, the finer levels parent by parent with each edge's samples
 # found up to rounding), the raster with breaklines (the bundled DEM's 624
 # gdal_contour lines of 50 m as hard breaklines at their elevation, and
-# three soft lines across it: docs/breaklines.md), and 256-pixel tiles
+# three soft lines across it: docs/breaklines.md), over the valid pixels
+# only (fill_gaps => false: the DEM's nodata border), with a boundary (a
+# concave polygon with a hole), and 256-pixel tiles
 # (tin_tiles_from_table); 1 and 2 threads; median of 3
 # wall times, and the Rust heap's peak in the backend (the counting
 # allocator; a bench build). Not a test: timings are noisy.
@@ -29,7 +31,13 @@ SELECT (SELECT ST_Collect(ST_Force3D(geom, elev)) FROM contours) AS hard,
        ST_SetSRID(ST_Collect(ARRAY[
          ST_MakeLine(ST_MakePoint(ST_XMin(e) + 0.1 * w, ST_YMin(e) + 0.2 * h), ST_MakePoint(ST_XMin(e) + 0.9 * w, ST_YMin(e) + 0.7 * h)),
          ST_MakeLine(ST_MakePoint(ST_XMin(e) + 0.2 * w, ST_YMin(e) + 0.9 * h), ST_MakePoint(ST_XMin(e) + 0.6 * w, ST_YMin(e) + 0.1 * h)),
-         ST_MakeLine(ST_MakePoint(ST_XMin(e) + 0.5 * w, ST_YMin(e) + 0.5 * h), ST_MakePoint(ST_XMin(e) + 0.95 * w, ST_YMin(e) + 0.95 * h))]), 32616) AS soft
+         ST_MakeLine(ST_MakePoint(ST_XMin(e) + 0.5 * w, ST_YMin(e) + 0.5 * h), ST_MakePoint(ST_XMin(e) + 0.95 * w, ST_YMin(e) + 0.95 * h))]), 32616) AS soft,
+       ST_SetSRID(ST_MakePolygon(
+         ST_MakeLine(ARRAY[ST_MakePoint(ST_XMin(e) + 0.1 * w, ST_YMin(e) + 0.1 * h), ST_MakePoint(ST_XMin(e) + 0.9 * w, ST_YMin(e) + 0.15 * h),
+                           ST_MakePoint(ST_XMin(e) + 0.5 * w, ST_YMin(e) + 0.5 * h), ST_MakePoint(ST_XMin(e) + 0.85 * w, ST_YMin(e) + 0.9 * h),
+                           ST_MakePoint(ST_XMin(e) + 0.15 * w, ST_YMin(e) + 0.85 * h), ST_MakePoint(ST_XMin(e) + 0.1 * w, ST_YMin(e) + 0.1 * h)]),
+         ARRAY[ST_MakeLine(ARRAY[ST_MakePoint(ST_XMin(e) + 0.3 * w, ST_YMin(e) + 0.6 * h), ST_MakePoint(ST_XMin(e) + 0.3 * w, ST_YMin(e) + 0.7 * h),
+                                 ST_MakePoint(ST_XMin(e) + 0.4 * w, ST_YMin(e) + 0.7 * h), ST_MakePoint(ST_XMin(e) + 0.3 * w, ST_YMin(e) + 0.6 * h)])]), 32616) AS b
 FROM (SELECT ST_Envelope(rast) AS e, ST_XMax(ST_Envelope(rast)) - ST_XMin(ST_Envelope(rast)) AS w,
              ST_YMax(ST_Envelope(rast)) - ST_YMin(ST_Envelope(rast)) AS h FROM dem_x4) x;
 CREATE TABLE dem_x4_pts AS SELECT ST_SetSRID(ST_Collect(ST_MakePoint(ST_X(geom), ST_Y(geom), val)), 32616) AS geom FROM dem_x4, ST_PixelAsCentroids(rast, 1, true);
@@ -66,5 +74,7 @@ for th in 1 2; do
   row "tin_from_raster (one tin)" $th "CREATE TABLE out AS SELECT tin_from_raster(rast, 2.0, 5) AS t FROM dem_x4"
   row "tin_from_points of the pixel centres" $th "CREATE TABLE out AS SELECT tin_from_points(geom, 2.0, 5) AS t FROM dem_x4_pts"
   row "tin_from_raster with breaklines (624 contours hard, 3 lines soft)" $th "CREATE TABLE out AS SELECT tin_from_raster(rast, 2.0, 5, breaklines => hard, soft_breaklines => soft) AS t FROM dem_x4, bench_lines"
+  row "tin_from_raster, fill_gaps => false (nodata border as pixel edges)" $th "CREATE TABLE out AS SELECT tin_from_raster(rast, 2.0, 5, fill_gaps => false) AS t FROM dem_x4"
+  row "tin_from_raster with a boundary (concave, one hole)" $th "CREATE TABLE out AS SELECT tin_from_raster(rast, 2.0, 5, boundary => b) AS t FROM dem_x4, bench_lines"
   row "tin_tiles_from_table, 256-pixel tiles" $th "CREATE TABLE out AS SELECT t FROM tin_tiles_from_table('dem_x4_tiles', 2.0, 5)"
 done

@@ -366,7 +366,20 @@ pub fn tin_svg(
         num_levels: tin.levels.len(),
     })?;
     let (cols, legend) = colours(tin, level, opts)?;
-    let b = &tin.bbox;
+    // the frame: the domain's triangles (a tin with void triangles has
+    // vertices off its domain)
+    let domain_box;
+    let b = if lv.num_void == 0 {
+        &tin.bbox
+    } else {
+        let used: Vec<[f64; 3]> = lv.tris[..lv.num_domain()]
+            .iter()
+            .flatten()
+            .map(|&v| tin.verts[v as usize])
+            .collect();
+        domain_box = crate::tin::Bbox::of(&used);
+        &domain_box
+    };
     let width = opts.width as f64;
     let scale = (width - 2.0 * MARGIN) / (b.max_x - b.min_x);
     let map_h = (b.max_y - b.min_y) * scale;
