@@ -16,8 +16,8 @@ use tinmerge_core::io::{ewkb, gserialized, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    boundary_holds_all, build, build_breaklines, build_domain, build_lattice, check_tolerances,
-    default_tolerances, BuildOptions,
+    boundary_holds_all, build, build_domain, build_lattice, check_tolerances, default_tolerances,
+    BuildOptions,
 };
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
@@ -109,9 +109,8 @@ COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Inter
     requires = [_tin_from_raster]
 );
 
-/// The build of `tin_from_raster` with breaklines (its wrapper calls
-/// `_tin_from_raster` without them). Not STRICT: the breaklines may be
-/// NULL; any other NULL argument gives NULL.
+/// 0.8.0's build of `tin_from_raster` with breaklines (C symbol kept for
+/// its install script): [`_tin_from_raster_domain`] without a boundary.
 #[allow(clippy::too_many_arguments)]
 #[pg_extern(sql = false)]
 fn _tin_from_raster_breaklines(
@@ -123,19 +122,17 @@ fn _tin_from_raster_breaklines(
     breaklines: Option<&[u8]>,
     soft_breaklines: Option<&[u8]>,
 ) -> Option<TinOut> {
-    let (rast, tolerance, levels, band, keep_border) =
-        (rast?, tolerance?, levels?, band?, keep_border?);
-    let tols = default_tolerances(tolerance, levels).or_raise();
-    Some(build_raster_constrained(
+    _tin_from_raster_domain(
         rast,
-        &tols,
+        tolerance,
+        levels,
         band,
         keep_border,
         breaklines,
         soft_breaklines,
         None,
-        true,
-    ))
+        Some(true),
+    )
 }
 
 /// The build of `tin_from_raster` with breaklines or a boundary (its
@@ -178,8 +175,8 @@ COMMENT ON FUNCTION _tin_from_raster_domain(bytea, float8, int, int, boolean, by
     requires = [_tin_from_raster_domain]
 );
 
-/// `tin_from_raster(raster, float8[], ...)` with breaklines; NULLs as for
-/// [`_tin_from_raster_breaklines`].
+/// 0.8.0's `tin_from_raster(raster, float8[], ...)` with breaklines (C
+/// symbol kept): [`_tin_from_raster_tolerances_domain`] without a boundary.
 #[pg_extern(sql = false)]
 fn _tin_from_raster_tolerances_breaklines(
     rast: Option<&[u8]>,
@@ -189,18 +186,16 @@ fn _tin_from_raster_tolerances_breaklines(
     breaklines: Option<&[u8]>,
     soft_breaklines: Option<&[u8]>,
 ) -> Option<TinOut> {
-    let (rast, tolerances, band, keep_border) = (rast?, tolerances?, band?, keep_border?);
-    let tols = explicit_tolerances(tolerances);
-    Some(build_raster_constrained(
+    _tin_from_raster_tolerances_domain(
         rast,
-        &tols,
+        tolerances,
         band,
         keep_border,
         breaklines,
         soft_breaklines,
         None,
-        true,
-    ))
+        Some(true),
+    )
 }
 
 /// `tin_from_raster(raster, float8[], ...)` with breaklines or a
@@ -524,8 +519,8 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     TinOut::from_tin(&build(samples, &tols, srid, &mut interrupt).or_raise())
 }
 
-/// `tin_from_points` with breaklines; NULLs as for
-/// [`_tin_from_raster_breaklines`].
+/// 0.8.0's `tin_from_points` with breaklines (C symbol kept):
+/// [`_tin_from_points_domain`] without a boundary.
 #[pg_extern(sql = false)]
 fn _tin_from_points_breaklines(
     pts: Option<&[u8]>,
@@ -534,14 +529,7 @@ fn _tin_from_points_breaklines(
     breaklines: Option<&[u8]>,
     soft_breaklines: Option<&[u8]>,
 ) -> Option<TinOut> {
-    let (pts, tolerance, levels) = (pts?, tolerance?, levels?);
-    let tols = default_tolerances(tolerance, levels).or_raise();
-    let (samples, srid) = point_samples(pts);
-    let lines = breaklines_arg("tin_from_points", breaklines, soft_breaklines, srid);
-    reserve_build("tin_from_points", samples.len(), tols.len(), false);
-    Some(TinOut::from_tin(
-        &build_breaklines(samples, &lines, &tols, srid, &mut interrupt).or_raise(),
-    ))
+    _tin_from_points_domain(pts, tolerance, levels, breaklines, soft_breaklines, None)
 }
 
 /// `tin_from_points` with breaklines or a boundary; NULLs as for

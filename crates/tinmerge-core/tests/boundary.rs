@@ -229,14 +229,7 @@ fn check(name: &str, srid: i32) {
     }
 
     // the raster merge: the DEM's own pixels at the finest level
-    let gt = tinmerge_core::io::raster::GeoTransform {
-        scale_x: d.scale_x,
-        scale_y: -d.scale_y,
-        ip_x: d.origin_x,
-        ip_y: d.origin_y,
-        skew_x: 0.0,
-        skew_y: 0.0,
-    };
+    let gt = d.geotransform();
     let g = PixelGrid::new(&gt, d.width, d.height).unwrap();
     let fin = tin.levels.len() - 1;
     let lv = TinLevel::new(&tin, fin).unwrap();

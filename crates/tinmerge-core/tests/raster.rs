@@ -151,14 +151,7 @@ fn swept_owner(tin: &Tin, level: usize, r: &Raster, ordered: bool) -> Vec<u32> {
 fn dem_raster() -> Raster {
     let d = read_dem("jacksboro_fault_dem_utm16n.tif");
     Raster {
-        gt: GeoTransform {
-            scale_x: d.scale_x,
-            scale_y: -d.scale_y,
-            ip_x: d.origin_x,
-            ip_y: d.origin_y,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        },
+        gt: d.geotransform(),
         w: d.width,
         h: d.height,
         nodata: d.nodata.unwrap_or(-9999.0),

@@ -57,11 +57,7 @@ pub fn valid_outline(
 ) -> Vec<Vec<LatticePoint>> {
     // every block piece's edges, CCW; an edge met both ways is inside
     let mut edges: FxHashSet<(LatticePoint, LatticePoint)> = FxHashSet::default();
-    let mut add = |a: LatticePoint, b: LatticePoint| {
-        if !edges.remove(&(b, a)) {
-            edges.insert((a, b));
-        }
-    };
+    let mut add = |a: LatticePoint, b: LatticePoint| add_edge(&mut edges, a, b);
     for r in 0..height.saturating_sub(1) {
         for c in 0..width.saturating_sub(1) {
             let (ci, ri) = (c as i64, r as i64);
@@ -82,6 +78,14 @@ pub fn valid_outline(
         }
     }
     rings_of(&edges)
+}
+
+/// Add the directed edge a -> b of a piece, or cancel it against b -> a of
+/// its neighbour (an edge met both ways is inside the union).
+fn add_edge(edges: &mut FxHashSet<(LatticePoint, LatticePoint)>, a: LatticePoint, b: LatticePoint) {
+    if !edges.remove(&(b, a)) {
+        edges.insert((a, b));
+    }
 }
 
 /// The boundary edges (each once, interior on the left) chained into
@@ -156,11 +160,7 @@ pub fn cell_outline(
     valid: &dyn Fn(usize, usize) -> bool,
 ) -> Vec<Vec<LatticePoint>> {
     let mut edges: FxHashSet<(LatticePoint, LatticePoint)> = FxHashSet::default();
-    let mut add = |a: LatticePoint, b: LatticePoint| {
-        if !edges.remove(&(b, a)) {
-            edges.insert((a, b));
-        }
-    };
+    let mut add = |a: LatticePoint, b: LatticePoint| add_edge(&mut edges, a, b);
     for r in 0..height {
         for c in 0..width {
             if !valid(c, r) {

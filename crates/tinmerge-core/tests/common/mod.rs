@@ -58,6 +58,18 @@ impl Dem {
         (gt, w, h, values)
     }
 
+    /// The DEM's geotransform (north up).
+    pub fn geotransform(&self) -> tinmerge_core::io::raster::GeoTransform {
+        tinmerge_core::io::raster::GeoTransform {
+            scale_x: self.scale_x,
+            scale_y: -self.scale_y,
+            ip_x: self.origin_x,
+            ip_y: self.origin_y,
+            skew_x: 0.0,
+            skew_y: 0.0,
+        }
+    }
+
     /// The DEM's pixel lattice (north up), as `tin_from_raster` builds on.
     pub fn lattice(&self) -> tinmerge_core::tin::lattice::Lattice {
         tinmerge_core::tin::lattice::Lattice {
