@@ -26,11 +26,11 @@
 //!    904    4  (version 4) vertex coding (0 raw, 1 lattice + f32 z,
 //!              2 lattice + f64 z; [`super::compact::VertexCoding`])
 //!    908    4  (version 4) reserved (0)
-//! Version 5 is version 4 with void triangles (see [`super::Level::num_void`]):
-//! an older reader must refuse it, not show the void as terrain.
 //!    912    8  (version 4) header hash: xxh3-64 of bytes 0..912 with the
 //!              content hash zeroed
 //! ```
+//! Version 5 is version 4 with void triangles (see [`super::Level::num_void`]):
+//! an older reader must refuse it, not show the void as terrain.
 //! Version 4 is compact ([`super::compact`]): after the header, a directory
 //! of one u32 per group (where the group ends, counted from the end of the
 //! directory), then the groups, each a codec byte, its coded or
