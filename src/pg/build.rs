@@ -69,7 +69,9 @@ fn raster_band(rast: &[u8], band: i32) -> (raster::Raster, raster::Band) {
 
 /// Valid pixels of one band as lattice samples (col, row, value), the
 /// raster's pixel lattice and its SRID.
-fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
+/// The valid pixels of one band as (column, row, value), the lattice, the
+/// SRID, and whether every pixel is valid.
+fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32, bool) {
     let (r, b) = raster_band(rast, band);
     let mut pts = Vec::new();
     for row in 0..r.height {
@@ -86,7 +88,8 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32) {
             format!("band {band} has no valid pixels (every pixel is nodata)"),
         );
     }
-    (pts, r.gt.lattice(), r.srid)
+    let full = pts.len() == r.width * r.height;
+    (pts, r.gt.lattice(), r.srid, full)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
@@ -372,18 +375,18 @@ fn build_raster_constrained(
     if hard.is_none() && soft.is_none() && boundary.is_none() && fill_gaps {
         return build_raster(rast, tols, band, keep_border);
     }
-    if keep_border {
+    if keep_border && (hard.is_some() || soft.is_some() || boundary.is_some()) {
         raise(
             PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-            "tin_from_raster: keep_border cannot be combined with breaklines, a boundary or fill_gaps => false (tiles with them are not built yet)",
+            "tin_from_raster: keep_border cannot be combined with breaklines or a boundary (tiles with them are not built yet)",
         );
     }
-    let (mut pts, lattice, srid) = raster_samples(rast, band);
+    let (mut pts, lattice, srid, full) = raster_samples(rast, band);
     let lines = breaklines_arg("tin_from_raster", hard, soft, srid);
     let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
         .into_iter()
         .collect();
-    if !fill_gaps {
+    if !fill_gaps && !full {
         // the valid pixels' own squares, holes included
         let (w, h) = pts.iter().fold((0usize, 0usize), |(w, h), p| {
             (w.max(p[0] as usize + 1), h.max(p[1] as usize + 1))
@@ -409,6 +412,12 @@ fn build_raster_constrained(
     if lines.is_empty() && areas.is_empty() {
         drop(pts);
         return build_raster(rast, tols, band, keep_border);
+    }
+    if keep_border {
+        raise(
+            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
+            "tin_from_raster: keep_border => true over a raster whose nodata pixels cut into the hull of its valid ones needs fill_gaps => true (tiles over the valid pixels only are not built yet)",
+        );
     }
     reserve_build("tin_from_raster", pts.len(), tols.len(), false);
     let areas: Vec<&Area> = areas.iter().collect();
@@ -502,7 +511,7 @@ COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use t
 
 /// The build behind both `tin_from_raster` forms.
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
-    let (pts, lattice, srid) = raster_samples(rast, band);
+    let (pts, lattice, srid, _) = raster_samples(rast, band);
     reserve_build("tin_from_raster", pts.len(), tols.len(), true);
     let opts = BuildOptions { keep_border };
     TinOut::from_tin_on(

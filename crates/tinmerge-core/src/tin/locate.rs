@@ -250,6 +250,42 @@ pub fn locate_hull_in<M: Indexed>(
     let s = start_in(m, level, x, y)?;
     Ok(match walk_in(m, level, s, x, y)? {
         Walk::Inside(t) => Some(canonical_in(m, level, t, x, y)?),
+        Walk::Outside(t) if beside_hull_edge(m, level, t, x, y)? => {
+            match brute_force(m, level, x, y)? {
+                Some(t) => Some(canonical_in(m, level, t, x, y)?),
+                None => None,
+            }
+        }
         Walk::Outside(_) => None,
     })
+}
+
+/// Whether (x, y), outside a hull edge of `t`, is within rounding of that
+/// edge's line (a billionth of the largest coordinate). The hull of a
+/// scattered build is convex only up to rounding (a sample a rounding
+/// inside a hull edge becomes a boundary vertex, the sliver it made
+/// dropped: `Builder::snapshot` in the build), so the line of a hull edge
+/// next to such a vertex can pass a rounding outside points of the domain
+/// and the walk's "outside" is not proof there: [`locate_hull_in`] then
+/// scans the level.
+fn beside_hull_edge<M: Indexed>(
+    m: &M,
+    level: usize,
+    t: u32,
+    x: f64,
+    y: f64,
+) -> Result<bool, M::Err> {
+    let b = m.bbox();
+    let band = 1e-9
+        * [b.min_x, b.max_x, b.min_y, b.max_y]
+            .iter()
+            .fold(0.0_f64, |a, v| a.max(v.abs()));
+    let c = m.corners(level, t)?;
+    let nbrs = m.nbrs(level, t)?;
+    let p = Coord { x, y };
+    Ok((0..3).any(|j| {
+        let (a, e) = (c[(j + 1) % 3], c[(j + 2) % 3]);
+        let o = orient2d(vco(&a), vco(&e), p);
+        nbrs[j] == NONE && o < 0.0 && -o <= band * (e[0] - a[0]).hypot(e[1] - a[1])
+    }))
 }
