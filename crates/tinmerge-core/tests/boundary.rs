@@ -25,8 +25,10 @@ use geo::{
     Area as _, BooleanOps, Contains, ConvexHull, Coord, Euclidean, Length, LineString,
     MultiLineString, MultiPoint, MultiPolygon, Point, Polygon,
 };
+use tinmerge_core::io::ewkb::Geom;
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::{area_rows, sweep, Method};
+use tinmerge_core::merge::line::drape::drape;
 use tinmerge_core::merge::line::{pieces, Part};
 use tinmerge_core::merge::overlay::overlay;
 use tinmerge_core::merge::point::height;
@@ -265,6 +267,39 @@ fn check(name: &str, srid: i32) {
         (got - want_o).abs() <= 1e-9 * want_o,
         "{name}: overlay {got}, region ∩ hull {want_o}"
     );
+
+    // tin_drape of a strip whose corners are all on the terrain: across
+    // the hole it is refused (it was cut silently to one of its runs);
+    // beside the hole it comes back whole, closed, on the surface
+    let (w, h) = (d.width as f64, d.height as f64);
+    let strip = |x1: f64| {
+        let (a, b) = (world(&d, 0.22 * w, 0.40 * h), world(&d, x1 * w, 0.40 * h));
+        let dy = 2.0 * d.scale_y;
+        Geom::Polygon(vec![vec![
+            [a[0], a[1], 0.0],
+            [b[0], b[1], 0.0],
+            [b[0], b[1] + dy, 0.0],
+            [a[0], a[1] + dy, 0.0],
+            [a[0], a[1], 0.0],
+        ]])
+    };
+    let fin = tin.levels.len() - 1;
+    let across = drape(&tin, fin, &strip(0.48));
+    assert!(
+        matches!(&across, Err(e) if e.to_string().contains("leaves the tin's domain")),
+        "{name}: {across:?}"
+    );
+    match drape(&tin, fin, &strip(0.26)).unwrap() {
+        Some(Geom::Polygon(rs)) => {
+            let r = &rs[0];
+            assert!(r.len() > 5 && r.first() == r.last(), "{name}: {r:?}");
+            for v in r {
+                let z = height(&tin, fin, v[0], v[1]).unwrap();
+                assert!((z - v[2]).abs() < 1e-6, "{name}: {v:?} vs {z}");
+            }
+        }
+        other => panic!("{name}: {other:?}"),
+    }
 
     // storage: format 5, the same tin back
     let bytes = encode(&tin);

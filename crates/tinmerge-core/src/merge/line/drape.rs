@@ -6,7 +6,8 @@
 //! - lines keep their stretches inside the domain: a line that leaves and
 //!   comes back becomes several lines (a LINESTRING may become a
 //!   MULTILINESTRING);
-//! - polygons must lie inside the domain (an error names the way to clip
+//! - polygons must lie inside the domain, their edges too (a domain with
+//!   void triangles has holes and bays; an error names the way to clip
 //!   them): cutting a polygon to the domain is an area operation;
 //! - collections are draped member by member; members with nothing left are
 //!   dropped, and `None` means nothing at all is left.
@@ -45,17 +46,27 @@ fn drape_lines(
 }
 
 fn drape_ring(tin: &Tin, level: usize, ring: &[[f64; 3]]) -> Result<Vec<[f64; 3]>, TinError> {
+    const CLIP: &str = "clip the polygon to the domain first, e.g. ST_Intersection(geom, (SELECT ST_Union(geom) FROM tin_triangles(t, 0)))";
     if let Some(p) = ring
         .iter()
         .find(|p| point::locate(tin, level, p[0], p[1]).is_none())
     {
         return Err(TinError::InvalidParameter(format!(
-            "tin_drape: a polygon ring has a vertex ({} {}) outside the tin's domain; clip the polygon first, e.g. ST_Intersection(geom, ST_ConvexHull(tin_as_geometry(t, 0)))",
+            "tin_drape: a polygon ring has a vertex ({} {}) outside the tin's domain; {CLIP}",
             p[0], p[1]
         )));
     }
     let mut lines = drape_lines(tin, level, &[ring.to_vec()])?;
-    // the domain is convex and holds every vertex: one run
+    // Every vertex is in the domain; on a domain with void triangles (a
+    // boundary, nodata) an edge may still cross a hole or a bay, and the
+    // ring comes back as several runs: refused, not cut to one of them.
+    if lines.len() > 1 {
+        let p = lines[0].last().copied().unwrap_or_default();
+        return Err(TinError::InvalidParameter(format!(
+            "tin_drape: a polygon ring leaves the tin's domain near ({} {}) (it crosses a hole or a bay of the domain); {CLIP}",
+            p[0], p[1]
+        )));
+    }
     let mut r = lines.pop().unwrap_or_default();
     if let (Some(f), Some(l)) = (r.first().copied(), r.last_mut()) {
         // closed exactly (the two ends may be interpolated in different
