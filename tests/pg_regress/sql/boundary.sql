@@ -105,6 +105,22 @@ SELECT b.name, abs(sum(ST_Area(o.geom_a)) / ST_Area(b.region) - 1) < 1e-9 AS sam
        count(*) > 0 AS triangles
 FROM bd b, tin_overlay(b.t, tin_from_raster(b.rast, 8.0, 1, fill_gaps => false), 1, 0) o
 GROUP BY b.name, b.region ORDER BY 1;
+-- tin_drape of a polygon: a strip whose corners are all on the terrain
+-- but which crosses the hole is refused (it was cut silently to one of its
+-- runs), the strip left of the hole is draped whole (PostGIS: same ring,
+-- its vertices on the surface)
+CREATE TABLE bd_strips AS
+SELECT b.name, k, ST_MakeEnvelope(ST_X(p), ST_Y(p), ST_X(q), ST_Y(q) + 2 * b.px, ST_SRID(b.rast)) AS g
+FROM bd b, (VALUES ('across', 0.48), ('beside', 0.26)) v(k, fx),
+     LATERAL (SELECT bd_pt(b.rast, 0.22, 0.40) AS p, bd_pt(b.rast, fx, 0.40) AS q) s;
+SELECT s.name, left(try(format('SELECT tin_drape(t, %L::geometry) FROM bd WHERE name = %L', s.g, s.name)), 70) AS across
+FROM bd_strips s WHERE k = 'across' ORDER BY 1;
+SELECT s.name, ST_Area(ST_SymDifference(ST_Force2D(d), s.g)) < 1e-9 * ST_Area(s.g) AS same_ring,
+       ST_NPoints(d) > 5 AS vertices_added,
+       (SELECT bool_and(abs(ST_Z(v.geom) - tin_height(b.t, v.geom)) < 1e-6) FROM ST_DumpPoints(d) v) AS on_surface
+FROM bd_strips s JOIN bd b USING (name), LATERAL (SELECT tin_drape(b.t, s.g) AS d) x
+WHERE k = 'beside' ORDER BY 1;
+DROP TABLE bd_strips;
 -- a boundary holding the whole raster gives the plain build, byte for byte
 SELECT name, tin_from_raster(rast, 2.0, 4, boundary => ST_Expand(ST_Envelope(rast), px))
              = tin_from_raster(rast, 2.0, 4) AS plain FROM bd ORDER BY 1;
