@@ -68,10 +68,8 @@ fn raster_band(rast: &[u8], band: i32) -> (raster::Raster, raster::Band) {
 }
 
 /// Valid pixels of one band as lattice samples (col, row, value), the
-/// raster's pixel lattice and its SRID.
-/// The valid pixels of one band as (column, row, value), the lattice, the
-/// SRID, and whether every pixel is valid.
-fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32, bool) {
+/// raster's pixel lattice, its SRID and its (width, height) in pixels.
+fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32, (usize, usize)) {
     let (r, b) = raster_band(rast, band);
     let mut pts = Vec::new();
     for row in 0..r.height {
@@ -88,8 +86,7 @@ fn raster_samples(rast: &[u8], band: i32) -> (Vec<[f64; 3]>, Lattice, i32, bool)
             format!("band {band} has no valid pixels (every pixel is nodata)"),
         );
     }
-    let full = pts.len() == r.width * r.height;
-    (pts, r.gt.lattice(), r.srid, full)
+    (pts, r.gt.lattice(), r.srid, (r.width, r.height))
 }
 
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
@@ -381,16 +378,13 @@ fn build_raster_constrained(
             "tin_from_raster: keep_border cannot be combined with breaklines or a boundary (tiles with them are not built yet)",
         );
     }
-    let (mut pts, lattice, srid, full) = raster_samples(rast, band);
+    let (mut pts, lattice, srid, (w, h)) = raster_samples(rast, band);
     let lines = breaklines_arg("tin_from_raster", hard, soft, srid);
     let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
         .into_iter()
         .collect();
-    if !fill_gaps && !full {
+    if !fill_gaps && pts.len() < w * h {
         // the valid pixels' own squares, holes included
-        let (w, h) = pts.iter().fold((0usize, 0usize), |(w, h), p| {
-            (w.max(p[0] as usize + 1), h.max(p[1] as usize + 1))
-        });
         let mut valid = vec![false; w * h];
         for p in &pts {
             valid[p[1] as usize * w + p[0] as usize] = true;
