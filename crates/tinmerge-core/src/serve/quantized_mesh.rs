@@ -23,11 +23,12 @@
 //!
 //! **Fill.** With `fill = Some(h)` the part of the tile off the terrain is
 //! covered too: a constrained Delaunay triangulation (spade) of the tile's
-//! corners and the level's hull edges clipped to the tile, keeping the
-//! faces outside the domain, all at height `h`, and a vertical wall along
-//! the hull from the terrain's edge to that height (facing out; the wall's
+//! corners and the domain's boundary edges clipped to the tile (hull edges,
+//! and edges between a domain and a void triangle: the outline of the
+//! data and its holes), keeping the faces outside the domain, all at height `h`, and a vertical wall along
+//! the boundary from the terrain's edge to that height (facing out; the wall's
 //! top vertices are the terrain's own, so the mesh is closed). The fill is
-//! flat and the walls follow the hull, so neighbouring tiles and tiles of
+//! flat and the walls follow the boundary, so neighbouring tiles and tiles of
 //! different zooms agree (a fill sloping from the hull to the tile's
 //! corners differed from zoom to zoom, and Cesium's skirts showed at the
 //! seams). A tile off the terrain is then two flat triangles. Without fill
@@ -41,8 +42,10 @@
 //! occluded); `u`, `v`, `height` quantized to 0..32767 and zig-zag delta
 //! coded; vertices numbered in order of first use so the indices are
 //! high-water-mark coded, 16-bit up to 65,536 vertices and 32-bit beyond
-//! (aligned to 4); the west, south, east and north edge vertex lists (a
-//! quantized `u` or `v` of 0 or 32767), sorted along their side; the
+//! (aligned to 4); the west, south, east and north edge vertex lists (the
+//! vertices exactly on that side before quantization, so two neighbours
+//! list the same ones: a vertex inside within half a step of a side
+//! quantizes onto it but is not listed), sorted along their side; the
 //! oct-encoded vertex normals extension (id 1) when asked: per vertex, the
 //! area-weighted sum of the ECEF normals of the level's triangles around
 //! it (all of them, also those outside the tile, so normals agree across
@@ -249,7 +252,10 @@ pub fn needed(
                         continue;
                     }
                     for &n in &lv.nbrs[u as usize] {
-                        if n != NONE && lv.tris[n as usize].contains(&v) && !ring.contains(&(v, n))
+                        if n != NONE
+                            && (n as usize) < lv.num_domain()
+                            && lv.tris[n as usize].contains(&v)
+                            && !ring.contains(&(v, n))
                         {
                             stack.push(n);
                         }
@@ -269,9 +275,11 @@ pub fn needed(
     }
     let mut hull = Vec::new();
     if fill {
-        for (t, nb) in lv.nbrs.iter().enumerate() {
+        // the domain's boundary: hull edges, and edges between a domain
+        // triangle and a void one (the outline of the data, its holes)
+        for (t, nb) in lv.nbrs.iter().enumerate().take(lv.num_domain()) {
             for j in 0..3 {
-                if nb[j] == NONE {
+                if nb[j] == NONE || nb[j] as usize >= lv.num_domain() {
                     let tri = lv.tris[t];
                     let e = [tri[(j + 1) % 3], tri[(j + 2) % 3]];
                     used[e[0] as usize] = true;
@@ -1173,10 +1181,14 @@ pub fn encode_many(
         s.sort_by_key(|&i| (key(i), i));
         s.into_iter().map(|i| i as u32).collect()
     };
-    let west = side(&|i| u[i] == 0, &|i| v[i]);
-    let south = side(&|i| v[i] == 0, &|i| u[i]);
-    let east = side(&|i| u[i] == QMAX as i32, &|i| v[i]);
-    let north = side(&|i| v[i] == QMAX as i32, &|i| u[i]);
+    // the vertices exactly on each side (crossings and tile corners, which
+    // the tiles on both sides of it compute bit for bit); a vertex inside
+    // within half a step of a side quantizes onto it too but is not listed,
+    // or the lists of two neighbours would differ by it
+    let west = side(&|i| pts[i][0] == tile.west, &|i| v[i]);
+    let south = side(&|i| pts[i][1] == tile.south, &|i| u[i]);
+    let east = side(&|i| pts[i][0] == tile.east, &|i| v[i]);
+    let north = side(&|i| pts[i][1] == tile.north, &|i| u[i]);
     for list in [&west, &south, &east, &north] {
         out.extend_from_slice(&(list.len() as u32).to_le_bytes());
         for &i in list.iter() {

@@ -167,6 +167,39 @@ pub fn geo_tin(tolerance: f64) -> tinmerge_core::tin::Tin {
     .unwrap()
 }
 
+/// A bundled DEM built over where it has data (its valid cells' outline,
+/// as `tin_from_raster`'s default), with a 30 x 20 pixel nodata hole cut
+/// into it: a tin with void triangles around and inside its domain, at 4
+/// levels, the finest at `tolerance`.
+#[allow(dead_code)]
+pub fn data_tin(name: &str, srid: i32, tolerance: f64) -> tinmerge_core::tin::Tin {
+    use tinmerge_core::tin::build::{build_domain, default_tolerances};
+    use tinmerge_core::tin::domain::{cell_outline, outline_area};
+    let mut d = read_dem(name);
+    let nodata = d.nodata.unwrap_or(-9999.0);
+    d.nodata = Some(nodata);
+    for r in 150..170 {
+        for c in 200..230 {
+            d.values[r * d.width + c] = nodata;
+        }
+    }
+    let ok = |v: f64| !(v.is_nan() || v == nodata);
+    let (w, h) = (d.width, d.height);
+    let rings = cell_outline(w, h, &|c, r| ok(d.values[r * w + c]));
+    let area = outline_area(&rings, &|c, r| {
+        [d.origin_x + c * d.scale_x, d.origin_y - r * d.scale_y]
+    });
+    build_domain(
+        d.samples(),
+        &[],
+        &[&area],
+        &default_tolerances(tolerance, 4).unwrap(),
+        srid,
+        &mut || Ok(()),
+    )
+    .unwrap()
+}
+
 /// A DEM cut into `n`-pixel tiles with `build_tiles` (each tile's tin with
 /// its neighbours' border samples, keep_border), as (tx, ty, tin) in the
 /// order built.
