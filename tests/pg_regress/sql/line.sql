@@ -32,9 +32,11 @@ SELECT u.level, count(*) AS our_triangles,
        count(*) FILTER (WHERE abs(u.len - o.len) > 1e-6) AS length_differs
 FROM line_ours u LEFT JOIN line_oracle o USING (id, level, triangle)
 GROUP BY 1 ORDER BY 1;
--- sum of length2d = the length of the line inside the domain (the convex
--- hull of the tin's vertices); to 1e-9 relative
-CREATE TABLE line_hull AS SELECT ST_ConvexHull(tin_as_geometry(t, 0)) AS h FROM terrain;
+-- sum of length2d = the length of the line inside the domain (by PostGIS:
+-- the valid pixels' squares within the hull of their centres); to 1e-9
+-- relative
+CREATE TABLE line_hull AS SELECT ST_Intersection((SELECT ST_Polygon(rast) FROM dem),
+                       (SELECT ST_ConvexHull(ST_Collect(p.geom)) FROM dem, ST_PixelAsCentroids(rast, 1, true) p)) AS h;
 SELECT level,
        count(*) FILTER (WHERE ST_Within(c.geom, h)) AS contours_inside,
        count(*) FILTER (WHERE ST_Within(c.geom, h)

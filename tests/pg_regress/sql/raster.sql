@@ -27,10 +27,13 @@ CREATE TABLE r_rasters AS
   WHERE ST_Intersects(tile, (SELECT tin_as_geometry(t, 0) FROM terrain)) ;
 SELECT name, count(*) AS parts, sum(ST_Width(rast) * ST_Height(rast)) AS pixels, min(ST_SRID(rast)) AS srid
 FROM r_rasters GROUP BY 1 ORDER BY 1;
--- the domain is the convex hull of the tin's vertices
-CREATE TABLE r_domain AS SELECT ST_ConvexHull(tin_as_geometry(t, 0)) AS geom FROM terrain;
+-- the domain (by PostGIS): the valid pixels' squares within the hull of
+-- their centres (GEOS rounds the vertices of the intersection: a centre on
+-- the hull is in it within a micrometre)
+CREATE TABLE r_domain AS SELECT ST_Intersection((SELECT ST_Polygon(rast) FROM dem),
+                       (SELECT ST_ConvexHull(ST_Collect(p.geom)) FROM dem, ST_PixelAsCentroids(rast, 1, true) p)) AS geom;
 CREATE TABLE r_px AS
-  SELECT name, part, p.x AS col, p.y AS "row", p.val, p.geom, ST_Intersects(d.geom, p.geom) AS in_domain
+  SELECT name, part, p.x AS col, p.y AS "row", p.val, p.geom, ST_DWithin(d.geom, p.geom, 1e-6) AS in_domain
   FROM r_rasters, ST_PixelAsCentroids(rast, 1, true) p, r_domain d;
 CREATE TABLE r_ours AS
   SELECT name, part, l AS level, p.*

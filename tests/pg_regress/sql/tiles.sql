@@ -10,7 +10,7 @@ SELECT count(*) AS tiles, sum(ST_Width(rast) * ST_Height(rast)) AS pixels FROM w
 -- from the neighbours, one tin per tile
 CREATE TABLE tin_tiles AS
 SELECT a.rid AS id,
-       tin_from_raster(ST_Clip(ST_Union(b.rast), e.env), 2.0, 3, keep_border => true) AS t
+       tin_from_raster(ST_Clip(ST_Union(b.rast), e.env), 2.0, 3, keep_border => true, fill_gaps => true) AS t
 FROM window_tiles a
 CROSS JOIN LATERAL (SELECT ST_MakeEnvelope(
     ST_UpperLeftX(a.rast), ST_UpperLeftY(a.rast) + (ST_Height(a.rast) + 1) * ST_ScaleY(a.rast),
