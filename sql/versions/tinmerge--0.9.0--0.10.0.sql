@@ -4,6 +4,10 @@
 -- squares); fill_gaps => true is 0.9.0's default, the hull of the valid
 -- pixel centres. Only the default and the comment change: the functions
 -- are replaced in place and views that call them keep working.
+-- tin_drape: a polygon partly off the domain is cut to it (0.9.0 raised
+-- an ERROR); only its comment changes here, the code is the library's.
+-- tin_from_points_agg gains a six-argument form with breaklines, soft
+-- breaklines and a boundary (a new aggregate beside the old one).
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -30,3 +34,21 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean, geometry, geometry, geometry, boolean) IS
 'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border, breaklines, soft_breaklines, boundary and fill_gaps as for tin_from_raster(raster, float8, int, int, boolean, geometry, geometry, geometry, boolean).';
+
+COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS
+'The geometry with Z from the surface of a level (NULL = finest) and a vertex added wherever a line or ring crosses a triangle edge (as ArcGIS Interpolate Shape or H2GIS ST_Drape). Any type, multi* and collections included. Points outside the domain are dropped; lines keep their stretches inside (a line leaving and coming back becomes a MULTILINESTRING); polygons keep their intersection with the domain (a polygon cut in pieces becomes a MULTIPOLYGON), the new edges along the domain''s edge. NULL when nothing is left.';
+
+CREATE FUNCTION _tin_points_agg_domain_step("state" internal, "pt" geometry, "tolerance" double precision, "levels" int, "breaklines" geometry, "soft_breaklines" geometry, "boundary" geometry)
+RETURNS internal
+IMMUTABLE PARALLEL SAFE
+LANGUAGE c AS 'MODULE_PATHNAME', '_tin_points_agg_domain_step_wrapper';
+COMMENT ON FUNCTION _tin_points_agg_domain_step(internal, geometry, float8, int, geometry, geometry, geometry) IS 'Internal: the transition function of tin_from_points_agg(geometry, float8, int, geometry, geometry, geometry).';
+CREATE AGGREGATE tin_from_points_agg(pt geometry, tolerance float8, levels int, breaklines geometry, soft_breaklines geometry, boundary geometry) (
+    SFUNC = _tin_points_agg_domain_step,
+    STYPE = internal,
+    FINALFUNC = _tin_points_agg_final,
+    FINALFUNC_MODIFY = READ_WRITE,
+    PARALLEL = SAFE
+);
+COMMENT ON AGGREGATE tin_from_points_agg(geometry, float8, int, geometry, geometry, geometry) IS
+'Builds a tin from every vertex (with Z) of the rows aggregated with breaklines, soft breaklines and a boundary (each NULL for none; aggregates take no named or default arguments), as tin_from_points(ST_Collect(pt), tolerance, levels, breaklines, soft_breaklines, boundary) does: e.g. tin_from_points_agg(geom, 0.5, 5, (SELECT ST_Collect(geom) FROM roads), NULL, (SELECT geom FROM survey_area)). The three geometries are taken from the first row, as PostGIS aggregates take their extra arguments (pass constants or scalar subqueries); the rest as tin_from_points_agg(geometry, float8, int).';

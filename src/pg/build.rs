@@ -260,6 +260,17 @@ fn breaklines_arg(
     soft: Option<&[u8]>,
     srid: i32,
 ) -> Vec<Breakline> {
+    let read = |b: Option<&[u8]>| b.map(|b| ewkb::read(b).or_raise());
+    breaklines_of(func, read(hard), read(soft), srid)
+}
+
+/// [`breaklines_arg`] of geometries already read.
+fn breaklines_of(
+    func: &str,
+    hard: Option<ewkb::Ewkb>,
+    soft: Option<ewkb::Ewkb>,
+    srid: i32,
+) -> Vec<Breakline> {
     use tinmerge_core::io::ewkb::Geom;
     fn lines_of(func: &str, arg: &str, g: &Geom, out: &mut Vec<Vec<[f64; 3]>>) {
         match g {
@@ -281,9 +292,8 @@ fn breaklines_arg(
         }
     }
     let mut out = Vec::new();
-    for (arg, bytes, is_hard) in [("breaklines", hard, true), ("soft_breaklines", soft, false)] {
-        let Some(bytes) = bytes else { continue };
-        let g = ewkb::read(bytes).or_raise();
+    for (arg, g, is_hard) in [("breaklines", hard, true), ("soft_breaklines", soft, false)] {
+        let Some(g) = g else { continue };
         if g.srid != srid {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -316,8 +326,12 @@ fn breaklines_arg(
 /// The `boundary` argument of `func` (POLYGON or MULTIPOLYGON, holes
 /// allowed, in the samples' SRID), checked.
 fn boundary_arg(func: &str, bytes: Option<&[u8]>, srid: i32) -> Option<Area> {
+    boundary_of(func, ewkb::read(bytes?).or_raise(), srid)
+}
+
+/// [`boundary_arg`] of a geometry already read.
+fn boundary_of(func: &str, g: ewkb::Ewkb, srid: i32) -> Option<Area> {
     use tinmerge_core::io::ewkb::Geom;
-    let g = ewkb::read(bytes?).or_raise();
     if g.srid != srid {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -618,6 +632,10 @@ struct PointsAgg {
     samples: Vec<[f64; 3]>,
     srid: Option<i32>,
     args: Option<(f64, i32)>,
+    /// The breaklines, soft breaklines and boundary of the first row (the
+    /// six-argument form; PostGIS's aggregates also take such arguments
+    /// from the first row), in PostGIS's serialisation.
+    domain: Option<[Option<Vec<u8>>; 3]>,
 }
 
 /// Transition function of `tin_from_points_agg(geometry, float8, int)`:
@@ -643,6 +661,54 @@ fn _tin_points_agg_step(
     let st: &mut PointsAgg = unsafe {
         PgMemoryContexts::For(agg).switch_to(|_| state.get_or_insert_default::<PointsAgg>())
     };
+    points_agg_add(st, pt, tolerance, levels);
+    state
+}
+
+/// Transition function of `tin_from_points_agg(geometry, float8, int,
+/// geometry, geometry, geometry)`: as [`_tin_points_agg_step`], and the
+/// breaklines, soft breaklines and boundary taken from the first row (read
+/// once: later rows' values are not even detoasted).
+#[allow(clippy::too_many_arguments)]
+#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+fn _tin_points_agg_domain_step(
+    mut state: Internal,
+    pt: Option<GeomArg>,
+    tolerance: Option<f64>,
+    levels: Option<i32>,
+    breaklines: Option<GeomArg>,
+    soft_breaklines: Option<GeomArg>,
+    boundary: Option<GeomArg>,
+    fcinfo: pg_sys::FunctionCallInfo,
+) -> Internal {
+    let mut agg: pg_sys::MemoryContext = std::ptr::null_mut();
+    // SAFETY: fcinfo is this call's; AggCheckCallContext only reads it.
+    if unsafe { pg_sys::AggCheckCallContext(fcinfo, &mut agg) } == 0 || agg.is_null() {
+        raise(
+            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
+            "_tin_points_agg_domain_step is the transition function of tin_from_points_agg; it cannot be called on its own",
+        );
+    }
+    // SAFETY: as in _tin_points_agg_step.
+    let st: &mut PointsAgg = unsafe {
+        PgMemoryContexts::For(agg).switch_to(|_| state.get_or_insert_default::<PointsAgg>())
+    };
+    if st.domain.is_none() {
+        let own = |g: &Option<GeomArg>| g.as_ref().map(|g| g.bytes().to_vec());
+        st.domain = Some([own(&breaklines), own(&soft_breaklines), own(&boundary)]);
+    }
+    points_agg_add(st, pt, tolerance, levels);
+    state
+}
+
+/// One row of `tin_from_points_agg`: the arguments checked, the vertices
+/// added.
+fn points_agg_add(
+    st: &mut PointsAgg,
+    pt: Option<GeomArg>,
+    tolerance: Option<f64>,
+    levels: Option<i32>,
+) {
     let (Some(tolerance), Some(levels)) = (tolerance, levels) else {
         raise(
             PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
@@ -662,10 +728,10 @@ fn _tin_points_agg_step(
         ),
         Some(_) => {}
     }
-    let Some(pt) = pt else { return state };
+    let Some(pt) = pt else { return };
     let g = gserialized::read(pt.bytes()).or_raise();
     if g.geom.is_empty() {
-        return state;
+        return;
     }
     match st.srid {
         None => st.srid = Some(g.srid),
@@ -696,7 +762,6 @@ fn _tin_points_agg_step(
             format!("tin_from_points_agg: holding {n} samples ({grown} more places)")
         });
     }
-    state
 }
 
 /// Final function of `tin_from_points_agg`: the tin of every vertex
@@ -716,7 +781,25 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
     // the places the doubling left unused handed back before the build
     let mut samples = std::mem::take(&mut st.samples);
     samples.shrink_to_fit();
-    let tin = build(samples, &tols, st.srid.unwrap_or(0), &mut interrupt).or_raise();
+    let srid = st.srid.unwrap_or(0);
+    let tin = match &st.domain {
+        Some(d) if d.iter().any(Option::is_some) => {
+            const F: &str = "tin_from_points_agg";
+            let read = |b: &Option<Vec<u8>>| b.as_ref().map(|b| gserialized::read(b).or_raise());
+            let lines = breaklines_of(F, read(&d[0]), read(&d[1]), srid);
+            let area = read(&d[2]).and_then(|g| boundary_of(F, g, srid));
+            build_domain(
+                samples,
+                &lines,
+                &area.iter().collect::<Vec<_>>(),
+                &tols,
+                srid,
+                &mut interrupt,
+            )
+        }
+        _ => build(samples, &tols, srid, &mut interrupt),
+    }
+    .or_raise();
     Some(TinOut::from_tin(&tin))
 }
 
@@ -733,9 +816,23 @@ CREATE AGGREGATE tin_from_points_agg(pt geometry, tolerance float8, levels int) 
 );
 COMMENT ON AGGREGATE tin_from_points_agg(geometry, float8, int) IS
 'Builds a tin from every vertex (with Z) of the rows aggregated, as tin_from_points(ST_Collect(pt), tolerance, levels) does but without building one collection geometry (which PostgreSQL caps at 1 GB): e.g. tin_from_points_agg(geom, 0.5, 5) FILTER (WHERE class = 2) over LiDAR returns keeps the ground. Points with equal x,y are merged (mean z); NULL and empty rows add nothing; no row gives NULL. All rows must have one SRID, and the same tolerance and levels.';
+COMMENT ON FUNCTION _tin_points_agg_domain_step(internal, geometry, float8, int, geometry, geometry, geometry) IS 'Internal: the transition function of tin_from_points_agg(geometry, float8, int, geometry, geometry, geometry).';
+CREATE AGGREGATE tin_from_points_agg(pt geometry, tolerance float8, levels int, breaklines geometry, soft_breaklines geometry, boundary geometry) (
+    SFUNC = _tin_points_agg_domain_step,
+    STYPE = internal,
+    FINALFUNC = _tin_points_agg_final,
+    FINALFUNC_MODIFY = READ_WRITE,
+    PARALLEL = SAFE
+);
+COMMENT ON AGGREGATE tin_from_points_agg(geometry, float8, int, geometry, geometry, geometry) IS
+'Builds a tin from every vertex (with Z) of the rows aggregated with breaklines, soft breaklines and a boundary (each NULL for none; aggregates take no named or default arguments), as tin_from_points(ST_Collect(pt), tolerance, levels, breaklines, soft_breaklines, boundary) does: e.g. tin_from_points_agg(geom, 0.5, 5, (SELECT ST_Collect(geom) FROM roads), NULL, (SELECT geom FROM survey_area)). The three geometries are taken from the first row, as PostGIS aggregates take their extra arguments (pass constants or scalar subqueries); the rest as tin_from_points_agg(geometry, float8, int).';
 "#,
     name = "tin_from_points_agg_sql",
-    requires = [_tin_points_agg_step, _tin_points_agg_final]
+    requires = [
+        _tin_points_agg_step,
+        _tin_points_agg_domain_step,
+        _tin_points_agg_final
+    ]
 );
 
 /// A table of raster tiles (`raster2pgsql -t`, `ST_Tile`) being built

@@ -336,7 +336,7 @@ fn _tin_drape(
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS 'The geometry with Z from the surface of a level (NULL = finest) and a vertex added wherever a line or ring crosses a triangle edge (as ArcGIS Interpolate Shape or H2GIS ST_Drape). Any type, multi* and collections included. Points outside the domain are dropped; lines keep their stretches inside (a line leaving and coming back becomes a MULTILINESTRING); a polygon with a vertex outside is an error. NULL when nothing is left.';
+COMMENT ON FUNCTION tin_drape(tin, geometry, int) IS 'The geometry with Z from the surface of a level (NULL = finest) and a vertex added wherever a line or ring crosses a triangle edge (as ArcGIS Interpolate Shape or H2GIS ST_Drape). Any type, multi* and collections included. Points outside the domain are dropped; lines keep their stretches inside (a line leaving and coming back becomes a MULTILINESTRING); polygons keep their intersection with the domain (a polygon cut in pieces becomes a MULTIPOLYGON), the new edges along the domain''s edge. NULL when nothing is left.';
 "#,
     name = "tin_drape_sql",
     requires = [tin_drape]

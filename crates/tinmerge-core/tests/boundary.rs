@@ -268,37 +268,149 @@ fn check(name: &str, srid: i32) {
         "{name}: overlay {got}, region ∩ hull {want_o}"
     );
 
-    // tin_drape of a strip whose corners are all on the terrain: across
-    // the hole it is refused (it was cut silently to one of its runs);
-    // beside the hole it comes back whole, closed, on the surface
+    // tin_drape of a polygon keeps its intersection with the domain, on
+    // the surface: a strip whose corners are all on the terrain but which
+    // crosses the hole (it was cut silently to one of its runs in 0.9.0),
+    // one beside the hole (whole), one leaving the DEM and one off it
+    // (nothing). Oracles: the strip ∩ boundary ∩ hull by geo (area), and
+    // the level's own triangles by brute force (every vertex and edge
+    // midpoint on the surface).
     let (w, h) = (d.width as f64, d.height as f64);
-    let strip = |x1: f64| {
-        let (a, b) = (world(&d, 0.22 * w, 0.40 * h), world(&d, x1 * w, 0.40 * h));
-        let dy = 2.0 * d.scale_y;
-        Geom::Polygon(vec![vec![
+    // a rectangle from fractions (x0, y0) to (x1, y1) of the raster
+    let rect = |x0: f64, x1: f64, y0: f64, y1: f64| {
+        let (a, b) = (world(&d, x0 * w, y0 * h), world(&d, x1 * w, y1 * h));
+        vec![
             [a[0], a[1], 0.0],
+            [b[0], a[1], 0.0],
             [b[0], b[1], 0.0],
-            [b[0], b[1] + dy, 0.0],
-            [a[0], a[1] + dy, 0.0],
+            [a[0], b[1], 0.0],
             [a[0], a[1], 0.0],
-        ]])
+        ]
     };
     let fin = tin.levels.len() - 1;
-    let across = drape(&tin, fin, &strip(0.48));
-    assert!(
-        matches!(&across, Err(e) if e.to_string().contains("leaves the tin's domain")),
-        "{name}: {across:?}"
-    );
-    match drape(&tin, fin, &strip(0.26)).unwrap() {
-        Some(Geom::Polygon(rs)) => {
-            let r = &rs[0];
-            assert!(r.len() > 5 && r.first() == r.last(), "{name}: {r:?}");
-            for v in r {
-                let z = height(&tin, fin, v[0], v[1]).unwrap();
-                assert!((z - v[2]).abs() < 1e-6, "{name}: {v:?} vs {z}");
+    let surface = |l: usize, x: f64, y: f64| -> Option<f64> {
+        let (lv, fin) = (&tin.levels[l], l);
+        (0..lv.num_domain() as u32).find_map(|t| {
+            let c = tin.corners(fin, t);
+            let den = (c[1][0] - c[0][0]) * (c[2][1] - c[0][1])
+                - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
+            let wb =
+                ((x - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (y - c[0][1])) / den;
+            let wc =
+                ((c[1][0] - c[0][0]) * (y - c[0][1]) - (x - c[0][0]) * (c[1][1] - c[0][1])) / den;
+            let wa = 1.0 - wb - wc;
+            // within 1e-9 pixel of the triangle: a weight times the
+            // corner's height over the opposite edge is the distance to
+            // that edge (a barycentric tolerance alone is too tight on a
+            // sliver: an edge midpoint rounded by an ulp is 1e-8 off it)
+            let len = |a: usize, b: usize| (c[a][0] - c[b][0]).hypot(c[a][1] - c[b][1]);
+            let eps = 1e-9 * scale;
+            (wa * den.abs() / len(1, 2) >= -eps
+                && wb * den.abs() / len(0, 2) >= -eps
+                && wc * den.abs() / len(0, 1) >= -eps)
+                .then(|| wa * c[0][2] + wb * c[1][2] + wc * c[2][2])
+        })
+    };
+    // strips two pixels high, and a rectangle around the hole (its rings
+    // all on the terrain, the hole inside: it comes back with a hole)
+    // at the finest level; then 40 seeded random triangles over and around
+    // the raster at level 0 (its few triangles keep the brute force short)
+    let px = 2.0 / h;
+    let mut cases: Vec<(String, usize, Vec<[f64; 3]>, Option<usize>)> = [
+        (0.22, 0.48, 0.40, 0.40 - px, 2),
+        (0.22, 0.26, 0.40, 0.40 - px, 1),
+        (0.9, 1.3, 0.55, 0.55 - px, 1),
+        (1.2, 1.3, 0.55, 0.55 - px, 0),
+        (0.25, 0.46, 0.49, 0.31, 1),
+    ]
+    .into_iter()
+    .map(|(x0, x1, y0, y1, n)| {
+        (
+            format!("rectangle {x0}..{x1} x {y0}..{y1}"),
+            fin,
+            rect(x0, x1, y0, y1),
+            Some(n),
+        )
+    })
+    .collect();
+    {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(26);
+        for i in 0..40 {
+            let mut p = || {
+                let q = world(
+                    &d,
+                    rng.random_range(-0.2..1.2) * w,
+                    rng.random_range(-0.2..1.2) * h,
+                );
+                [q[0], q[1], 0.0]
+            };
+            let (a, b, c) = (p(), p(), p());
+            cases.push((format!("random triangle {i}"), 0, vec![a, b, c, a], None));
+        }
+    }
+    for (label, l, s, pieces_want) in cases {
+        let got = drape(&tin, l, &Geom::Polygon(vec![s.clone()])).unwrap();
+        let polys: Vec<Vec<Vec<[f64; 3]>>> = match got {
+            None => vec![],
+            Some(Geom::Polygon(rs)) => vec![rs],
+            Some(Geom::MultiPolygon(ps)) => ps,
+            other => panic!("{name}: {other:?}"),
+        };
+        let oracle = MultiPolygon::new(vec![Polygon::new(
+            LineString::from(s.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>()),
+            vec![],
+        )])
+        .intersection(&region);
+        assert_eq!(polys.len(), oracle.0.len(), "{name} {label}");
+        if let Some(n) = pieces_want {
+            assert_eq!(polys.len(), n, "{name} {label}");
+        }
+        let holes: usize = polys.iter().map(|p| p.len() - 1).sum();
+        let holes_want: usize = oracle.0.iter().map(|p| p.interiors().len()).sum();
+        assert_eq!(holes, holes_want, "{name} {label}: holes");
+        let mut area = 0.0;
+        for rs in &polys {
+            for (k, r) in rs.iter().enumerate() {
+                assert!(r.len() >= 4 && r.first() == r.last(), "{name}: {r:?}");
+                // shoelace about the first vertex (no cancellation)
+                let o = r[0];
+                let a2: f64 = r
+                    .windows(2)
+                    .map(|p| {
+                        (p[0][0] - o[0]) * (p[1][1] - o[1]) - (p[1][0] - o[0]) * (p[0][1] - o[1])
+                    })
+                    .sum::<f64>()
+                    / 2.0;
+                area += if k == 0 { a2.abs() } else { -a2.abs() };
+                for wv in r.windows(2) {
+                    let m = [
+                        (wv[0][0] + wv[1][0]) / 2.0,
+                        (wv[0][1] + wv[1][1]) / 2.0,
+                        (wv[0][2] + wv[1][2]) / 2.0,
+                    ];
+                    for v in [wv[0], m] {
+                        let z = surface(l, v[0], v[1]).unwrap_or_else(|| {
+                            panic!("{name} {label}: {v:?} of {wv:?} is off the terrain")
+                        });
+                        assert!((z - v[2]).abs() < 1e-6, "{name}: {v:?} vs {z}");
+                    }
+                }
             }
         }
-        other => panic!("{name}: {other:?}"),
+        // both cuts (geo's and the drape's) are i_overlay's, on a grid of
+        // about 1e-9 of the extent: their areas differ by a few grid steps
+        // times the strip's perimeter
+        let want = oracle.unsigned_area();
+        let extent = (d.width as f64 * d.scale_x).hypot(d.height as f64 * d.scale_y);
+        let perimeter: f64 = s
+            .windows(2)
+            .map(|p| (p[1][0] - p[0][0]).hypot(p[1][1] - p[0][1]))
+            .sum();
+        assert!(
+            (area - want).abs() <= 1e-8 * extent * perimeter,
+            "{name} {label}: draped area {area}, polygon ∩ domain {want}"
+        );
     }
 
     // storage: format 5, the same tin back

@@ -176,6 +176,23 @@ FROM (SELECT tin_drape(t, g) d, g FROM terrain,
       (SELECT ST_Buffer('SRID=32616;POINT(747000 4052000)'::geometry, 900, 2) g) s) s;
 SELECT ST_AsText(tin_drape(t, 'SRID=32616;GEOMETRYCOLLECTION(POINT(747000 4052000), POINT(0 0), LINESTRING(0 0, 1 1))'::geometry), 3)
 FROM terrain;
+-- a polygon partly off the terrain keeps its intersection with the domain
+-- (0.9 refused it): against PostGIS's ST_Intersection with the data domain
+-- (line_hull), the same area to 1e-6 and the same number of parts; every
+-- vertex on the surface, or on the domain's edge within 1 mm where the cut
+-- rounds it just off; wholly off: NULL
+SELECT name, GeometryType(d) AS type, ST_NumGeometries(d) = ST_NumGeometries(o) AS same_parts,
+       ST_Area(ST_SymDifference(ST_Force2D(d), o)) < 1e-6 * ST_Area(o) AS same_area,
+       (SELECT bool_and(coalesce(abs(ST_Z(v.geom) - tin_height(t, v.geom)) < 1e-6,
+                                 ST_DWithin(ST_Boundary(h), v.geom, 1e-3)))
+        FROM ST_DumpPoints(d) v) AS on_surface
+FROM terrain, line_hull, (VALUES
+  ('triangle past the east edge', 'SRID=32616;POLYGON((740000 4060000, 900000 4060000, 740000 4061000, 740000 4060000))'::geometry),
+  ('holed square across the south edge', ST_Difference(ST_Buffer(ST_Centroid((SELECT ST_Envelope(rast) FROM dem)), 20000, 'quad_segs=1'),
+                                                       ST_Buffer(ST_Centroid((SELECT ST_Envelope(rast) FROM dem)), 3000))),
+  ('off the terrain', 'SRID=32616;POLYGON((0 0, 10 0, 10 10, 0 0))')
+) v(name, g), LATERAL (SELECT tin_drape(t, g) AS d, ST_Intersection(g, h) AS o) x
+ORDER BY 1;
 -- tin_drape writes PostGIS's own serialisation (no EWKB on the way): byte
 -- for byte what PostGIS makes of the same geometry when it parses it
 -- (bounding box, its float4 rounding, polygon padding), read from the heap

@@ -41,6 +41,32 @@ SELECT count(*) AS other_returns,
        count(*) FILTER (WHERE abs(tin_height(everything, pt) - ST_Z(pt)) <= 1.0) AS on_the_tin_of_everything
 FROM cloud, cloud_tins WHERE class <> 2;
 
+-- the six-argument form: the ground with a soft breakline (a diagonal of
+-- the cloud) and a boundary (the cloud's hull less a square in its middle),
+-- taken from the first row: the tin tin_from_points builds from the
+-- collection with them; three NULLs: the three-argument form. Oracles: the
+-- triangles cover boundary ∩ hull (PostGIS areas, to 1e-9) and the
+-- breakline is a union of edges of the finest level (PostGIS: its length
+-- within the boundary is, to 1e-6, the length of tin_triangles' edges
+-- within 1e-6 of it)
+CREATE TABLE cloud_domain AS
+SELECT ST_Difference(h, ST_Expand(ST_Centroid(h), 300)) AS boundary,
+       ST_MakeLine(ST_PointN(ST_ExteriorRing(ST_OrientedEnvelope(h)), 1), ST_PointN(ST_ExteriorRing(ST_OrientedEnvelope(h)), 3)) AS line,
+       h
+FROM (SELECT ST_ConvexHull(ST_Collect(pt)) AS h FROM cloud WHERE class = 2) s;
+CREATE TABLE cloud_domain_tins AS
+SELECT tin_from_points_agg(pt, 1.0, 3, NULL, (SELECT line FROM cloud_domain), (SELECT boundary FROM cloud_domain) ORDER BY id) FILTER (WHERE class = 2) AS agg,
+       tin_from_points(ST_Collect(pt ORDER BY id) FILTER (WHERE class = 2), 1.0, 3,
+                       soft_breaklines => (SELECT line FROM cloud_domain), boundary => (SELECT boundary FROM cloud_domain)) AS collected,
+       tin_from_points_agg(pt, 1.0, 3, NULL, NULL, NULL ORDER BY id) FILTER (WHERE class = 2) AS nulls
+FROM cloud;
+SELECT agg = collected AS same_as_collect, nulls = (SELECT ground FROM cloud_tins) AS nulls_are_three_arguments,
+       abs((SELECT sum(ST_Area(geom)) FROM tin_triangles(agg)) / ST_Area(ST_Intersection(boundary, h)) - 1) < 1e-9 AS domain_is_boundary,
+       abs((SELECT ST_Length(ST_Intersection(ST_Union(ST_Boundary(geom)), ST_Buffer(line, 1e-6))) FROM tin_triangles(agg))
+           / ST_Length(ST_Intersection(line, boundary)) - 1) < 1e-6 AS line_is_edges
+FROM cloud_domain_tins, cloud_domain;
+DROP TABLE cloud_domain, cloud_domain_tins;
+
 -- no rows, only NULL or empty rows: NULL; bad rows: errors
 SELECT tin_from_points_agg(pt, 1.0, 3) IS NULL AS no_rows FROM cloud WHERE false;
 SELECT tin_from_points_agg(NULL::geometry, 1.0, 3) IS NULL AS null_rows FROM generate_series(1, 3);

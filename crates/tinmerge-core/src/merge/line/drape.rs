@@ -6,12 +6,14 @@
 //! - lines keep their stretches inside the domain: a line that leaves and
 //!   comes back becomes several lines (a LINESTRING may become a
 //!   MULTILINESTRING);
-//! - polygons must lie inside the domain, their edges too (a domain with
-//!   void triangles has holes and bays; an error names the way to clip
-//!   them): cutting a polygon to the domain is an area operation;
+//! - polygons keep their intersection with the domain (a domain with void
+//!   triangles has holes and bays): a polygon partly off it is cut there
+//!   ([`super::clip_domain`]) and may become several (a POLYGON may become a
+//!   MULTIPOLYGON), its new edges along the domain's boundary;
 //! - collections are draped member by member; members with nothing left are
 //!   dropped, and `None` means nothing at all is left.
 
+use super::clip_domain::{drape_clipped, encloses_void};
 use super::{pieces, runs, Part};
 use crate::io::ewkb::Geom;
 use crate::merge::point;
@@ -45,27 +47,22 @@ fn drape_lines(
         .collect())
 }
 
-fn drape_ring(tin: &Tin, level: usize, ring: &[[f64; 3]]) -> Result<Vec<[f64; 3]>, TinError> {
-    const CLIP: &str = "clip the polygon to the domain first, e.g. ST_Intersection(geom, (SELECT ST_Union(geom) FROM tin_triangles(t, 0)))";
-    if let Some(p) = ring
+/// The ring draped whole, or None when it is not wholly in the domain (a
+/// vertex off it, or an edge crossing a hole, a bay or the hull).
+fn drape_ring(
+    tin: &Tin,
+    level: usize,
+    ring: &[[f64; 3]],
+) -> Result<Option<Vec<[f64; 3]>>, TinError> {
+    if ring
         .iter()
-        .find(|p| point::locate(tin, level, p[0], p[1]).is_none())
+        .any(|p| point::locate(tin, level, p[0], p[1]).is_none())
     {
-        return Err(TinError::InvalidParameter(format!(
-            "tin_drape: a polygon ring has a vertex ({} {}) outside the tin's domain; {CLIP}",
-            p[0], p[1]
-        )));
+        return Ok(None);
     }
     let mut lines = drape_lines(tin, level, &[ring.to_vec()])?;
-    // Every vertex is in the domain; on a domain with void triangles (a
-    // boundary, nodata) an edge may still cross a hole or a bay, and the
-    // ring comes back as several runs: refused, not cut to one of them.
-    if lines.len() > 1 {
-        let p = lines[0].last().copied().unwrap_or_default();
-        return Err(TinError::InvalidParameter(format!(
-            "tin_drape: a polygon ring leaves the tin's domain near ({} {}) (it crosses a hole or a bay of the domain); {CLIP}",
-            p[0], p[1]
-        )));
+    if lines.len() != 1 {
+        return Ok(None);
     }
     let mut r = lines.pop().unwrap_or_default();
     if let (Some(f), Some(l)) = (r.first().copied(), r.last_mut()) {
@@ -73,15 +70,27 @@ fn drape_ring(tin: &Tin, level: usize, ring: &[[f64; 3]]) -> Result<Vec<[f64; 3]
         // triangles)
         *l = f;
     }
-    Ok(r)
+    Ok(Some(r))
 }
 
+/// A polygon draped: itself when wholly in the domain, else the polygons
+/// of its intersection with the domain ([`super::clip_domain`]).
 fn drape_polygon(
     tin: &Tin,
     level: usize,
     rings: &[Vec<[f64; 3]>],
-) -> Result<Vec<Vec<[f64; 3]>>, TinError> {
-    rings.iter().map(|r| drape_ring(tin, level, r)).collect()
+) -> Result<Vec<Vec<Vec<[f64; 3]>>>, TinError> {
+    let mut whole = Vec::with_capacity(rings.len());
+    for r in rings {
+        match drape_ring(tin, level, r)? {
+            Some(d) => whole.push(d),
+            None => return drape_clipped(tin, level, rings),
+        }
+    }
+    if encloses_void(tin, level, rings) {
+        return drape_clipped(tin, level, rings);
+    }
+    Ok(vec![whole])
 }
 
 /// The geometry draped on the surface of `level`; None when nothing is left.
@@ -106,13 +115,19 @@ pub fn drape(tin: &Tin, level: usize, g: &Geom) -> Result<Option<Geom>, TinError
             (!v.is_empty()).then_some(Geom::MultiLineString(v))
         }
         Geom::Polygon(rs) if rs.is_empty() => None,
-        Geom::Polygon(rs) => Some(Geom::Polygon(drape_polygon(tin, level, rs)?)),
+        Geom::Polygon(rs) => {
+            let mut v = drape_polygon(tin, level, rs)?;
+            match v.len() {
+                0 => None,
+                1 => v.pop().map(Geom::Polygon),
+                _ => Some(Geom::MultiPolygon(v)),
+            }
+        }
         Geom::MultiPolygon(ps) => {
-            let v = ps
-                .iter()
-                .filter(|p| !p.is_empty())
-                .map(|p| drape_polygon(tin, level, p))
-                .collect::<Result<Vec<_>, _>>()?;
+            let mut v = Vec::new();
+            for p in ps.iter().filter(|p| !p.is_empty()) {
+                v.extend(drape_polygon(tin, level, p)?);
+            }
             (!v.is_empty()).then_some(Geom::MultiPolygon(v))
         }
         Geom::Collection(gs) => {

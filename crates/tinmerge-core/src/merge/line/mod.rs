@@ -49,6 +49,7 @@
 //! }
 //! ```
 
+pub mod clip_domain;
 pub mod drape;
 pub mod tree;
 pub mod widened;
