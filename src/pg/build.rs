@@ -648,21 +648,29 @@ fn _tin_points_agg_step(
     levels: Option<i32>,
     fcinfo: pg_sys::FunctionCallInfo,
 ) -> Internal {
+    let st = points_agg_state(&mut state, fcinfo, "_tin_points_agg_step");
+    points_agg_add(st, pt, tolerance, levels);
+    state
+}
+
+/// The aggregate's state, made in its memory context on the first row;
+/// an ERROR when `func` is called outside an aggregate.
+fn points_agg_state<'a>(
+    state: &'a mut Internal,
+    fcinfo: pg_sys::FunctionCallInfo,
+    func: &str,
+) -> &'a mut PointsAgg {
     let mut agg: pg_sys::MemoryContext = std::ptr::null_mut();
     // SAFETY: fcinfo is this call's; AggCheckCallContext only reads it.
     if unsafe { pg_sys::AggCheckCallContext(fcinfo, &mut agg) } == 0 || agg.is_null() {
         raise(
             PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-            "_tin_points_agg_step is the transition function of tin_from_points_agg; it cannot be called on its own",
+            format!("{func} is the transition function of tin_from_points_agg; it cannot be called on its own"),
         );
     }
     // SAFETY: the state is only ever a PointsAgg made here, in the
     // aggregate's context (dropped when that context goes).
-    let st: &mut PointsAgg = unsafe {
-        PgMemoryContexts::For(agg).switch_to(|_| state.get_or_insert_default::<PointsAgg>())
-    };
-    points_agg_add(st, pt, tolerance, levels);
-    state
+    unsafe { PgMemoryContexts::For(agg).switch_to(|_| state.get_or_insert_default::<PointsAgg>()) }
 }
 
 /// Transition function of `tin_from_points_agg(geometry, float8, int,
@@ -681,18 +689,7 @@ fn _tin_points_agg_domain_step(
     boundary: Option<GeomArg>,
     fcinfo: pg_sys::FunctionCallInfo,
 ) -> Internal {
-    let mut agg: pg_sys::MemoryContext = std::ptr::null_mut();
-    // SAFETY: fcinfo is this call's; AggCheckCallContext only reads it.
-    if unsafe { pg_sys::AggCheckCallContext(fcinfo, &mut agg) } == 0 || agg.is_null() {
-        raise(
-            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-            "_tin_points_agg_domain_step is the transition function of tin_from_points_agg; it cannot be called on its own",
-        );
-    }
-    // SAFETY: as in _tin_points_agg_step.
-    let st: &mut PointsAgg = unsafe {
-        PgMemoryContexts::For(agg).switch_to(|_| state.get_or_insert_default::<PointsAgg>())
-    };
+    let st = points_agg_state(&mut state, fcinfo, "_tin_points_agg_domain_step");
     if st.domain.is_none() {
         let own = |g: &Option<GeomArg>| g.as_ref().map(|g| g.bytes().to_vec());
         st.domain = Some([own(&breaklines), own(&soft_breaklines), own(&boundary)]);
