@@ -469,6 +469,30 @@ fn boundary_edge_cases() {
     ]]];
     let e = boundary(bow).unwrap_err();
     assert!(e.to_string().contains("ST_MakeValid"), "{e}");
+    // tin_drape of polygons that are not finite or bow ties, partly off
+    // the plain tin: an error naming the vertex, or a cut by the even-odd
+    // rule, never a panic
+    let l = plain.levels.len() - 1;
+    let poly =
+        |ps: &[[f64; 2]]| Geom::Polygon(vec![ps.iter().map(|p| [p[0], p[1], 0.0]).collect()]);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let g = poly(&[
+            world(&d, -5.0, 5.0),
+            world(&d, 5.0, 5.0),
+            [bad, world(&d, 5.0, 10.0)[1]],
+            world(&d, -5.0, 5.0),
+        ]);
+        let e = drape(&plain, l, &g).unwrap_err();
+        assert!(e.to_string().contains("not finite"), "{e}");
+    }
+    let bow = poly(&[
+        world(&d, -5.0, 5.0),
+        world(&d, 5.0, 15.0),
+        world(&d, 5.0, 5.0),
+        world(&d, -5.0, 15.0),
+        world(&d, -5.0, 5.0),
+    ]);
+    assert!(drape(&plain, l, &bow).unwrap().is_some());
 }
 
 /// The domain of the valid pixels (`fill_gaps => false`): the UTM DEM's

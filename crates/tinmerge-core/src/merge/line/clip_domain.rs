@@ -188,6 +188,16 @@ pub fn drape_clipped(
     rings: &[Vec<[f64; 3]>],
 ) -> Result<Vec<Vec<Vec<[f64; 3]>>>, TinError> {
     let xy = |p: &[f64; 3]| [p[0], p[1]];
+    if let Some(p) = rings
+        .iter()
+        .flatten()
+        .find(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        return Err(TinError::InvalidParameter(format!(
+            "tin_drape: a polygon has a vertex ({} {}) that is not finite",
+            p[0], p[1]
+        )));
+    }
     let pb = bbox2(rings.iter().flatten().map(xy));
     if !(pb[0].is_finite() && pb[1].is_finite() && pb[2].is_finite() && pb[3].is_finite()) {
         return Ok(Vec::new());
