@@ -79,18 +79,19 @@ SELECT b.name, count(*) > 0 AS crossed,
        bool_and(tr.triangle < tin_num_triangles(b.t)) AS in_the_domain
 FROM bd b JOIN bd_lines ln USING (name), tin_line_triangles(b.t, ln.geom) tr
 GROUP BY b.name ORDER BY 1;
--- tin_footprint: the triangles meeting a rectangle 40 x 120 pixels turned
+-- tin_footprint (level 2): the triangles meeting a rectangle 40 x 120 pixels turned
 -- 30 degrees, centred in the hole, beside it and in the notch, are those
 -- of tin_triangles PostGIS finds meeting it (ST_Intersects): none void
-SELECT r.name, r.k, ours = theirs AS same_triangles, cardinality(ours) > 0 AS some
-FROM (SELECT b.name, k, c, 40 * b.px AS wd, 120 * b.px AS ln,
+WITH r AS MATERIALIZED (
+  SELECT b.name, b.t, k, c, 40 * b.px AS wd, 120 * b.px AS ln,
              ST_Rotate(ST_MakeEnvelope(ST_X(c) - 20 * b.px, ST_Y(c) - 60 * b.px, ST_X(c) + 20 * b.px, ST_Y(c) + 60 * b.px,
                                        ST_SRID(c)), -radians(30), c) AS rect
       FROM bd b, (VALUES ('in the hole', 0.36, 0.40), ('beside it', 0.22, 0.40), ('in the notch', 0.62, 0.40)) v(k, fx, fy),
-           LATERAL (SELECT bd_pt(b.rast, fx, fy) AS c) x) r
-JOIN bd b USING (name),
-LATERAL (SELECT array_agg(id ORDER BY id) AS ours FROM tin_footprint(b.t, r.c, r.wd, r.ln, 30) id) o,
-LATERAL (SELECT array_agg(id ORDER BY id) AS theirs FROM tin_triangles(b.t) tr WHERE ST_Intersects(tr.geom, r.rect)) p
+           LATERAL (SELECT bd_pt(b.rast, fx, fy) AS c) x)
+SELECT r.name, r.k, ours = theirs AS same_triangles, cardinality(ours) > 0 AS some
+FROM r,
+LATERAL (SELECT array_agg(id ORDER BY id) AS ours FROM tin_footprint(r.t, r.c, r.wd, r.ln, 30, 2) id) o,
+LATERAL (SELECT array_agg(id ORDER BY id) AS theirs FROM tin_triangles(r.t, 2) tr WHERE ST_Intersects(tr.geom, r.rect)) p
 ORDER BY 1, 2;
 -- an area over the hole, the notch and off the data: coverage times area
 -- adds up to the polygon clipped to the region, at every level
