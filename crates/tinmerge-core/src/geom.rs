@@ -101,6 +101,12 @@ pub fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
 
 /// Distance from p to the closed segment ab.
 pub fn point_segment_distance(p: P2, a: P2, b: P2) -> f64 {
+    point_segment_nearest(p, a, b).0
+}
+
+/// Distance from p to the closed segment ab, and where on it the nearest
+/// point is (0 at a, 1 at b).
+pub fn point_segment_nearest(p: P2, a: P2, b: P2) -> (f64, f64) {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
     let s = if l2 > 0.0 {
@@ -108,7 +114,7 @@ pub fn point_segment_distance(p: P2, a: P2, b: P2) -> f64 {
     } else {
         0.0
     };
-    (p[0] - a[0] - s * dx).hypot(p[1] - a[1] - s * dy)
+    ((p[0] - a[0] - s * dx).hypot(p[1] - a[1] - s * dy), s)
 }
 
 /// Whether p, known to be collinear with a and b, lies on the closed segment.

@@ -23,6 +23,7 @@ use geo::{BooleanOps, Contains, Coord, LineString, MultiPolygon, Point, Polygon}
 use rustc_hash::FxHashMap;
 
 use super::{pieces, runs, Part};
+use crate::geom::point_segment_nearest;
 use crate::merge::point;
 use crate::tin::{Tin, TinError, NONE};
 
@@ -110,19 +111,6 @@ fn meets(a: &[f64; 4], b: &[f64; 4]) -> bool {
 
 fn line(r: impl Iterator<Item = [f64; 2]>) -> LineString<f64> {
     LineString::new(r.map(|p| Coord { x: p[0], y: p[1] }).collect())
-}
-
-/// Distance from p to segment ab and the parameter of the nearest point.
-fn seg_near(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let l2 = dx * dx + dy * dy;
-    let t = if l2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let (x, y) = (a[0] + t * dx, a[1] + t * dy);
-    ((p[0] - x).hypot(p[1] - y), t)
 }
 
 /// Exact vertices to put i_overlay's rounded output back on: a hash grid
@@ -265,7 +253,7 @@ pub fn drape_clipped(
         }
         let mut best: Option<(f64, [f64; 3])> = None;
         for e in &edges {
-            let (d, t) = seg_near([x, y], xy(&e[0]), xy(&e[1]));
+            let (d, t) = point_segment_nearest([x, y], xy(&e[0]), xy(&e[1]));
             if best.is_none_or(|b| d < b.0) {
                 let q = [
                     e[0][0] + t * (e[1][0] - e[0][0]),
@@ -288,7 +276,7 @@ pub fn drape_clipped(
         let on = point::height(tin, level, mid[0], mid[1]).is_some()
             || edges
                 .iter()
-                .any(|e| seg_near(mid, xy(&e[0]), xy(&e[1])).0 <= eps);
+                .any(|e| point_segment_nearest(mid, xy(&e[0]), xy(&e[1])).0 <= eps);
         if !on {
             return Err(TinError::InvalidParameter(format!(
                 "tin_drape: cutting the polygon to the domain left an edge from ({} {}) to ({} {}) off the terrain",
@@ -299,7 +287,7 @@ pub fn drape_clipped(
             .iter()
             .map(|e| e[0])
             .filter_map(|b| {
-                let (d, t) = seg_near(xy(&b), xy(&p), xy(&q));
+                let (d, t) = point_segment_nearest(xy(&b), xy(&p), xy(&q));
                 (d <= eps && t > 0.0 && t < 1.0).then_some((t, b))
             })
             .collect();
