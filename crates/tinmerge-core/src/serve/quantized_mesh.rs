@@ -277,16 +277,10 @@ pub fn needed(
     if fill {
         // the domain's boundary: hull edges, and edges between a domain
         // triangle and a void one (the outline of the data, its holes)
-        for (t, nb) in lv.nbrs.iter().enumerate().take(lv.num_domain()) {
-            for j in 0..3 {
-                if nb[j] == NONE || nb[j] as usize >= lv.num_domain() {
-                    let tri = lv.tris[t];
-                    let e = [tri[(j + 1) % 3], tri[(j + 2) % 3]];
-                    used[e[0] as usize] = true;
-                    used[e[1] as usize] = true;
-                    hull.push(e);
-                }
-            }
+        for e in lv.boundary_edges() {
+            used[e[0] as usize] = true;
+            used[e[1] as usize] = true;
+            hull.push(e);
         }
     }
     if let Some(m) = max_len.filter(|m| *m > 0.0 && m.is_finite()) {

@@ -163,6 +163,18 @@ impl Level {
     pub fn is_void(&self, t: u32) -> bool {
         t as usize >= self.num_domain()
     }
+
+    /// The domain's boundary edges as vertex pairs, the domain on their
+    /// left: a domain triangle's edge on the hull or to a void triangle
+    /// (the outline of the domain, its holes included).
+    pub fn boundary_edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
+        (0..self.num_domain()).flat_map(move |t| {
+            let (tri, nb) = (self.tris[t], self.nbrs[t]);
+            (0..3)
+                .filter(move |&j| nb[j] == NONE || self.is_void(nb[j]))
+                .map(move |j| [tri[(j + 1) % 3], tri[(j + 2) % 3]])
+        })
+    }
 }
 
 /// A terrain surface as an adaptive hierarchical triangulation.

@@ -25,26 +25,10 @@ use rustc_hash::FxHashMap;
 use super::{pieces, runs, Part};
 use crate::geom::point_segment_nearest;
 use crate::merge::point;
-use crate::tin::{Tin, TinError, NONE};
+use crate::tin::{Tin, TinError};
 
 /// A boundary edge of the level (domain on its left), its ends with heights.
 type Edge = [[f64; 3]; 2];
-
-/// The level's boundary edges (a domain triangle's edge with no neighbour
-/// or a void one), oriented with the domain on the left.
-fn boundary_edges(tin: &Tin, level: usize) -> Vec<[u32; 2]> {
-    let lv = &tin.levels[level];
-    let mut out = Vec::new();
-    for t in 0..lv.num_domain() {
-        let (tri, nb) = (lv.tris[t], lv.nbrs[t]);
-        for j in 0..3 {
-            if nb[j] == NONE || lv.is_void(nb[j]) {
-                out.push([tri[(j + 1) % 3], tri[(j + 2) % 3]]);
-            }
-        }
-    }
-    out
-}
 
 /// The boundary edges chained into closed rings of vertex ids (at a vertex
 /// where two rings touch, any pairing: the rings are used with the
@@ -150,15 +134,21 @@ impl Snap {
 /// Whether a polygon whose rings are all on the terrain still holds part
 /// of the domain's boundary inside it (a hole of the domain, or void
 /// around an island of it, wholly within the polygon): then it is not all
-/// terrain and must be cut too. Only a level with void triangles can.
-pub fn encloses_void(tin: &Tin, level: usize, rings: &[Vec<[f64; 3]>]) -> bool {
+/// terrain and must be cut too. Only a level with void triangles can;
+/// `boundary` is the level's [`crate::tin::Level::boundary_edges`].
+pub fn encloses_void(
+    tin: &Tin,
+    level: usize,
+    boundary: &[[u32; 2]],
+    rings: &[Vec<[f64; 3]>],
+) -> bool {
     if tin.levels[level].num_void == 0 || rings.is_empty() {
         return false;
     }
     let pb = bbox2(rings.iter().flatten().map(|p| [p[0], p[1]]));
     let closed = |r: &Vec<[f64; 3]>| line(r.iter().chain(r.first()).map(|p| [p[0], p[1]]));
     let poly = Polygon::new(closed(&rings[0]), rings[1..].iter().map(closed).collect());
-    boundary_edges(tin, level).iter().any(|e| {
+    boundary.iter().any(|e| {
         let p = tin.verts[e[0] as usize];
         p[0] > pb[0]
             && p[0] < pb[2]
@@ -170,9 +160,11 @@ pub fn encloses_void(tin: &Tin, level: usize, rings: &[Vec<[f64; 3]>]) -> bool {
 
 /// `rings` (a polygon: shell, then holes) cut to the domain of `level` and
 /// draped: the polygons left (none when the polygon misses the domain).
+/// `boundary` is the level's [`crate::tin::Level::boundary_edges`].
 pub fn drape_clipped(
     tin: &Tin,
     level: usize,
+    boundary: &[[u32; 2]],
     rings: &[Vec<[f64; 3]>],
 ) -> Result<Vec<Vec<Vec<[f64; 3]>>>, TinError> {
     let xy = |p: &[f64; 3]| [p[0], p[1]];
@@ -191,7 +183,7 @@ pub fn drape_clipped(
         return Ok(Vec::new());
     }
     let v = |i: u32| tin.verts[i as usize];
-    let all = rings_of(&boundary_edges(tin, level));
+    let all = rings_of(boundary);
     // rings whose box misses the polygon's cannot change the answer: an
     // outer ring holding the polygon, and the holes inside that ring,
     // have boxes that meet it
