@@ -566,17 +566,28 @@ fn _tin_from_points_domain(
     let lines = breaklines_arg("tin_from_points", breaklines, soft_breaklines, srid);
     let area = boundary_arg("tin_from_points", boundary, srid);
     reserve_build("tin_from_points", samples.len(), tols.len(), false);
-    Some(TinOut::from_tin(
-        &build_domain(
-            samples,
-            &lines,
-            &area.iter().collect::<Vec<_>>(),
-            &tols,
-            srid,
-            &mut interrupt,
-        )
-        .or_raise(),
-    ))
+    Some(TinOut::from_tin(&build_points_domain(
+        samples, &lines, area, &tols, srid,
+    )))
+}
+
+/// Scattered samples built with breaklines and an optional boundary.
+fn build_points_domain(
+    samples: Vec<[f64; 3]>,
+    lines: &[Breakline],
+    area: Option<Area>,
+    tols: &[f64],
+    srid: i32,
+) -> tinmerge_core::tin::Tin {
+    build_domain(
+        samples,
+        lines,
+        &area.iter().collect::<Vec<_>>(),
+        tols,
+        srid,
+        &mut interrupt,
+    )
+    .or_raise()
 }
 
 extension_sql!(
@@ -785,18 +796,10 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
             let read = |b: &Option<Vec<u8>>| b.as_ref().map(|b| gserialized::read(b).or_raise());
             let lines = breaklines_of(F, read(&d[0]), read(&d[1]), srid);
             let area = read(&d[2]).and_then(|g| boundary_of(F, g, srid));
-            build_domain(
-                samples,
-                &lines,
-                &area.iter().collect::<Vec<_>>(),
-                &tols,
-                srid,
-                &mut interrupt,
-            )
+            build_points_domain(samples, &lines, area, &tols, srid)
         }
-        _ => build(samples, &tols, srid, &mut interrupt),
-    }
-    .or_raise();
+        _ => build(samples, &tols, srid, &mut interrupt).or_raise(),
+    };
     Some(TinOut::from_tin(&tin))
 }
 
