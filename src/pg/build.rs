@@ -521,7 +521,10 @@ COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use t
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
     let (pts, lattice, srid, _) = raster_samples(rast, band);
     reserve_build("tin_from_raster", pts.len(), tols.len(), true);
-    let opts = BuildOptions { keep_border };
+    let opts = BuildOptions {
+        keep_border,
+        ..Default::default()
+    };
     TinOut::from_tin_on(
         &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
         &lattice,

@@ -80,7 +80,10 @@ fn shared_border_column_gives_a_continuous_surface() {
     let d = common::read_dem("jacksboro_fault_dem_utm16n.tif");
     let col = d.width / 2;
     let tols = default_tolerances(2.0, 3).unwrap();
-    let keep = BuildOptions { keep_border: true };
+    let keep = BuildOptions {
+        keep_border: true,
+        ..Default::default()
+    };
     let left = build_with(tile(&d, 0, col), &tols, 32616, keep, &mut || Ok(())).unwrap();
     let right = build_with(tile(&d, col, d.width - 1), &tols, 32616, keep, &mut || {
         Ok(())
@@ -188,7 +191,10 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
                         }
                     }
                 }
-                let keep = BuildOptions { keep_border: true };
+                let keep = BuildOptions {
+                    keep_border: true,
+                    ..Default::default()
+                };
                 let Ok(want) = build_lattice(s, &lat, &tols, srid, keep, &mut || Ok(())) else {
                     continue;
                 };

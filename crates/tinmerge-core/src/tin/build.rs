@@ -47,6 +47,7 @@ use super::dense::Dense;
 use super::hierarchy::{child_starts, compute_neighbours};
 use super::lattice::Lattice;
 use super::samples::{c2, SampleGrid, Samples};
+use super::surface::{GridReference, Reference};
 use super::{grid, interpolate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
 use crate::merge::area::polygon::{Area, Where};
@@ -65,8 +66,21 @@ type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// The triangulations a [`Builder`] runs on: spade's Delaunay one, or the
 /// constrained one for a level 0 with breaklines.
-trait Tri: Triangulation<Vertex = Point2<f64>> + Default + Sync {}
-impl<T: Triangulation<Vertex = Point2<f64>> + Default + Sync> Tri for T {}
+trait Tri: Triangulation<Vertex = Point2<f64>> + Default + Sync {
+    /// Whether an edge is a constraint (its vertices are chosen from its
+    /// own profile, never measured as a free edge).
+    fn is_constraint(&self, e: spade::handles::FixedUndirectedEdgeHandle) -> bool;
+}
+impl Tri for Dt {
+    fn is_constraint(&self, _: spade::handles::FixedUndirectedEdgeHandle) -> bool {
+        false
+    }
+}
+impl Tri for Cdt {
+    fn is_constraint(&self, e: spade::handles::FixedUndirectedEdgeHandle) -> bool {
+        self.is_constraint_edge(e)
+    }
+}
 type FaceHandle = spade::handles::FixedFaceHandle<spade::handles::InnerTag>;
 
 /// Samples under the faces around a new vertex above which they are
@@ -276,10 +290,22 @@ fn choose_border(
 #[derive(Clone, Copy)]
 struct FaceState {
     gen: u32,
+    /// the face's worst error (samples and free edges' crossings)
     err: f64,
     cand: u32,
     /// a corner of the face: where spade's point location starts when the
     /// candidate is inserted (it lies in this face, so the walk is short)
+    corner: u32,
+}
+
+/// A face's measure: its worst error (samples and free edges' crossings),
+/// the error and candidate sample (or NONE) that insertion can mend, a
+/// corner.
+#[derive(Clone, Copy)]
+struct Measure {
+    worst: f64,
+    best: f64,
+    cand: u32,
     corner: u32,
 }
 
@@ -304,6 +330,15 @@ impl Ord for Entry {
     }
 }
 
+/// A vertex a parent's side is split at: one of the builder's samples, or a
+/// point of the side that is no sample (a grid-line crossing, with the
+/// reference's height there).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Pt {
+    Sample(usize),
+    At([f64; 3]),
+}
+
 struct Builder<'g, S: Samples, T: Tri = Dt> {
     dt: T,
     /// z of each triangulation vertex (by spade vertex index).
@@ -318,6 +353,12 @@ struct Builder<'g, S: Samples, T: Tri = Dt> {
     reserved: Vec<bool>,
     faces: Vec<FaceState>,
     heap: BinaryHeap<Entry>,
+    /// the surface between the samples ([`super::surface`]): free edges
+    /// are measured at their crossings too
+    reference: Option<&'g dyn Reference>,
+    /// by vertex: bit k set when it is on the parent's side chain k (an
+    /// edge between two vertices of one chain is a piece of that side)
+    vside: Vec<u8>,
 }
 
 impl<S: Samples, T: Tri> Builder<'_, S, T> {
@@ -326,9 +367,31 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         [p.x, p.y, self.vz[h.index()]]
     }
 
-    /// The worst sample of one inner face: (its error, the sample or NONE,
-    /// a corner of the face). Read-only: runs on `tin::par`'s threads.
-    fn measure(&self, face: FaceHandle) -> (f64, u32, u32) {
+    /// Whether a directed edge is fixed: on the triangulation's hull, a
+    /// constraint, or a piece of a parent's side. Fixed edges are chosen
+    /// from their own profile; the others are measured at their crossings.
+    fn fixed_edge(&self, e: spade::handles::FixedDirectedEdgeHandle) -> bool {
+        let e = self.dt.directed_edge(e);
+        if e.face().is_outer() || e.rev().face().is_outer() {
+            return true;
+        }
+        let [u, w] = e.vertices().map(|v| v.fix().index());
+        if self
+            .vside
+            .get(u)
+            .zip(self.vside.get(w))
+            .is_some_and(|(a, b)| a & b != 0)
+        {
+            return true;
+        }
+        self.dt.is_constraint(e.as_undirected().fix())
+    }
+
+    /// The worst sample of one inner face, and the worst crossing of its
+    /// free edges with the reference's grid segments (a sample next to it,
+    /// or the crossing itself, is the candidate then). Read-only: runs on
+    /// `tin::par`'s threads.
+    fn measure(&self, face: FaceHandle) -> Measure {
         let f = self.dt.face(face);
         let vs = f.vertices();
         let c = [
@@ -356,11 +419,58 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 cand = i as u32;
             }
         });
-        (best, cand, vs[0].fix().index() as u32)
+        let mut m = Measure {
+            worst: best,
+            best,
+            cand,
+            corner: vs[0].fix().index() as u32,
+        };
+        let Some(r) = self.reference else {
+            return m;
+        };
+        if sliver {
+            return m;
+        }
+        for e in f.adjacent_edges() {
+            if self.fixed_edge(e.fix()) {
+                continue;
+            }
+            let [u, w] = e.vertices().map(|v| self.vert3(v.fix()));
+            let (err, Some(x)) = r.edge_error(&u, &w) else {
+                continue;
+            };
+            m.worst = m.worst.max(err);
+            if err <= m.best {
+                continue;
+            }
+            // the pixel nearest the crossing that can be inserted (it is
+            // inside the triangulation: the domain or the parent): once the
+            // segment's two pixels are vertices the edge is no longer
+            // Delaunay unless the crossing is within about a quarter pixel
+            // of an end; the pixels beside them help where one is outside
+            let hint = e.from().fix();
+            let sample = x.pix.iter().find_map(|q| {
+                let i = self.grid.find(q[0], q[1])?;
+                if inserted[i] || (!reserved.is_empty() && reserved[i]) {
+                    return None;
+                }
+                let p = self.grid.point(i);
+                matches!(
+                    self.dt.locate_with_hint(Point2::new(p[0], p[1]), hint),
+                    spade::PositionInTriangulation::OnFace(_)
+                        | spade::PositionInTriangulation::OnEdge(_)
+                )
+                .then_some(i)
+            });
+            if let Some(i) = sample {
+                (m.best, m.cand) = (err, i as u32);
+            }
+        }
+        m
     }
 
     /// Store a face's measure and queue the face if it has a candidate.
-    fn record(&mut self, idx: usize, (best, cand, corner): (f64, u32, u32)) {
+    fn record(&mut self, idx: usize, m: Measure) {
         if idx >= self.faces.len() {
             self.faces.resize(
                 idx + 1,
@@ -374,12 +484,12 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         }
         let st = &mut self.faces[idx];
         st.gen = st.gen.wrapping_add(1);
-        st.err = best;
-        st.cand = cand;
-        st.corner = corner;
-        if cand != NONE {
+        st.err = m.worst;
+        st.cand = m.cand;
+        st.corner = m.corner;
+        if m.cand != NONE {
             self.heap.push(Entry {
-                err: best,
+                err: m.best,
                 face: idx as u32,
                 gen: st.gen,
             });
@@ -419,6 +529,21 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         hint: Option<FixedVertexHandle>,
     ) -> Result<FixedVertexHandle, TinError> {
         let p = self.grid.point(i);
+        let h = self.insert_point(p, hint)?;
+        self.inserted[i] = true;
+        if self.vsample.len() < self.vz.len() {
+            self.vsample.push(i as u32);
+        }
+        Ok(h)
+    }
+
+    /// Insert a point into the triangulation; a new vertex gets its height
+    /// and side flags (the caller pushes its `vsample`).
+    fn insert_point(
+        &mut self,
+        p: [f64; 3],
+        hint: Option<FixedVertexHandle>,
+    ) -> Result<FixedVertexHandle, TinError> {
         let before = self.dt.num_vertices();
         let pt = Point2::new(p[0], p[1]);
         let h = match hint {
@@ -426,10 +551,9 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             _ => self.dt.insert(pt),
         }
         .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
-        self.inserted[i] = true;
         if self.dt.num_vertices() > before {
             self.vz.push(p[2]);
-            self.vsample.push(i as u32);
+            self.vside.push(0);
         }
         Ok(h)
     }
@@ -470,7 +594,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         // batches), then recorded in face order
         let all: Vec<_> = self.dt.fixed_inner_faces().collect();
         let chunks: Vec<&[FaceHandle]> = all.chunks(4096).collect();
-        let mut ms: Vec<Vec<(f64, u32, u32)>> = Vec::with_capacity(chunks.len());
+        let mut ms: Vec<Vec<Measure>> = Vec::with_capacity(chunks.len());
         super::par::map_batched(
             &chunks,
             |c| c.iter().map(|&f| self.measure(f)).collect(),
@@ -497,10 +621,8 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             if n.is_multiple_of(256) {
                 interrupt()?;
             }
-            let v = self.insert_sample(
-                st.cand as usize,
-                Some(FixedVertexHandle::from_index(st.corner as usize)),
-            )?;
+            let hint = Some(FixedVertexHandle::from_index(st.corner as usize));
+            let v = self.insert_sample(st.cand as usize, hint)?;
             self.rescan_around(v);
             // A sample that did not become a new vertex (cannot happen for
             // distinct samples, but never loop on it) is marked inserted;
@@ -520,15 +642,14 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
     }
 
     /// One parent's refinement in this (emptied) builder: its `corners`
-    /// inserted, then on each of its fixed `sides` (samples in the edge's
-    /// canonical order, both corners included) the vertices [`choose_border`]
-    /// picks, the side's other samples reserved, then greedy insertion to
-    /// `tol`. The worst error left, and each side's chosen samples in order
-    /// (its chain).
+    /// inserted, then each of its fixed sides' chosen vertices ([`plan_side`]:
+    /// the side's other samples reserved, chain `k`'s vertices flagged),
+    /// then greedy insertion to `tol`. The worst error left, and each
+    /// side's chain by builder sample (`grid.len() + k`: extra `k`).
     fn refine_parent(
         &mut self,
         corners: [usize; 3],
-        sides: &[Vec<usize>],
+        plans: &[SidePlan],
         tol: f64,
     ) -> Result<(f64, Vec<Vec<usize>>), TinError> {
         let mut hint = None;
@@ -536,35 +657,43 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             hint = Some(self.insert_sample(s, hint)?);
         }
         let mut err = 0.0f64;
-        let mut new = Vec::new();
-        let mut chains = Vec::with_capacity(sides.len());
-        for side in sides {
-            for &i in &side[1..side.len() - 1] {
+        let mut chains = Vec::with_capacity(plans.len());
+        for (k, plan) in plans.iter().enumerate() {
+            for &i in &plan.reserve {
                 self.reserved[i] = true;
             }
-            let mut chosen: Vec<bool> = (0..side.len())
-                .map(|j| j == 0 || j + 1 == side.len())
-                .collect();
-            let grid = self.grid;
-            err = err.max(choose_border(
-                &|i| grid.point(i),
-                side,
-                &mut chosen,
-                tol,
-                &mut new,
-            ));
-            chains.push(
-                side.iter()
-                    .zip(&chosen)
-                    .filter(|(_, &ch)| ch)
-                    .map(|(&i, _)| i)
-                    .collect(),
-            );
-        }
-        for i in new {
-            if !self.inserted[i] {
-                hint = Some(self.insert_sample(i, hint)?);
+            err = err.max(plan.err);
+            let mut chain = Vec::with_capacity(plan.chosen.len());
+            for &p in &plan.chosen {
+                let h = match p {
+                    Pt::Sample(i) => {
+                        let h = if self.inserted[i] {
+                            self.dt
+                                .locate_vertex(Point2::new(
+                                    self.grid.point(i)[0],
+                                    self.grid.point(i)[1],
+                                ))
+                                .map(|v| v.fix())
+                        } else {
+                            None
+                        };
+                        match h {
+                            Some(h) => h,
+                            None => self.insert_sample(i, hint)?,
+                        }
+                    }
+                    Pt::At(_) => {
+                        return Err(TinError::Degenerate(
+                            "internal: a side's crossing was not made a sample of its parent"
+                                .into(),
+                        ))
+                    }
+                };
+                hint = Some(h);
+                self.vside[h.index()] |= 1 << k;
+                chain.push(self.vsample[h.index()] as usize);
             }
+            chains.push(chain);
         }
         Ok((
             err.max(self.refine(tol, usize::MAX, &mut || Ok(()))?),
@@ -616,6 +745,16 @@ pub struct BuildOptions {
     /// the border, whose edges persisted into the finest level and made its
     /// surface steep and jagged.)
     pub keep_border: bool,
+    /// Hold the tolerance between the samples too (issue 43, not yet the
+    /// default): every free edge of every level is measured where it
+    /// crosses a grid segment between two valid pixel centres (the raster's
+    /// own surface there, [`super::surface`]), mended by inserting a pixel
+    /// beside the crossing, and the sides of each parent are split at the
+    /// next level from their own profile of samples and crossings
+    /// ([`plan_side`]), so a coarse edge is refined where it is too far
+    /// from the surface instead of persisting with its coarse heights.
+    /// Vertices then lie at grid-line crossings as well as at pixel centres.
+    pub between_samples: bool,
 }
 
 /// Build a hierarchy from samples (x, y, z) with one tolerance per level
@@ -644,7 +783,17 @@ pub fn build_with(
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_inner(samples, &[], &[], tolerances, srid, opts, false, interrupt)
+    build_inner(
+        samples,
+        &[],
+        &[],
+        tolerances,
+        srid,
+        opts,
+        false,
+        None,
+        interrupt,
+    )
 }
 
 /// [`build`] with breaklines ([`super::breaklines`]): every line a union of
@@ -807,6 +956,41 @@ pub fn build_domain(
         srid,
         BuildOptions::default(),
         false,
+        None,
+        interrupt,
+    )
+}
+
+/// [`build_domain`] for a raster's valid pixel centres in world
+/// coordinates (`lat.centre(col, row)`, as `tin_from_raster` builds over
+/// its data, with a boundary or with breaklines): every free edge of every
+/// level is also measured where it crosses a grid segment between two valid
+/// pixel centres, against the raster's `heights` ([`super::surface`]), and
+/// coarse edges are split at those crossings level by level. With hard
+/// breaklines (heights of their own, not the raster's) the error is
+/// measured at the samples only.
+#[allow(clippy::too_many_arguments)]
+pub fn build_domain_raster(
+    samples: Vec<[f64; 3]>,
+    lines: &[Breakline],
+    boundaries: &[&Area],
+    tolerances: &[f64],
+    srid: i32,
+    heights: &Dense,
+    lat: &Lattice,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    let reference = GridReference::in_world(heights, *lat);
+    let hard = lines.iter().any(|l| l.hard);
+    build_inner(
+        samples,
+        lines,
+        boundaries,
+        tolerances,
+        srid,
+        BuildOptions::default(),
+        false,
+        (!hard && lat.is_valid()).then_some(&reference as &dyn Reference),
         interrupt,
     )
 }
@@ -1089,6 +1273,7 @@ fn build_inner(
     srid: i32,
     opts: BuildOptions,
     on_lattice: bool,
+    reference: Option<&dyn Reference>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
@@ -1141,8 +1326,8 @@ fn build_inner(
         Vec::new()
     };
     let (verts, raw_levels) = if net.segs.is_empty() {
-        let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border)?;
-        build_levels(b, &grid, &sides, tolerances, opts, interrupt)?
+        let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border, reference)?;
+        build_levels(b, &grid, reference, &sides, tolerances, opts, interrupt)?
     } else {
         // each soft segment's samples from end to end (a hard one: none),
         // chosen level by level as a tile's seam is; reserved from the
@@ -1166,7 +1351,7 @@ fn build_inner(
             .collect::<Option<Vec<Vec<usize>>>>()
             .ok_or_else(|| TinError::Degenerate("internal: a profile sample was lost".into()))?;
         drop(profiles);
-        let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, true)?;
+        let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, true, reference)?;
         add_network(&mut b, &net, &segment_sides, tolerances[0], &|x, y| {
             grid.find(x, y)
         })?;
@@ -1174,7 +1359,7 @@ fn build_inner(
             .into_iter()
             .filter(|s| !s.is_empty())
             .collect();
-        build_levels(b, &grid, &sides, tolerances, opts, interrupt)?
+        build_levels(b, &grid, reference, &sides, tolerances, opts, interrupt)?
     };
     drop(grid);
     let mut raw_levels = raw_levels;
@@ -1221,9 +1406,11 @@ fn mark_void(
 /// Every level: level 0 refined in `b` (the whole domain, its hull
 /// inserted; the hull's `sides` under keep_border), the finer ones parent by
 /// parent on `src`. The vertices and the levels, for [`assemble`].
+#[allow(clippy::too_many_arguments)]
 fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
     mut b: Builder<'_, S, T>,
     src: &P,
+    reference: Option<&dyn Reference>,
     sides: &[Vec<usize>],
     tolerances: &[f64],
     opts: BuildOptions,
@@ -1238,6 +1425,7 @@ fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
     let mut raw_levels = vec![level0];
     refine_by_parents(
         src,
+        reference,
         &mut verts,
         vsample,
         &mut raw_levels,
@@ -1264,6 +1452,7 @@ fn start<'g, S: Samples, T: Tri>(
     grid: &'g S,
     hull: &[usize],
     keep_border: bool,
+    reference: Option<&'g dyn Reference>,
 ) -> Result<Builder<'g, S, T>, TinError> {
     if hull.len() < 3 {
         return Err(TinError::Degenerate(
@@ -1271,6 +1460,7 @@ fn start<'g, S: Samples, T: Tri>(
         ));
     }
     let mut b = Scratch::default().builder(grid, grid.len(), keep_border);
+    b.reference = reference;
     for &i in hull {
         b.insert_sample(i, None)?;
     }
@@ -1391,7 +1581,11 @@ fn build_dense(
     let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
     let hull: Vec<usize> = convex_hull(&pts).into_iter().map(|k| ends[k]).collect();
     let whole = d.window(d.c0, d.r0, d.width, d.height);
-    let b: Builder<'_, _, Dt> = start(&whole, &hull, opts.keep_border)?;
+    let grid_reference = GridReference::on_lattice(&d);
+    let reference = opts
+        .between_samples
+        .then_some(&grid_reference as &dyn Reference);
+    let b: Builder<'_, _, Dt> = start(&whole, &hull, opts.keep_border, reference)?;
     let sides: Vec<Vec<usize>> = if opts.keep_border {
         (0..hull.len())
             .map(|k| lattice_side(&d, hull[k], hull[(k + 1) % hull.len()]))
@@ -1399,7 +1593,8 @@ fn build_dense(
     } else {
         Vec::new()
     };
-    let (verts, raw_levels) = build_levels(b, &d, &sides, tolerances, opts, interrupt)?;
+    let (verts, raw_levels) = build_levels(b, &d, reference, &sides, tolerances, opts, interrupt)?;
+    drop(grid_reference);
     drop(d);
     assemble(verts, raw_levels, srid, false, interrupt)
 }
@@ -1417,56 +1612,201 @@ fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
     side
 }
 
-/// Refine the triangle of [`Dense`] samples `corners` (counter-clockwise)
-/// to `tol`, on the window of the lattice around it: the vertices on each
-/// edge `k` (corner `k` to `k + 1`, its samples found by gcd steps) chosen
-/// by [`choose_border`] unless `free[k]` (a hull side without keep_border,
-/// whose samples are the greedy refinement's candidates), then greedy
-/// insertion of the samples inside, in a Delaunay triangulation of the
-/// triangle's own samples.
+/// One fixed side of a parent at the level being built: the samples on it
+/// that stay no vertex (reserved from the greedy refinement), the chain of
+/// vertices it is split at from its canonical end to the other (both ends
+/// included), and the worst error left along it (samples and crossings).
+struct SidePlan {
+    reserve: Vec<usize>,
+    chosen: Vec<Pt>,
+    err: f64,
+}
+
+/// Plan a side from its own profile: its ends `ends` (canonical order,
+/// positions `a`, `b`), the samples strictly between them in order along it
+/// (`on`: sample, position) and, with a `reference`, its crossings with the
+/// grid segments between valid pixels, at their reference heights. A
+/// Douglas-Peucker split ([`choose_border`]) of that profile at `tol` picks
+/// the chain: the two parents sharing the side compute the same profile
+/// bit for bit and so the same chain, and a coarse edge becomes, level by
+/// level, a profile of the surface along it.
+fn plan_side(
+    ends: [Pt; 2],
+    a: &[f64; 3],
+    b: &[f64; 3],
+    on: &[(usize, [f64; 3])],
+    reference: Option<&dyn Reference>,
+    tol: f64,
+) -> SidePlan {
+    let ax = if (b[0] - a[0]).abs() >= (b[1] - a[1]).abs() {
+        0
+    } else {
+        1
+    };
+    let along = |p: &[f64; 3]| (p[ax] - a[ax]) / (b[ax] - a[ax]);
+    let mut prof: Vec<(f64, [f64; 3], Pt)> = Vec::with_capacity(on.len() + 2);
+    prof.push((0.0, *a, ends[0]));
+    let mut crossings: Vec<(f64, [f64; 3])> = Vec::new();
+    if let Some(r) = reference {
+        r.for_each_crossing(a, b, &mut |c| crossings.push((c.t, c.p)));
+    }
+    let (mut i, mut j) = (0, 0);
+    while i < on.len() || j < crossings.len() {
+        let ts = on.get(i).map(|s| along(&s.1));
+        let tc = crossings.get(j).map(|c| c.0);
+        if tc.is_none() || ts.is_some_and(|t| tc.is_some_and(|u| t <= u)) {
+            let (s, p) = on[i];
+            prof.push((ts.unwrap_or(0.0), p, Pt::Sample(s)));
+            i += 1;
+        } else {
+            let (t, p) = crossings[j];
+            prof.push((t, p, Pt::At(p)));
+            j += 1;
+        }
+    }
+    prof.push((1.0, *b, ends[1]));
+    let idx: Vec<usize> = (0..prof.len()).collect();
+    let mut chosen: Vec<bool> = (0..prof.len())
+        .map(|k| k == 0 || k + 1 == prof.len())
+        .collect();
+    let mut new = Vec::new();
+    let err = choose_border(&|k| prof[k].1, &idx, &mut chosen, tol, &mut new);
+    let mut plan = SidePlan {
+        reserve: Vec::new(),
+        chosen: Vec::new(),
+        err,
+    };
+    for (e, &ch) in prof.iter().zip(&chosen) {
+        if ch {
+            plan.chosen.push(e.2);
+        } else if let Pt::Sample(s) = e.2 {
+            plan.reserve.push(s);
+        }
+    }
+    plan
+}
+
+/// Refine the triangle of [`Dense`] samples `corners` (counter-clockwise;
+/// slots past the lattice are `extras`) to `tol`. When its corners are
+/// pixels and its sides are split at pixels only, on the window of the
+/// lattice around it: the vertices on each edge `k` (corner `k` to `k + 1`,
+/// its samples found by gcd steps) planned by [`plan_side`] unless `free[k]`
+/// (a hull side without keep_border, whose samples are the greedy
+/// refinement's candidates), then greedy insertion of the samples inside,
+/// in a Delaunay triangulation of the triangle's own samples. Otherwise
+/// (a corner or a side's vertex at a grid-line crossing) as scattered
+/// samples are ([`refine_parent_general`]).
+#[allow(clippy::too_many_arguments)]
 fn refine_parent(
     d: &Dense,
+    reference: Option<&dyn Reference>,
+    extras: &[[f64; 3]],
     scratch: &mut Scratch,
     parent: u32,
     corners: [u32; 3],
     free: [bool; 3],
     tol: f64,
 ) -> Result<ParentOut, TinError> {
-    let cr = corners.map(|s| d.col_row(s as usize));
-    let (c0, c1) = (
-        cr.iter().map(|p| p.0).min().unwrap_or(0),
-        cr.iter().map(|p| p.0).max().unwrap_or(0),
-    );
-    let (r0, r1) = (
-        cr.iter().map(|p| p.1).min().unwrap_or(0),
-        cr.iter().map(|p| p.1).max().unwrap_or(0),
-    );
-    let win = d.window(c0, r0, (c1 - c0 + 1) as usize, (r1 - r0 + 1) as usize);
-    let n = win.len();
-    let mut b = scratch.builder(&win, n, !free.iter().all(|&f| f));
-    let sides: Vec<Vec<usize>> = (0..3)
-        .filter(|&k| !free[k])
-        .map(|k| {
-            lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize)
+    let n = d.z.len();
+    let pos = |s: u32| -> [f64; 3] {
+        let s = s as usize;
+        if s < n {
+            d.point(s)
+        } else {
+            extras.get(s - n).copied().unwrap_or([f64::NAN; 3])
+        }
+    };
+    let c = corners.map(pos);
+    if corners.iter().all(|&s| (s as usize) < n) {
+        let plans: Vec<SidePlan> = (0..3)
+            .filter(|&k| !free[k])
+            .map(|k| {
+                let side = lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize);
+                let on: Vec<(usize, [f64; 3])> = side[1..side.len() - 1]
+                    .iter()
+                    .map(|&g| (g, d.point(g)))
+                    .collect();
+                let (a, b) = (side[0], side[side.len() - 1]);
+                plan_side(
+                    [Pt::Sample(a), Pt::Sample(b)],
+                    &d.point(a),
+                    &d.point(b),
+                    &on,
+                    reference,
+                    tol,
+                )
+            })
+            .collect();
+        if plans
+            .iter()
+            .all(|p| p.chosen.iter().all(|q| matches!(q, Pt::Sample(_))))
+        {
+            let cr = corners.map(|s| d.col_row(s as usize));
+            let (c0, c1) = (
+                cr.iter().map(|p| p.0).min().unwrap_or(0),
+                cr.iter().map(|p| p.0).max().unwrap_or(0),
+            );
+            let (r0, r1) = (
+                cr.iter().map(|p| p.1).min().unwrap_or(0),
+                cr.iter().map(|p| p.1).max().unwrap_or(0),
+            );
+            let win = d.window(c0, r0, (c1 - c0 + 1) as usize, (r1 - r0 + 1) as usize);
+            let wn = win.len();
+            let local = |p: &Pt| match *p {
+                Pt::Sample(g) => Pt::Sample(win.local(g)),
+                at => at,
+            };
+            let plans: Vec<SidePlan> = plans
                 .into_iter()
-                .map(|g| win.local(g))
-                .collect()
-        })
-        .collect();
-    let (err, _) = b.refine_parent(corners.map(|s| win.local(s as usize)), &sides, tol)?;
-    let tris = b.snapshot();
-    let samples = b
-        .vsample
-        .iter()
-        .map(|&k| win.global(k as usize) as u32)
-        .collect();
-    scratch.keep(b);
-    Ok(ParentOut {
-        parent,
-        samples,
-        tris,
-        err,
-    })
+                .map(|p| SidePlan {
+                    reserve: p.reserve.iter().map(|&g| win.local(g)).collect(),
+                    chosen: p.chosen.iter().map(local).collect(),
+                    err: p.err,
+                })
+                .collect();
+            let mut b = scratch.builder(&win, wn, !free.iter().all(|&f| f));
+            b.reference = reference;
+            let (err, _) = b.refine_parent(corners.map(|s| win.local(s as usize)), &plans, tol)?;
+            let tris = b.snapshot();
+            let verts = b
+                .vsample
+                .iter()
+                .map(|&k| Pt::Sample(win.global(k as usize)))
+                .collect();
+            scratch.keep(b);
+            return Ok(ParentOut {
+                parent,
+                verts,
+                tris,
+                err,
+            });
+        }
+    }
+    let gather = |x0: f64, y0: f64, x1: f64, y1: f64, f: &mut dyn FnMut(u32, &[f64; 3])| {
+        let (cl, ch) = (
+            x0.ceil().max(d.c0 as f64),
+            x1.floor().min((d.c0 + d.width as i64 - 1) as f64),
+        );
+        let (rl, rh) = (
+            y0.ceil().max(d.r0 as f64),
+            y1.floor().min((d.r0 + d.height as i64 - 1) as f64),
+        );
+        if !(cl <= ch && rl <= rh) {
+            return;
+        }
+        for r in rl as i64..=rh as i64 {
+            for cc in cl as i64..=ch as i64 {
+                let i = d.index(cc, r);
+                if d.valid(i) {
+                    f(i as u32, &d.point(i));
+                }
+            }
+        }
+    };
+    let is_sample = corners.map(|s| (s as usize) < n);
+    refine_parent_general(
+        &gather, reference, scratch, parent, corners, c, is_sample, free, tol,
+    )
 }
 
 /// A builder's buffers, kept from one parent to the next on a thread: a
@@ -1482,6 +1822,7 @@ struct Scratch<T: Tri = Dt> {
     reserved: Vec<bool>,
     faces: Vec<FaceState>,
     heap: BinaryHeap<Entry>,
+    vside: Vec<u8>,
 }
 
 impl<T: Tri> Scratch<T> {
@@ -1502,6 +1843,8 @@ impl<T: Tri> Scratch<T> {
             reserved: std::mem::take(&mut self.reserved),
             faces: std::mem::take(&mut self.faces),
             heap: std::mem::take(&mut self.heap),
+            reference: None,
+            vside: std::mem::take(&mut self.vside),
         };
         b.dt.clear();
         b.vz.clear();
@@ -1512,6 +1855,7 @@ impl<T: Tri> Scratch<T> {
         b.reserved.resize(if reserve { n } else { 0 }, false);
         b.faces.clear();
         b.heap.clear();
+        b.vside.clear();
         b
     }
 
@@ -1524,6 +1868,7 @@ impl<T: Tri> Scratch<T> {
         self.reserved = b.reserved;
         self.faces = b.faces;
         self.heap = b.heap;
+        self.vside = b.vside;
     }
 }
 
@@ -1533,18 +1878,23 @@ const GROUP_SAMPLES: f64 = 16384.0;
 /// The levels after the first, each refined parent by parent. A triangle of level `l` holds exactly the triangles of level
 /// `l + 1` inside it, and no edge of level `l` crosses it, so its
 /// refinement depends only on its own samples once the vertices on its
-/// three edges are fixed. Those are chosen from each edge's own samples
-/// (exactly on it on a lattice; on it up to rounding for scattered
-/// samples, see [`refine_parent_scattered`]) by [`choose_border`], in the
-/// edge's canonical order, so the two triangles sharing an edge choose the
-/// same vertices on it without knowing of each other; the samples on the
-/// convex hull's sides stay candidates of the greedy refinement (as in
-/// level 0) unless `keep_border`. Parents are refined on `tin::par`'s
-/// threads, and their vertices numbered in parent order (a vertex shared
-/// with an earlier parent keeps its number), so the result does not depend
-/// on the thread count. `vsample` is the sample of each vertex in `verts`.
+/// three edges are fixed. Those are chosen from each edge's own profile
+/// ([`plan_side`]: its samples, exactly on it on a lattice, on it up to
+/// rounding for scattered samples, see [`refine_parent_general`], and its
+/// grid-line crossings with the `reference`), in the edge's canonical
+/// order, so the two triangles sharing an edge choose the same vertices on
+/// it without knowing of each other; the samples on the convex hull's
+/// sides stay candidates of the greedy refinement (as in level 0) unless
+/// `keep_border`. Parents are refined on `tin::par`'s threads, and their
+/// vertices numbered in parent order (a vertex shared with an earlier
+/// parent keeps its number: a sample by its slot, a vertex at a crossing by
+/// its position, which both parents compute bit for bit), so the result
+/// does not depend on the thread count. `vsample` is the slot of each
+/// vertex in `verts`: a sample, or `d.slots() + k` for `extras[k]`.
+#[allow(clippy::too_many_arguments)]
 fn refine_by_parents<P: ParentSamples>(
     d: &P,
+    reference: Option<&dyn Reference>,
     verts: &mut Vec<[f64; 3]>,
     mut vsample: Vec<u32>,
     raw: &mut Vec<RawLevel>,
@@ -1552,10 +1902,16 @@ fn refine_by_parents<P: ParentSamples>(
     keep_border: bool,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
-    let mut vertex_of = vec![NONE; d.slots()];
+    let slots = d.slots();
+    // vertices at grid-line crossings (sides split at the crossings), slot
+    // `slots + k`
+    let mut extras: Vec<[f64; 3]> = Vec::new();
+    let mut vertex_of = vec![NONE; slots];
     for (v, &s) in vsample.iter().enumerate() {
         vertex_of[s as usize] = v as u32;
     }
+    let key = |p: &[f64; 3]| (p[0].to_bits(), p[1].to_bits());
+    let mut extra_slot: rustc_hash::FxHashMap<(u64, u64), usize> = Default::default();
     for &tol in tolerances {
         let Some(prev) = raw.last().map(|r| &r.tris) else {
             return Err(TinError::Degenerate("internal: no level to refine".into()));
@@ -1575,6 +1931,7 @@ fn refine_by_parents<P: ParentSamples>(
                 .collect()
         };
         let corner_samples = vsample.clone();
+        let corner_extras = extras.clone();
         let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
         let (mut start, mut acc) = (0usize, 0.0f64);
         for (t, tri) in prev.iter().enumerate() {
@@ -1604,7 +1961,15 @@ fn refine_by_parents<P: ParentSamples>(
                         let corners = prev[t].map(|v| corner_samples[v as usize]);
                         // edge k runs from corner k to k + 1, opposite corner k + 2
                         let free = [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
-                        d.refine_parent(&mut scratch, t as u32, corners, free, tol)
+                        d.refine_parent(
+                            reference,
+                            &corner_extras,
+                            &mut scratch,
+                            t as u32,
+                            corners,
+                            free,
+                            tol,
+                        )
                     })
                     .collect::<Result<Vec<_>, TinError>>()
             },
@@ -1613,14 +1978,25 @@ fn refine_by_parents<P: ParentSamples>(
                 for o in outs? {
                     max_error = max_error.max(o.err);
                     let ids: Vec<u32> = o
-                        .samples
+                        .verts
                         .iter()
-                        .map(|&s| {
-                            let v = &mut vertex_of[s as usize];
+                        .map(|src| {
+                            let (slot, p) = match *src {
+                                Pt::Sample(s) => (s, None),
+                                Pt::At(p) => {
+                                    let slot = *extra_slot.entry(key(&p)).or_insert_with(|| {
+                                        extras.push(p);
+                                        vertex_of.push(NONE);
+                                        slots + extras.len() - 1
+                                    });
+                                    (slot, Some(p))
+                                }
+                            };
+                            let v = &mut vertex_of[slot];
                             if *v == NONE {
                                 *v = verts.len() as u32;
-                                verts.push(d.sample(s as usize));
-                                vsample.push(s);
+                                verts.push(p.unwrap_or_else(|| d.sample(slot)));
+                                vsample.push(slot as u32);
                             }
                             *v
                         })
@@ -1655,11 +2031,15 @@ trait ParentSamples: Sync {
     fn sample(&self, s: usize) -> [f64; 3];
     /// Area holding about one sample.
     fn cell_area(&self) -> f64;
-    /// Refine the triangle of samples `corners` (counter-clockwise) to
-    /// `tol`: its edges `k` (corner `k` to `k + 1`) not `free[k]` keep the
-    /// vertices [`choose_border`] picks from the edge's own samples.
+    /// Refine the triangle of samples `corners` (counter-clockwise; slot
+    /// `slots() + k` is `extras[k]`) to `tol`: its edges `k` (corner `k` to
+    /// `k + 1`) not `free[k]` keep the vertices [`plan_side`] picks from the
+    /// edge's own profile.
+    #[allow(clippy::too_many_arguments)]
     fn refine_parent(
         &self,
+        reference: Option<&dyn Reference>,
+        extras: &[[f64; 3]],
         scratch: &mut Scratch,
         parent: u32,
         corners: [u32; 3],
@@ -1680,13 +2060,15 @@ impl ParentSamples for Dense {
     }
     fn refine_parent(
         &self,
+        reference: Option<&dyn Reference>,
+        extras: &[[f64; 3]],
         scratch: &mut Scratch,
         parent: u32,
         corners: [u32; 3],
         free: [bool; 3],
         tol: f64,
     ) -> Result<ParentOut, TinError> {
-        refine_parent(self, scratch, parent, corners, free, tol)
+        refine_parent(self, reference, extras, scratch, parent, corners, free, tol)
     }
 }
 
@@ -1702,37 +2084,65 @@ impl ParentSamples for SampleGrid {
     }
     fn refine_parent(
         &self,
+        reference: Option<&dyn Reference>,
+        extras: &[[f64; 3]],
         scratch: &mut Scratch,
         parent: u32,
         corners: [u32; 3],
         free: [bool; 3],
         tol: f64,
     ) -> Result<ParentOut, TinError> {
-        refine_parent_scattered(self, scratch, parent, corners, free, tol)
+        let n = self.pts.len();
+        let c = corners.map(|s| {
+            let s = s as usize;
+            if s < n {
+                self.pts[s]
+            } else {
+                extras.get(s - n).copied().unwrap_or([f64::NAN; 3])
+            }
+        });
+        let gather = |x0: f64, y0: f64, x1: f64, y1: f64, f: &mut dyn FnMut(u32, &[f64; 3])| {
+            self.for_each_in_box(x0, y0, x1, y1, |i, p| f(i as u32, p));
+        };
+        let is_sample = corners.map(|s| (s as usize) < n);
+        refine_parent_general(
+            &gather, reference, scratch, parent, corners, c, is_sample, free, tol,
+        )
     }
 }
 
-/// [`refine_parent`] for scattered samples. No lattice decides which
-/// samples lie on an edge: a sample within rounding of it (the triangle it
-/// makes with the edge is a sliver, [`crate::geom::is_sliver`]), on either
-/// side, between its ends, is the edge's sample. Both triangles sharing
-/// the edge find the same ones (the test is symmetric and exact) and list
-/// them in the same order (along the edge's longer axis from its canonical
-/// end), so [`choose_border`] picks the same vertices there in both. The
-/// triangle's own samples and its edges' are triangulated alone; slivers
-/// along an edge are dropped ([`Builder::snapshot`]) and a triangle whose
-/// side skips chosen vertices of the edge (they lie a rounding outside it)
-/// is split into a fan through them, so both sides of the edge meet at
-/// exactly the same vertices: no crack and no T-junction.
-fn refine_parent_scattered(
-    g: &SampleGrid,
+/// Calls `f(slot, sample)` for every sample in a closed box
+/// (`x0, y0, x1, y1`).
+type Gather<'a> = dyn Fn(f64, f64, f64, f64, &mut dyn FnMut(u32, &[f64; 3])) + 'a;
+
+/// A parent's refinement where "on the edge" is decided up to rounding:
+/// scattered samples, and on a lattice a parent with a corner or a side's
+/// vertex at a grid-line crossing. No lattice decides which samples lie on
+/// an edge: a sample within rounding of it (the triangle it makes with the
+/// edge is a sliver, [`crate::geom::is_sliver`]), on either side, between
+/// its ends, is the edge's sample. Both triangles sharing the edge find the
+/// same ones (the test is symmetric and exact) and list them in the same
+/// order (along the edge's longer axis from its canonical end), so
+/// [`plan_side`] picks the same vertices there in both. The triangle's own
+/// samples, its edges' and their chosen crossings are triangulated alone;
+/// slivers along an edge are dropped ([`Builder::snapshot`]) and a triangle
+/// whose side skips chosen vertices of the edge (they lie a rounding
+/// outside it) is split into a fan through them, so both sides of the edge
+/// meet at exactly the same vertices: no crack and no T-junction.
+/// `corners`: slots, at `c`; `is_sample[k]`: corner `k` is a sample (else a
+/// vertex at a crossing).
+#[allow(clippy::too_many_arguments)]
+fn refine_parent_general(
+    gather: &Gather<'_>,
+    reference: Option<&dyn Reference>,
     scratch: &mut Scratch,
     parent: u32,
     corners: [u32; 3],
+    c: [[f64; 3]; 3],
+    is_sample: [bool; 3],
     free: [bool; 3],
     tol: f64,
 ) -> Result<ParentOut, TinError> {
-    let c = corners.map(|s| g.pts[s as usize]);
     // each edge from its canonical end (the smaller in (x, y))
     let ends: [(usize, usize); 3] = [0, 1, 2].map(|k| {
         let (i, j) = (k, (k + 1) % 3);
@@ -1753,10 +2163,12 @@ fn refine_parent_scattered(
     // the triangle's samples, corners first, in the order found; `on[k]`:
     // edge k's samples as (position along it, x, y, index in `pts`)
     let mut pts: Vec<[f64; 3]> = c.to_vec();
-    let mut gid: Vec<u32> = corners.to_vec();
+    let mut gid: Vec<u32> = (0..3)
+        .map(|k| if is_sample[k] { corners[k] } else { NONE })
+        .collect();
     let mut on: [Vec<(f64, f64, f64, u32)>; 3] = Default::default();
-    g.for_each_in_box(x0, y0, x1, y1, |i, p| {
-        if corners.contains(&(i as u32)) {
+    gather(x0, y0, x1, y1, &mut |i, p| {
+        if (0..3).any(|k| is_sample[k] && corners[k] == i) {
             return;
         }
         let mut keep = (0..3).all(|k| crate::geom::orient(&c[k], &c[(k + 1) % 3], p) >= 0.0);
@@ -1782,9 +2194,43 @@ fn refine_parent_scattered(
         }
         if keep {
             pts.push(*p);
-            gid.push(i as u32);
+            gid.push(i);
         }
     });
+    // each fixed side's plan, by index in `pts`; its chosen crossings
+    // become points of `pts` too (no sample: `gid` NONE)
+    let mut plans: Vec<SidePlan> = Vec::new();
+    for k in 0..3 {
+        if free[k] {
+            continue;
+        }
+        on[k].sort_by(|u, v| {
+            u.0.total_cmp(&v.0)
+                .then(u.1.total_cmp(&v.1))
+                .then(u.2.total_cmp(&v.2))
+        });
+        let side: Vec<(usize, [f64; 3])> = on[k]
+            .iter()
+            .map(|e| (e.3 as usize, pts[e.3 as usize]))
+            .collect();
+        let (ea, eb) = ends[k];
+        let mut plan = plan_side(
+            [Pt::Sample(ea), Pt::Sample(eb)],
+            &c[ea],
+            &c[eb],
+            &side,
+            reference,
+            tol,
+        );
+        for q in &mut plan.chosen {
+            if let Pt::At(p) = *q {
+                *q = Pt::Sample(pts.len());
+                pts.push(p);
+                gid.push(NONE);
+            }
+        }
+        plans.push(plan);
+    }
     let n = pts.len();
     let local = SampleGrid::with_ids(pts, (0..n as u32).collect(), 1.0);
     // the local sample of each position in `pts`
@@ -1792,37 +2238,38 @@ fn refine_parent_scattered(
     for (l, &k) in local.ids.iter().enumerate() {
         pos[k as usize] = l;
     }
+    for plan in &mut plans {
+        for s in &mut plan.reserve {
+            *s = pos[*s];
+        }
+        for q in &mut plan.chosen {
+            if let Pt::Sample(s) = q {
+                *s = pos[*s];
+            }
+        }
+    }
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
-    let sides: Vec<Vec<usize>> = (0..3)
-        .filter(|&k| !free[k])
-        .map(|k| {
-            on[k].sort_by(|u, v| {
-                u.0.total_cmp(&v.0)
-                    .then(u.1.total_cmp(&v.1))
-                    .then(u.2.total_cmp(&v.2))
-            });
-            let mut side = vec![pos[ends[k].0]];
-            side.extend(on[k].iter().map(|e| pos[e.3 as usize]));
-            side.push(pos[ends[k].1]);
-            side
-        })
-        .collect();
-    let (err, chains) = b.refine_parent([pos[0], pos[1], pos[2]], &sides, tol)?;
+    b.reference = reference;
+    let (err, chains) = b.refine_parent([pos[0], pos[1], pos[2]], &plans, tol)?;
     let mut tris = b.snapshot();
     if chains.iter().any(|ch| ch.len() > 2) {
         tris = close_chains(tris, &chains, &b.vsample, &|v| {
             b.vert3(FixedVertexHandle::from_index(v))
         });
     }
-    let samples = b
+    let verts = b
         .vsample
         .iter()
-        .map(|&l| gid[local.ids[l as usize] as usize])
+        .enumerate()
+        .map(|(v, &l)| match gid[local.ids[l as usize] as usize] {
+            NONE => Pt::At(b.vert3(FixedVertexHandle::from_index(v))),
+            g => Pt::Sample(g as usize),
+        })
         .collect();
     scratch.keep(b);
     Ok(ParentOut {
         parent,
-        samples,
+        verts,
         tris,
         err,
     })
@@ -1900,11 +2347,12 @@ fn close_chains(
     out
 }
 
-/// One parent's refinement: the samples its vertices are (its corners
-/// first), its triangles by index into them, the worst error left.
+/// One parent's refinement: its vertices (samples by slot, or points at
+/// grid-line crossings; its corners first), its triangles by index into
+/// them, the worst error left.
 struct ParentOut {
     parent: u32,
-    samples: Vec<u32>,
+    verts: Vec<Pt>,
     tris: Vec<[u32; 3]>,
     err: f64,
 }
@@ -1943,6 +2391,7 @@ pub fn build_lattice(
         srid,
         opts,
         true,
+        None,
         interrupt,
     )?);
     for v in &tin.verts {

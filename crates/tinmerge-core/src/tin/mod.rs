@@ -28,6 +28,7 @@ pub mod mesh;
 pub mod par;
 pub mod samples;
 pub mod sliced;
+pub mod surface;
 pub mod tiles;
 
 use thiserror::Error;

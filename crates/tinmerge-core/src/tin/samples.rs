@@ -17,6 +17,8 @@ pub trait Samples: Sync {
     fn point(&self, i: usize) -> [f64; 3];
     /// Area holding about one sample.
     fn cell_area(&self) -> f64;
+    /// The sample at exactly `(x, y)`, if there is one.
+    fn find(&self, x: f64, y: f64) -> Option<usize>;
     /// Calls `f(index, sample)` for every sample in the closed triangle
     /// `a, b, c` (counter-clockwise), decided exactly.
     fn for_each_in_triangle(
@@ -37,6 +39,9 @@ impl Samples for SampleGrid {
     }
     fn cell_area(&self) -> f64 {
         SampleGrid::cell_area(self)
+    }
+    fn find(&self, x: f64, y: f64) -> Option<usize> {
+        SampleGrid::find(self, x, y)
     }
     fn for_each_in_triangle(
         &self,

@@ -154,7 +154,10 @@ pub fn build_tile(
     if samples.len() < 3 {
         return Ok(None);
     }
-    let opts = BuildOptions { keep_border: true };
+    let opts = BuildOptions {
+        keep_border: true,
+        ..Default::default()
+    };
     match build_lattice(samples, lattice, tolerances, srid, opts, interrupt) {
         Ok(tin) => Ok(Some(tin)),
         Err(TinError::Degenerate(_)) => Ok(None),

@@ -2,6 +2,8 @@
 //! independent reader: the extension itself never parses TIFF).
 #![allow(dead_code)]
 
+pub mod grids;
+
 use std::fs::File;
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;
