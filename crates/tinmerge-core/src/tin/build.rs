@@ -701,6 +701,64 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         ))
     }
 
+    /// The crossings of free edges over `tol` that no pixel could mend,
+    /// each with the side of the parent (corners `c`, counter-clockwise;
+    /// side `k` from corner `k`, not `free[k]`) its grid segment crosses:
+    /// the segment's far pixel lies across that side, in the neighbour.
+    fn unmended(&self, tol: f64, c: &[[f64; 3]; 3], free: [bool; 3]) -> Vec<(SideKey, SegKey)> {
+        let Some(r) = self.reference else {
+            return Vec::new();
+        };
+        let mut out: Vec<(SideKey, SegKey)> = Vec::new();
+        for f in self.dt.fixed_inner_faces() {
+            if self.faces.get(f.index()).is_none_or(|st| st.err <= tol) {
+                continue;
+            }
+            for e in self.dt.face(f).adjacent_edges() {
+                if self.fixed_edge(e.fix()) {
+                    continue;
+                }
+                let [u, w] = e.vertices().map(|v| self.vert3(v.fix()));
+                r.for_each_crossing(&u, &w, &mut |x| {
+                    if (u[2] + x.t * (w[2] - u[2]) - x.p[2]).abs() <= tol {
+                        return;
+                    }
+                    let [p, q] = x.seg;
+                    for k in (0..3).filter(|&k| !free[k]) {
+                        let (a, b) = (&c[k], &c[(k + 1) % 3]);
+                        let crosses = crate::geom::orient(a, b, &p) * crate::geom::orient(a, b, &q)
+                            < 0.0
+                            && crate::geom::orient(&p, &q, a) * crate::geom::orient(&p, &q, b)
+                                < 0.0;
+                        let mut push = |item: (SideKey, SegKey)| {
+                            if !out.contains(&item) {
+                                out.push(item);
+                            }
+                        };
+                        if crosses {
+                            push((side_key(a, b), seg_key(x)));
+                        }
+                        // a pixel of the segment on the side, reserved
+                        // there: the side takes it as a vertex
+                        for z in [p, q] {
+                            let on_side = crate::geom::is_sliver(a, b, &z)
+                                && (z[0] - a[0]) * (z[0] - b[0]) + (z[1] - a[1]) * (z[1] - b[1])
+                                    < 0.0;
+                            let reserved = self
+                                .grid
+                                .find(z[0], z[1])
+                                .is_some_and(|i| self.reserved.get(i).copied().unwrap_or(false));
+                            if on_side && reserved {
+                                push((side_key(a, b), sample_key(&z)));
+                            }
+                        }
+                    }
+                });
+            }
+        }
+        out
+    }
+
     /// The current triangles, without slivers (zero area up to rounding).
     /// Only scattered samples make them, and only along the triangulation's
     /// hull (the domain's, or a parent's sides in
@@ -1622,6 +1680,52 @@ struct SidePlan {
     err: f64,
 }
 
+/// A parent's side by its two ends in canonical order (the smaller in
+/// (x, y) first), as bits: the same in both parents sharing it.
+type SideKey = [u64; 4];
+/// A grid segment by its two pixel centres, or a sample by its position
+/// twice, as bits.
+type SegKey = [u64; 4];
+/// Crossings each side must be split at (besides what its profile picks).
+type Forced = rustc_hash::FxHashMap<SideKey, Vec<SegKey>>;
+/// Rounds of forcing crossings onto sides per level (a round refines
+/// again only the parents of the sides it split).
+const FORCING_ROUNDS: usize = 8;
+
+fn side_key(a: &[f64; 3], b: &[f64; 3]) -> SideKey {
+    let (p, q) = if (b[0], b[1]) < (a[0], a[1]) {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    [
+        p[0].to_bits(),
+        p[1].to_bits(),
+        q[0].to_bits(),
+        q[1].to_bits(),
+    ]
+}
+
+/// The key of a sample at `p` among a side's forced points.
+fn sample_key(p: &[f64; 3]) -> SegKey {
+    [
+        p[0].to_bits(),
+        p[1].to_bits(),
+        p[0].to_bits(),
+        p[1].to_bits(),
+    ]
+}
+
+fn seg_key(c: &super::surface::Crossing) -> SegKey {
+    let [p, q] = c.seg;
+    [
+        p[0].to_bits(),
+        p[1].to_bits(),
+        q[0].to_bits(),
+        q[1].to_bits(),
+    ]
+}
+
 /// Plan a side from its own profile: its ends `ends` (canonical order,
 /// positions `a`, `b`), the samples strictly between them in order along it
 /// (`on`: sample, position) and, with a `reference`, its crossings with the
@@ -1636,8 +1740,13 @@ fn plan_side(
     b: &[f64; 3],
     on: &[(usize, [f64; 3])],
     reference: Option<&dyn Reference>,
+    forced: &Forced,
     tol: f64,
 ) -> SidePlan {
+    let must: &[SegKey] = forced
+        .get(&side_key(a, b))
+        .map(|v| v.as_slice())
+        .unwrap_or(&[]);
     let ax = if (b[0] - a[0]).abs() >= (b[1] - a[1]).abs() {
         0
     } else {
@@ -1646,10 +1755,13 @@ fn plan_side(
     let along = |p: &[f64; 3]| (p[ax] - a[ax]) / (b[ax] - a[ax]);
     let mut prof: Vec<(f64, [f64; 3], Pt)> = Vec::with_capacity(on.len() + 2);
     prof.push((0.0, *a, ends[0]));
-    let mut crossings: Vec<(f64, [f64; 3])> = Vec::new();
+    let mut crossings: Vec<(f64, [f64; 3], bool)> = Vec::new();
     if let Some(r) = reference {
-        r.for_each_crossing(a, b, &mut |c| crossings.push((c.t, c.p)));
+        r.for_each_crossing(a, b, &mut |c| {
+            crossings.push((c.t, c.p, must.contains(&seg_key(c))))
+        });
     }
+    let mut prof_must = vec![false];
     let (mut i, mut j) = (0, 0);
     while i < on.len() || j < crossings.len() {
         let ts = on.get(i).map(|s| along(&s.1));
@@ -1657,17 +1769,20 @@ fn plan_side(
         if tc.is_none() || ts.is_some_and(|t| tc.is_some_and(|u| t <= u)) {
             let (s, p) = on[i];
             prof.push((ts.unwrap_or(0.0), p, Pt::Sample(s)));
+            prof_must.push(must.contains(&sample_key(&p)));
             i += 1;
         } else {
-            let (t, p) = crossings[j];
+            let (t, p, m) = crossings[j];
             prof.push((t, p, Pt::At(p)));
+            prof_must.push(m);
             j += 1;
         }
     }
     prof.push((1.0, *b, ends[1]));
+    prof_must.push(false);
     let idx: Vec<usize> = (0..prof.len()).collect();
     let mut chosen: Vec<bool> = (0..prof.len())
-        .map(|k| k == 0 || k + 1 == prof.len())
+        .map(|k| k == 0 || k + 1 == prof.len() || prof_must[k])
         .collect();
     let mut new = Vec::new();
     let err = choose_border(&|k| prof[k].1, &idx, &mut chosen, tol, &mut new);
@@ -1701,6 +1816,7 @@ fn refine_parent(
     d: &Dense,
     reference: Option<&dyn Reference>,
     extras: &[[f64; 3]],
+    forced: &Forced,
     scratch: &mut Scratch,
     parent: u32,
     corners: [u32; 3],
@@ -1733,6 +1849,7 @@ fn refine_parent(
                     &d.point(b),
                     &on,
                     reference,
+                    forced,
                     tol,
                 )
             })
@@ -1767,6 +1884,7 @@ fn refine_parent(
             let mut b = scratch.builder(&win, wn, !free.iter().all(|&f| f));
             b.reference = reference;
             let (err, _) = b.refine_parent(corners.map(|s| win.local(s as usize)), &plans, tol)?;
+            let unmended = b.unmended(tol, &c, free);
             let tris = b.snapshot();
             let verts = b
                 .vsample
@@ -1779,6 +1897,7 @@ fn refine_parent(
                 verts,
                 tris,
                 err,
+                unmended,
             });
         }
     }
@@ -1805,7 +1924,7 @@ fn refine_parent(
     };
     let is_sample = corners.map(|s| (s as usize) < n);
     refine_parent_general(
-        &gather, reference, scratch, parent, corners, c, is_sample, free, tol,
+        &gather, reference, forced, scratch, parent, corners, c, is_sample, free, tol,
     )
 }
 
@@ -1932,81 +2051,124 @@ fn refine_by_parents<P: ParentSamples>(
         };
         let corner_samples = vsample.clone();
         let corner_extras = extras.clone();
-        let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
-        let (mut start, mut acc) = (0usize, 0.0f64);
-        for (t, tri) in prev.iter().enumerate() {
-            let [a, b, c] = tri.map(|v| verts[v as usize]);
-            // about the samples inside
-            acc += ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs()
-                / 2.0
-                / d.cell_area()
-                + 1.0;
-            if acc >= GROUP_SAMPLES {
-                groups.push(start..t + 1);
-                (start, acc) = (t + 1, 0.0);
+        let free_of = |t: usize| [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
+        // the parents `ts` refined (in order, on threads, in groups of
+        // about GROUP_SAMPLES samples), their sides split at `forced`
+        // crossings too
+        let refine = |ts: &[usize],
+                      forced: &Forced,
+                      interrupt: &mut Interrupt<'_>|
+         -> Result<Vec<ParentOut>, TinError> {
+            let mut groups: Vec<&[usize]> = Vec::new();
+            let (mut start, mut acc) = (0usize, 0.0f64);
+            for (i, &t) in ts.iter().enumerate() {
+                let [a, b, c] = prev[t].map(|v| verts[v as usize]);
+                // about the samples inside
+                acc += ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs()
+                    / 2.0
+                    / d.cell_area()
+                    + 1.0;
+                if acc >= GROUP_SAMPLES {
+                    groups.push(&ts[start..i + 1]);
+                    (start, acc) = (i + 1, 0.0);
+                }
+            }
+            if start < ts.len() {
+                groups.push(&ts[start..]);
+            }
+            let mut outs = Vec::with_capacity(ts.len());
+            super::par::map_batched(
+                &groups,
+                |g| {
+                    let mut scratch = Scratch::default();
+                    g.iter()
+                        .map(|&t| {
+                            let corners = prev[t].map(|v| corner_samples[v as usize]);
+                            d.refine_parent(
+                                reference,
+                                &corner_extras,
+                                forced,
+                                &mut scratch,
+                                t as u32,
+                                corners,
+                                free_of(t),
+                                tol,
+                            )
+                        })
+                        .collect::<Result<Vec<_>, TinError>>()
+                },
+                interrupt,
+                &mut |o: Result<Vec<ParentOut>, TinError>| {
+                    outs.extend(o?);
+                    Ok(())
+                },
+            )?;
+            Ok(outs)
+        };
+        let all: Vec<usize> = (0..prev.len()).collect();
+        let mut forced = Forced::default();
+        let mut outs = refine(&all, &forced, interrupt)?;
+        // a crossing inside a parent that no pixel could mend, in the
+        // strip between a free edge and a side whose grid segment crosses
+        // the side: that side is split where the segment crosses it, in
+        // both its parents, and they are refined again
+        for _ in 0..FORCING_ROUNDS {
+            let mut touched: rustc_hash::FxHashSet<SideKey> = Default::default();
+            for o in &outs {
+                for (side, seg) in &o.unmended {
+                    let v = forced.entry(*side).or_default();
+                    if !v.contains(seg) {
+                        v.push(*seg);
+                        touched.insert(*side);
+                    }
+                }
+            }
+            if touched.is_empty() {
+                break;
+            }
+            let redo: Vec<usize> = (0..prev.len())
+                .filter(|&t| {
+                    let c = prev[t].map(|v| verts[v as usize]);
+                    (0..3).any(|k| touched.contains(&side_key(&c[k], &c[(k + 1) % 3])))
+                })
+                .collect();
+            for (t, o) in redo.iter().zip(refine(&redo, &forced, interrupt)?) {
+                outs[*t] = o;
             }
         }
-        if start < prev.len() {
-            groups.push(start..prev.len());
-        }
+        drop(forced);
         let mut tris: Vec<[u32; 3]> = Vec::new();
         let mut parents: Vec<u32> = Vec::new();
         let mut max_error = 0.0f64;
-        super::par::map_batched(
-            &groups,
-            |g| {
-                let mut scratch = Scratch::default();
-                g.clone()
-                    .map(|t| {
-                        let corners = prev[t].map(|v| corner_samples[v as usize]);
-                        // edge k runs from corner k to k + 1, opposite corner k + 2
-                        let free = [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
-                        d.refine_parent(
-                            reference,
-                            &corner_extras,
-                            &mut scratch,
-                            t as u32,
-                            corners,
-                            free,
-                            tol,
-                        )
-                    })
-                    .collect::<Result<Vec<_>, TinError>>()
-            },
-            interrupt,
-            &mut |outs: Result<Vec<ParentOut>, TinError>| {
-                for o in outs? {
-                    max_error = max_error.max(o.err);
-                    let ids: Vec<u32> = o
-                        .verts
-                        .iter()
-                        .map(|src| {
-                            let (slot, p) = match *src {
-                                Pt::Sample(s) => (s, None),
-                                Pt::At(p) => {
-                                    let slot = *extra_slot.entry(key(&p)).or_insert_with(|| {
-                                        extras.push(p);
-                                        vertex_of.push(NONE);
-                                        slots + extras.len() - 1
-                                    });
-                                    (slot, Some(p))
-                                }
-                            };
-                            let v = &mut vertex_of[slot];
-                            if *v == NONE {
-                                *v = verts.len() as u32;
-                                verts.push(p.unwrap_or_else(|| d.sample(slot)));
-                                vsample.push(slot as u32);
-                            }
-                            *v
-                        })
-                        .collect();
-                    tris.extend(o.tris.iter().map(|t| t.map(|k| ids[k as usize])));
-                    parents.extend(std::iter::repeat_n(o.parent, o.tris.len()));
-                }
-                Ok(())
-            },
-        )?;
+        for o in outs {
+            max_error = max_error.max(o.err);
+            let ids: Vec<u32> = o
+                .verts
+                .iter()
+                .map(|src| {
+                    let (slot, p) = match *src {
+                        Pt::Sample(s) => (s, None),
+                        Pt::At(p) => {
+                            let slot = *extra_slot.entry(key(&p)).or_insert_with(|| {
+                                extras.push(p);
+                                vertex_of.push(NONE);
+                                slots + extras.len() - 1
+                            });
+                            (slot, Some(p))
+                        }
+                    };
+                    let v = &mut vertex_of[slot];
+                    if *v == NONE {
+                        *v = verts.len() as u32;
+                        verts.push(p.unwrap_or_else(|| d.sample(slot)));
+                        vsample.push(slot as u32);
+                    }
+                    *v
+                })
+                .collect();
+            tris.extend(o.tris.iter().map(|t| t.map(|k| ids[k as usize])));
+            parents.extend(std::iter::repeat_n(o.parent, o.tris.len()));
+        }
         drop(hull);
         tris.shrink_to_fit();
         parents.shrink_to_fit();
@@ -2040,6 +2202,7 @@ trait ParentSamples: Sync {
         &self,
         reference: Option<&dyn Reference>,
         extras: &[[f64; 3]],
+        forced: &Forced,
         scratch: &mut Scratch,
         parent: u32,
         corners: [u32; 3],
@@ -2062,13 +2225,16 @@ impl ParentSamples for Dense {
         &self,
         reference: Option<&dyn Reference>,
         extras: &[[f64; 3]],
+        forced: &Forced,
         scratch: &mut Scratch,
         parent: u32,
         corners: [u32; 3],
         free: [bool; 3],
         tol: f64,
     ) -> Result<ParentOut, TinError> {
-        refine_parent(self, reference, extras, scratch, parent, corners, free, tol)
+        refine_parent(
+            self, reference, extras, forced, scratch, parent, corners, free, tol,
+        )
     }
 }
 
@@ -2086,6 +2252,7 @@ impl ParentSamples for SampleGrid {
         &self,
         reference: Option<&dyn Reference>,
         extras: &[[f64; 3]],
+        forced: &Forced,
         scratch: &mut Scratch,
         parent: u32,
         corners: [u32; 3],
@@ -2106,7 +2273,7 @@ impl ParentSamples for SampleGrid {
         };
         let is_sample = corners.map(|s| (s as usize) < n);
         refine_parent_general(
-            &gather, reference, scratch, parent, corners, c, is_sample, free, tol,
+            &gather, reference, forced, scratch, parent, corners, c, is_sample, free, tol,
         )
     }
 }
@@ -2135,6 +2302,7 @@ type Gather<'a> = dyn Fn(f64, f64, f64, f64, &mut dyn FnMut(u32, &[f64; 3])) + '
 fn refine_parent_general(
     gather: &Gather<'_>,
     reference: Option<&dyn Reference>,
+    forced: &Forced,
     scratch: &mut Scratch,
     parent: u32,
     corners: [u32; 3],
@@ -2220,6 +2388,7 @@ fn refine_parent_general(
             &c[eb],
             &side,
             reference,
+            forced,
             tol,
         );
         for q in &mut plan.chosen {
@@ -2251,6 +2420,7 @@ fn refine_parent_general(
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
     b.reference = reference;
     let (err, chains) = b.refine_parent([pos[0], pos[1], pos[2]], &plans, tol)?;
+    let unmended = b.unmended(tol, &c, free);
     let mut tris = b.snapshot();
     if chains.iter().any(|ch| ch.len() > 2) {
         tris = close_chains(tris, &chains, &b.vsample, &|v| {
@@ -2272,6 +2442,7 @@ fn refine_parent_general(
         verts,
         tris,
         err,
+        unmended,
     })
 }
 
@@ -2355,6 +2526,9 @@ struct ParentOut {
     verts: Vec<Pt>,
     tris: Vec<[u32; 3]>,
     err: f64,
+    /// crossings over the tolerance that no pixel could mend, by the side
+    /// their grid segment crosses ([`Builder::unmended`])
+    unmended: Vec<(SideKey, SegKey)>,
 }
 
 /// Build a hierarchy from raster samples given on the pixel lattice,
