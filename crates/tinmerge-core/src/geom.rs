@@ -123,17 +123,24 @@ fn on_segment(a: Coord<f64>, b: Coord<f64>, p: Coord<f64>) -> bool {
     p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
 }
 
+/// Exact test: do segments p1p2 and q1q2 cross properly (each has its ends
+/// strictly on both sides of the other's line)?
+pub fn segments_cross(p1: Coord<f64>, p2: Coord<f64>, q1: Coord<f64>, q2: Coord<f64>) -> bool {
+    let (d1, d2) = (orient2d(q1, q2, p1), orient2d(q1, q2, p2));
+    let (d3, d4) = (orient2d(p1, p2, q1), orient2d(p1, p2, q2));
+    ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+}
+
 /// Exact test: do the closed segments p1p2 and q1q2 meet?
 pub fn segments_intersect(p1: Coord<f64>, p2: Coord<f64>, q1: Coord<f64>, q2: Coord<f64>) -> bool {
+    if segments_cross(p1, p2, q1, q2) {
+        return true;
+    }
     let d1 = orient2d(q1, q2, p1);
     let d2 = orient2d(q1, q2, p2);
     let d3 = orient2d(p1, p2, q1);
     let d4 = orient2d(p1, p2, q2);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
-        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
-    {
-        return true;
-    }
     (d1 == 0.0 && on_segment(q1, q2, p1))
         || (d2 == 0.0 && on_segment(q1, q2, p2))
         || (d3 == 0.0 && on_segment(p1, p2, q1))

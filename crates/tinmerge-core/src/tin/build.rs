@@ -726,10 +726,12 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                     let [p, q] = x.seg;
                     for k in (0..3).filter(|&k| !free[k]) {
                         let (a, b) = (&c[k], &c[(k + 1) % 3]);
-                        let crosses = crate::geom::orient(a, b, &p) * crate::geom::orient(a, b, &q)
-                            < 0.0
-                            && crate::geom::orient(&p, &q, a) * crate::geom::orient(&p, &q, b)
-                                < 0.0;
+                        let crosses = crate::geom::segments_cross(
+                            crate::geom::vco(a),
+                            crate::geom::vco(b),
+                            crate::geom::vco(&p),
+                            crate::geom::vco(&q),
+                        );
                         let mut push = |item: (SideKey, SegKey)| {
                             if !out.contains(&item) {
                                 out.push(item);
@@ -1006,6 +1008,22 @@ pub fn build_domain(
     srid: i32,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
+    build_domain_with(
+        samples, lines, boundaries, tolerances, srid, None, interrupt,
+    )
+}
+
+/// [`build_domain`] measured against a `reference` surface too (None: at
+/// the samples only).
+fn build_domain_with(
+    samples: Vec<[f64; 3]>,
+    lines: &[Breakline],
+    boundaries: &[&Area],
+    tolerances: &[f64],
+    srid: i32,
+    reference: Option<&dyn Reference>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
     build_inner(
         samples,
         lines,
@@ -1014,7 +1032,7 @@ pub fn build_domain(
         srid,
         BuildOptions::default(),
         false,
-        None,
+        reference,
         interrupt,
     )
 }
@@ -1040,14 +1058,12 @@ pub fn build_domain_raster(
 ) -> Result<Tin, TinError> {
     let reference = GridReference::in_world(heights, *lat);
     let hard = lines.iter().any(|l| l.hard);
-    build_inner(
+    build_domain_with(
         samples,
         lines,
         boundaries,
         tolerances,
         srid,
-        BuildOptions::default(),
-        false,
         (!hard && lat.is_valid()).then_some(&reference as &dyn Reference),
         interrupt,
     )
