@@ -1,7 +1,9 @@
 //! Build benchmark (not a test): `tin_from_raster`'s core build on the
 //! bundled DEM and on it upsampled 4x (nearest neighbour, the case of issue
 //! 25: 1.89 million samples), 2 m at the finest of 5 levels, on 1 and 2
-//! threads: wall time (median of 3), samples per second, the counting
+//! threads, and measured between the samples (issue 43,
+//! `BuildOptions::between_samples`) or not: wall time (median of 3),
+//! samples per second, the counting
 //! allocator's peak heap per sample (input samples included) and the
 //! triangles made. Then `tin_from_points`' core build on point clouds made
 //! from the DEM: every pixel cut into `f x f` sub-pixels, one ground return
@@ -21,9 +23,18 @@ static ALLOCATOR: memory::Counting = memory::Counting;
 
 fn main() {
     let d = common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    println!("| raster | samples | levels | threads | finest triangles | ms (median of 3) | samples/s | peak heap B/sample |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (f, threads, levels) in [(1usize, 1usize, 5), (4, 1, 5), (4, 2, 5), (4, 1, 1)] {
+    println!("| raster | between samples | samples | levels | threads | finest triangles | ms (median of 3) | samples/s | peak heap B/sample |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (f, threads, levels, between) in [
+        (1usize, 1usize, 5, false),
+        (1, 1, 5, true),
+        (1, 1, 1, true),
+        (4, 1, 5, false),
+        (4, 1, 5, true),
+        (4, 2, 5, false),
+        (4, 1, 1, false),
+        (4, 1, 1, true),
+    ] {
         par::set_threads(threads);
         let (gt, w, h, values) = d.upsampled(f);
         let lat = tinmerge_core::tin::lattice::Lattice {
@@ -48,13 +59,14 @@ fn main() {
         };
         let tols = default_tolerances(2.0, levels).unwrap();
         let (n, ms, peak, tris) = measure(3, &samples, |s| {
-            build_lattice(s, &lat, &tols, 32616, BuildOptions::default(), &mut || {
-                Ok(())
-            })
-            .unwrap()
+            let opts = BuildOptions {
+                keep_border: false,
+                between_samples: between,
+            };
+            build_lattice(s, &lat, &tols, 32616, opts, &mut || Ok(())).unwrap()
         });
         println!(
-            "| DEM x{f} | {n} | {levels} | {threads} | {tris} | {ms:.0} | {:.0} | {:.0} |",
+            "| DEM x{f} | {between} | {n} | {levels} | {threads} | {tris} | {ms:.0} | {:.0} | {:.0} |",
             n as f64 / ms * 1e3,
             peak as f64 / n as f64
         );
