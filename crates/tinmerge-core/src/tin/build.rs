@@ -657,39 +657,40 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             hint = Some(self.insert_sample(s, hint)?);
         }
         let mut err = 0.0f64;
-        let mut chains = Vec::with_capacity(plans.len());
-        for (k, plan) in plans.iter().enumerate() {
+        for plan in plans {
             for &i in &plan.reserve {
                 self.reserved[i] = true;
             }
             err = err.max(plan.err);
+        }
+        let internal = || {
+            TinError::Degenerate(
+                "internal: a side's crossing was not made a sample of its parent".into(),
+            )
+        };
+        for &p in plans.iter().flat_map(|p| &p.order) {
+            let Pt::Sample(i) = p else {
+                return Err(internal());
+            };
+            if !self.inserted[i] {
+                hint = Some(self.insert_sample(i, hint)?);
+            }
+        }
+        let mut chains = Vec::with_capacity(plans.len());
+        for (k, plan) in plans.iter().enumerate() {
             let mut chain = Vec::with_capacity(plan.chosen.len());
             for &p in &plan.chosen {
-                let h = match p {
-                    Pt::Sample(i) => {
-                        let h = if self.inserted[i] {
-                            self.dt
-                                .locate_vertex(Point2::new(
-                                    self.grid.point(i)[0],
-                                    self.grid.point(i)[1],
-                                ))
-                                .map(|v| v.fix())
-                        } else {
-                            None
-                        };
-                        match h {
-                            Some(h) => h,
-                            None => self.insert_sample(i, hint)?,
-                        }
-                    }
-                    Pt::At(_) => {
-                        return Err(TinError::Degenerate(
-                            "internal: a side's crossing was not made a sample of its parent"
-                                .into(),
-                        ))
-                    }
+                let Pt::Sample(i) = p else {
+                    return Err(internal());
                 };
-                hint = Some(h);
+                let q = self.grid.point(i);
+                let h = self
+                    .dt
+                    .locate_vertex(Point2::new(q[0], q[1]))
+                    .map(|v| v.fix())
+                    .ok_or_else(|| {
+                        TinError::Degenerate("internal: a side's vertex was lost".into())
+                    })?;
                 self.vside[h.index()] |= 1 << k;
                 chain.push(self.vsample[h.index()] as usize);
             }
@@ -1693,6 +1694,10 @@ fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
 struct SidePlan {
     reserve: Vec<usize>,
     chosen: Vec<Pt>,
+    /// the chosen vertices between the ends in the order the split picked
+    /// them (the order they are inserted in: spade breaks ties between
+    /// cocircular points by insertion order)
+    order: Vec<Pt>,
     err: f64,
 }
 
@@ -1805,6 +1810,7 @@ fn plan_side(
     let mut plan = SidePlan {
         reserve: Vec::new(),
         chosen: Vec::new(),
+        order: new.iter().map(|&k| prof[k].2).collect(),
         err,
     };
     for (e, &ch) in prof.iter().zip(&chosen) {
@@ -1894,6 +1900,7 @@ fn refine_parent(
                 .map(|p| SidePlan {
                     reserve: p.reserve.iter().map(|&g| win.local(g)).collect(),
                     chosen: p.chosen.iter().map(local).collect(),
+                    order: p.order.iter().map(local).collect(),
                     err: p.err,
                 })
                 .collect();
@@ -2414,6 +2421,19 @@ fn refine_parent_general(
                 gid.push(NONE);
             }
         }
+        // the same points in the split's order: the crossings by the index
+        // just given them
+        for q in &mut plan.order {
+            if let Pt::At(p) = *q {
+                let k = (0..pts.len())
+                    .rev()
+                    .find(|&k| gid[k] == NONE && pts[k][..2] == p[..2])
+                    .ok_or_else(|| {
+                        TinError::Degenerate("internal: a chosen crossing was lost".into())
+                    })?;
+                *q = Pt::Sample(k);
+            }
+        }
         plans.push(plan);
     }
     let n = pts.len();
@@ -2427,7 +2447,7 @@ fn refine_parent_general(
         for s in &mut plan.reserve {
             *s = pos[*s];
         }
-        for q in &mut plan.chosen {
+        for q in plan.chosen.iter_mut().chain(plan.order.iter_mut()) {
             if let Pt::Sample(s) = q {
                 *s = pos[*s];
             }
