@@ -1810,7 +1810,12 @@ fn plan_side(
     let mut plan = SidePlan {
         reserve: Vec::new(),
         chosen: Vec::new(),
-        order: new.iter().map(|&k| prof[k].2).collect(),
+        // forced points first (in order along the side), then the split's
+        order: (0..prof.len())
+            .filter(|&k| prof_must[k])
+            .chain(new.iter().copied())
+            .map(|k| prof[k].2)
+            .collect(),
         err,
     };
     for (e, &ch) in prof.iter().zip(&chosen) {
