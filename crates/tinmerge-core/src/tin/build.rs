@@ -1669,7 +1669,6 @@ fn build_dense(
         Vec::new()
     };
     let (verts, raw_levels) = build_levels(b, &d, reference, &sides, tolerances, opts, interrupt)?;
-    drop(grid_reference);
     drop(d);
     assemble(verts, raw_levels, srid, false, interrupt)
 }

@@ -208,7 +208,7 @@ impl Reference for GridReference<'_> {
             };
             let lo = o.floor();
             let s = o - lo;
-            if s < AT_SAMPLE || s > 1.0 - AT_SAMPLE {
+            if !(AT_SAMPLE..=1.0 - AT_SAMPLE).contains(&s) {
                 continue;
             }
             let lo = lo as i64;
@@ -336,7 +336,7 @@ mod tests {
     #[test]
     fn world_frame_gives_the_samples_bits() {
         let lat = Lattice {
-            ip_x: 49072.339790118444,
+            ip_x: 49_072.339_790_118_44,
             ip_y: 4060000.7,
             scale_x: 30.0,
             scale_y: -30.0,
