@@ -258,10 +258,119 @@ fn check_between(what: &str, tin: &Tin, r: &Raster) {
     tinmerge_core::tin::check::validate_structure(tin).unwrap();
     let p = tinmerge_core::tin::check::problems(tin, &mut || Ok(())).unwrap();
     assert!(p.is_empty(), "{what}: {p:?}");
+    structure(what, tin, r);
     for (l, (max, _)) in ratios(what, tin, r).into_iter().enumerate() {
         assert!(
             max <= 1.0 + 1e-9,
             "{what}: level {l} is {max:.4}x its tolerance on a grid line"
+        );
+    }
+}
+
+/// The test's own checks of a hierarchy whose vertices may lie at grid-line
+/// crossings: every vertex a pixel centre with that pixel's height, or on a
+/// grid segment between two valid pixels with their line's height (or, in
+/// a build over the data, on the valid pixels' outline); every
+/// edge used by one triangle or by two in opposite directions; every level
+/// covering the same area; every triangle inside its parent (its corners
+/// within rounding of the parent's sides, its centroid strictly inside).
+fn structure(what: &str, tin: &Tin, r: &Raster) {
+    let lv: Vec<(f64, f64)> = tin.verts.iter().map(|v| r.to_lattice(v[0], v[1])).collect();
+    for (k, (&(c, rr), v)) in lv.iter().zip(&tin.verts).enumerate() {
+        let near = |x: f64| (x - x.round()).abs() < 1e-6;
+        let want = match (near(c), near(rr)) {
+            (true, true) => r.at(c.round() as i64, rr.round() as i64),
+            (true, false) => r.on_line(c, rr, 0),
+            (false, true) => r.on_line(c, rr, 1),
+            (false, false) => None,
+        };
+        let half = |x: f64| (x - x.floor() - 0.5).abs() < 1e-6;
+        let Some(z) = want else {
+            // a vertex of the data's outline (a build over the data): on a
+            // pixel square's side, its height the boundary's own
+            assert!(
+                half(c) || half(rr),
+                "{what}: vertex {k} at lattice ({c}, {rr}) is on no grid segment between valid pixels"
+            );
+            continue;
+        };
+        assert!(
+            (v[2] - z).abs() <= 1e-9 * z.abs().max(1.0) + 1e-6,
+            "{what}: vertex {k} at lattice ({c}, {rr}) has height {} against the raster's {z}",
+            v[2]
+        );
+    }
+    // lattice-frame area, positive for triangles counter-clockwise in world
+    let flip = if r.lat.scale_x * r.lat.scale_y < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let area2 = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|v| lv[v as usize]);
+        flip * ((b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1))
+    };
+    // 64 ulps of the largest world coordinate, in pixels: the rounding of
+    // the world coordinates this check reads the lattice back from
+    let mag = tin
+        .verts
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v[0].abs()).max(v[1].abs()));
+    let slack = 64.0 * f64::EPSILON * mag / r.lat.pixel_size();
+    let mut first_area = None;
+    for (l, level) in tin.levels.iter().enumerate() {
+        let mut uses: std::collections::HashMap<(u32, u32), Vec<(u32, u32)>> = Default::default();
+        let mut total = 0.0;
+        for (t, tri) in level.tris.iter().enumerate() {
+            let a = area2(tri);
+            assert!(
+                a > 0.0,
+                "{what}: level {l} triangle {t} has lattice area {a}"
+            );
+            total += a;
+            for j in 0..3 {
+                let (u, v) = (tri[j], tri[(j + 1) % 3]);
+                uses.entry((u.min(v), u.max(v))).or_default().push((u, v));
+            }
+            if l > 0 {
+                let pt = tin.levels[l - 1].tris[level.parent[t] as usize].map(|v| lv[v as usize]);
+                let c = tri.map(|v| lv[v as usize]);
+                let side = |p: (f64, f64), q: (f64, f64), x: (f64, f64)| {
+                    let len = (q.0 - p.0).hypot(q.1 - p.1);
+                    flip * ((q.0 - p.0) * (x.1 - p.1) - (x.0 - p.0) * (q.1 - p.1)) / len
+                };
+                let g = (
+                    (c[0].0 + c[1].0 + c[2].0) / 3.0,
+                    (c[0].1 + c[1].1 + c[2].1) / 3.0,
+                );
+                for k in 0..3 {
+                    let (p, q) = (pt[k], pt[(k + 1) % 3]);
+                    for x in c {
+                        assert!(
+                            side(p, q, x) > -slack,
+                            "{what}: level {l} triangle {t} leaves its parent by {} px",
+                            -side(p, q, x)
+                        );
+                    }
+                    assert!(
+                        side(p, q, g) > 0.0,
+                        "{what}: level {l} triangle {t} is not inside its parent"
+                    );
+                }
+            }
+        }
+        for (e, u) in &uses {
+            let ok = match u.as_slice() {
+                [_] => true,
+                [(a, b), (c, d)] => a == d && b == c,
+                _ => false,
+            };
+            assert!(ok, "{what}: level {l} edge {e:?} is used {u:?}");
+        }
+        let first = *first_area.get_or_insert(total);
+        assert!(
+            (total - first).abs() <= 1e-9 * first,
+            "{what}: level {l} covers {total} against level 0's {first} (twice the lattice area)"
         );
     }
 }
@@ -290,6 +399,25 @@ fn geographic_dem_between_samples() {
         "the oracle must see the coarse edges: {off:.2}x"
     );
     check_between("geographic DEM, 2 m, 5 levels, between samples", &tin, &r);
+    // the checks see damage: a vertex at a crossing 1 cm off its height,
+    // and a finest-level corner two pixels away
+    let at_crossing = tin
+        .verts
+        .iter()
+        .position(|v| {
+            let (c, rr) = r.to_lattice(v[0], v[1]);
+            (c - c.round()).abs() > 1e-6 || (rr - rr.round()).abs() > 1e-6
+        })
+        .expect("a vertex at a crossing");
+    let mut bad = tin.clone();
+    bad.verts[at_crossing][2] += 0.01;
+    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r));
+    assert!(caught.is_err(), "a vertex 1 cm off was not seen");
+    let mut bad = tin.clone();
+    let v = bad.levels[4].tris[0][0] as usize;
+    bad.verts[v][0] += 2.0 * r.lat.scale_x;
+    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r));
+    assert!(caught.is_err(), "a vertex 2 pixels off was not seen");
 }
 
 #[test]
