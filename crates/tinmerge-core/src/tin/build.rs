@@ -1916,12 +1916,13 @@ fn refine_parent(
             let verts = b
                 .vsample
                 .iter()
-                .map(|&k| Pt::Sample(win.global(k as usize)))
+                .map(|&k| win.global(k as usize) as u32)
                 .collect();
             scratch.keep(b);
             return Ok(ParentOut {
                 parent,
                 verts,
+                at: Vec::new(),
                 tris,
                 err,
                 unmended,
@@ -2078,37 +2079,52 @@ fn refine_by_parents<P: ParentSamples>(
         };
         let corner_samples = vsample.clone();
         let corner_extras = extras.clone();
+        // a corner's position, from its slot (no borrow of `verts`, which
+        // the merge grows)
+        let corner_pos = |slot: u32| -> [f64; 3] {
+            let s = slot as usize;
+            if s < slots {
+                d.sample(s)
+            } else {
+                corner_extras[s - slots]
+            }
+        };
         let free_of = |t: usize| [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
-        // the parents `ts` refined (in order, on threads, in groups of
-        // about GROUP_SAMPLES samples), their sides split at `forced`
-        // crossings too
-        let refine = |ts: &[usize],
-                      forced: &Forced,
-                      interrupt: &mut Interrupt<'_>|
-         -> Result<Vec<ParentOut>, TinError> {
-            let mut groups: Vec<&[usize]> = Vec::new();
+        // the parents `ts` in groups of about GROUP_SAMPLES samples
+        let groups_of = |ts: &[usize]| -> Vec<std::ops::Range<usize>> {
+            let mut groups = Vec::new();
             let (mut start, mut acc) = (0usize, 0.0f64);
             for (i, &t) in ts.iter().enumerate() {
-                let [a, b, c] = prev[t].map(|v| verts[v as usize]);
+                let [a, b, c] = prev[t].map(|v| corner_pos(corner_samples[v as usize]));
                 // about the samples inside
                 acc += ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs()
                     / 2.0
                     / d.cell_area()
                     + 1.0;
                 if acc >= GROUP_SAMPLES {
-                    groups.push(&ts[start..i + 1]);
+                    groups.push(start..i + 1);
                     (start, acc) = (i + 1, 0.0);
                 }
             }
             if start < ts.len() {
-                groups.push(&ts[start..]);
+                groups.push(start..ts.len());
             }
-            let mut outs = Vec::with_capacity(ts.len());
+            groups
+        };
+        // those parents refined (in order, on threads), their sides split
+        // at `forced` crossings too, each batch's outputs handed to `take`
+        let run = |ts: &[usize],
+                   groups: &[std::ops::Range<usize>],
+                   forced: &Forced,
+                   interrupt: &mut Interrupt<'_>,
+                   take: &mut dyn FnMut(ParentOut) -> Result<(), TinError>|
+         -> Result<(), TinError> {
             super::par::map_batched(
-                &groups,
+                groups,
                 |g| {
                     let mut scratch = Scratch::default();
-                    g.iter()
+                    ts[g.clone()]
+                        .iter()
                         .map(|&t| {
                             let corners = prev[t].map(|v| corner_samples[v as usize]);
                             d.refine_parent(
@@ -2126,63 +2142,34 @@ fn refine_by_parents<P: ParentSamples>(
                 },
                 interrupt,
                 &mut |o: Result<Vec<ParentOut>, TinError>| {
-                    outs.extend(o?);
+                    for p in o? {
+                        take(p)?;
+                    }
                     Ok(())
                 },
-            )?;
-            Ok(outs)
+            )
         };
         let all: Vec<usize> = (0..prev.len()).collect();
-        let mut forced = Forced::default();
-        let mut outs = refine(&all, &forced, interrupt)?;
-        // a crossing inside a parent that no pixel could mend, in the
-        // strip between a free edge and a side whose grid segment crosses
-        // the side: that side is split where the segment crosses it, in
-        // both its parents, and they are refined again
-        for _ in 0..FORCING_ROUNDS {
-            let mut touched: rustc_hash::FxHashSet<SideKey> = Default::default();
-            for o in &outs {
-                for (side, seg) in &o.unmended {
-                    let v = forced.entry(*side).or_default();
-                    if !v.contains(seg) {
-                        v.push(*seg);
-                        touched.insert(*side);
-                    }
-                }
-            }
-            if touched.is_empty() {
-                break;
-            }
-            let redo: Vec<usize> = (0..prev.len())
-                .filter(|&t| {
-                    let c = prev[t].map(|v| verts[v as usize]);
-                    (0..3).any(|k| touched.contains(&side_key(&c[k], &c[(k + 1) % 3])))
-                })
-                .collect();
-            for (t, o) in redo.iter().zip(refine(&redo, &forced, interrupt)?) {
-                outs[*t] = o;
-            }
-        }
-        drop(forced);
+        let all_groups = groups_of(&all);
         let mut tris: Vec<[u32; 3]> = Vec::new();
         let mut parents: Vec<u32> = Vec::new();
         let mut max_error = 0.0f64;
-        for o in outs {
+        let mut merge = |o: ParentOut| -> Result<(), TinError> {
             max_error = max_error.max(o.err);
             let ids: Vec<u32> = o
                 .verts
                 .iter()
-                .map(|src| {
-                    let (slot, p) = match *src {
-                        Pt::Sample(s) => (s, None),
-                        Pt::At(p) => {
-                            let slot = *extra_slot.entry(key(&p)).or_insert_with(|| {
-                                extras.push(p);
-                                vertex_of.push(NONE);
-                                slots + extras.len() - 1
-                            });
-                            (slot, Some(p))
-                        }
+                .map(|&src| {
+                    let (slot, p) = if src & AT_FLAG == 0 {
+                        (src as usize, None)
+                    } else {
+                        let p = o.at[(src & !AT_FLAG) as usize];
+                        let slot = *extra_slot.entry(key(&p)).or_insert_with(|| {
+                            extras.push(p);
+                            vertex_of.push(NONE);
+                            slots + extras.len() - 1
+                        });
+                        (slot, Some(p))
                     };
                     let v = &mut vertex_of[slot];
                     if *v == NONE {
@@ -2195,6 +2182,55 @@ fn refine_by_parents<P: ParentSamples>(
                 .collect();
             tris.extend(o.tris.iter().map(|t| t.map(|k| ids[k as usize])));
             parents.extend(std::iter::repeat_n(o.parent, o.tris.len()));
+            Ok(())
+        };
+        if reference.is_none() {
+            // measured at the samples only: each batch merged as it comes
+            // (no level's parents held at once)
+            run(&all, &all_groups, &Forced::default(), interrupt, &mut merge)?;
+        } else {
+            let mut forced = Forced::default();
+            let mut outs: Vec<ParentOut> = Vec::with_capacity(prev.len());
+            run(&all, &all_groups, &forced, interrupt, &mut |o| {
+                outs.push(o);
+                Ok(())
+            })?;
+            // a crossing inside a parent that no pixel could mend, in the
+            // strip between a free edge and a side whose grid segment
+            // crosses the side: that side is split where the segment
+            // crosses it, in both its parents, and they are refined again
+            for _ in 0..FORCING_ROUNDS {
+                let mut touched: rustc_hash::FxHashSet<SideKey> = Default::default();
+                for o in &outs {
+                    for (side, seg) in &o.unmended {
+                        let v = forced.entry(*side).or_default();
+                        if !v.contains(seg) {
+                            v.push(*seg);
+                            touched.insert(*side);
+                        }
+                    }
+                }
+                if touched.is_empty() {
+                    break;
+                }
+                let redo: Vec<usize> = (0..prev.len())
+                    .filter(|&t| {
+                        let c = prev[t].map(|v| corner_pos(corner_samples[v as usize]));
+                        (0..3).any(|k| touched.contains(&side_key(&c[k], &c[(k + 1) % 3])))
+                    })
+                    .collect();
+                let redo_groups = groups_of(&redo);
+                let mut k = 0;
+                run(&redo, &redo_groups, &forced, interrupt, &mut |o| {
+                    outs[redo[k]] = o;
+                    k += 1;
+                    Ok(())
+                })?;
+            }
+            drop(forced);
+            for o in outs {
+                merge(o)?;
+            }
         }
         drop(hull);
         tris.shrink_to_fit();
@@ -2467,19 +2503,24 @@ fn refine_parent_general(
             b.vert3(FixedVertexHandle::from_index(v))
         });
     }
+    let mut at: Vec<[f64; 3]> = Vec::new();
     let verts = b
         .vsample
         .iter()
         .enumerate()
         .map(|(v, &l)| match gid[local.ids[l as usize] as usize] {
-            NONE => Pt::At(b.vert3(FixedVertexHandle::from_index(v))),
-            g => Pt::Sample(g as usize),
+            NONE => {
+                at.push(b.vert3(FixedVertexHandle::from_index(v)));
+                AT_FLAG | (at.len() - 1) as u32
+            }
+            g => g,
         })
         .collect();
     scratch.keep(b);
     Ok(ParentOut {
         parent,
         verts,
+        at,
         tris,
         err,
         unmended,
@@ -2558,12 +2599,17 @@ fn close_chains(
     out
 }
 
+/// [`ParentOut::verts`]: the vertex is a point of [`ParentOut::at`].
+const AT_FLAG: u32 = 1 << 31;
+
 /// One parent's refinement: its vertices (samples by slot, or points at
 /// grid-line crossings; its corners first), its triangles by index into
 /// them, the worst error left.
 struct ParentOut {
     parent: u32,
-    verts: Vec<Pt>,
+    /// a sample's slot, or `AT_FLAG | k` for the point `at[k]`
+    verts: Vec<u32>,
+    at: Vec<[f64; 3]>,
     tris: Vec<[u32; 3]>,
     err: f64,
     /// crossings over the tolerance that no pixel could mend, by the side
