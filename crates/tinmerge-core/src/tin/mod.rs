@@ -27,6 +27,7 @@ pub mod memory;
 pub mod mesh;
 pub mod par;
 pub mod samples;
+pub mod sides;
 pub mod sliced;
 pub mod surface;
 pub mod tiles;

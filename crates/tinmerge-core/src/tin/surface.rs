@@ -45,6 +45,12 @@ pub struct Crossing {
 }
 
 impl Crossing {
+    /// The error there of the straight edge `a -> b` this crosses (heights
+    /// in `a[2]`, `b[2]`).
+    pub fn error(&self, a: &[f64; 3], b: &[f64; 3]) -> f64 {
+        (a[2] + self.t * (b[2] - a[2]) - self.p[2]).abs()
+    }
+
     /// The point of the crossed grid segment at parameter `s`, with the
     /// reference's height there (the two pixels' line).
     pub fn on_segment(&self, s: f64) -> [f64; 3] {
@@ -70,7 +76,7 @@ pub trait Reference: Sync {
     fn edge_error(&self, a: &[f64; 3], b: &[f64; 3]) -> (f64, Option<Crossing>) {
         let mut worst = (0.0f64, None);
         self.for_each_crossing(a, b, &mut |c| {
-            let e = (a[2] + c.t * (b[2] - a[2]) - c.p[2]).abs();
+            let e = c.error(a, b);
             if e > worst.0 {
                 worst = (e, Some(*c));
             }

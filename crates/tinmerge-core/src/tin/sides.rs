@@ -1,0 +1,282 @@
+//! A parent's sides at the next level of a build: the vertices each is
+//! split at, chosen from the side's own profile alone, so the two triangles
+//! sharing it choose the same ones without knowing of each other.
+//!
+//! The profile is the side's samples (exactly on it on a lattice, up to
+//! rounding for scattered samples) and, in a build between samples
+//! ([`super::build::BuildOptions::between_samples`]), its crossings with the
+//! reference surface's grid segments ([`super::surface`]); a
+//! Douglas-Peucker split ([`choose_border`]) picks the vertices
+//! ([`plan_side`]); points forced onto a side ([`Forced`]) are taken first.
+//! [`close_chains`] closes the triangles of a parent whose side skips chosen
+//! vertices a rounding outside it.
+
+use super::surface::{Crossing, Reference};
+
+/// One level's choice of border vertices on a hull side (`keep_border`): a
+/// Douglas-Peucker split of the side's height profile, from the positions
+/// already `chosen` (at first its two corners), until every sample of the
+/// side is within `tol` of the straight line between the chosen samples on
+/// either side of it. Each gap is split at its first worst sample, and the
+/// error is measured from coordinate differences only, so tiles whose
+/// lattices differ by whole pixels choose the same samples of a shared
+/// seam. Marks the new choices in `chosen`, pushes their sample indices to
+/// `new` and returns the worst error left.
+pub(crate) fn choose_border(
+    point: &dyn Fn(usize) -> [f64; 3],
+    side: &[usize],
+    chosen: &mut [bool],
+    tol: f64,
+    new: &mut Vec<usize>,
+) -> f64 {
+    let err = |i: usize, j: usize, k: usize| -> f64 {
+        let (p, q, s) = (point(side[i]), point(side[j]), point(side[k]));
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        let t = if dx.abs() >= dy.abs() {
+            (s[0] - p[0]) / dx
+        } else {
+            (s[1] - p[1]) / dy
+        };
+        (s[2] - (p[2] + t * (q[2] - p[2]))).abs()
+    };
+    let marks: Vec<usize> = (0..side.len()).filter(|&k| chosen[k]).collect();
+    let mut gaps: Vec<(usize, usize)> = marks.windows(2).map(|w| (w[0], w[1])).collect();
+    let mut worst = 0.0f64;
+    while let Some((i, j)) = gaps.pop() {
+        let mut best = (0.0f64, usize::MAX);
+        for k in i + 1..j {
+            let e = err(i, j, k);
+            if e > best.0 {
+                best = (e, k);
+            }
+        }
+        if best.0 > tol {
+            chosen[best.1] = true;
+            new.push(side[best.1]);
+            gaps.push((i, best.1));
+            gaps.push((best.1, j));
+        } else {
+            worst = worst.max(best.0);
+        }
+    }
+    worst
+}
+
+/// A vertex a parent's side is split at: one of the builder's samples, or a
+/// point of the side that is no sample (a grid-line crossing, with the
+/// reference's height there).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Pt {
+    Sample(usize),
+    At([f64; 3]),
+}
+
+/// One fixed side of a parent at the level being built: the samples on it
+/// that stay no vertex (reserved from the greedy refinement), the chain of
+/// vertices it is split at from its canonical end to the other (both ends
+/// included), and the worst error left along it (samples and crossings).
+pub(crate) struct SidePlan {
+    pub(crate) reserve: Vec<usize>,
+    pub(crate) chosen: Vec<Pt>,
+    /// the chosen vertices between the ends in the order the split picked
+    /// them (the order they are inserted in: spade breaks ties between
+    /// cocircular points by insertion order)
+    pub(crate) order: Vec<Pt>,
+    pub(crate) err: f64,
+}
+
+/// A parent's side by its two ends in canonical order (the smaller in
+/// (x, y) first), as bits: the same in both parents sharing it.
+pub(crate) type SideKey = [u64; 4];
+/// A grid segment by its two pixel centres, or a sample by its position
+/// twice, as bits.
+pub(crate) type SegKey = [u64; 4];
+/// Crossings each side must be split at (besides what its profile picks).
+pub(crate) type Forced = rustc_hash::FxHashMap<SideKey, Vec<SegKey>>;
+
+pub(crate) fn side_key(a: &[f64; 3], b: &[f64; 3]) -> SideKey {
+    let (p, q) = if (b[0], b[1]) < (a[0], a[1]) {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    [
+        p[0].to_bits(),
+        p[1].to_bits(),
+        q[0].to_bits(),
+        q[1].to_bits(),
+    ]
+}
+
+/// The key of a sample at `p` among a side's forced points.
+pub(crate) fn sample_key(p: &[f64; 3]) -> SegKey {
+    [
+        p[0].to_bits(),
+        p[1].to_bits(),
+        p[0].to_bits(),
+        p[1].to_bits(),
+    ]
+}
+
+pub(crate) fn seg_key(c: &Crossing) -> SegKey {
+    let [p, q] = c.seg;
+    [
+        p[0].to_bits(),
+        p[1].to_bits(),
+        q[0].to_bits(),
+        q[1].to_bits(),
+    ]
+}
+
+/// Plan a side from its own profile: its ends `ends` (canonical order,
+/// positions `a`, `b`), the samples strictly between them in order along it
+/// (`on`: sample, position) and, with a `reference`, its crossings with the
+/// grid segments between valid pixels, at their reference heights. A
+/// Douglas-Peucker split ([`choose_border`]) of that profile at `tol` picks
+/// the chain: the two parents sharing the side compute the same profile
+/// bit for bit and so the same chain, and a coarse edge becomes, level by
+/// level, a profile of the surface along it.
+pub(crate) fn plan_side(
+    ends: [Pt; 2],
+    a: &[f64; 3],
+    b: &[f64; 3],
+    on: &[(usize, [f64; 3])],
+    reference: Option<&dyn Reference>,
+    forced: &Forced,
+    tol: f64,
+) -> SidePlan {
+    let must: &[SegKey] = forced
+        .get(&side_key(a, b))
+        .map(|v| v.as_slice())
+        .unwrap_or(&[]);
+    let ax = if (b[0] - a[0]).abs() >= (b[1] - a[1]).abs() {
+        0
+    } else {
+        1
+    };
+    let along = |p: &[f64; 3]| (p[ax] - a[ax]) / (b[ax] - a[ax]);
+    let mut prof: Vec<(f64, [f64; 3], Pt)> = Vec::with_capacity(on.len() + 2);
+    prof.push((0.0, *a, ends[0]));
+    let mut crossings: Vec<(f64, [f64; 3], bool)> = Vec::new();
+    if let Some(r) = reference {
+        r.for_each_crossing(a, b, &mut |c| {
+            crossings.push((c.t, c.p, must.contains(&seg_key(c))))
+        });
+    }
+    let mut prof_must = vec![false];
+    let (mut i, mut j) = (0, 0);
+    while i < on.len() || j < crossings.len() {
+        let ts = on.get(i).map(|s| along(&s.1));
+        let tc = crossings.get(j).map(|c| c.0);
+        if tc.is_none() || ts.is_some_and(|t| tc.is_some_and(|u| t <= u)) {
+            let (s, p) = on[i];
+            prof.push((ts.unwrap_or(0.0), p, Pt::Sample(s)));
+            prof_must.push(must.contains(&sample_key(&p)));
+            i += 1;
+        } else {
+            let (t, p, m) = crossings[j];
+            prof.push((t, p, Pt::At(p)));
+            prof_must.push(m);
+            j += 1;
+        }
+    }
+    prof.push((1.0, *b, ends[1]));
+    prof_must.push(false);
+    let idx: Vec<usize> = (0..prof.len()).collect();
+    let mut chosen: Vec<bool> = (0..prof.len())
+        .map(|k| k == 0 || k + 1 == prof.len() || prof_must[k])
+        .collect();
+    let mut new = Vec::new();
+    let err = choose_border(&|k| prof[k].1, &idx, &mut chosen, tol, &mut new);
+    let mut plan = SidePlan {
+        reserve: Vec::new(),
+        chosen: Vec::new(),
+        // forced points first (in order along the side), then the split's
+        order: (0..prof.len())
+            .filter(|&k| prof_must[k])
+            .chain(new.iter().copied())
+            .map(|k| prof[k].2)
+            .collect(),
+        err,
+    };
+    for (e, &ch) in prof.iter().zip(&chosen) {
+        if ch {
+            plan.chosen.push(e.2);
+        } else if let Pt::Sample(s) = e.2 {
+            plan.reserve.push(s);
+        }
+    }
+    plan
+}
+
+/// Split every triangle whose side runs between two vertices of a chain
+/// (the vertices chosen on one edge of the parent, in order along it, by
+/// local sample) that are not next to each other in it: the vertices
+/// between lie a rounding outside that side (the sliver between was
+/// dropped), and the neighbour across the edge meets them. The triangle
+/// becomes a fan from its third corner through them. `vsample`: the local
+/// sample of each vertex; `vert`: a vertex's position.
+pub(crate) fn close_chains(
+    tris: Vec<[u32; 3]>,
+    chains: &[Vec<usize>],
+    vsample: &[u32],
+    vert: &dyn Fn(usize) -> [f64; 3],
+) -> Vec<[u32; 3]> {
+    // chain vertices by vertex: (chain, position in it)
+    let mut at: std::collections::HashMap<u32, Vec<(usize, usize)>> =
+        std::collections::HashMap::new();
+    let mut vertex_of: std::collections::HashMap<usize, u32> = std::collections::HashMap::new();
+    for (v, &l) in vsample.iter().enumerate() {
+        vertex_of.insert(l as usize, v as u32);
+    }
+    let chains: Vec<Vec<u32>> = chains
+        .iter()
+        .map(|ch| {
+            ch.iter()
+                .filter_map(|l| vertex_of.get(l).copied())
+                .collect()
+        })
+        .collect();
+    for (k, ch) in chains.iter().enumerate() {
+        for (p, &v) in ch.iter().enumerate() {
+            at.entry(v).or_default().push((k, p));
+        }
+    }
+    let mut out = Vec::with_capacity(tris.len());
+    let mut work = tris;
+    while let Some(t) = work.pop() {
+        let mut split = None;
+        'edges: for j in 0..3 {
+            let (u, v) = (t[j], t[(j + 1) % 3]);
+            let (Some(au), Some(av)) = (at.get(&u), at.get(&v)) else {
+                continue;
+            };
+            for &(ku, pu) in au {
+                for &(kv, pv) in av {
+                    if ku == kv && pu.abs_diff(pv) > 1 {
+                        split = Some((j, ku, pu, pv));
+                        break 'edges;
+                    }
+                }
+            }
+        }
+        let Some((j, k, pu, pv)) = split else {
+            out.push(t);
+            continue;
+        };
+        let x = t[(j + 2) % 3];
+        let path: Vec<u32> = if pu < pv {
+            chains[k][pu..=pv].to_vec()
+        } else {
+            chains[k][pv..=pu].iter().rev().copied().collect()
+        };
+        for w in path.windows(2) {
+            let f = [w[0], w[1], x];
+            let p = f.map(|v| vert(v as usize));
+            if crate::geom::orient(&p[0], &p[1], &p[2]) > 0.0 {
+                work.push(f);
+            }
+        }
+    }
+    out
+}
