@@ -134,68 +134,6 @@ impl DenseWindow<'_> {
     }
 }
 
-impl DenseWindow<'_> {
-    /// [`Samples::for_each_in_triangle`] for corners that are not all
-    /// pixel centres (a vertex at a grid-line crossing): each row's span
-    /// from the edges' crossings with it, widened by a pixel, and every
-    /// pixel in it decided by the exact predicate.
-    fn in_triangle_exact(
-        &self,
-        a: &[f64; 3],
-        b: &[f64; 3],
-        c: &[f64; 3],
-        mut f: impl FnMut(usize, &[f64; 3]),
-    ) {
-        let v = [a, b, c];
-        let (wc0, wr0) = (self.c0, self.r0);
-        let (wc1, wr1) = (wc0 + self.width as i64 - 1, wr0 + self.height as i64 - 1);
-        let ymin = v.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
-        let ymax = v.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
-        if !(ymin.is_finite() && ymax.is_finite()) {
-            return;
-        }
-        let (r0, r1) = (
-            (ymin.ceil() as i64).max(wr0),
-            (ymax.floor() as i64).min(wr1),
-        );
-        for y in r0..=r1 {
-            let yf = y as f64;
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for k in 0..3 {
-                let (p, q) = (v[k], v[(k + 1) % 3]);
-                if (p[1] - yf) * (q[1] - yf) <= 0.0 {
-                    let x = if p[1] == q[1] {
-                        lo = lo.min(p[0].min(q[0]));
-                        p[0].max(q[0])
-                    } else {
-                        p[0] + (yf - p[1]) / (q[1] - p[1]) * (q[0] - p[0])
-                    };
-                    lo = lo.min(x);
-                    hi = hi.max(x);
-                }
-            }
-            if lo > hi {
-                continue;
-            }
-            let (x0, x1) = (
-                ((lo.floor() as i64) - 1).max(wc0),
-                ((hi.ceil() as i64) + 1).min(wc1),
-            );
-            for x in x0..=x1 {
-                let g = self.d.index(x, y);
-                let z = self.d.z[g];
-                if z.is_nan() {
-                    continue;
-                }
-                let p = [x as f64, yf, z];
-                if (0..3).all(|k| crate::geom::orient(v[k], v[(k + 1) % 3], &p) >= 0.0) {
-                    f((y - wr0) as usize * self.width + (x - wc0) as usize, &p);
-                }
-            }
-        }
-    }
-}
-
 /// `floor(n / d)` and `ceil(n / d)` for `d > 0`.
 #[inline]
 fn floor_div(n: i128, d: i128) -> i128 {
@@ -241,12 +179,6 @@ impl Samples for DenseWindow<'_> {
         c: &[f64; 3],
         mut f: impl FnMut(usize, &[f64; 3]),
     ) {
-        if [a, b, c]
-            .iter()
-            .any(|p| p[0] != p[0].trunc() || p[1] != p[1].trunc())
-        {
-            return self.in_triangle_exact(a, b, c, f);
-        }
         // corners are pixel centres: whole numbers, exactly
         let v = [a, b, c].map(|p| (p[0] as i128, p[1] as i128));
         let (wc0, wr0) = (self.c0 as i128, self.r0 as i128);
@@ -282,59 +214,6 @@ impl Samples for DenseWindow<'_> {
                     f(row + (x - wc0) as usize, &[x as f64, y as f64, z]);
                 }
             }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Corners off the pixel centres (a vertex at a grid-line crossing):
-    /// the same pixels as a brute-force exact test of every pixel.
-    #[test]
-    fn fractional_corners_match_brute_force() {
-        let d = Dense {
-            c0: -3,
-            r0: 2,
-            width: 20,
-            height: 15,
-            z: (0..300)
-                .map(|i| if i % 7 == 3 { f64::NAN } else { i as f64 })
-                .collect(),
-        };
-        let w = d.window(-3, 2, 20, 15);
-        let tris = [
-            [
-                [-2.5, 3.0, 0.0],
-                [14.0, 4.333333333333333, 0.0],
-                [5.0, 15.7, 0.0],
-            ],
-            [[0.0, 2.0, 0.0], [16.0, 2.0, 0.0], [7.25, 10.0, 0.0]],
-            [[1.1, 9.9, 0.0], [3.3, 3.3, 0.0], [9.0, 12.0, 0.0]],
-        ];
-        for t in tris {
-            // counter-clockwise in the lattice's own orientation
-            let [a, b, c] = if crate::geom::orient(&t[0], &t[1], &t[2]) > 0.0 {
-                t
-            } else {
-                [t[0], t[2], t[1]]
-            };
-            let mut got = Vec::new();
-            w.for_each_in_triangle(&a, &b, &c, |i, _| got.push(i));
-            let mut want = Vec::new();
-            for i in 0..w.len() {
-                let p = w.point(i);
-                if !p[2].is_nan()
-                    && crate::geom::orient(&a, &b, &p) >= 0.0
-                    && crate::geom::orient(&b, &c, &p) >= 0.0
-                    && crate::geom::orient(&c, &a, &p) >= 0.0
-                {
-                    want.push(i);
-                }
-            }
-            assert!(!want.is_empty());
-            assert_eq!(got, want);
         }
     }
 }
