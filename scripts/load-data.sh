@@ -33,6 +33,17 @@ CREATE TABLE contours AS
   SELECT id, elev, ST_GeomFromText(wkt, 32616)::geometry(LineString, 32616) AS geom FROM contours_raw;
 DROP TABLE contours_raw;
 SQL
+# Contour lines of the geographic DEM every 50 m, as table contours_geo.
+gdal_contour -q -f CSV -lco GEOMETRY=AS_WKT -a elev -i 50 \
+  tests/data/jacksboro_fault_dem.tif "$tmp/contours_geo.csv"
+chmod -R a+rX "$tmp"
+psqlc -q -d "$db" >/dev/null <<SQL
+CREATE TABLE contours_raw(wkt text, id int, elev float8);
+\copy contours_raw FROM '$tmp/contours_geo.csv' CSV HEADER
+CREATE TABLE contours_geo AS
+  SELECT id, elev, ST_GeomFromText(wkt, 4326)::geometry(LineString, 4326) AS geom FROM contours_raw;
+DROP TABLE contours_raw;
+SQL
 # Areas between contours every 50 m (gdal_contour -p: multipolygons with
 # holes), as table contour_bands.
 gdal_contour -q -p -f CSV -lco GEOMETRY=AS_WKT -amin lo -amax hi -i 50 \

@@ -16,9 +16,10 @@ use tinmerge_core::io::{ewkb, gserialized, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    boundary_holds_all, build, build_domain, build_lattice, check_tolerances, default_tolerances,
-    BuildOptions,
+    boundary_holds_all, build, build_domain, build_domain_raster, build_lattice, check_tolerances,
+    default_tolerances, BuildOptions,
 };
+use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tiles::build_tiles;
@@ -29,7 +30,7 @@ use tinmerge_core::tin::tiles::build_tiles;
 fn reserve_build(func: &str, samples: usize, levels: usize, on_lattice: bool) {
     super::threads::apply();
     let bytes = if on_lattice {
-        tinmerge_core::tin::build::lattice_build_bytes(samples, levels)
+        tinmerge_core::tin::build::lattice_build_bytes(samples, levels, true)
     } else {
         tinmerge_core::tin::build::build_bytes(samples, levels)
     };
@@ -410,15 +411,29 @@ fn build_raster_constrained(
             [x, y]
         }));
     }
+    // the raster's own surface, which the build holds the tolerance to
+    // between the samples too (issue 43)
+    memory::reserve(w.saturating_mul(h).saturating_mul(8), || {
+        format!("tin_from_raster: the heights of a {w} x {h} raster")
+    });
+    let mut z = vec![f64::NAN; w * h];
     for p in &mut pts {
+        z[p[1] as usize * w + p[0] as usize] = p[2];
         let (x, y) = lattice.centre(p[0], p[1]);
         (p[0], p[1]) = (x, y);
     }
+    let heights = Dense {
+        c0: 0,
+        r0: 0,
+        width: w,
+        height: h,
+        z,
+    };
     // boundaries holding the whole raster: the build without them, on the
     // pixel lattice
     areas.retain(|a| !boundary_holds_all(a, &pts));
     if lines.is_empty() && areas.is_empty() {
-        drop(pts);
+        drop((pts, heights));
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
@@ -427,10 +442,31 @@ fn build_raster_constrained(
             "tin_from_raster: keep_border => true over a raster whose nodata pixels cut into the hull of its valid ones needs fill_gaps => true (tiles over the valid pixels only are not built yet)",
         );
     }
-    reserve_build("tin_from_raster", pts.len(), tols.len(), false);
+    super::threads::apply();
+    memory::reserve(
+        tinmerge_core::tin::build::domain_raster_build_bytes(pts.len(), w * h, tols.len())
+            .saturating_sub(pts.len() * 24 + w * h * 8),
+        || {
+            format!(
+                "tin_from_raster: building a tin from {} samples at {} levels",
+                pts.len(),
+                tols.len()
+            )
+        },
+    );
     let areas: Vec<&Area> = areas.iter().collect();
     TinOut::from_tin_on(
-        &build_domain(pts, &lines, &areas, tols, srid, &mut interrupt).or_raise(),
+        &build_domain_raster(
+            pts,
+            &lines,
+            &areas,
+            tols,
+            srid,
+            &heights,
+            &lattice,
+            &mut interrupt,
+        )
+        .or_raise(),
         &lattice,
     )
 }
@@ -478,7 +514,7 @@ fn _tin_tiles(
     super::threads::apply();
     let at_once = tinmerge_core::tin::par::threads().max(1);
     memory::reserve(
-        tinmerge_core::tin::build::lattice_build_bytes(per_tile, tols.len())
+        tinmerge_core::tin::build::lattice_build_bytes(per_tile, tols.len(), true)
             .saturating_mul(at_once),
         || {
             format!(
@@ -523,7 +559,7 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
     reserve_build("tin_from_raster", pts.len(), tols.len(), true);
     let opts = BuildOptions {
         keep_border,
-        ..Default::default()
+        between_samples: true,
     };
     TinOut::from_tin_on(
         &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
@@ -1086,7 +1122,7 @@ impl TableTiles {
         self.load_rows(first..=last + 1);
         let per_tile = (self.grid.tile_width + 1) * (self.grid.tile_height + 1);
         memory::reserve(
-            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len())
+            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len(), true)
                 .saturating_mul(batch.len()),
             || {
                 format!("tin_tiles_from_table: building {} tiles of {per_tile} samples at {} levels at once", batch.len(), self.tols.len())

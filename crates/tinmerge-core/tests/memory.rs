@@ -15,7 +15,11 @@ mod common;
 use common::read_dem;
 use tinmerge_core::io::raster;
 use tinmerge_core::merge::overlay::overlay;
-use tinmerge_core::tin::build::{build, build_lattice, default_tolerances, BuildOptions};
+use tinmerge_core::tin::build::{
+    build, build_domain_raster, build_lattice, default_tolerances, BuildOptions,
+};
+use tinmerge_core::tin::dense::Dense;
+use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::{layout, memory};
 
 /// The extension installs the counting allocator in its crate root; this
@@ -128,27 +132,90 @@ fn estimates_bound_the_measured_peaks() {
         let n = lattice_samples.len();
         let tols = default_tolerances(tol, levels as i32).unwrap();
         let lat = dem.lattice();
+        for between_samples in [false, true] {
+            let lattice_samples = lattice_samples.clone();
+            let (peak, tin) = peak_of(|| {
+                build_lattice(
+                    lattice_samples,
+                    &lat,
+                    &tols,
+                    32616,
+                    BuildOptions {
+                        keep_border: false,
+                        between_samples,
+                    },
+                    &mut || Ok(()),
+                )
+                .unwrap()
+            });
+            let peak = peak + n * 24;
+            let est = tinmerge_core::tin::build::lattice_build_bytes(n, levels, between_samples);
+            let verts = tin.verts.len();
+            let what = if between_samples {
+                "lattice, between samples"
+            } else {
+                "build on the lattice"
+            };
+            row(
+                what,
+                format!("{n} samples, {verts} verts, {levels} lv"),
+                peak,
+                est,
+            );
+            upper_bound(what, peak, est);
+        }
+        // tin_from_raster's default over the valid pixels only: their
+        // centres in world coordinates inside the valid cells' outline,
+        // the raster's heights held between the samples (the heights are
+        // part of the request, as the samples are)
+        let (w, h) = (dem.width, dem.height);
+        let mut z = vec![f64::NAN; w * h];
+        for p in &lattice_samples {
+            z[p[1] as usize * w + p[0] as usize] = p[2];
+        }
+        let rings = cell_outline(w, h, &|c, r| !z[r * w + c].is_nan());
+        let area = outline_area(&rings, &|c, r| {
+            let (x, y) = lat.centre(c - 0.5, r - 0.5);
+            [x, y]
+        });
+        let world: Vec<[f64; 3]> = lattice_samples
+            .iter()
+            .map(|p| {
+                let (x, y) = lat.centre(p[0], p[1]);
+                [x, y, p[2]]
+            })
+            .collect();
+        drop(lattice_samples);
         let (peak, tin) = peak_of(move || {
-            build_lattice(
-                lattice_samples,
-                &lat,
+            let heights = Dense {
+                c0: 0,
+                r0: 0,
+                width: w,
+                height: h,
+                z,
+            };
+            build_domain_raster(
+                world,
+                &[],
+                &[&area],
                 &tols,
                 32616,
-                BuildOptions::default(),
+                &heights,
+                &lat,
                 &mut || Ok(()),
             )
             .unwrap()
         });
-        let peak = peak + n * 24;
-        let est = tinmerge_core::tin::build::lattice_build_bytes(n, levels);
+        let peak = peak + n * 24 + w * h * 8;
+        let est = tinmerge_core::tin::build::domain_raster_build_bytes(n, w * h, levels);
         let verts = tin.verts.len();
         row(
-            "build on the lattice",
+            "valid pixels, between samples",
             format!("{n} samples, {verts} verts, {levels} lv"),
             peak,
             est,
         );
-        upper_bound("build on the lattice", peak, est);
+        upper_bound("valid pixels, between samples", peak, est);
     }
 
     // decoding a stored value

@@ -1874,7 +1874,8 @@ fn refine_by_parents<P: ParentSamples>(
         };
         // the hull sides' edges, whose samples stay greedy candidates
         // (bit k of a triangle: its edge from corner k to k + 1)
-        let hull: Vec<u8> = if keep_border {
+        // (and under keep_border, sides only their own samples decide)
+        let hull: Vec<u8> = if keep_border && reference.is_none() {
             Vec::new()
         } else {
             compute_neighbours(prev)?
@@ -1999,6 +2000,21 @@ fn refine_by_parents<P: ParentSamples>(
             run(&all, &all_groups, &Forced::default(), interrupt, &mut merge)?;
         } else {
             let mut forced = Forced::default();
+            // under keep_border a hull side is a tile's seam: its vertices
+            // are its own samples' choice, the same in the tile beside it,
+            // so nothing is forced onto it
+            let seams: rustc_hash::FxHashSet<SideKey> = if keep_border {
+                (0..prev.len())
+                    .flat_map(|t| (0..3).map(move |k| (t, k)))
+                    .filter(|&(t, k)| hull[t] & (1 << k) != 0)
+                    .map(|(t, k)| {
+                        let c = prev[t].map(|v| corner_pos(corner_samples[v as usize]));
+                        side_key(&c[k], &c[(k + 1) % 3])
+                    })
+                    .collect()
+            } else {
+                Default::default()
+            };
             let mut outs: Vec<ParentOut> = Vec::with_capacity(prev.len());
             run(&all, &all_groups, &forced, interrupt, &mut |o| {
                 outs.push(o);
@@ -2012,6 +2028,9 @@ fn refine_by_parents<P: ParentSamples>(
                 let mut touched: rustc_hash::FxHashSet<SideKey> = Default::default();
                 for o in &outs {
                     for (side, seg) in &o.unmended {
+                        if seams.contains(side) {
+                            continue;
+                        }
                         let v = forced.entry(*side).or_default();
                         if !v.contains(seg) {
                             v.push(*seg);
@@ -2661,8 +2680,21 @@ pub fn build_bytes(samples: usize, levels: usize) -> usize {
 /// levels and 2 m, 408 when nearly every sample is a vertex of every level;
 /// `cargo bench --bench build` on the DEM upsampled 4x: 97 at 5 levels, 42
 /// at one).
-pub fn lattice_build_bytes(samples: usize, levels: usize) -> usize {
+pub fn lattice_build_bytes(samples: usize, levels: usize, between_samples: bool) -> usize {
+    let per = if between_samples {
+        1000 + 40 * levels
+    } else {
+        300 + 40 * levels
+    };
+    samples.saturating_mul(per).saturating_add(1 << 20)
+}
+
+/// [`build_bytes`] for [`build_domain_raster`] over `samples` valid pixels
+/// of a raster of `pixels` (whose heights, 8 bytes a pixel, are part of
+/// the request).
+pub fn domain_raster_build_bytes(samples: usize, pixels: usize, levels: usize) -> usize {
     samples
-        .saturating_mul(300 + 40 * levels)
+        .saturating_mul(1000 + 40 * levels)
+        .saturating_add(pixels.saturating_mul(8))
         .saturating_add(1 << 20)
 }

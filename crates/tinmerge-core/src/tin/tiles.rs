@@ -156,7 +156,7 @@ pub fn build_tile(
     }
     let opts = BuildOptions {
         keep_border: true,
-        ..Default::default()
+        between_samples: true,
     };
     match build_lattice(samples, lattice, tolerances, srid, opts, interrupt) {
         Ok(tin) => Ok(Some(tin)),
