@@ -398,6 +398,7 @@ fn build_raster_constrained(
     let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
         .into_iter()
         .collect();
+    let given = !areas.is_empty();
     if !fill_gaps && pts.len() < w * h {
         // the valid pixels' own squares, holes included
         let mut valid = vec![false; w * h];
@@ -431,6 +432,7 @@ fn build_raster_constrained(
     };
     // boundaries holding the whole raster: the build without them, on the
     // pixel lattice
+    let user_boundary = given && !boundary_holds_all(&areas[0], &pts);
     areas.retain(|a| !boundary_holds_all(a, &pts));
     if lines.is_empty() && areas.is_empty() {
         drop((pts, heights));
@@ -455,8 +457,11 @@ fn build_raster_constrained(
         },
     );
     let areas: Vec<&Area> = areas.iter().collect();
-    TinOut::from_tin_on(
-        &build_domain_raster(
+    // over the valid pixels alone, between the samples too; with a
+    // boundary or breaklines, at the samples only for now (issue 43: the
+    // between-samples build of a boundary with holes still leaves gaps)
+    let tin = if lines.is_empty() && !user_boundary {
+        build_domain_raster(
             pts,
             &lines,
             &areas,
@@ -466,9 +471,11 @@ fn build_raster_constrained(
             &lattice,
             &mut interrupt,
         )
-        .or_raise(),
-        &lattice,
-    )
+    } else {
+        drop(heights);
+        build_domain(pts, &lines, &areas, tols, srid, &mut interrupt)
+    };
+    TinOut::from_tin_on(&tin.or_raise(), &lattice)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
@@ -514,7 +521,7 @@ fn _tin_tiles(
     super::threads::apply();
     let at_once = tinmerge_core::tin::par::threads().max(1);
     memory::reserve(
-        tinmerge_core::tin::build::lattice_build_bytes(per_tile, tols.len(), true)
+        tinmerge_core::tin::build::lattice_build_bytes(per_tile, tols.len(), false)
             .saturating_mul(at_once),
         || {
             format!(
@@ -557,9 +564,12 @@ COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use t
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
     let (pts, lattice, srid, _) = raster_samples(rast, band);
     reserve_build("tin_from_raster", pts.len(), tols.len(), true);
+    // tiles (keep_border) are held at the samples for now: the same tile
+    // built in its own raster's frame and in tin_tiles' (a bigger
+    // raster's) rounds its grid-line crossings differently (issue 43)
     let opts = BuildOptions {
         keep_border,
-        between_samples: true,
+        between_samples: !keep_border,
     };
     TinOut::from_tin_on(
         &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
@@ -1122,7 +1132,7 @@ impl TableTiles {
         self.load_rows(first..=last + 1);
         let per_tile = (self.grid.tile_width + 1) * (self.grid.tile_height + 1);
         memory::reserve(
-            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len(), true)
+            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len(), false)
                 .saturating_mul(batch.len()),
             || {
                 format!("tin_tiles_from_table: building {} tiles of {per_tile} samples at {} levels at once", batch.len(), self.tols.len())

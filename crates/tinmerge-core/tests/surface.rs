@@ -542,3 +542,90 @@ fn generated_grids_between_samples() {
         }
     }
 }
+
+/// A boundary with a concave shell reaching past the data, a hole and a
+/// second polygon (pg_regress boundary.sql's), on both DEMs: built over
+/// the valid pixels within it, measured between samples. (The first build
+/// of this kind left gaps around a vertex at level 3 of the geographic
+/// DEM, which tin_validate and the line merge found in SQL.)
+#[test]
+#[ignore = "issue 43, open: gaps along the boundary's rings and cracks where two coarse edges cross a grid line within 1e-4 pixel of each other (tin_from_raster with a boundary stays measured at the samples until this passes)"]
+fn boundary_with_a_hole_between_samples() {
+    use tinmerge_core::merge::area::polygon::Area;
+    for file in ["jacksboro_fault_dem.tif", "jacksboro_fault_dem_utm16n.tif"] {
+        let r = Raster::of_dem(&common::read_dem(file));
+        let (x0, y0) = r.lat.centre(-0.5, -0.5);
+        let (x1, y1) = r.lat.centre(r.w as f64 - 0.5, r.h as f64 - 0.5);
+        let (xmin, xmax, ymin, ymax) = (x0.min(x1), x0.max(x1), y0.min(y1), y0.max(y1));
+        let ring = |f: &[f64]| -> Vec<[f64; 2]> {
+            let mut v: Vec<[f64; 2]> = f
+                .chunks(2)
+                .map(|p| [xmin + p[0] * (xmax - xmin), ymax - p[1] * (ymax - ymin)])
+                .collect();
+            v.push(v[0]);
+            v
+        };
+        let boundary = Area::new(vec![
+            vec![
+                ring(&[
+                    0.08, 0.10, 0.70, 0.06, 0.52, 0.43, 1.30, 0.50, 0.81, 0.77, 0.17, 0.70,
+                ]),
+                ring(&[0.30, 0.33, 0.42, 0.37, 0.40, 0.48, 0.27, 0.45]),
+            ],
+            vec![ring(&[0.10, 0.82, 0.25, 0.82, 0.25, 0.95, 0.10, 0.95])],
+        ]);
+        let valid = |c: usize, row: usize| !r.z[row * r.w + c].is_nan();
+        let mut areas = vec![boundary];
+        if r.z.iter().any(|z| z.is_nan()) {
+            let rings = cell_outline(r.w, r.h, &valid);
+            areas.push(outline_area(&rings, &|c, row| {
+                let (x, y) = r.lat.centre(c - 0.5, row - 0.5);
+                [x, y]
+            }));
+        }
+        let mut s = Vec::new();
+        for row in 0..r.h {
+            for c in 0..r.w {
+                let z = r.z[row * r.w + c];
+                if !z.is_nan() {
+                    let (x, y) = r.lat.centre(c as f64, row as f64);
+                    s.push([x, y, z]);
+                }
+            }
+        }
+        let heights = Dense {
+            c0: 0,
+            r0: 0,
+            width: r.w,
+            height: r.h,
+            z: r.z.clone(),
+        };
+        let tols = default_tolerances(2.0, 4).unwrap();
+        let refs: Vec<&Area> = areas.iter().collect();
+        let tin =
+            build_domain_raster(s, &[], &refs, &tols, 0, &heights, &r.lat, &mut || Ok(())).unwrap();
+        let p = tinmerge_core::tin::check::problems(&tin, &mut || Ok(())).unwrap();
+        if std::env::var("DEBUG43").is_ok() {
+            for q in p.iter().take(12) {
+                let t = tin.levels[q.level as usize].tris[q.triangle as usize];
+                eprintln!("{:?}", q);
+                for v in t {
+                    let w = tin.verts[v as usize];
+                    eprintln!("   v{v} lattice {:?} z {}", r.to_lattice(w[0], w[1]), w[2]);
+                }
+            }
+            let mut per = vec![0; tin.levels.len()];
+            for q in &p {
+                per[q.level as usize] += 1;
+            }
+            eprintln!("per level {per:?}");
+        }
+        assert!(
+            p.is_empty(),
+            "{file}: {} problems, e.g. {:?}",
+            p.len(),
+            &p[..p.len().min(3)]
+        );
+        tinmerge_core::tin::check::validate_structure(&tin).unwrap();
+    }
+}

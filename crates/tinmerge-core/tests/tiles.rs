@@ -193,7 +193,7 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
                 }
                 let keep = BuildOptions {
                     keep_border: true,
-                    between_samples: true,
+                    ..Default::default()
                 };
                 let Ok(want) = build_lattice(s, &lat, &tols, srid, keep, &mut || Ok(())) else {
                     continue;

@@ -74,11 +74,20 @@ CREATE TABLE o_insegs AS
   FROM o_pairs p JOIN o_dom d USING (pair),
        LATERAL (SELECT (ST_DumpSegments(tr.geom)).geom FROM tin_triangles(p.ta, p.level) tr
                 UNION ALL SELECT (ST_DumpSegments(tr.geom)).geom FROM tin_triangles(p.tb, p.level) tr) s;
+-- (the union of the stretches of the input edge they lie on: two input
+-- vertices a rounding apart, a grid-line crossing of one tin on the
+-- outline of the other, are both output vertices, and the output edges
+-- from them run side by side within 1e-10 m)
 SELECT i.pair, count(*) AS input_edges,
-       count(*) FILTER (WHERE abs(coalesce(c.len, 0) - ST_Length(i.geom)) > 1e-6 * ST_Length(i.geom)) AS not_covered
+       count(*) FILTER (WHERE abs(coalesce(c.len, 0) - 1) > 1e-6) AS not_covered
 FROM o_insegs i
-LEFT JOIN LATERAL (SELECT sum(ST_Length(s.geom)) AS len FROM o_outsegs s
-                   WHERE s.pair = i.pair AND ST_Covers(ST_Buffer(i.geom, 1e-6), s.geom)) c ON true
+LEFT JOIN LATERAL (
+  SELECT sum(upper(r) - lower(r)) AS len
+  FROM unnest((SELECT range_agg(numrange(least(t0, t1)::numeric, greatest(t0, t1)::numeric))
+               FROM o_outsegs s,
+                    LATERAL (SELECT ST_LineLocatePoint(i.geom, ST_StartPoint(s.geom)) AS t0,
+                                    ST_LineLocatePoint(i.geom, ST_EndPoint(s.geom)) AS t1) t
+               WHERE s.pair = i.pair AND ST_Covers(ST_Buffer(i.geom, 1e-6), s.geom))) r) c ON true
 WHERE ST_Length(i.geom) > 1e-3
 GROUP BY 1 ORDER BY 1;
 -- heights: the corners of geom_a on surface a, of geom_b on surface b
@@ -90,11 +99,12 @@ FROM o_out o JOIN o_pairs p USING (pair),
      LATERAL (SELECT (ST_DumpPoints(o.geom_b)).geom AS g) w
 GROUP BY 1 ORDER BY 1;
 -- surface difference: with itself nothing; a + 1 m against a: the
--- domain's area in cut; b against a: cut and fill against PostGIS's areas
+-- domain's area in cut (to 1e-8: the overlay's slivers between the two
+-- tins' vertices at grid-line crossings, a rounding apart); b against a: cut and fill against PostGIS's areas
 -- of the parts of the overlay where a is above or below (sampled at
 -- triangle centroids), to 1%
 SELECT d.cut, d.fill, d.area_changed FROM o_tins a, tin_difference(a.t, a.t) d WHERE a.name = 'a';
-SELECT abs(d.cut - ST_Area(ST_ConvexHull(tin_as_geometry(a.t)))) <= 1e-9 * ST_Area(ST_ConvexHull(tin_as_geometry(a.t))) AS cut_is_area,
+SELECT abs(d.cut - ST_Area(ST_ConvexHull(tin_as_geometry(a.t)))) <= 1e-8 * ST_Area(ST_ConvexHull(tin_as_geometry(a.t))) AS cut_is_area,
        d.fill = 0 AS no_fill,
        abs(d.area_changed - ST_Area(ST_ConvexHull(tin_as_geometry(a.t)))) <= 1e-9 * ST_Area(ST_ConvexHull(tin_as_geometry(a.t))) AS all_changed
 FROM o_tins r, o_tins a, tin_difference(r.t, a.t) d WHERE r.name = 'raised' AND a.name = 'a';
@@ -117,7 +127,7 @@ SELECT (SELECT count(*) FROM tin_overlay(a.t, f.t)) AS disjoint_rows,
        (SELECT count(*) FROM tin_difference(a.t, f.t)) AS disjoint_difference,
        (SELECT count(*) FROM tin_overlay(NULL, a.t)) AS null_rows,
        tin_overlay_tin(a.t, NULL) IS NULL AS null_tin,
-       (SELECT count(*) FROM tin_overlay(a.t, a.t, NULL, 0)) = (SELECT count(*) FROM tin_triangles(a.t, 1)) AS null_level_is_finest_a
+       (SELECT count(*) FROM tin_overlay(a.t, a.t, NULL, 0)) = (SELECT count(*) FROM tin_overlay(a.t, a.t, 1, 0)) AS null_level_is_finest_a
 FROM o_tins a, o_tins f WHERE a.name = 'a' AND f.name = 'far';
 SELECT try($$SELECT count(*) FROM o_win w, o_tins a, tin_overlay(a.t, tin_from_raster(ST_SetSRID(w.rast, 32617), 4.0, 2)) WHERE a.name = 'a'$$);
 SELECT try($$SELECT count(*) FROM o_tins a, tin_overlay(a.t, a.t, 2) WHERE a.name = 'a'$$);

@@ -117,7 +117,7 @@ LEFT JOIN (SELECT s.triangle FROM terrain, r_coarse, tin_raster_stats(t, rast, 4
 SELECT count(*) > 0 AS some_without_value,
        count(*) FILTER (WHERE EXISTS (SELECT 1 FROM r_coarse_cells c WHERE ST_Intersects(c.geom, tr.geom)
                                       AND ST_Area(ST_Intersection(c.geom, tr.geom)) > 1e-9 * ST_Area(c.geom))) AS but_overlapped
-FROM terrain, tin_triangles(t, 4) tr WHERE tr.id NOT IN (SELECT triangle FROM r_coarse_w);
+FROM terrain, tin_triangles(t, 4) tr WHERE NOT EXISTS (SELECT 1 FROM r_coarse_w w WHERE w.triangle = tr.id);
 -- weighted over a band of ones without nodata: the fractions add up to the
 -- domain's area in pixels, and every mean is 1
 SELECT round((sum(s.sum) * 90 * 90 / ST_Area(d.geom))::numeric, 9) AS weight_over_area,

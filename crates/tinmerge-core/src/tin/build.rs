@@ -752,8 +752,8 @@ pub struct BuildOptions {
     /// the border, whose edges persisted into the finest level and made its
     /// surface steep and jagged.)
     pub keep_border: bool,
-    /// Hold the tolerance between the samples too (issue 43, not yet the
-    /// default): every free edge of every level is measured where it
+    /// Hold the tolerance between the samples too (issue 43; what
+    /// `tin_from_raster` and the tile builders ask for): every free edge of every level is measured where it
     /// crosses a grid segment between two valid pixel centres (the raster's
     /// own surface there, [`super::surface`]), mended by inserting a pixel
     /// beside the crossing, and the sides of each parent are split at the

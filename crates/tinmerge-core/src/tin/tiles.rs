@@ -156,7 +156,7 @@ pub fn build_tile(
     }
     let opts = BuildOptions {
         keep_border: true,
-        between_samples: true,
+        ..Default::default()
     };
     match build_lattice(samples, lattice, tolerances, srid, opts, interrupt) {
         Ok(tin) => Ok(Some(tin)),
