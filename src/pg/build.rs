@@ -16,10 +16,9 @@ use tinmerge_core::io::{ewkb, gserialized, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    boundary_holds_all, build, build_domain, build_domain_raster, build_lattice, check_tolerances,
-    default_tolerances, BuildOptions,
+    boundary_holds_all, build, build_domain, build_lattice, check_tolerances, default_tolerances,
+    BuildOptions,
 };
-use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tiles::build_tiles;
@@ -398,7 +397,6 @@ fn build_raster_constrained(
     let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
         .into_iter()
         .collect();
-    let given = !areas.is_empty();
     if !fill_gaps && pts.len() < w * h {
         // the valid pixels' own squares, holes included
         let mut valid = vec![false; w * h];
@@ -412,30 +410,15 @@ fn build_raster_constrained(
             [x, y]
         }));
     }
-    // the raster's own surface, which the build holds the tolerance to
-    // between the samples too (issue 43)
-    memory::reserve(w.saturating_mul(h).saturating_mul(8), || {
-        format!("tin_from_raster: the heights of a {w} x {h} raster")
-    });
-    let mut z = vec![f64::NAN; w * h];
     for p in &mut pts {
-        z[p[1] as usize * w + p[0] as usize] = p[2];
         let (x, y) = lattice.centre(p[0], p[1]);
         (p[0], p[1]) = (x, y);
     }
-    let heights = Dense {
-        c0: 0,
-        r0: 0,
-        width: w,
-        height: h,
-        z,
-    };
     // boundaries holding the whole raster: the build without them, on the
     // pixel lattice
-    let user_boundary = given && !boundary_holds_all(&areas[0], &pts);
     areas.retain(|a| !boundary_holds_all(a, &pts));
     if lines.is_empty() && areas.is_empty() {
-        drop((pts, heights));
+        drop(pts);
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
@@ -444,38 +427,12 @@ fn build_raster_constrained(
             "tin_from_raster: keep_border => true over a raster whose nodata pixels cut into the hull of its valid ones needs fill_gaps => true (tiles over the valid pixels only are not built yet)",
         );
     }
-    super::threads::apply();
-    memory::reserve(
-        tinmerge_core::tin::build::domain_raster_build_bytes(pts.len(), w * h, tols.len())
-            .saturating_sub(pts.len() * 24 + w * h * 8),
-        || {
-            format!(
-                "tin_from_raster: building a tin from {} samples at {} levels",
-                pts.len(),
-                tols.len()
-            )
-        },
-    );
+    reserve_build("tin_from_raster", pts.len(), tols.len(), false);
     let areas: Vec<&Area> = areas.iter().collect();
-    // over the valid pixels alone, between the samples too; with a
-    // boundary or breaklines, at the samples only for now (issue 43: the
-    // between-samples build of a boundary with holes still leaves gaps)
-    let tin = if lines.is_empty() && !user_boundary {
-        build_domain_raster(
-            pts,
-            &lines,
-            &areas,
-            tols,
-            srid,
-            &heights,
-            &lattice,
-            &mut interrupt,
-        )
-    } else {
-        drop(heights);
-        build_domain(pts, &lines, &areas, tols, srid, &mut interrupt)
-    };
-    TinOut::from_tin_on(&tin.or_raise(), &lattice)
+    TinOut::from_tin_on(
+        &build_domain(pts, &lines, &areas, tols, srid, &mut interrupt).or_raise(),
+        &lattice,
+    )
 }
 
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]

@@ -50,10 +50,8 @@ SELECT coalesce(o.id, u.id) AS id, coalesce(o.level, u.level) AS level,
 FROM area_oracle o FULL JOIN area_ours u USING (id, level, triangle)
 GROUP BY 1, 2 ORDER BY 1, 2;
 -- compact: inside triangles at the coarsest level wholly inside; expanded
--- (every full-list inside triangle lies in exactly one compact one: holds
--- its centroid, as a child's corners at grid-line crossings lie on its
--- parent's sides only up to the rounding of world coordinates) they give
--- the full list, and cover the same area
+-- (every full-list inside triangle lies in exactly one compact one) they
+-- give the full list, and cover the same area
 CREATE TABLE area_compact AS
 SELECT p.id, r.*
 FROM area_polys p, terrain, tin_area_triangles(t, p.geom, compact => true) r;
@@ -67,7 +65,7 @@ CREATE TABLE compact_geoms AS
 CREATE INDEX ON compact_geoms USING gist (geom);
 SELECT f.id, count(*) AS full_inside,
        count(*) FILTER (WHERE (SELECT count(*) FROM compact_geoms g
-                               WHERE g.id = f.id AND g.geom && b.geom AND ST_Contains(g.geom, ST_Centroid(b.geom))) <> 1)
+                               WHERE g.id = f.id AND g.geom && b.geom AND ST_Covers(g.geom, b.geom)) <> 1)
          AS not_in_exactly_one
 FROM area_ours f JOIN area_tris b ON b.level = 4 AND b.triangle = f.triangle
 WHERE f.at_level = 4 AND f.relation = 'inside'

@@ -7,7 +7,7 @@
 -- finest tolerance off.
 SET extra_float_digits = 0;
 CREATE TABLE bs_terrain AS
-  SELECT 'utm' AS dem, tin_from_raster(rast, 2.0, 5) AS t FROM dem
+  SELECT 'utm' AS dem, tin_from_raster(rast, 2.0, 5, fill_gaps => true) AS t FROM dem
   UNION ALL
   SELECT 'geographic', tin_from_raster(rast, 2.0, 5) FROM dem_geo;
 -- the contour vertices on a grid line between two valid pixel centres
@@ -67,4 +67,14 @@ SELECT dem, level,
        (SELECT max(abs(e)) FROM unnest(err) e) <= max_error + 1e-5 AS max_error_covers_contours,
        max_error <= tolerance AS max_error_within_tolerance
 FROM bs_levels ORDER BY dem DESC, level;
+-- two such tins overlaid (vertices at grid-line crossings of two grids
+-- 0.48 pixel apart): every face, the area of the common domain
+WITH a AS MATERIALIZED (SELECT t FROM bs_terrain WHERE dem = 'geographic'),
+b AS MATERIALIZED (
+  SELECT tin_from_raster(ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + 0.0004, ST_UpperLeftY(rast)), 8.0, 2) AS t FROM dem_geo),
+d AS MATERIALIZED (
+  SELECT ST_Area(ST_Intersection(ST_ConvexHull(tin_as_geometry(a.t, 0)), ST_ConvexHull(tin_as_geometry(b.t, 0)))) AS area
+  FROM a, b)
+SELECT count(*) > 100000 AS faces, abs(sum(ST_Area(o.geom_a)) / min(d.area) - 1) < 1e-9 AS area_is_domain
+FROM a, b, d, tin_overlay(a.t, b.t, 4, 1) o;
 DROP TABLE bs_levels, bs_vertices, bs_valid, bs_terrain;
