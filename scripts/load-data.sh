@@ -21,29 +21,22 @@ gdal_translate -q -srcwin 10 10 324 343 tests/data/jacksboro_fault_dem_utm16n.ti
   raster2pgsql -s 32616 -N -9999 -t 100x100 "$win/window.tif" public.window_tiles
 } 2>/dev/null | psqlc -q -d "$db" >/dev/null
 rm -rf "$win"
-# Contour lines of the UTM DEM every 50 m (gdal_contour), as table contours.
+# Contour lines every 50 m (gdal_contour), as tables contours (the UTM DEM)
+# and contours_geo (the geographic one).
 tmp=$(mktemp -d)
-gdal_contour -q -f CSV -lco GEOMETRY=AS_WKT -a elev -i 50 \
-  tests/data/jacksboro_fault_dem_utm16n.tif "$tmp/contours.csv"
-chmod -R a+rX "$tmp"
-psqlc -q -d "$db" >/dev/null <<SQL
+contours() { # table, srid, DEM file
+  gdal_contour -q -f CSV -lco GEOMETRY=AS_WKT -a elev -i 50 "$3" "$tmp/$1.csv"
+  chmod -R a+rX "$tmp"
+  psqlc -q -d "$db" >/dev/null <<SQL
 CREATE TABLE contours_raw(wkt text, id int, elev float8);
-\copy contours_raw FROM '$tmp/contours.csv' CSV HEADER
-CREATE TABLE contours AS
-  SELECT id, elev, ST_GeomFromText(wkt, 32616)::geometry(LineString, 32616) AS geom FROM contours_raw;
+\copy contours_raw FROM '$tmp/$1.csv' CSV HEADER
+CREATE TABLE $1 AS
+  SELECT id, elev, ST_GeomFromText(wkt, $2)::geometry(LineString, $2) AS geom FROM contours_raw;
 DROP TABLE contours_raw;
 SQL
-# Contour lines of the geographic DEM every 50 m, as table contours_geo.
-gdal_contour -q -f CSV -lco GEOMETRY=AS_WKT -a elev -i 50 \
-  tests/data/jacksboro_fault_dem.tif "$tmp/contours_geo.csv"
-chmod -R a+rX "$tmp"
-psqlc -q -d "$db" >/dev/null <<SQL
-CREATE TABLE contours_raw(wkt text, id int, elev float8);
-\copy contours_raw FROM '$tmp/contours_geo.csv' CSV HEADER
-CREATE TABLE contours_geo AS
-  SELECT id, elev, ST_GeomFromText(wkt, 4326)::geometry(LineString, 4326) AS geom FROM contours_raw;
-DROP TABLE contours_raw;
-SQL
+}
+contours contours 32616 tests/data/jacksboro_fault_dem_utm16n.tif
+contours contours_geo 4326 tests/data/jacksboro_fault_dem.tif
 # Areas between contours every 50 m (gdal_contour -p: multipolygons with
 # holes), as table contour_bands.
 gdal_contour -q -p -f CSV -lco GEOMETRY=AS_WKT -amin lo -amax hi -i 50 \
