@@ -25,13 +25,13 @@ use tinmerge_core::tin::tiles::build_tiles;
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
 /// already allocated); otherwise hand `tinmerge.threads` to the core.
-/// Raster builds (`on_lattice`) have their own, smaller estimate.
-fn reserve_build(func: &str, samples: usize, levels: usize, on_lattice: bool) {
+/// Raster builds on the lattice (`lattice`: Some(between samples)) have
+/// their own estimate.
+fn reserve_build(func: &str, samples: usize, levels: usize, lattice: Option<bool>) {
     super::threads::apply();
-    let bytes = if on_lattice {
-        tinmerge_core::tin::build::lattice_build_bytes(samples, levels, true)
-    } else {
-        tinmerge_core::tin::build::build_bytes(samples, levels)
+    let bytes = match lattice {
+        Some(between) => tinmerge_core::tin::build::lattice_build_bytes(samples, levels, between),
+        None => tinmerge_core::tin::build::build_bytes(samples, levels),
     };
     memory::reserve(bytes.saturating_sub(samples * 24), || {
         format!("{func}: building a tin from {samples} samples at {levels} levels")
@@ -427,7 +427,7 @@ fn build_raster_constrained(
             "tin_from_raster: keep_border => true over a raster whose nodata pixels cut into the hull of its valid ones needs fill_gaps => true (tiles over the valid pixels only are not built yet)",
         );
     }
-    reserve_build("tin_from_raster", pts.len(), tols.len(), false);
+    reserve_build("tin_from_raster", pts.len(), tols.len(), None);
     let areas: Vec<&Area> = areas.iter().collect();
     TinOut::from_tin_on(
         &build_domain(pts, &lines, &areas, tols, srid, &mut interrupt).or_raise(),
@@ -520,7 +520,6 @@ COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use t
 /// The build behind both `tin_from_raster` forms.
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
     let (pts, lattice, srid, _) = raster_samples(rast, band);
-    reserve_build("tin_from_raster", pts.len(), tols.len(), true);
     // tiles (keep_border) are held at the samples for now: the same tile
     // built in its own raster's frame and in tin_tiles' (a bigger
     // raster's) rounds its grid-line crossings differently (issue 43)
@@ -528,6 +527,12 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
         keep_border,
         between_samples: !keep_border,
     };
+    reserve_build(
+        "tin_from_raster",
+        pts.len(),
+        tols.len(),
+        Some(opts.between_samples),
+    );
     TinOut::from_tin_on(
         &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
         &lattice,
@@ -538,7 +543,7 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
 fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     let tols = default_tolerances(tolerance, levels).or_raise();
     let (samples, srid) = point_samples(pts);
-    reserve_build("tin_from_points", samples.len(), tols.len(), false);
+    reserve_build("tin_from_points", samples.len(), tols.len(), None);
     TinOut::from_tin(&build(samples, &tols, srid, &mut interrupt).or_raise())
 }
 
@@ -571,7 +576,7 @@ fn _tin_from_points_domain(
     let (samples, srid) = point_samples(pts);
     let lines = breaklines_arg("tin_from_points", breaklines, soft_breaklines, srid);
     let area = boundary_arg("tin_from_points", boundary, srid);
-    reserve_build("tin_from_points", samples.len(), tols.len(), false);
+    reserve_build("tin_from_points", samples.len(), tols.len(), None);
     Some(TinOut::from_tin(&build_points_domain(
         samples, &lines, area, &tols, srid,
     )))
@@ -791,7 +796,7 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
         return None;
     }
     let tols = default_tolerances(tolerance, levels).or_raise();
-    reserve_build("tin_from_points_agg", st.samples.len(), tols.len(), false);
+    reserve_build("tin_from_points_agg", st.samples.len(), tols.len(), None);
     // the places the doubling left unused handed back before the build
     let mut samples = std::mem::take(&mut st.samples);
     samples.shrink_to_fit();
