@@ -753,7 +753,8 @@ pub struct BuildOptions {
     /// surface steep and jagged.)
     pub keep_border: bool,
     /// Hold the tolerance between the samples too (issue 43; what
-    /// `tin_from_raster` and the tile builders ask for): every free edge of every level is measured where it
+    /// `tin_from_raster` asks for on the pixel lattice, tiles aside): every
+    /// free edge of every level is measured where it
     /// crosses a grid segment between two valid pixel centres (the raster's
     /// own surface there, [`super::surface`]), mended by inserting a pixel
     /// beside the crossing, and the sides of each parent are split at the
@@ -2679,7 +2680,9 @@ pub fn build_bytes(samples: usize, levels: usize) -> usize {
 /// `tests/memory.rs` on the DEM: 187 bytes a sample at 1 level, 135 at 5
 /// levels and 2 m, 408 when nearly every sample is a vertex of every level;
 /// `cargo bench --bench build` on the DEM upsampled 4x: 97 at 5 levels, 42
-/// at one).
+/// at one). Between samples ([`BuildOptions::between_samples`]) the peak
+/// is larger: 308 bytes a sample at 1 level, 521 at 5, 913 when nearly
+/// every sample is a vertex (`tests/memory.rs`), so its estimate is too.
 pub fn lattice_build_bytes(samples: usize, levels: usize, between_samples: bool) -> usize {
     let per = if between_samples {
         1000 + 40 * levels
