@@ -16,9 +16,10 @@ use tinmerge_core::io::{ewkb, gserialized, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    boundary_holds_all, build, build_domain, build_lattice, check_tolerances, default_tolerances,
-    BuildOptions,
+    boundary_holds_all, build, build_domain, build_domain_raster, build_lattice, check_tolerances,
+    default_tolerances, domain_raster_build_bytes, BuildOptions,
 };
+use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tiles::build_tiles;
@@ -28,11 +29,16 @@ use tinmerge_core::tin::tiles::build_tiles;
 /// Raster builds on the lattice (`lattice`: Some(between samples)) have
 /// their own estimate.
 fn reserve_build(func: &str, samples: usize, levels: usize, lattice: Option<bool>) {
-    super::threads::apply();
     let bytes = match lattice {
         Some(between) => tinmerge_core::tin::build::lattice_build_bytes(samples, levels, between),
         None => tinmerge_core::tin::build::build_bytes(samples, levels),
     };
+    reserve_build_bytes(func, samples, levels, bytes);
+}
+
+/// [`reserve_build`] with its estimate given.
+fn reserve_build_bytes(func: &str, samples: usize, levels: usize, bytes: usize) {
+    super::threads::apply();
     memory::reserve(bytes.saturating_sub(samples * 24), || {
         format!("{func}: building a tin from {samples} samples at {levels} levels")
     });
@@ -397,18 +403,27 @@ fn build_raster_constrained(
     let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
         .into_iter()
         .collect();
+    // the valid pixels' own squares, holes included, and their heights in
+    // place (NaN without data)
+    let mut footprint = None;
+    let mut z = Vec::new();
     if !fill_gaps && pts.len() < w * h {
-        // the valid pixels' own squares, holes included
         let mut valid = vec![false; w * h];
         for p in &pts {
             valid[p[1] as usize * w + p[0] as usize] = true;
         }
         let rings = cell_outline(w, h, &|c, r| valid[r * w + c]);
         drop(valid);
-        areas.push(outline_area(&rings, &|c, r| {
+        footprint = Some(outline_area(&rings, &|c, r| {
             let (x, y) = lattice.centre(c - 0.5, r - 0.5);
             [x, y]
         }));
+        if lines.is_empty() {
+            z = vec![f64::NAN; w * h];
+            for p in &pts {
+                z[p[1] as usize * w + p[0] as usize] = p[2];
+            }
+        }
     }
     for p in &mut pts {
         let (x, y) = lattice.centre(p[0], p[1]);
@@ -417,6 +432,11 @@ fn build_raster_constrained(
     // boundaries holding the whole raster: the build without them, on the
     // pixel lattice
     areas.retain(|a| !boundary_holds_all(a, &pts));
+    // the footprint of the data alone (no boundary, no breaklines): built
+    // between the samples, against the raster's own surface
+    let footprint = footprint.filter(|a| !boundary_holds_all(a, &pts));
+    let footprint_only = lines.is_empty() && areas.is_empty() && footprint.is_some();
+    areas.extend(footprint);
     if lines.is_empty() && areas.is_empty() {
         drop(pts);
         return build_raster(rast, tols, band, keep_border);
@@ -427,8 +447,37 @@ fn build_raster_constrained(
             "tin_from_raster: keep_border => true over a raster whose nodata pixels cut into the hull of its valid ones needs fill_gaps => true (tiles over the valid pixels only are not built yet)",
         );
     }
-    reserve_build("tin_from_raster", pts.len(), tols.len(), None);
     let areas: Vec<&Area> = areas.iter().collect();
+    if footprint_only {
+        reserve_build_bytes(
+            "tin_from_raster",
+            pts.len(),
+            tols.len(),
+            domain_raster_build_bytes(pts.len(), w * h, tols.len()),
+        );
+        let heights = Dense {
+            c0: 0,
+            r0: 0,
+            width: w,
+            height: h,
+            z,
+        };
+        return TinOut::from_tin_on(
+            &build_domain_raster(
+                pts,
+                &[],
+                &areas,
+                tols,
+                srid,
+                &heights,
+                &lattice,
+                &mut interrupt,
+            )
+            .or_raise(),
+            &lattice,
+        );
+    }
+    reserve_build("tin_from_raster", pts.len(), tols.len(), None);
     TinOut::from_tin_on(
         &build_domain(pts, &lines, &areas, tols, srid, &mut interrupt).or_raise(),
         &lattice,

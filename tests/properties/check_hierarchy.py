@@ -33,10 +33,9 @@ tolerance 2 m, 5 levels:
     every edge (from tin_triangles) with a grid segment between two valid
     pixels (values from ST_PixelAsCentroids), and at every vertex on a grid
     line off the pixel centres, the error is <= the level tolerance (plus
-    1e-9 relative): on the geographic DEM and on the UTM DEM built on its
-    lattice (fill_gaps => true); its default build over the valid pixels
-    is still measured at the samples only (issue 43, open), so there the
-    largest error is printed, not checked. Vertices at such crossings are off the half-pixel
+    1e-9 relative): on the geographic DEM, on the UTM DEM's default build
+    over its valid pixels and on the UTM DEM built on its lattice
+    (fill_gaps => true). Vertices at such crossings are off the half-pixel
     lattice, so triangles with one are held to 1e-5 pixel, as those at the
     outline's crossings (property 0).
 """
@@ -85,10 +84,10 @@ def main():
             print("FAIL:", msg)
 
     # the UTM DEM has nodata: tin_from_raster's default builds over its
-    # valid pixels, still measured at the samples only (issue 43, open);
-    # with fill_gaps => true it is built on its lattice, between samples
-    check_dem("dem", check, between=False)
-    check_dem("dem_geo", check, between=True)
+    # valid pixels; with fill_gaps => true it is built on its lattice; both
+    # between samples
+    check_dem("dem", check)
+    check_dem("dem_geo", check)
     check_crossings("dem", "fill_gaps => true", check)
     if failures:
         print(f"{len(failures)} property checks FAILED")
@@ -141,7 +140,7 @@ def raster_grid(px, ulx, uly, sx, sy):
     return (ulx, uly, sx, sy, arr)
 
 
-def check_dem(table, check, between):
+def check_dem(table, check):
     print(f"== {table}")
     t0 = time.time()
     sql(f"SET client_min_messages = warning; DROP TABLE IF EXISTS prop_terrain; CREATE TABLE prop_terrain AS "
@@ -255,10 +254,9 @@ def check_dem(table, check, between):
         ge = grid_line_errors(np.array(list(edges.keys())), verts, lv["z"], grid)
         print(f"level {l}: {len(ge)} grid-line crossings and vertices on grid lines, largest error "
               f"{ge.max() if len(ge) else 0:.4f} m ({(ge.max() if len(ge) else 0) / tol:.3f}x the tolerance)")
-        if between:
-            check((ge <= tol * (1 + 1e-9)).all(),
-                  f"level {l}: {(ge > tol * (1 + 1e-9)).sum()} grid-line crossings over the tolerance {tol}, "
-                  f"the worst {ge.max():.4f} m")
+        check((ge <= tol * (1 + 1e-9)).all(),
+              f"level {l}: {(ge > tol * (1 + 1e-9)).sum()} grid-line crossings over the tolerance {tol}, "
+              f"the worst {ge.max():.4f} m")
 
     # property 2: nesting and persistence of coarse edges
     for l in range(LEVELS - 1):

@@ -340,6 +340,62 @@ fn overlay_of_a_shifted_copy_crosses_everywhere() {
     check(&a, 1, &c, 0);
 }
 
+/// A window of the DEM built between samples against its own pixels
+/// (`tin_from_raster`'s build over the data), its grid moved by (dx, dy)
+/// whole pixels: vertices where coarse edges cross grid lines, on the same
+/// grid lines as any other build of the grid.
+fn between(r0: usize, c0: usize, n: usize, dx: f64, dy: f64, tols: &[f64]) -> Tin {
+    use tinmerge_core::tin::build::build_domain_raster;
+    use tinmerge_core::tin::dense::Dense;
+    let dem = read_dem("jacksboro_fault_dem_utm16n.tif");
+    let mut lat = dem.lattice();
+    lat.ip_x += dx * lat.scale_x;
+    lat.ip_y += dy * lat.scale_y;
+    let mut z = Vec::with_capacity(n * n);
+    let mut s = Vec::new();
+    for r in r0..r0 + n {
+        for c in c0..c0 + n {
+            let v = dem.values[r * dem.width + c];
+            let v = if Some(v) == dem.nodata { f64::NAN } else { v };
+            z.push(v);
+            if !v.is_nan() {
+                let (x, y) = lat.centre(c as f64, r as f64);
+                s.push([x, y, v]);
+            }
+        }
+    }
+    let heights = Dense {
+        c0: c0 as i64,
+        r0: r0 as i64,
+        width: n,
+        height: n,
+        z,
+    };
+    build_domain_raster(s, &[], &[], tols, 32616, &heights, &lat, &mut || Ok(())).unwrap()
+}
+
+/// Issue 43: two builds between samples of one grid (moved by whole
+/// pixels, other tolerances) have vertices on the same grid lines a few
+/// ulps apart, and crossings of their nearly collinear edges rounding onto
+/// each other; spade's splitting insertion panicked on them until such
+/// points were merged. Both paths, every pair of levels.
+#[test]
+fn overlay_of_builds_between_samples_on_one_grid() {
+    let a = between(150, 150, 120, 0.0, 0.0, &[16.0, 4.0, 1.0]);
+    let b = between(150, 150, 120, 4.0, -4.0, &[8.0, 2.0]);
+    let c = between(150, 150, 120, 0.0, 0.0, &[6.0, 1.5]);
+    for (x, y) in [(&a, &b), (&b, &a), (&a, &c)] {
+        for la in 0..x.levels.len() {
+            for lb in 0..y.levels.len() {
+                let o = overlay_constrained(x, la, y, lb, &mut || Ok(())).unwrap();
+                check_one(x, la, y, lb, &o);
+                let o = overlay(x, la, y, lb, &mut || Ok(())).unwrap();
+                check_one(x, la, y, lb, &o);
+            }
+        }
+    }
+}
+
 #[test]
 fn overlay_with_itself_is_itself() {
     let a = tin(window(10, 10, 50, 0.0, 0.0, 0.0), &[4.0, 2.0]);

@@ -6,10 +6,14 @@
 -- heights into every finer level: contour vertices were up to 7.8x the
 -- finest tolerance off.
 SET extra_float_digits = 0;
+-- The UTM DEM has nodata: built over its valid pixels (the default) and
+-- on its lattice with the gaps filled; the geographic DEM has none.
 CREATE TABLE bs_terrain AS
-  SELECT 'utm' AS dem, tin_from_raster(rast, 2.0, 5, fill_gaps => true) AS t FROM dem
+  SELECT 'utm' AS dem, 'valid pixels' AS build, tin_from_raster(rast, 2.0, 5) AS t FROM dem
   UNION ALL
-  SELECT 'geographic', tin_from_raster(rast, 2.0, 5) FROM dem_geo;
+  SELECT 'utm', 'gaps filled', tin_from_raster(rast, 2.0, 5, fill_gaps => true) FROM dem
+  UNION ALL
+  SELECT 'geographic', 'lattice', tin_from_raster(rast, 2.0, 5) FROM dem_geo;
 -- the contour vertices on a grid line between two valid pixel centres
 -- (those gdal_contour puts on the half-pixel lines beside nodata follow
 -- its own rule there, not the raster's surface)
@@ -41,14 +45,14 @@ FROM bs_vertices GROUP BY dem ORDER BY dem DESC;
 DELETE FROM bs_vertices WHERE NOT on_grid;
 -- vertices outside the surface (tin_height NULL): on its outline up to
 -- the rounding of gdal_contour's text output (1e-6 pixel)
-SELECT b.dem, count(*) AS outside,
+SELECT b.dem, b.build, count(*) AS outside,
        bool_and(ST_DWithin(v.p, ST_Boundary(fp), 1e-6 * ST_PixelWidth(d.rast))) AS on_the_outline
 FROM bs_terrain b JOIN bs_vertices v USING (dem)
      JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem),
      LATERAL (SELECT ST_Union(geom) AS fp FROM tin_triangles(b.t, 0)) f
-WHERE tin_height(b.t, v.p) IS NULL GROUP BY b.dem ORDER BY b.dem DESC;
+WHERE tin_height(b.t, v.p) IS NULL GROUP BY b.dem, b.build ORDER BY b.dem DESC, b.build;
 CREATE TABLE bs_levels AS
-  SELECT b.dem, l AS level, tin_tolerance(t, l) AS tolerance,
+  SELECT b.dem, b.build, l AS level, tin_tolerance(t, l) AS tolerance,
          (tin_info(t) -> 'levels' -> l ->> 'max_error')::float8 AS max_error,
          (SELECT array_agg(tin_height(b.t, v.p, l) - v.elev) FROM bs_vertices v WHERE v.dem = b.dem) AS err
   FROM bs_terrain b, generate_series(0, 4) l;
@@ -57,16 +61,16 @@ CREATE TABLE bs_levels AS
 -- value equals a contour's is nudged by about 1e-6 m, so a contour vertex
 -- there is that far from the raster's surface (a sample at exactly the
 -- tolerance shows as 2.000001 m)
-SELECT dem, level, tolerance, cardinality(err) AS vertices,
+SELECT dem, build, level, tolerance, cardinality(err) AS vertices,
        (SELECT count(e) FROM unnest(err) e) AS inside,
        (SELECT count(*) FROM unnest(err) e WHERE abs(e) > tolerance + 1e-5) AS over
-FROM bs_levels ORDER BY dem DESC, level;
+FROM bs_levels ORDER BY dem DESC, build, level;
 -- tin_info's max_error is the surface's: at least the contours' worst
 -- (they lie on grid lines), at most the tolerance
-SELECT dem, level,
+SELECT dem, build, level,
        (SELECT max(abs(e)) FROM unnest(err) e) <= max_error + 1e-5 AS max_error_covers_contours,
        max_error <= tolerance AS max_error_within_tolerance
-FROM bs_levels ORDER BY dem DESC, level;
+FROM bs_levels ORDER BY dem DESC, build, level;
 -- two such tins overlaid (vertices at grid-line crossings of two grids
 -- 0.48 pixel apart): every face, the area of the common domain
 WITH a AS MATERIALIZED (SELECT t FROM bs_terrain WHERE dem = 'geographic'),
@@ -77,4 +81,21 @@ d AS MATERIALIZED (
   FROM a, b)
 SELECT count(*) > 100000 AS faces, abs(sum(ST_Area(o.geom_a)) / min(d.area) - 1) < 1e-9 AS area_is_domain
 FROM a, b, d, tin_overlay(a.t, b.t, 4, 1) o;
+-- the same over the UTM DEM's valid pixels, against the grid moved by 4
+-- pixels at other tolerances: both tins' vertices lie on the same grid
+-- lines, their crossings round onto each other; that overlay failed with
+-- "edges crossing too near each other" until such points were merged.
+-- Every pair of levels covers the common domain (the level-0 triangles'
+-- unions intersected, PostGIS)
+WITH a AS MATERIALIZED (SELECT t FROM bs_terrain WHERE build = 'valid pixels'),
+b AS MATERIALIZED (
+  SELECT tin_from_raster(ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + 40, ST_UpperLeftY(rast) - 40), 8.0, 2) AS t FROM dem),
+d AS MATERIALIZED (
+  SELECT ST_Area(ST_Intersection((SELECT ST_Union(geom) FROM tin_triangles(a.t, 0)),
+                                 (SELECT ST_Union(geom) FROM tin_triangles(b.t, 0)))) AS area
+  FROM a, b)
+SELECT la, lb, count(*) > 50000 AS faces,
+       abs(sum(ST_Area(o.geom_a)) / min(d.area) - 1) < 1e-9 AS area_is_domain
+FROM a, b, d, generate_series(0, 4) la, generate_series(0, 1) lb, tin_overlay(a.t, b.t, la, lb) o
+GROUP BY 1, 2 ORDER BY 1, 2;
 DROP TABLE bs_levels, bs_vertices, bs_valid, bs_terrain;

@@ -29,7 +29,7 @@ CREATE TEMP TABLE dem4 AS SELECT ST_Rescale(rast, ST_ScaleX(rast) / 4, ST_ScaleY
 SELECT try_mem($$SELECT count(*) FROM terrain, dem4, tin_raster_stats(t, rast, 0)$$);
 -- an overlay whose least output is over the limit, and the store of one
 SELECT try_mem($$SELECT count(*) FROM terrain a, tin_overlay(a.t, a.t, 4, 4)$$);
-SET tinmerge.max_memory = '40MB';
+SET tinmerge.max_memory = '64MB';
 SELECT try_mem($$SELECT tin_num_triangles(tin_overlay_tin(a.t, a.t, 4, 4)) FROM terrain a$$);
 -- an overlay whose output passes the limit while it runs: a copy shifted
 -- by half a pixel crosses every edge (least estimate 12 MB, output ~100 MB)

@@ -259,8 +259,9 @@ pub fn overlay_cdt(
     pieces.sort_unstable();
     pieces.dedup();
 
-    // a crossing rounded onto another point (a breakline's vertex lies on
-    // B's edge up to rounding) is that point
+    // a crossing rounded onto another point, or a few ulps from it (a
+    // breakline's vertex on B's edge up to rounding, two tins' vertices on one
+    // grid line), is that point
     let (pts, pieces) = merge_coincident(pts, pieces);
     // one constrained triangulation of all points and pieces
     let Points { pts, src_a, src_b } = pts;
@@ -331,10 +332,29 @@ pub fn overlay_cdt(
     Ok(o)
 }
 
-/// Points at the same position made one (the first; its sources those of
-/// any of them), the pieces renumbered, those reduced to a point dropped.
+/// Points at the same position, or a few units in the last place apart,
+/// made one (the first, which is an input vertex when one of them is: those
+/// are pushed before the crossings; its sources those of any of them), the
+/// pieces renumbered, those reduced to a point dropped.
+///
+/// Two crossings of nearly collinear edges (coarse edges of two tins
+/// crossing the same grid line next to each other), or a crossing and a
+/// vertex that lies on the other edge up to rounding, can round to points
+/// an ulp apart that are different but not separable: the constrained
+/// triangulation then has pieces crossing at a point it cannot place
+/// between them (spade's splitting insertion fails on them). Within `eps`
+/// (8 ulps of the largest coordinate) they are one point; the pieces
+/// through it bend by that much.
 fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[usize; 2]>) {
-    let mut first: rustc_hash::FxHashMap<(u64, u64), u32> = Default::default();
+    let big = pts
+        .pts
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    let eps = 8.0 * f64::EPSILON * big.max(f64::MIN_POSITIVE);
+    let cell = |v: f64| (v / (2.0 * eps)).floor() as i64;
+    // points by cell of side 2 eps: a point within eps of another is in one
+    // of the 3 x 3 cells around it
+    let mut grid: rustc_hash::FxHashMap<(i64, i64), Vec<u32>> = Default::default();
     let mut id = Vec::with_capacity(pts.pts.len());
     let mut out = Points {
         pts: Vec::with_capacity(pts.pts.len()),
@@ -342,11 +362,23 @@ fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[u
         src_b: Vec::with_capacity(pts.pts.len()),
     };
     for (k, p) in pts.pts.iter().enumerate() {
-        // -0.0 and 0.0 are one position
-        let key = ((p.x + 0.0).to_bits(), (p.y + 0.0).to_bits());
-        match first.get(&key) {
-            Some(&j) => {
-                let j = j as usize;
+        let (cx, cy) = (cell(p.x), cell(p.y));
+        let mut found = None;
+        'near: for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(ids) = grid.get(&(cx + dx, cy + dy)) {
+                    for &j in ids {
+                        let q = out.pts[j as usize];
+                        if (q.x - p.x).abs() <= eps && (q.y - p.y).abs() <= eps {
+                            found = Some(j as usize);
+                            break 'near;
+                        }
+                    }
+                }
+            }
+        }
+        match found {
+            Some(j) => {
                 if out.src_a[j] == NONE {
                     out.src_a[j] = pts.src_a[k];
                 }
@@ -357,7 +389,7 @@ fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[u
             }
             None => {
                 let j = out.push([p.x, p.y], pts.src_a[k], pts.src_b[k]);
-                first.insert(key, j);
+                grid.entry((cx, cy)).or_default().push(j);
                 id.push(j as usize);
             }
         }
