@@ -356,3 +356,81 @@ COMMENT ON FUNCTION _tin_paint(tin, bytea, int) IS 'Internal: use tin_paint(tin,
     name = "tin_paint_sql",
     requires = [_tin_paint]
 );
+
+/// `tin_validate(tin, raster, band)`: the problems of `tin_validate(tin)`
+/// and every level over its tolerance against the raster's surface, at the
+/// pixel centres and between them on the grid lines
+/// (`tin::check::over_tolerance`).
+#[pg_extern(immutable, strict, parallel_safe, cost = 100000, requires = ["tin_type"])]
+fn _tin_validate_raster(
+    t: TinArg,
+    rast: &[u8],
+    band: i32,
+) -> TableIterator<
+    'static,
+    (
+        name!(level, i32),
+        name!(problem, String),
+        name!(triangle, i32),
+        name!(detail, String),
+    ),
+> {
+    let func = "tin_validate";
+    let head = raster::read(rast, None).or_raise();
+    check_raster_srid(head.srid, t.header().srid, func);
+    if band < 1 || band as usize > head.num_bands {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func}: band {band} does not exist: the raster has {} band(s), numbered from 1",
+                head.num_bands
+            ),
+        );
+    }
+    memory::reserve(
+        tinmerge_core::io::raster::raster_bytes(head.width, head.height)
+            .saturating_add(head.width.saturating_mul(head.height).saturating_mul(8)),
+        || format!("{func}: reading a {} x {} raster", head.width, head.height),
+    );
+    let r = raster::read(rast, Some(band as usize)).or_raise();
+    let tin = t.tin();
+    let mut found = tinmerge_core::tin::check::problems(&tin, &mut interrupt).or_raise();
+    if let Some(b) = &r.band {
+        let heights = tinmerge_core::tin::dense::Dense {
+            c0: 0,
+            r0: 0,
+            width: r.width,
+            height: r.height,
+            z: b.values
+                .iter()
+                .map(|&v| if b.is_valid(v) { v } else { f64::NAN })
+                .collect(),
+        };
+        found.extend(
+            tinmerge_core::tin::check::over_tolerance(
+                &tin,
+                &heights,
+                &r.gt.lattice(),
+                &mut interrupt,
+            )
+            .or_raise(),
+        );
+    }
+    TableIterator::new(found.into_iter().map(|p| {
+        (
+            p.level as i32,
+            p.kind.to_string(),
+            p.triangle as i32,
+            p.detail,
+        )
+    }))
+}
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_validate_raster(tin, bytea, int) ROWS 10;
+COMMENT ON FUNCTION _tin_validate_raster(tin, bytea, int) IS 'Internal: use tin_validate(tin, raster, int).';
+"#,
+    name = "tin_validate_raster_sql",
+    requires = [_tin_validate_raster]
+);

@@ -9,8 +9,12 @@
 //! from the DEM: every pixel cut into `f x f` sub-pixels, one ground return
 //! in each at a seeded random place, its height interpolated bilinearly
 //! between the DEM's pixel centres (f = 4: 1.9 million points; f = 9: 9.6
-//! million, issue 25's "10 million points a tile").
-//! `cargo bench --bench build`.
+//! million, issue 25's "10 million points a tile"). Between the two, the
+//! build over the valid pixels (`tin_from_raster`'s default on a raster
+//! with nodata), at the samples and between them (whose heap includes the
+//! raster's heights, 8 bytes a pixel).
+//! `cargo bench --bench build` (`-- valid_pixels`: the build over the
+//! valid pixels alone).
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -23,6 +27,11 @@ static ALLOCATOR: memory::Counting = memory::Counting;
 
 fn main() {
     let d = common::read_dem("jacksboro_fault_dem_utm16n.tif");
+    if std::env::args().any(|a| a == "valid_pixels") {
+        // `cargo bench --bench build -- valid_pixels`: that table alone
+        valid_pixels(&d);
+        return;
+    }
     println!("| raster | between samples | samples | levels | threads | finest triangles | ms (median of 3) | samples/s | peak heap B/sample |");
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for (f, threads, levels, between) in [
@@ -71,7 +80,77 @@ fn main() {
             peak as f64 / n as f64
         );
     }
+    valid_pixels(&d);
     cloud(&d);
+}
+
+/// `tin_from_raster`'s default on a raster with nodata: the build over the
+/// valid pixels (their squares as the boundary, samples in world
+/// coordinates), at the samples only (`build_domain`, as before issue 43)
+/// or between them (`build_domain_raster`, what SQL runs since).
+fn valid_pixels(d: &common::Dem) {
+    use tinmerge_core::tin::build::{build_domain, build_domain_raster};
+    use tinmerge_core::tin::dense::Dense;
+    use tinmerge_core::tin::domain::{cell_outline, outline_area};
+    println!();
+    println!("| raster, over its valid pixels | between samples | samples | levels | finest triangles | ms (median of 3) | peak heap B/sample |");
+    println!("|---|---|---:|---:|---:|---:|---:|");
+    par::set_threads(1);
+    for (f, between) in [(1usize, false), (1, true), (4, false), (4, true)] {
+        let (gt, w, h, values) = d.upsampled(f);
+        let lat = tinmerge_core::tin::lattice::Lattice {
+            ip_x: gt.ip_x + gt.scale_x / 2.0,
+            ip_y: gt.ip_y + gt.scale_y / 2.0,
+            scale_x: gt.scale_x,
+            scale_y: gt.scale_y,
+            skew_x: 0.0,
+            skew_y: 0.0,
+        };
+        let z: Vec<f64> = values
+            .iter()
+            .map(|&v| if Some(v) == d.nodata { f64::NAN } else { v })
+            .collect();
+        let rings = cell_outline(w, h, &|c, r| !z[r * w + c].is_nan());
+        let area = outline_area(&rings, &|c, r| {
+            let (x, y) = lat.centre(c - 0.5, r - 0.5);
+            [x, y]
+        });
+        let heights = Dense {
+            c0: 0,
+            r0: 0,
+            width: w,
+            height: h,
+            z: z.clone(),
+        };
+        let samples = || -> Vec<[f64; 3]> {
+            let mut out = Vec::new();
+            for r in 0..h {
+                for c in 0..w {
+                    let v = z[r * w + c];
+                    if !v.is_nan() {
+                        let (x, y) = lat.centre(c as f64, r as f64);
+                        out.push([x, y, v]);
+                    }
+                }
+            }
+            out
+        };
+        let tols = default_tolerances(2.0, 5).unwrap();
+        let (n, ms, peak, tris) = measure(3, &samples, |s| {
+            if between {
+                build_domain_raster(s, &[], &[&area], &tols, 32616, &heights, &lat, &mut || {
+                    Ok(())
+                })
+                .unwrap()
+            } else {
+                build_domain(s, &[], &[&area], &tols, 32616, &mut || Ok(())).unwrap()
+            }
+        });
+        println!(
+            "| DEM x{f} | {between} | {n} | 5 | {tris} | {ms:.0} | {:.0} |",
+            (peak + if between { w * h * 8 } else { 0 }) as f64 / n as f64
+        );
+    }
 }
 
 /// `runs` builds of fresh `input()`: the samples, the median wall time

@@ -594,3 +594,59 @@ fn boundary_with_a_hole_between_samples() {
         tinmerge_core::tin::check::validate_structure(&tin).unwrap();
     }
 }
+
+/// `tin::check::over_tolerance` (`tin_validate(t, rast)`) against this
+/// file's oracle: on builds at the samples only (tinmerge 0.10.0's) it
+/// names every level whose largest error on the grid lines is over the
+/// tolerance, with that error; on builds between samples, none. Both
+/// DEMs; the UTM DEM over its valid pixels (world coordinates, nodata).
+#[test]
+fn over_tolerance_finds_values_built_at_the_samples_only() {
+    use tinmerge_core::tin::check::over_tolerance;
+    for file in ["jacksboro_fault_dem.tif", "jacksboro_fault_dem_utm16n.tif"] {
+        let r = Raster::of_dem(&common::read_dem(file));
+        let heights = Dense {
+            c0: 0,
+            r0: 0,
+            width: r.w,
+            height: r.h,
+            z: r.z.clone(),
+        };
+        let tols = default_tolerances(2.0, 5).unwrap();
+        let nodata = r.z.iter().any(|z| z.is_nan());
+        let old = lattice_build(&r, &tols, true, false);
+        let new = if nodata {
+            data_build(&r, &tols)
+        } else {
+            lattice_build(&r, &tols, false, true)
+        };
+        for (what, tin) in [("samples only", &old), ("between samples", &new)] {
+            let found = over_tolerance(tin, &heights, &r.lat, &mut || Ok(())).unwrap();
+            let oracle = grid_line_errors(tin, &r);
+            for (l, e) in oracle.iter().enumerate() {
+                let tol = tin.levels[l].tolerance;
+                let max = e.iter().copied().fold(0.0, f64::max);
+                let row = found.iter().find(|p| p.level == l);
+                println!("{file} {what} level {l}: oracle {max:.4} m, found {row:?}");
+                assert_eq!(
+                    row.is_some(),
+                    max > tol * (1.0 + 1e-9),
+                    "{file} {what} level {l}: oracle {max}, found {row:?}"
+                );
+                if let Some(p) = row {
+                    assert_eq!(p.kind, "over tolerance");
+                    let e: f64 = p.detail["error ".len()..]
+                        .split(' ')
+                        .next()
+                        .unwrap()
+                        .parse()
+                        .unwrap();
+                    assert!((e - max).abs() <= 1e-6 * max, "{e} against {max}");
+                }
+            }
+            if what == "samples only" {
+                assert!(found.len() >= 3, "{file}: {found:?}");
+            }
+        }
+    }
+}

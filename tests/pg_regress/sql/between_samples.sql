@@ -2,7 +2,7 @@
 -- centres. Along a grid line between two valid pixel centres the DEM is the
 -- straight line between them; gdal_contour puts its contour vertices on
 -- those lines at their contour's height (GDAL's own interpolation, the
--- independent oracle here). Until 0.10.0 a coarse edge kept its coarse
+-- independent oracle here). Up to 0.10.0 a coarse edge kept its coarse
 -- heights into every finer level: contour vertices were up to 7.8x the
 -- finest tolerance off.
 SET extra_float_digits = 0;
@@ -98,4 +98,34 @@ SELECT la, lb, count(*) > 50000 AS faces,
        abs(sum(ST_Area(o.geom_a)) / min(d.area) - 1) < 1e-9 AS area_is_domain
 FROM a, b, d, generate_series(0, 4) la, generate_series(0, 1) lb, tin_overlay(a.t, b.t, la, lb) o
 GROUP BY 1, 2 ORDER BY 1, 2;
-DROP TABLE bs_levels, bs_vertices, bs_valid, bs_terrain;
+-- tin_validate(tin, raster): nothing over the tolerance on these builds
+SELECT b.dem, b.build, count(v.*) AS problems
+FROM bs_terrain b
+     JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem)
+     LEFT JOIN LATERAL tin_validate(b.t, d.rast) v ON true
+GROUP BY 1, 2 ORDER BY 1 DESC, 2;
+-- a tile's build (keep_border, still at the samples only) keeps coarse
+-- heights along coarse edges: tin_validate names the levels over their
+-- tolerance, and PostGIS agrees at the place it names (bilinear ST_Value
+-- on a grid line is the two pixels' line; the geographic DEM has no
+-- nodata, so every neighbour is there; PostGIS's bilinear ST_Value needs
+-- a nodata value set all the same)
+CREATE TABLE bs_tile AS SELECT tin_from_raster(rast, 2.0, 5, keep_border => true) AS t FROM dem_geo;
+CREATE TABLE bs_found AS
+  SELECT v.*, substring(v.detail FROM '^error ([-0-9.e+]+) ')::float8 AS err,
+         ST_SetSRID(ST_GeomFromText(substring(v.detail FROM '(POINT\([^)]*\))')), 4326) AS p
+  FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast) v;
+SELECT f.level, f.problem, tin_tolerance(b.t, f.level) AS tolerance,
+       f.err > tin_tolerance(b.t, f.level) AS over,
+       abs(abs(tin_height(b.t, f.p, f.level) - ST_Value(ST_SetBandNoDataValue(d.rast, 1, -32768), 1, f.p, resample => 'bilinear'))
+           - f.err) < 1e-6 AS postgis_agrees,
+       f.triangle = tin_locate(b.t, f.p, f.level)
+         OR ST_DWithin((SELECT geom FROM tin_triangles(b.t, f.level) WHERE id = f.triangle), f.p, 1e-9) AS triangle_holds_it,
+       f.detail LIKE '%between pixel centres%' AS between_centres
+FROM bs_found f, bs_tile b, dem_geo d ORDER BY 1;
+-- bad input
+SELECT try($$SELECT count(*) FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast, 0)$$);
+SELECT try($$SELECT count(*) FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast, 2)$$);
+SELECT try($$SELECT count(*) FROM bs_tile b, dem d, tin_validate(b.t, d.rast)$$);
+SELECT count(*) AS null_rows FROM bs_tile b, tin_validate(b.t, NULL::raster);
+DROP TABLE bs_found, bs_tile, bs_levels, bs_vertices, bs_valid, bs_terrain;

@@ -398,7 +398,8 @@ pub struct Problem {
     pub triangle: u32,
     /// `"sliver"` (the corner lies on the opposite edge and the surface
     /// agrees there), `"crack"` (it does not: a vertical wall) or
-    /// `"hole"` (an edge without a neighbour inside the domain).
+    /// `"hole"` (an edge without a neighbour inside the domain), or, from
+    /// [`over_tolerance`], `"over tolerance"`.
     pub kind: &'static str,
     pub detail: String,
 }
@@ -574,4 +575,104 @@ mod tests {
         assert!(!p.is_empty() && p.iter().all(|p| p.kind == "hole"), "{p:?}");
         assert!(p.iter().any(|p| p.triangle == 2), "{p:?}");
     }
+}
+
+/// Every level of `tin` that is further from a raster's surface than its
+/// tolerance, one [`Problem`] (`"over tolerance"`) each, at its worst
+/// place. The surface is the raster's (`heights` on `lat`, NaN without
+/// data): its value at each valid pixel centre and, between them, on every
+/// grid segment joining two valid pixel centres the straight line between
+/// them (what `gdal_contour` and bilinear sampling use). A level is linear
+/// in each triangle, so on those segments its error is largest at a pixel
+/// centre or where an edge crosses one ([`super::surface`]): both are
+/// measured, the error bound on the grid lines is exact. A level is over
+/// when one of them is over its tolerance by more than rounding (1e-9 of
+/// the tolerance or of the tin's height range). Values built before the
+/// build measured between samples (tinmerge 0.10.0 and earlier, and tiles
+/// still) are within tolerance at the samples only, and show here.
+pub fn over_tolerance(
+    tin: &Tin,
+    heights: &super::dense::Dense,
+    lat: &super::lattice::Lattice,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<Problem>, TinError> {
+    use super::surface::{GridReference, Reference};
+    let reference = GridReference::in_world(heights, *lat);
+    let zspan = (tin.bbox.max_z - tin.bbox.min_z).abs();
+    let mut out = Vec::new();
+    for (l, lv) in tin.levels.iter().enumerate() {
+        let limit = lv.tolerance + 1e-9 * lv.tolerance.max(zspan);
+        // (error, triangle, x, y, between samples)
+        let mut worst = (0.0f64, 0u32, 0.0, 0.0, false);
+        let (mut crossings, mut crossings_over) = (0usize, 0usize);
+        for (t, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
+            if t % 4096 == 4095 {
+                interrupt()?;
+            }
+            if lv.is_void(t as u32) {
+                continue;
+            }
+            for j in 0..3 {
+                if nb[j] != NONE && (nb[j] as usize) < t && !lv.is_void(nb[j]) {
+                    continue; // the edge is its neighbour's too: measured there
+                }
+                let a = tin.verts[tri[(j + 1) % 3] as usize];
+                let b = tin.verts[tri[(j + 2) % 3] as usize];
+                reference.for_each_crossing(&a, &b, &mut |c| {
+                    let e = c.error(&a, &b);
+                    crossings += 1;
+                    if e > limit {
+                        crossings_over += 1;
+                    }
+                    if e > worst.0 {
+                        worst = (e, t as u32, c.p[0], c.p[1], true);
+                    }
+                });
+            }
+        }
+        let (mut centres, mut centres_over) = (0usize, 0usize);
+        for (i, &z) in heights.z.iter().enumerate() {
+            if i % 4096 == 4095 {
+                interrupt()?;
+            }
+            if z.is_nan() {
+                continue;
+            }
+            let (c, r) = heights.col_row(i);
+            let (x, y) = lat.centre(c as f64, r as f64);
+            let Some(t) = super::locate::locate(tin, l, x, y) else {
+                continue;
+            };
+            if lv.is_void(t) {
+                continue;
+            }
+            centres += 1;
+            let e = (super::interpolate(&tin.corners(l, t), x, y) - z).abs();
+            if e > limit {
+                centres_over += 1;
+            }
+            if e > worst.0 {
+                worst = (e, t, x, y, false);
+            }
+        }
+        if crossings_over + centres_over > 0 {
+            let (e, t, x, y, between) = worst;
+            out.push(Problem {
+                level: l,
+                triangle: t,
+                kind: "over tolerance",
+                detail: format!(
+                    "error {e} at POINT({x} {y}) ({}), tolerance {}: {crossings_over} of {crossings} \
+                     grid-line crossings and {centres_over} of {centres} pixel centres over",
+                    if between {
+                        "between pixel centres"
+                    } else {
+                        "at a pixel centre"
+                    },
+                    lv.tolerance
+                ),
+            });
+        }
+    }
+    Ok(out)
 }
