@@ -527,7 +527,7 @@ fn _tin_tiles(
     super::threads::apply();
     let at_once = tinmerge_core::tin::par::threads().max(1);
     memory::reserve(
-        tinmerge_core::tin::build::lattice_build_bytes(per_tile, tols.len(), false)
+        tinmerge_core::tin::build::lattice_build_bytes(per_tile, tols.len(), true)
             .saturating_mul(at_once),
         || {
             format!(
@@ -569,19 +569,13 @@ COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use t
 /// The build behind both `tin_from_raster` forms.
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
     let (pts, lattice, srid, _) = raster_samples(rast, band);
-    // tiles (keep_border) are held at the samples for now: the same tile
-    // built in its own raster's frame and in tin_tiles' (a bigger
-    // raster's) rounds its grid-line crossings differently (issue 43)
+    // between the samples, tiles (keep_border) too: tin_tiles decides each
+    // tile in its own frame, as this raster's
     let opts = BuildOptions {
         keep_border,
-        between_samples: !keep_border,
+        between_samples: true,
     };
-    reserve_build(
-        "tin_from_raster",
-        pts.len(),
-        tols.len(),
-        Some(opts.between_samples),
-    );
+    reserve_build("tin_from_raster", pts.len(), tols.len(), Some(true));
     TinOut::from_tin_on(
         &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
         &lattice,
@@ -1143,7 +1137,7 @@ impl TableTiles {
         self.load_rows(first..=last + 1);
         let per_tile = (self.grid.tile_width + 1) * (self.grid.tile_height + 1);
         memory::reserve(
-            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len(), false)
+            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len(), true)
                 .saturating_mul(batch.len()),
             || {
                 format!("tin_tiles_from_table: building {} tiles of {per_tile} samples at {} levels at once", batch.len(), self.tols.len())
@@ -1178,7 +1172,7 @@ impl TableTiles {
                 block(p.tx + 1, p.ty + 1).as_ref(),
             );
             Some(
-                build_tile(s, &lattice, tols, srid, &mut || Ok(())).map(|t| {
+                build_tile(s, &lattice, (p.col, p.row), tols, srid, &mut || Ok(())).map(|t| {
                     t.map(|t| (p.tx as i32, p.ty as i32, TinOut::from_tin_on(&t, &lattice)))
                 }),
             )

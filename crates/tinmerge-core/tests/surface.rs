@@ -650,3 +650,30 @@ fn over_tolerance_finds_values_built_at_the_samples_only() {
         }
     }
 }
+
+/// `tin_tiles`' tiles (`tin::tiles::build_tiles`: keep_border, decided in
+/// each tile's own frame) on the geographic DEM: every tile within its
+/// tolerances between its samples, measured on the tile's own pixels (the
+/// one-pixel strip along its seams held at the samples only, as for any
+/// keep_border build).
+#[test]
+fn tiles_between_samples() {
+    let d = common::read_dem("jacksboro_fault_dem.tif");
+    let r = Raster::of_dem(&d);
+    let n = 97;
+    let tols = default_tolerances(2.0, 3).unwrap();
+    let tiles = common::tiles_of(&d, n, &tols, 4326);
+    assert!(tiles.len() > 6);
+    for (tx, ty, tin) in &tiles {
+        let (c0, r0) = (tx * n, ty * n);
+        let (w, h) = ((n + 1).min(r.w - c0), (n + 1).min(r.h - r0));
+        let z = (r0..r0 + h)
+            .flat_map(|row| r.z[row * r.w + c0..row * r.w + c0 + w].to_vec())
+            .collect();
+        let mut lat = r.lat;
+        lat.ip_x += c0 as f64 * lat.scale_x + r0 as f64 * lat.skew_x;
+        lat.ip_y += c0 as f64 * lat.skew_y + r0 as f64 * lat.scale_y;
+        let own = Raster { w, h, z, lat };
+        check_between_seams(&format!("geographic DEM tile {tx},{ty}"), tin, &own, true);
+    }
+}

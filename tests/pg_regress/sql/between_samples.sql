@@ -104,9 +104,10 @@ FROM bs_terrain b
      JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem)
      LEFT JOIN LATERAL tin_validate(b.t, d.rast) v ON true
 GROUP BY 1, 2 ORDER BY 1 DESC, 2;
--- a tile's build (keep_border, still at the samples only) keeps coarse
--- heights along coarse edges: tin_validate names the levels over their
--- tolerance, and PostGIS agrees at the place it names (bilinear ST_Value
+-- a tile's build (keep_border) is held at the samples only in the
+-- one-pixel strip along its hull (the seam's vertices are its own samples,
+-- so that the tile beside it agrees): tin_validate names the levels over
+-- their tolerance there, and PostGIS agrees at the place it names (bilinear ST_Value
 -- on a grid line is the two pixels' line; the geographic DEM has no
 -- nodata, so every neighbour is there; PostGIS's bilinear ST_Value needs
 -- a nodata value set all the same)

@@ -63,7 +63,8 @@ SELECT l AS level, count(*) AS seam_points, min(tiles) AS min_tiles, max(tiles) 
        count(*) FILTER (WHERE off > 2.0 * 2 ^ (2 - l) + 1e-9) AS beyond_tolerance
 FROM per GROUP BY l ORDER BY l;
 
--- the tiles cost the surface no more triangles than one tin of the window,
+-- the tiles cost the surface no more triangles than one tin of the window
+-- (to a tenth: built between samples, 0.6 to 0.8 % more),
 -- at any level (until 0.7.0 keep_border made every border pixel a vertex of
 -- every level: fans of slivers at the coarse levels that persisted into
 -- the finest; on the 3.1 m tiles of scripts/bench-big.sh, 3.6x the
@@ -188,9 +189,15 @@ FROM draped d JOIN tile_contours c USING (id);
 CREATE TABLE one_call AS SELECT tx, ty, t FROM dem_window, tin_tiles(rast, 100, 2.0, 3);
 SELECT count(*) AS tiles, min(tx) AS min_tx, max(tx) AS max_tx, min(ty) AS min_ty, max(ty) AS max_ty,
        bool_and(tin_num_levels(t) = 3) AS three_levels FROM one_call;
-SELECT count(*) AS matched,
-       count(*) FILTER (WHERE ST_Equals(tin_as_geometry(o.t, l), tin_as_geometry(k.t, l))) AS same_triangles
-FROM one_call o JOIN tin_tiles k ON ST_Equals(tin_envelope(o.t), tin_envelope(k.t)), generate_series(0, 2) l;
+-- the same triangles as the tiles cut in SQL, id for id, up to the
+-- rounding of the vertices put where edges cross grid lines (each tile's
+-- decisions are made in its own frame, as in the tile cut out; the tile
+-- is then placed on the raster's lattice)
+SELECT count(*) AS matched, count(*) FILTER (WHERE s.same) AS same_triangles
+FROM one_call o JOIN tin_tiles k ON ST_Equals(tin_envelope(o.t), tin_envelope(k.t)), generate_series(0, 2) l,
+     LATERAL (SELECT count(*) = tin_num_triangles(o.t, l) AND count(*) = tin_num_triangles(k.t, l)
+                     AND bool_and(ST_HausdorffDistance(a.geom, b.geom) < 1e-6) AS same
+              FROM tin_triangles(o.t, l) a JOIN tin_triangles(k.t, l) b USING (id)) s;
 SELECT ST_Equals(ST_Union(tin_envelope(t)), (SELECT tin_envelope(t) FROM window_tin)) AS tiles_cover_window,
        sum(ST_Area(tin_envelope(t))) = ST_Area((SELECT tin_envelope(t) FROM window_tin)) AS no_overlap
 FROM one_call;

@@ -2386,6 +2386,38 @@ pub fn build_lattice(
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
+    build_lattice_window(samples, lattice, (0, 0), tolerances, srid, opts, interrupt)
+}
+
+/// [`build_lattice`] of a window of a raster (a tile), its decisions made
+/// in the window's own frame: `samples` are numbered on `lattice`, and the
+/// build runs on them renumbered from `origin` (the window's first pixel),
+/// so every vertex it puts where an edge crosses a grid line is computed,
+/// and rounds, as in a build of the window cut out as a raster of its own
+/// (its first pixel at 0, 0). The tin is then put back on `lattice`
+/// (vertices at `origin` + their window coordinates, samples exactly),
+/// so a pixel centre two windows share is the same point in both.
+pub fn build_lattice_window(
+    mut samples: Vec<[f64; 3]>,
+    lattice: &Lattice,
+    origin: (i64, i64),
+    tolerances: &[f64],
+    srid: i32,
+    opts: BuildOptions,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
+    if !(c0.abs() <= 1e9 && r0.abs() <= 1e9) {
+        return Err(TinError::InvalidParameter(format!(
+            "window origin ({}, {}) is too far from the raster's",
+            origin.0, origin.1
+        )));
+    }
+    for s in &mut samples {
+        // whole numbers (checked below as the window's): exact
+        s[0] -= c0;
+        s[1] -= r0;
+    }
     if !lattice.is_valid() {
         return Err(TinError::InvalidParameter(format!(
             "raster georeference is degenerate or not finite (scale {} x {}, skew {} x {})",
@@ -2397,10 +2429,11 @@ pub fn build_lattice(
     }) {
         return Err(TinError::InvalidParameter(format!(
             "lattice samples need whole column and row numbers, got ({}, {})",
-            p[0], p[1]
+            p[0] + c0,
+            p[1] + r0
         )));
     }
-    let tin = lattice.to_world(build_inner(
+    let mut tin = build_inner(
         samples,
         &[],
         &[],
@@ -2410,7 +2443,12 @@ pub fn build_lattice(
         true,
         None,
         interrupt,
-    )?);
+    )?;
+    for v in &mut tin.verts {
+        v[0] += c0;
+        v[1] += r0;
+    }
+    let tin = lattice.to_world(tin);
     for v in &tin.verts {
         super::check_xy("a pixel centre", v[0], v[1])?;
     }

@@ -10,10 +10,15 @@
 //! and choose the same vertices on it, and their surfaces are the same
 //! along the seam at every level.
 //!
-//! Every tile is built on the raster's own pixel lattice with the pixels'
-//! whole-raster column and row numbers, so a shared pixel centre is the very
-//! same point (bit for bit) in both tiles and in a tin of the whole raster:
-//! no tile origin is recomputed.
+//! Every tile is measured between its samples and makes its decisions in
+//! its own frame (its samples numbered from its first pixel, as in the same
+//! tile cut out in SQL with `ST_Tile` or `raster2pgsql -t`), so the
+//! vertices it puts where edges cross grid lines are the ones
+//! `tin_from_raster(tile, ..., keep_border => true)` puts, up to rounding.
+//! It is then placed on the raster's own pixel lattice with the pixels'
+//! whole-raster column and row numbers, so a shared pixel centre is the
+//! very same point (bit for bit) in both tiles and in a tin of the whole
+//! raster. Nothing is put on a seam but its own samples.
 //!
 //! ```
 //! use tinmerge_core::tin::lattice::Lattice;
@@ -31,7 +36,7 @@
 //! assert_eq!(tiles.iter().map(|t| (t.0, t.1)).collect::<Vec<_>>(), [(0, 0), (1, 0), (0, 1), (1, 1)]);
 //! ```
 
-use super::build::{build_lattice, BuildOptions};
+use super::build::{build_lattice_window, BuildOptions};
 use super::lattice::Lattice;
 use super::par;
 use super::{Tin, TinError};
@@ -109,7 +114,7 @@ pub fn build_tiles<R: Send>(
      -> Result<Option<R>, TinError> {
         let (cols, rows) = tile_window(width, height, tile_px, tx, ty);
         let mut samples = Vec::new();
-        for r in rows {
+        for r in rows.clone() {
             for c in cols.clone() {
                 let v = values[r * width + c];
                 if valid(v) {
@@ -117,7 +122,11 @@ pub fn build_tiles<R: Send>(
                 }
             }
         }
-        Ok(build_tile(samples, lattice, tolerances, srid, interrupt)?.map(|tin| each(tx, ty, tin)))
+        let origin = (cols.start as i64, rows.start as i64);
+        Ok(
+            build_tile(samples, lattice, origin, tolerances, srid, interrupt)?
+                .map(|tin| each(tx, ty, tin)),
+        )
     };
     if par::threads() <= 1 {
         for t in &tiles {
@@ -141,12 +150,16 @@ pub fn build_tiles<R: Send>(
     Ok(())
 }
 
-/// Build one tile's samples (lattice column, row, value) with keep_border:
-/// `Ok(None)` when they cannot be triangulated (fewer than three, or all
-/// on one line).
+/// Build one tile's samples (column, row, value on `lattice`) with
+/// keep_border, between the samples, its decisions made in the tile's own
+/// frame (`origin`: its first pixel; [`build_lattice_window`]), so it is
+/// the tin of that tile cut out in SQL up to the rounding of the vertices
+/// put at grid-line crossings: `Ok(None)` when they cannot be triangulated
+/// (fewer than three, or all on one line).
 pub fn build_tile(
     samples: Vec<[f64; 3]>,
     lattice: &Lattice,
+    origin: (i64, i64),
     tolerances: &[f64],
     srid: i32,
     interrupt: &mut Interrupt<'_>,
@@ -156,9 +169,9 @@ pub fn build_tile(
     }
     let opts = BuildOptions {
         keep_border: true,
-        ..Default::default()
+        between_samples: true,
     };
-    match build_lattice(samples, lattice, tolerances, srid, opts, interrupt) {
+    match build_lattice_window(samples, lattice, origin, tolerances, srid, opts, interrupt) {
         Ok(tin) => Ok(Some(tin)),
         Err(TinError::Degenerate(_)) => Ok(None),
         Err(e) => Err(e),
