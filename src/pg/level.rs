@@ -64,6 +64,22 @@ fn tin_validate(
 > {
     let tin = t.tin();
     let found = tinmerge_core::tin::check::problems(&tin, &mut interrupt).or_raise();
+    problem_rows(found)
+}
+
+/// `tin_validate`'s rows: level, problem, triangle, detail.
+#[allow(clippy::type_complexity)]
+pub(super) fn problem_rows(
+    found: Vec<tinmerge_core::tin::check::Problem>,
+) -> TableIterator<
+    'static,
+    (
+        name!(level, i32),
+        name!(problem, String),
+        name!(triangle, i32),
+        name!(detail, String),
+    ),
+> {
     TableIterator::new(found.into_iter().map(|p| {
         (
             p.level as i32,

@@ -416,14 +416,7 @@ fn _tin_validate_raster(
             .or_raise(),
         );
     }
-    TableIterator::new(found.into_iter().map(|p| {
-        (
-            p.level as i32,
-            p.kind.to_string(),
-            p.triangle as i32,
-            p.detail,
-        )
-    }))
+    super::level::problem_rows(found)
 }
 
 extension_sql!(

@@ -46,14 +46,7 @@ fn main() {
     ] {
         par::set_threads(threads);
         let (gt, w, h, values) = d.upsampled(f);
-        let lat = tinmerge_core::tin::lattice::Lattice {
-            ip_x: gt.ip_x + gt.scale_x / 2.0,
-            ip_y: gt.ip_y + gt.scale_y / 2.0,
-            scale_x: gt.scale_x,
-            scale_y: gt.scale_y,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        };
+        let lat = lattice_of(&gt);
         let samples = || -> Vec<[f64; 3]> {
             let mut out = Vec::new();
             for r in 0..h {
@@ -98,14 +91,7 @@ fn valid_pixels(d: &common::Dem) {
     par::set_threads(1);
     for (f, between) in [(1usize, false), (1, true), (4, false), (4, true)] {
         let (gt, w, h, values) = d.upsampled(f);
-        let lat = tinmerge_core::tin::lattice::Lattice {
-            ip_x: gt.ip_x + gt.scale_x / 2.0,
-            ip_y: gt.ip_y + gt.scale_y / 2.0,
-            scale_x: gt.scale_x,
-            scale_y: gt.scale_y,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        };
+        let lat = lattice_of(&gt);
         let z: Vec<f64> = values
             .iter()
             .map(|&v| if Some(v) == d.nodata { f64::NAN } else { v })
@@ -150,6 +136,20 @@ fn valid_pixels(d: &common::Dem) {
             "| DEM x{f} | {between} | {n} | 5 | {tris} | {ms:.0} | {:.0} |",
             (peak + if between { w * h * 8 } else { 0 }) as f64 / n as f64
         );
+    }
+}
+
+/// The lattice the builds here take the upsampled DEM on.
+fn lattice_of(
+    gt: &tinmerge_core::io::raster::GeoTransform,
+) -> tinmerge_core::tin::lattice::Lattice {
+    tinmerge_core::tin::lattice::Lattice {
+        ip_x: gt.ip_x + gt.scale_x / 2.0,
+        ip_y: gt.ip_y + gt.scale_y / 2.0,
+        scale_x: gt.scale_x,
+        scale_y: gt.scale_y,
+        skew_x: 0.0,
+        skew_y: 0.0,
     }
 }
 
