@@ -26,12 +26,13 @@ use tinmerge_core::tin::tiles::build_tiles;
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
 /// already allocated); otherwise hand `tinmerge.threads` to the core.
-/// Raster builds on the lattice (`lattice`: Some(between samples)) have
-/// their own estimate.
-fn reserve_build(func: &str, samples: usize, levels: usize, lattice: Option<bool>) {
-    let bytes = match lattice {
-        Some(between) => tinmerge_core::tin::build::lattice_build_bytes(samples, levels, between),
-        None => tinmerge_core::tin::build::build_bytes(samples, levels),
+/// Raster builds on the lattice (`on_lattice`, all between the samples)
+/// have their own estimate.
+fn reserve_build(func: &str, samples: usize, levels: usize, on_lattice: bool) {
+    let bytes = if on_lattice {
+        tinmerge_core::tin::build::lattice_build_bytes(samples, levels, true)
+    } else {
+        tinmerge_core::tin::build::build_bytes(samples, levels)
     };
     reserve_build_bytes(func, samples, levels, bytes);
 }
@@ -477,7 +478,7 @@ fn build_raster_constrained(
             &lattice,
         );
     }
-    reserve_build("tin_from_raster", pts.len(), tols.len(), None);
+    reserve_build("tin_from_raster", pts.len(), tols.len(), false);
     TinOut::from_tin_on(
         &build_domain(pts, &lines, &areas, tols, srid, &mut interrupt).or_raise(),
         &lattice,
@@ -575,7 +576,7 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
         keep_border,
         between_samples: true,
     };
-    reserve_build("tin_from_raster", pts.len(), tols.len(), Some(true));
+    reserve_build("tin_from_raster", pts.len(), tols.len(), true);
     TinOut::from_tin_on(
         &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
         &lattice,
@@ -586,7 +587,7 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
 fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     let tols = default_tolerances(tolerance, levels).or_raise();
     let (samples, srid) = point_samples(pts);
-    reserve_build("tin_from_points", samples.len(), tols.len(), None);
+    reserve_build("tin_from_points", samples.len(), tols.len(), false);
     TinOut::from_tin(&build(samples, &tols, srid, &mut interrupt).or_raise())
 }
 
@@ -619,7 +620,7 @@ fn _tin_from_points_domain(
     let (samples, srid) = point_samples(pts);
     let lines = breaklines_arg("tin_from_points", breaklines, soft_breaklines, srid);
     let area = boundary_arg("tin_from_points", boundary, srid);
-    reserve_build("tin_from_points", samples.len(), tols.len(), None);
+    reserve_build("tin_from_points", samples.len(), tols.len(), false);
     Some(TinOut::from_tin(&build_points_domain(
         samples, &lines, area, &tols, srid,
     )))
@@ -839,7 +840,7 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
         return None;
     }
     let tols = default_tolerances(tolerance, levels).or_raise();
-    reserve_build("tin_from_points_agg", st.samples.len(), tols.len(), None);
+    reserve_build("tin_from_points_agg", st.samples.len(), tols.len(), false);
     // the places the doubling left unused handed back before the build
     let mut samples = std::mem::take(&mut st.samples);
     samples.shrink_to_fit();
