@@ -232,7 +232,17 @@ fn data_build(r: &Raster, tols: &[f64]) -> Tin {
 }
 
 /// [`data_build`] within `boundaries` too.
-fn data_build_in(r: &Raster, tols: &[f64], mut areas: Vec<Area>) -> Tin {
+fn data_build_in(r: &Raster, tols: &[f64], areas: Vec<Area>) -> Tin {
+    data_build_with(r, tols, areas, &[])
+}
+
+/// [`data_build_in`] with breaklines too.
+fn data_build_with(
+    r: &Raster,
+    tols: &[f64],
+    mut areas: Vec<Area>,
+    lines: &[tinmerge_core::tin::breaklines::Breakline],
+) -> Tin {
     if r.z.iter().any(|z| z.is_nan()) {
         let valid = |c: usize, row: usize| !r.z[row * r.w + c].is_nan();
         let rings = cell_outline(r.w, r.h, &valid);
@@ -259,7 +269,7 @@ fn data_build_in(r: &Raster, tols: &[f64], mut areas: Vec<Area>) -> Tin {
         height: r.h,
         z: r.z.clone(),
     };
-    build_domain_raster(s, &[], &areas, tols, 0, &heights, &r.lat, &mut || Ok(())).unwrap()
+    build_domain_raster(s, lines, &areas, tols, 0, &heights, &r.lat, &mut || Ok(())).unwrap()
 }
 
 /// What the oracle found on one build, per level: (largest error, p99)
@@ -281,7 +291,13 @@ fn ratios(what: &str, tin: &Tin, r: &Raster) -> Vec<(f64, f64)> {
 /// cracks or slivers, and within its tolerance at every crossing of every
 /// edge with a grid segment between valid pixels (plus 1e-9 relative).
 fn check_between(what: &str, tin: &Tin, r: &Raster) {
-    check_between_seams(what, tin, r, false)
+    check_between_seams(what, tin, r, false, &[])
+}
+
+/// [`check_between`] for a build within a boundary: its vertices off the
+/// grid lines lie on the boundary's `rings` (world coordinates).
+fn check_between_in(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>]) {
+    check_between_seams(what, tin, r, false, rings)
 }
 
 /// [`check_between`]; for a tile (`keep_border`), the grid segments with an
@@ -290,11 +306,11 @@ fn check_between(what: &str, tin: &Tin, r: &Raster) {
 /// the same in both tiles, and nothing else may split it, so the one-pixel
 /// strip along it is held at the samples only (their largest error there
 /// is printed).
-fn check_between_seams(what: &str, tin: &Tin, r: &Raster, seams: bool) {
+fn check_between_seams(what: &str, tin: &Tin, r: &Raster, seams: bool, rings: &[Vec<[f64; 2]>]) {
     tinmerge_core::tin::check::validate_structure(tin).unwrap();
     let p = tinmerge_core::tin::check::problems(tin, &mut || Ok(())).unwrap();
     assert!(p.is_empty(), "{what}: {p:?}");
-    structure(what, tin, r);
+    structure(what, tin, r, rings);
     let hull = if seams { pixel_hull(r) } else { Vec::new() };
     let on_hull = |q: (i64, i64)| {
         (0..hull.len()).any(|i| {
@@ -355,12 +371,32 @@ fn pixel_hull(r: &Raster) -> Vec<(i64, i64)> {
 /// The test's own checks of a hierarchy whose vertices may lie at grid-line
 /// crossings: every vertex a pixel centre with that pixel's height, or on a
 /// grid segment between two valid pixels with their line's height (or, in
-/// a build over the data, on the valid pixels' outline); every
+/// a build over the data, on the valid pixels' outline; in a build within a
+/// boundary, on one of its `rings`, world coordinates); every
 /// edge used by one triangle or by two in opposite directions; every level
 /// covering the same area; every triangle inside its parent (its corners
 /// within rounding of the parent's sides, its centroid strictly inside).
-fn structure(what: &str, tin: &Tin, r: &Raster) {
+fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>]) {
     let lv: Vec<(f64, f64)> = tin.verts.iter().map(|v| r.to_lattice(v[0], v[1])).collect();
+    // the rings' sides in lattice coordinates
+    let ring_sides: Vec<((f64, f64), (f64, f64))> = rings
+        .iter()
+        .flat_map(|ring| ring.windows(2))
+        .map(|w| {
+            (
+                r.to_lattice(w[0][0], w[0][1]),
+                r.to_lattice(w[1][0], w[1][1]),
+            )
+        })
+        .collect();
+    let on_ring = |(x, y): (f64, f64)| {
+        ring_sides.iter().any(|&((ax, ay), (bx, by))| {
+            let (dx, dy) = (bx - ax, by - ay);
+            let l2 = dx * dx + dy * dy;
+            let s = (((x - ax) * dx + (y - ay) * dy) / l2).clamp(0.0, 1.0);
+            (x - ax - s * dx).hypot(y - ay - s * dy) < 1e-6
+        })
+    };
     for (k, (&(c, rr), v)) in lv.iter().zip(&tin.verts).enumerate() {
         let near = |x: f64| (x - x.round()).abs() < 1e-6;
         let want = match (near(c), near(rr)) {
@@ -372,9 +408,10 @@ fn structure(what: &str, tin: &Tin, r: &Raster) {
         let half = |x: f64| (x - x.floor() - 0.5).abs() < 1e-6;
         let Some(z) = want else {
             // a vertex of the data's outline (a build over the data): on a
-            // pixel square's side, its height the boundary's own
+            // pixel square's side, its height the boundary's own; or of a
+            // boundary's ring
             assert!(
-                half(c) || half(rr),
+                half(c) || half(rr) || on_ring((c, rr)),
                 "{what}: vertex {k} at lattice ({c}, {rr}) is on no grid segment between valid pixels"
             );
             continue;
@@ -496,12 +533,12 @@ fn geographic_dem_between_samples() {
         .expect("a vertex at a crossing");
     let mut bad = tin.clone();
     bad.verts[at_crossing][2] += 0.01;
-    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r));
+    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r, &[]));
     assert!(caught.is_err(), "a vertex 1 cm off was not seen");
     let mut bad = tin.clone();
     let v = bad.levels[4].tris[0][0] as usize;
     bad.verts[v][0] += 2.0 * r.lat.scale_x;
-    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r));
+    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r, &[]));
     assert!(caught.is_err(), "a vertex 2 pixels off was not seen");
 }
 
@@ -544,7 +581,7 @@ fn generated_grids_between_samples() {
         let tols = default_tolerances(70.0 / 40.0, 4).unwrap();
         let keep_border = k % 5 == 2;
         let tin = lattice_build(&r, &tols, keep_border, true);
-        check_between_seams(&format!("{} (lattice)", g.name), &tin, &r, keep_border);
+        check_between_seams(&format!("{} (lattice)", g.name), &tin, &r, keep_border, &[]);
         if r.z.iter().any(|z| z.is_nan()) {
             let tin = data_build(&r, &tols);
             check_between(&format!("{} (over its data)", g.name), &tin, &r);
@@ -558,7 +595,6 @@ fn generated_grids_between_samples() {
 /// of this kind left gaps around a vertex at level 3 of the geographic
 /// DEM, which tin_validate and the line merge found in SQL.)
 #[test]
-#[ignore = "issue 43, open: gaps along the boundary's rings and cracks where two coarse edges cross a grid line within 1e-4 pixel of each other (tin_from_raster with a boundary stays measured at the samples until this passes)"]
 fn boundary_with_a_hole_between_samples() {
     for file in ["jacksboro_fault_dem.tif", "jacksboro_fault_dem_utm16n.tif"] {
         let r = Raster::of_dem(&common::read_dem(file));
@@ -583,7 +619,7 @@ fn boundary_with_a_hole_between_samples() {
             vec![ring(&[0.10, 0.82, 0.25, 0.82, 0.25, 0.95, 0.10, 0.95])],
         ]);
         let tols = default_tolerances(2.0, 4).unwrap();
-        let tin = data_build_in(&r, &tols, vec![boundary]);
+        let tin = data_build_in(&r, &tols, vec![boundary.clone()]);
         let p = tinmerge_core::tin::check::problems(&tin, &mut || Ok(())).unwrap();
         assert!(
             p.is_empty(),
@@ -592,6 +628,54 @@ fn boundary_with_a_hole_between_samples() {
             &p[..p.len().min(3)]
         );
         tinmerge_core::tin::check::validate_structure(&tin).unwrap();
+        println!("{file}: {:?}", ratios(file, &tin, &r));
+        let rings: Vec<Vec<[f64; 2]>> = boundary.rings.clone();
+        check_between_in(file, &tin, &r, &rings);
+    }
+}
+
+/// Soft breaklines (heights from the samples) across both DEMs: a zigzag
+/// at odd angles, a line along a pixel row and one ending inside the data,
+/// one running off the raster. Built over the valid pixels, measured
+/// between samples: the lines' crossings of the grid lines are in their
+/// profiles, so every level holds its tolerance there too, and every
+/// vertex off the grid lines lies on a line.
+#[test]
+fn soft_breaklines_between_samples() {
+    use tinmerge_core::tin::breaklines::Breakline;
+    for file in ["jacksboro_fault_dem.tif", "jacksboro_fault_dem_utm16n.tif"] {
+        let r = Raster::of_dem(&common::read_dem(file));
+        // (col, row) of the lattice to world
+        let at = |c: f64, row: f64| {
+            let (x, y) = r.lat.centre(c, row);
+            [x, y, 0.0]
+        };
+        let (w, h) = (r.w as f64, r.h as f64);
+        let lines = vec![
+            vec![
+                at(0.11 * w, 0.23 * h),
+                at(0.37 * w, 0.41 * h),
+                at(0.52 * w, 0.18 * h),
+                at(0.83 * w, 0.57 * h),
+            ],
+            vec![at(0.2 * w, 0.75 * h), at(0.6 * w, 0.75 * h)],
+            vec![at(0.7 * w + 0.3, 0.8 * h), at(1.3 * w, 0.9 * h + 0.7)],
+        ];
+        let breaklines: Vec<Breakline> = lines
+            .iter()
+            .map(|l| Breakline {
+                pts: l.clone(),
+                hard: false,
+            })
+            .collect();
+        let tols = default_tolerances(2.0, 4).unwrap();
+        let tin = data_build_with(&r, &tols, Vec::new(), &breaklines);
+        println!("{file}: {:?}", ratios(file, &tin, &r));
+        let rings: Vec<Vec<[f64; 2]>> = lines
+            .iter()
+            .map(|l| l.iter().map(|p| [p[0], p[1]]).collect())
+            .collect();
+        check_between_in(&format!("{file} with soft breaklines"), &tin, &r, &rings);
     }
 }
 
@@ -674,6 +758,12 @@ fn tiles_between_samples() {
         lat.ip_x += c0 as f64 * lat.scale_x + r0 as f64 * lat.skew_x;
         lat.ip_y += c0 as f64 * lat.skew_y + r0 as f64 * lat.scale_y;
         let own = Raster { w, h, z, lat };
-        check_between_seams(&format!("geographic DEM tile {tx},{ty}"), tin, &own, true);
+        check_between_seams(
+            &format!("geographic DEM tile {tx},{ty}"),
+            tin,
+            &own,
+            true,
+            &[],
+        );
     }
 }

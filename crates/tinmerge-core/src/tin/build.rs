@@ -1101,6 +1101,7 @@ fn with_breaklines(
     lines: &[Breakline],
     boundaries: &[&Area],
     tol: f64,
+    reference: Option<&dyn Reference>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<WithBreaklines, TinError> {
     let hull: Vec<[f64; 3]> = convex_hull(&pts).into_iter().map(|k| pts[k]).collect();
@@ -1134,11 +1135,15 @@ fn with_breaklines(
         }
     }
     let mut dropped = vec![false; grid.len()];
+    // with a reference, a soft segment's samples (dropped: the profile
+    // stands for them) are points of its profile, their own heights
+    let mut on_segment: Vec<Vec<[f64; 3]>> = vec![Vec::new(); net.segs.len()];
     for (k, s) in net.segs.iter().enumerate() {
         if k % 256 == 0 {
             interrupt()?;
         }
         let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
+        let keep_on = reference.is_some() && !net.hard[k];
         let m = 1e-9 * (a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()) + 1.0);
         grid.for_each_in_box(
             a[0].min(b[0]) - m,
@@ -1146,7 +1151,10 @@ fn with_breaklines(
             a[0].max(b[0]) + m,
             a[1].max(b[1]) + m,
             |i, p| {
-                if !dropped[i] && drops_sample(&a, &b, p) {
+                if drops_sample(&a, &b, p) {
+                    if keep_on && p[..2] != a[..2] && p[..2] != b[..2] {
+                        on_segment[k].push(*p);
+                    }
                     dropped[i] = true;
                 }
             },
@@ -1162,7 +1170,13 @@ fn with_breaklines(
             Vec::new()
         } else {
             let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
-            profile(&a, &b, step, &|x, y| sample_height(&grid, x, y), interrupt)?
+            let even = profile(&a, &b, step, &|x, y| sample_height(&grid, x, y), interrupt)?;
+            match reference {
+                Some(r) => {
+                    with_crossings(&a, &b, even, r, step, std::mem::take(&mut on_segment[k]))
+                }
+                None => even,
+            }
         };
         total += prof.len();
         if total > super::breaklines::MAX_PROFILE_POINTS {
@@ -1195,6 +1209,51 @@ fn with_breaklines(
     kept.extend_from_slice(&net.verts);
     kept.extend(profiles.iter().flatten());
     Ok((prepare_samples(kept)?, net, profiles))
+}
+
+/// A soft segment's profile `even` (points about `step` apart from `a` to
+/// `b`, heights from the samples) with the segment's crossings of the
+/// `reference`'s grid segments (heights the reference's) and the samples
+/// `on` it (within rounding, their own heights) among them, in order; an
+/// even point within a thousandth of `step` of one of those left out. The
+/// profile's vertices, chosen level by level as a seam's are
+/// ([`plan_side`]), then hold the tolerance at every crossing of the line
+/// and every pixel on it: a boundary's ring on the samples' hull (no
+/// parent beside it measures it) as well as inside, and a line along a
+/// pixel row.
+fn with_crossings(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    even: Vec<[f64; 3]>,
+    reference: &dyn Reference,
+    step: f64,
+    on: Vec<[f64; 3]>,
+) -> Vec<[f64; 3]> {
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    if !(len > 0.0) {
+        return even;
+    }
+    let along =
+        |p: &[f64; 3]| ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / len;
+    let mut cross: Vec<(f64, [f64; 3])> = on.into_iter().map(|p| (along(&p), p)).collect();
+    reference.for_each_crossing(a, b, &mut |c| cross.push((c.t * len, c.p)));
+    if cross.is_empty() {
+        return even;
+    }
+    cross.sort_by(|u, v| u.0.total_cmp(&v.0));
+    let near = step * 1e-3;
+    let mut out: Vec<(f64, [f64; 3])> = even
+        .into_iter()
+        .map(|p| (along(&p), p))
+        .filter(|(d, _)| {
+            let k = cross.partition_point(|c| c.0 < *d);
+            let gap = |i: usize| cross.get(i).map_or(f64::INFINITY, |c| (c.0 - d).abs());
+            gap(k).min(if k > 0 { gap(k - 1) } else { f64::INFINITY }) > near
+        })
+        .collect();
+    out.extend(cross);
+    out.sort_by(|u, v| u.0.total_cmp(&v.0));
+    out.into_iter().map(|(_, p)| p).collect()
 }
 
 /// Level 0's constraint edges: the network's vertices inserted (they are
@@ -1276,8 +1335,8 @@ struct RawLevel {
     /// each triangle's parent, by index in the previous level's `tris`;
     /// (empty at level 0)
     parents: Vec<u32>,
-    /// level 0: which triangles are void (outside the domain; empty: none);
-    /// the finer levels inherit it from their parents
+    /// which triangles are void (outside the domain; empty: none): at
+    /// level 0 by [`mark_void`], at the finer ones as their parents
     void: Vec<bool>,
 }
 
@@ -1322,7 +1381,7 @@ fn build_inner(
     let mut profiles = Vec::new();
     if constrained && pts.len() >= 3 {
         let tol = *tolerances.last().unwrap_or(&0.0);
-        (pts, net, profiles) = with_breaklines(pts, lines, boundaries, tol, interrupt)?;
+        (pts, net, profiles) = with_breaklines(pts, lines, boundaries, tol, reference, interrupt)?;
     }
     if !boundaries.is_empty() && net.segs.is_empty() && pts.len() < 3 {
         return Err(no_domain());
@@ -1349,7 +1408,9 @@ fn build_inner(
     };
     let (verts, raw_levels) = if net.segs.is_empty() {
         let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border, reference)?;
-        build_levels(b, &grid, reference, &sides, tolerances, opts, interrupt)?
+        build_levels(
+            b, &grid, reference, &sides, boundaries, tolerances, opts, interrupt,
+        )?
     } else {
         // each soft segment's samples from end to end (a hard one: none),
         // chosen level by level as a tile's seam is; reserved from the
@@ -1381,13 +1442,11 @@ fn build_inner(
             .into_iter()
             .filter(|s| !s.is_empty())
             .collect();
-        build_levels(b, &grid, reference, &sides, tolerances, opts, interrupt)?
+        build_levels(
+            b, &grid, reference, &sides, boundaries, tolerances, opts, interrupt,
+        )?
     };
     drop(grid);
-    let mut raw_levels = raw_levels;
-    if !boundaries.is_empty() {
-        mark_void(&verts, &mut raw_levels[0], boundaries, interrupt)?;
-    }
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
     assemble(verts, raw_levels, srid, !on_lattice, interrupt)
 }
@@ -1399,10 +1458,10 @@ fn no_domain() -> TinError {
     )
 }
 
-/// Level 0's void triangles: those whose centroid is outside any of the
-/// `boundaries`. Their rings within the hull are edges of level 0, so no
-/// triangle has parts on both sides; the finer levels inherit
-/// ([`assemble`]).
+/// Level 0's void triangles (or the seed's, [`build_levels`]): those whose
+/// centroid is outside any of the `boundaries`. Their rings within the hull
+/// are edges of level 0, so no triangle has parts on both sides; the finer
+/// levels inherit ([`refine_by_parents`], [`assemble`]).
 fn mark_void(
     verts: &[[f64; 3]],
     level0: &mut RawLevel,
@@ -1427,19 +1486,24 @@ fn mark_void(
 
 /// Every level: level 0 refined in `b` (the whole domain, its hull
 /// inserted; the hull's `sides` under keep_border), the finer ones parent by
-/// parent on `src`. The vertices and the levels, for [`assemble`].
+/// parent on `src`, void outside the `boundaries` (none: the whole hull).
+/// The vertices and the levels, for [`assemble`].
 #[allow(clippy::too_many_arguments)]
 fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
     mut b: Builder<'_, S, T>,
     src: &P,
     reference: Option<&dyn Reference>,
     sides: &[Vec<usize>],
+    boundaries: &[&Area],
     tolerances: &[f64],
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
-    let level0 = refine_level0(&mut b, sides, tolerances[0], SEED_VERTICES, interrupt)?;
+    let mut level0 = refine_level0(&mut b, sides, tolerances[0], SEED_VERTICES, interrupt)?;
     let (mut verts, vsample) = b.finish();
+    if !boundaries.is_empty() {
+        mark_void(&verts, &mut level0, boundaries, interrupt)?;
+    }
     // a level 0 of more than SEED_VERTICES vertices is refined parent by
     // parent too, over the triangles the whole-domain refinement had when
     // it stopped (the seed, then dropped)
@@ -1615,7 +1679,8 @@ fn build_dense(
     } else {
         Vec::new()
     };
-    let (verts, raw_levels) = build_levels(b, &d, reference, &sides, tolerances, opts, interrupt)?;
+    let (verts, raw_levels) =
+        build_levels(b, &d, reference, &sides, &[], tolerances, opts, interrupt)?;
     drop(d);
     assemble(verts, raw_levels, srid, false, interrupt)
 }
@@ -1657,6 +1722,7 @@ fn refine_parent(
     parent: u32,
     corners: [u32; 3],
     free: [bool; 3],
+    void: Void,
     tol: f64,
 ) -> Result<ParentOut, TinError> {
     let n = d.z.len();
@@ -1669,7 +1735,7 @@ fn refine_parent(
         }
     };
     let c = corners.map(pos);
-    if corners.iter().all(|&s| (s as usize) < n) {
+    if void.is_none() && corners.iter().all(|&s| (s as usize) < n) {
         let plans: Vec<SidePlan> = (0..3)
             .filter(|&k| !free[k])
             .map(|k| {
@@ -1762,7 +1828,7 @@ fn refine_parent(
     };
     let is_sample = corners.map(|s| (s as usize) < n);
     refine_parent_general(
-        &gather, reference, forced, scratch, parent, corners, c, is_sample, free, tol,
+        &gather, reference, forced, scratch, parent, corners, c, is_sample, free, void, tol,
     )
 }
 
@@ -1870,23 +1936,37 @@ fn refine_by_parents<P: ParentSamples>(
     let key = |p: &[f64; 3]| (p[0].to_bits(), p[1].to_bits());
     let mut extra_slot: rustc_hash::FxHashMap<(u64, u64), usize> = Default::default();
     for &tol in tolerances {
-        let Some(prev) = raw.last().map(|r| &r.tris) else {
+        let Some((prev, prev_void)) = raw.last().map(|r| (&r.tris, &r.void)) else {
             return Err(TinError::Degenerate("internal: no level to refine".into()));
         };
         // the hull sides' edges, whose samples stay greedy candidates
         // (bit k of a triangle: its edge from corner k to k + 1)
-        // (and under keep_border, sides only their own samples decide)
-        let hull: Vec<u8> = if keep_border && reference.is_none() {
+        // (and under keep_border, sides only their own samples decide);
+        // a void parent's: its sides shared with the domain ([`Void`])
+        let nbrs = if keep_border && reference.is_none() && prev_void.is_empty() {
             Vec::new()
         } else {
             compute_neighbours(prev)?
-                .iter()
+        };
+        let hull: Vec<u8> = if keep_border && reference.is_none() {
+            Vec::new()
+        } else {
+            nbrs.iter()
                 .map(|n| {
                     (0..3)
                         .filter(|&k| n[(k + 2) % 3] == NONE)
                         .fold(0, |m, k| m | 1 << k)
                 })
                 .collect()
+        };
+        let is_void = |t: usize| prev_void.get(t).copied().unwrap_or(false);
+        let void_of = |t: usize| -> Void {
+            is_void(t).then(|| {
+                [0, 1, 2].map(|k| {
+                    let n = nbrs[t][(k + 2) % 3];
+                    n != NONE && !is_void(n as usize)
+                })
+            })
         };
         let corner_samples = vsample.clone();
         let corner_extras = extras.clone();
@@ -1900,7 +1980,9 @@ fn refine_by_parents<P: ParentSamples>(
                 corner_extras[s - slots]
             }
         };
-        let free_of = |t: usize| [0, 1, 2].map(|k| !keep_border && hull[t] & (1 << k) != 0);
+        let free_of = |t: usize| {
+            [0, 1, 2].map(|k| !keep_border && reference.is_none() && hull[t] & (1 << k) != 0)
+        };
         // the parents `ts` in groups of about GROUP_SAMPLES samples
         let groups_of = |ts: &[usize]| -> Vec<std::ops::Range<usize>> {
             let mut groups = Vec::new();
@@ -1946,6 +2028,7 @@ fn refine_by_parents<P: ParentSamples>(
                                 t as u32,
                                 corners,
                                 free_of(t),
+                                void_of(t),
                                 tol,
                             )
                         })
@@ -2062,15 +2145,22 @@ fn refine_by_parents<P: ParentSamples>(
             }
         }
         drop(hull);
+        drop(nbrs);
         tris.shrink_to_fit();
         parents.shrink_to_fit();
+        // a child is void when its parent is
+        let void: Vec<bool> = if prev_void.is_empty() {
+            Vec::new()
+        } else {
+            parents.iter().map(|&p| is_void(p as usize)).collect()
+        };
         raw.push(RawLevel {
             tolerance: tol,
             max_error,
             num_vertices: verts.len() as u32,
             tris,
             parents,
-            void: Vec::new(),
+            void,
         });
     }
     Ok(())
@@ -2088,7 +2178,8 @@ trait ParentSamples: Sync {
     /// Refine the triangle of samples `corners` (counter-clockwise; slot
     /// `slots() + k` is `extras[k]`) to `tol`: its edges `k` (corner `k` to
     /// `k + 1`) not `free[k]` keep the vertices [`plan_side`] picks from the
-    /// edge's own profile.
+    /// edge's own profile. `void`: the triangle is outside the domain
+    /// ([`Void`]).
     #[allow(clippy::too_many_arguments)]
     fn refine_parent(
         &self,
@@ -2099,6 +2190,7 @@ trait ParentSamples: Sync {
         parent: u32,
         corners: [u32; 3],
         free: [bool; 3],
+        void: Void,
         tol: f64,
     ) -> Result<ParentOut, TinError>;
 }
@@ -2122,10 +2214,11 @@ impl ParentSamples for Dense {
         parent: u32,
         corners: [u32; 3],
         free: [bool; 3],
+        void: Void,
         tol: f64,
     ) -> Result<ParentOut, TinError> {
         refine_parent(
-            self, reference, extras, forced, scratch, parent, corners, free, tol,
+            self, reference, extras, forced, scratch, parent, corners, free, void, tol,
         )
     }
 }
@@ -2149,6 +2242,7 @@ impl ParentSamples for SampleGrid {
         parent: u32,
         corners: [u32; 3],
         free: [bool; 3],
+        void: Void,
         tol: f64,
     ) -> Result<ParentOut, TinError> {
         let n = self.pts.len();
@@ -2165,7 +2259,7 @@ impl ParentSamples for SampleGrid {
         };
         let is_sample = corners.map(|s| (s as usize) < n);
         refine_parent_general(
-            &gather, reference, forced, scratch, parent, corners, c, is_sample, free, tol,
+            &gather, reference, forced, scratch, parent, corners, c, is_sample, free, void, tol,
         )
     }
 }
@@ -2201,6 +2295,7 @@ fn refine_parent_general(
     c: [[f64; 3]; 3],
     is_sample: [bool; 3],
     free: [bool; 3],
+    void: Void,
     tol: f64,
 ) -> Result<ParentOut, TinError> {
     // each edge from its canonical end (the smaller in (x, y))
@@ -2274,14 +2369,19 @@ fn refine_parent_general(
             .map(|e| (e.3 as usize, pts[e.3 as usize]))
             .collect();
         let (ea, eb) = ends[k];
+        // a void parent's side between two void parents: left whole
+        let (side_reference, side_tol) = match void {
+            Some(domain) if !domain[k] => (None, VOID_TOL),
+            _ => (reference, tol),
+        };
         let mut plan = plan_side(
             [Pt::Sample(ea), Pt::Sample(eb)],
             &c[ea],
             &c[eb],
             &side,
-            reference,
+            side_reference,
             forced,
-            tol,
+            side_tol,
         );
         for q in &mut plan.chosen {
             if let Pt::At(p) = *q {
@@ -2323,8 +2423,14 @@ fn refine_parent_general(
         }
     }
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
-    b.reference = reference;
-    let (err, chains) = b.refine_parent([pos[0], pos[1], pos[2]], &plans, tol)?;
+    b.reference = if void.is_some() { None } else { reference };
+    let (err, chains) = b.refine_parent(
+        [pos[0], pos[1], pos[2]],
+        &plans,
+        if void.is_some() { VOID_TOL } else { tol },
+    )?;
+    // a void parent's error is no level's
+    let err = if void.is_some() { 0.0 } else { err };
     let unmended = b.unmended(tol, &c, free);
     let mut tris = b.snapshot();
     if chains.iter().any(|ch| ch.len() > 2) {
@@ -2355,6 +2461,24 @@ fn refine_parent_general(
         unmended,
     })
 }
+
+/// Whether a parent is outside the domain (a build's boundary, a hole in
+/// it), and then which of its sides border a parent inside: `Some(domain)`,
+/// side `k` (corner `k` to `k + 1`) shared with a parent in the domain when
+/// `domain[k]`. No merge reads a void triangle's surface, so a void parent
+/// is split only where it must meet its neighbours: its sides shared with
+/// the domain take the vertices the parent inside plans there (the same
+/// plan, against the same reference), its other sides and its inside stay
+/// as they are (but for samples in a sliver, which every triangulation
+/// takes). Refining it against the reference, as before, grew crossings on
+/// needles between a boundary's ring and the samples' hull that lay within
+/// rounding of the needle's other side: holes and cracks at the finer
+/// levels. `None`: a parent in the domain.
+type Void = Option<[bool; 3]>;
+
+/// The tolerance of a void parent: nothing is inserted but the samples in
+/// a sliver (their error is `f64::MAX`).
+const VOID_TOL: f64 = f64::MAX / 4.0;
 
 /// [`ParentOut::verts`]: the vertex is a point of [`ParentOut::at`].
 const AT_FLAG: u32 = 1 << 31;

@@ -163,6 +163,22 @@ pub(crate) fn plan_side(
             crossings.push((c.t, c.p, must.contains(&seg_key(c))))
         });
     }
+    // a crossing that is one of the side's samples (a soft line's profile
+    // point at a grid-line crossing, [`super::build`]'s `with_crossings`,
+    // found again here up to rounding) is that sample, forced with it
+    let on_t: Vec<f64> = on.iter().map(|s| along(&s.1)).collect();
+    let mut on_must = vec![false; on.len()];
+    crossings.retain(|c| {
+        let k = on_t.partition_point(|&t| t < c.0);
+        let same = [k.checked_sub(1), Some(k)]
+            .into_iter()
+            .flatten()
+            .find(|&i| on_t.get(i).is_some_and(|&t| (t - c.0).abs() <= 1e-9));
+        if let Some(i) = same {
+            on_must[i] |= c.2;
+        }
+        same.is_none()
+    });
     let mut prof_must = vec![false];
     let (mut i, mut j) = (0, 0);
     while i < on.len() || j < crossings.len() {
@@ -171,7 +187,7 @@ pub(crate) fn plan_side(
         if tc.is_none() || ts.is_some_and(|t| tc.is_some_and(|u| t <= u)) {
             let (s, p) = on[i];
             prof.push((ts.unwrap_or(0.0), p, Pt::Sample(s)));
-            prof_must.push(must.contains(&sample_key(&p)));
+            prof_must.push(on_must[i] || must.contains(&sample_key(&p)));
             i += 1;
         } else {
             let (t, p, m) = crossings[j];
