@@ -16,8 +16,9 @@ use tinmerge_core::io::{ewkb, gserialized, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    boundary_holds_all, build, build_domain, build_domain_raster, build_lattice, check_tolerances,
-    default_tolerances, domain_raster_build_bytes, BuildOptions,
+    boundary_holds_all, build_domain, build_domain_raster, build_lattice, build_points,
+    check_tolerances, default_tolerances, domain_raster_build_bytes, points_build_bytes,
+    BuildOptions,
 };
 use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
@@ -378,7 +379,8 @@ fn boundary_of(func: &str, g: ewkb::Ewkb, srid: i32) -> Option<Area> {
 
 /// A raster build with breaklines, a boundary or over the valid pixels
 /// only (`fill_gaps` false): the valid pixel centres in world
-/// coordinates, built as scattered samples with them.
+/// coordinates, built as scattered samples with them, measured between
+/// the samples too unless there are hard breaklines.
 #[allow(clippy::too_many_arguments)]
 fn build_raster_constrained(
     rast: &[u8],
@@ -404,10 +406,8 @@ fn build_raster_constrained(
     let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
         .into_iter()
         .collect();
-    // the valid pixels' own squares, holes included, and their heights in
-    // place (NaN without data)
+    // the valid pixels' own squares, holes included
     let mut footprint = None;
-    let mut z = Vec::new();
     if !fill_gaps && pts.len() < w * h {
         let mut valid = vec![false; w * h];
         for p in &pts {
@@ -419,11 +419,16 @@ fn build_raster_constrained(
             let (x, y) = lattice.centre(c - 0.5, r - 0.5);
             [x, y]
         }));
-        if lines.is_empty() {
-            z = vec![f64::NAN; w * h];
-            for p in &pts {
-                z[p[1] as usize * w + p[0] as usize] = p[2];
-            }
+    }
+    // without hard breaklines (heights of their own), the build follows
+    // the raster between its samples: its heights in place (NaN without
+    // data)
+    let between = !lines.iter().any(|l| l.hard);
+    let mut z = Vec::new();
+    if between {
+        z = vec![f64::NAN; w * h];
+        for p in &pts {
+            z[p[1] as usize * w + p[0] as usize] = p[2];
         }
     }
     for p in &mut pts {
@@ -433,13 +438,11 @@ fn build_raster_constrained(
     // boundaries holding the whole raster: the build without them, on the
     // pixel lattice
     areas.retain(|a| !boundary_holds_all(a, &pts));
-    // the footprint of the data alone (no boundary, no breaklines): built
-    // between the samples, against the raster's own surface
     let footprint = footprint.filter(|a| !boundary_holds_all(a, &pts));
-    let footprint_only = lines.is_empty() && areas.is_empty() && footprint.is_some();
     areas.extend(footprint);
     if lines.is_empty() && areas.is_empty() {
         drop(pts);
+        drop(z);
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
@@ -449,7 +452,7 @@ fn build_raster_constrained(
         );
     }
     let areas: Vec<&Area> = areas.iter().collect();
-    if footprint_only {
+    if between {
         reserve_build_bytes(
             "tin_from_raster",
             pts.len(),
@@ -466,7 +469,7 @@ fn build_raster_constrained(
         return TinOut::from_tin_on(
             &build_domain_raster(
                 pts,
-                &[],
+                &lines,
                 &areas,
                 tols,
                 srid,
@@ -587,8 +590,13 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
 fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     let tols = default_tolerances(tolerance, levels).or_raise();
     let (samples, srid) = point_samples(pts);
-    reserve_build("tin_from_points", samples.len(), tols.len(), false);
-    TinOut::from_tin(&build(samples, &tols, srid, &mut interrupt).or_raise())
+    reserve_build_bytes(
+        "tin_from_points",
+        samples.len(),
+        tols.len(),
+        points_build_bytes(samples.len(), tols.len()),
+    );
+    TinOut::from_tin(&build_points(samples, &tols, srid, &mut interrupt).or_raise())
 }
 
 /// 0.8.0's `tin_from_points` with breaklines (C symbol kept):
@@ -620,7 +628,12 @@ fn _tin_from_points_domain(
     let (samples, srid) = point_samples(pts);
     let lines = breaklines_arg("tin_from_points", breaklines, soft_breaklines, srid);
     let area = boundary_arg("tin_from_points", boundary, srid);
-    reserve_build("tin_from_points", samples.len(), tols.len(), false);
+    reserve_build_bytes(
+        "tin_from_points",
+        samples.len(),
+        tols.len(),
+        points_build_bytes(samples.len(), tols.len()),
+    );
     Some(TinOut::from_tin(&build_points_domain(
         samples, &lines, area, &tols, srid,
     )))
@@ -634,7 +647,7 @@ fn build_points_domain(
     tols: &[f64],
     srid: i32,
 ) -> tinmerge_core::tin::Tin {
-    build_domain(
+    tinmerge_core::tin::build::build_points_domain(
         samples,
         lines,
         &area.iter().collect::<Vec<_>>(),
@@ -840,7 +853,12 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
         return None;
     }
     let tols = default_tolerances(tolerance, levels).or_raise();
-    reserve_build("tin_from_points_agg", st.samples.len(), tols.len(), false);
+    reserve_build_bytes(
+        "tin_from_points_agg",
+        st.samples.len(),
+        tols.len(),
+        points_build_bytes(st.samples.len(), tols.len()),
+    );
     // the places the doubling left unused handed back before the build
     let mut samples = std::mem::take(&mut st.samples);
     samples.shrink_to_fit();
@@ -853,7 +871,7 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
             let area = read(&d[2]).and_then(|g| boundary_of(F, g, srid));
             build_points_domain(samples, &lines, area, &tols, srid)
         }
-        _ => build(samples, &tols, srid, &mut interrupt).or_raise(),
+        _ => build_points(samples, &tols, srid, &mut interrupt).or_raise(),
     };
     Some(TinOut::from_tin(&tin))
 }

@@ -51,6 +51,7 @@ use super::sides::{
     choose_border, close_chains, plan_side, sample_key, seg_key, side_key, Forced, Pt, SegKey,
     SideKey, SidePlan,
 };
+use super::delaunay_ref::DelaunayReference;
 use super::surface::{GridReference, Reference};
 use super::{grid, interpolate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
@@ -251,7 +252,13 @@ struct FaceState {
     /// a corner of the face: where spade's point location starts when the
     /// candidate is inserted (it lies in this face, so the walk is short)
     corner: u32,
+    /// the point to insert when `cand` is [`AT_CAND`]
+    at: [f64; 3],
 }
+
+/// [`FaceState::cand`]: no sample, the point [`FaceState::at`] of the
+/// reference ([`Reference::splits_inside`]).
+const AT_CAND: u32 = NONE - 1;
 
 /// A face's measure: its worst error (samples and free edges' crossings),
 /// the error and candidate sample (or NONE) that insertion can mend, a
@@ -262,6 +269,7 @@ struct Measure {
     best: f64,
     cand: u32,
     corner: u32,
+    at: [f64; 3],
 }
 
 #[derive(PartialEq)]
@@ -305,6 +313,9 @@ struct Builder<'g, S: Samples, T: Tri = Dt> {
     /// by vertex: bit k set when it is on the parent's side chain k (an
     /// edge between two vertices of one chain is a piece of that side)
     vside: Vec<u8>,
+    /// points of the reference inside faces ([`Reference::splits_inside`])
+    /// still to be inserted at most (their vertices' sample: NONE)
+    at_budget: usize,
 }
 
 impl<S: Samples, T: Tri> Builder<'_, S, T> {
@@ -370,6 +381,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             best,
             cand,
             corner: vs[0].fix().index() as u32,
+            at: [f64::NAN; 3],
         };
         let Some(r) = self.reference else {
             return m;
@@ -410,6 +422,23 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             });
             if let Some(i) = sample {
                 (m.best, m.cand) = (err, i as u32);
+            } else if cand != NONE {
+                // none of them can be: the face's worst sample, so the face
+                // is split where it is too far from the surface (a
+                // triangulation's edge need not be an edge of a subset's
+                // while vertices at crossings stand inside its circle)
+                (m.best, m.cand) = (err, cand);
+            } else if self.at_budget > 0 && r.splits_inside() {
+                // no sample left: the crossed edge's own point in the
+                // middle of its part inside this face
+                let fixed = [0, 1, 2].map(|k| {
+                    self.dt
+                        .get_edge_from_neighbors(vs[k].fix(), vs[(k + 1) % 3].fix())
+                        .is_none_or(|e| self.fixed_edge(e.fix()))
+                });
+                if let Some(p) = inside_point(&c, &x.seg, fixed) {
+                    (m.best, m.cand, m.at) = (err, AT_CAND, p);
+                }
             }
         }
         m
@@ -425,6 +454,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                     err: 0.0,
                     cand: NONE,
                     corner: 0,
+                    at: [f64::NAN; 3],
                 },
             );
         }
@@ -433,6 +463,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         st.err = m.worst;
         st.cand = m.cand;
         st.corner = m.corner;
+        st.at = m.at;
         if m.cand != NONE {
             self.heap.push(Entry {
                 err: m.best,
@@ -568,7 +599,16 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 interrupt()?;
             }
             let hint = Some(FixedVertexHandle::from_index(st.corner as usize));
-            let v = self.insert_sample(st.cand as usize, hint)?;
+            let v = if st.cand == AT_CAND {
+                self.at_budget = self.at_budget.saturating_sub(1);
+                let v = self.insert_point(st.at, hint)?;
+                if self.vsample.len() < self.vz.len() {
+                    self.vsample.push(NONE);
+                }
+                v
+            } else {
+                self.insert_sample(st.cand as usize, hint)?
+            };
             self.rescan_around(v);
             // A sample that did not become a new vertex (cannot happen for
             // distinct samples, but never loop on it) is marked inserted;
@@ -800,6 +840,65 @@ pub fn build_with(
         opts,
         false,
         None,
+        interrupt,
+    )
+}
+
+/// [`build`] measured between the samples too: against the Delaunay
+/// triangulation of all of them ([`DelaunayReference`]), every edge of
+/// every level at its crossings with the reference's edges, coarse edges
+/// split there level by level, so each level is within its tolerance of
+/// that surface everywhere, not only at the samples. What
+/// `tin_from_points` builds.
+///
+/// ```
+/// use tinmerge_core::tin::build::build_points;
+/// let mut pts = Vec::new();
+/// for i in 0..30 {
+///     for j in 0..30 {
+///         let (x, y) = (i as f64 + 0.3 * ((i * j) % 7) as f64 / 7.0, j as f64);
+///         pts.push([x, y, (x * 0.3).sin() * 5.0 + y * 0.1]);
+///     }
+/// }
+/// let tin = build_points(pts, &[1.0, 0.25], 0, &mut || Ok(())).unwrap();
+/// tin.sanity_check().unwrap();
+/// assert!(tin.levels[1].max_error <= 0.25);
+/// ```
+pub fn build_points(
+    samples: Vec<[f64; 3]>,
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    build_points_domain(samples, &[], &[], tolerances, srid, interrupt)
+}
+
+/// [`build_domain`] measured between the samples as [`build_points`] is;
+/// with hard breaklines (heights of their own, not the samples') at the
+/// samples only.
+pub fn build_points_domain(
+    samples: Vec<[f64; 3]>,
+    lines: &[Breakline],
+    boundaries: &[&Area],
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    check_tolerances(tolerances)?;
+    if lines.iter().any(|l| l.hard) {
+        return build_domain(samples, lines, boundaries, tolerances, srid, interrupt);
+    }
+    let samples = prepare_samples(samples)?;
+    interrupt()?;
+    let reference = DelaunayReference::new(&samples)?;
+    interrupt()?;
+    build_domain_with(
+        samples,
+        lines,
+        boundaries,
+        tolerances,
+        srid,
+        Some(&reference),
         interrupt,
     )
 }
@@ -1230,7 +1329,7 @@ fn with_crossings(
     on: Vec<[f64; 3]>,
 ) -> Vec<[f64; 3]> {
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return even;
     }
     let along =
@@ -1868,6 +1967,7 @@ impl<T: Tri> Scratch<T> {
             heap: std::mem::take(&mut self.heap),
             reference: None,
             vside: std::mem::take(&mut self.vside),
+            at_budget: 0,
         };
         b.dt.clear();
         b.vz.clear();
@@ -2122,6 +2222,7 @@ fn refine_by_parents<P: ParentSamples>(
                         }
                     }
                 }
+                if std::env::var("DBG").is_ok() { eprintln!("FORCE tol {tol} touched {}", touched.len()); }
                 if touched.is_empty() {
                     break;
                 }
@@ -2424,6 +2525,11 @@ fn refine_parent_general(
     }
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
     b.reference = if void.is_some() { None } else { reference };
+    b.at_budget = if b.reference.is_some_and(|r| r.splits_inside()) {
+        4 * n + 64
+    } else {
+        0
+    };
     let (err, chains) = b.refine_parent(
         [pos[0], pos[1], pos[2]],
         &plans,
@@ -2443,7 +2549,7 @@ fn refine_parent_general(
         .vsample
         .iter()
         .enumerate()
-        .map(|(v, &l)| match gid[local.ids[l as usize] as usize] {
+        .map(|(v, &l)| match local.ids.get(l as usize).map_or(NONE, |&k| gid[k as usize]) {
             NONE => {
                 at.push(b.vert3(FixedVertexHandle::from_index(v)));
                 AT_FLAG | (at.len() - 1) as u32
@@ -2460,6 +2566,68 @@ fn refine_parent_general(
         err,
         unmended,
     })
+}
+
+/// A point of the segment `seg` strictly inside triangle `c` (counter-
+/// clockwise): the middle of the segment's part inside it, with the
+/// segment's height there; None when that part is too thin to hold a
+/// point away from the triangle's edges, or when it ends on an edge `k`
+/// (corner `k` to `k + 1`) that is `fixed[k]` away from that edge's ends (a
+/// parent's side: there the side is split where the segment crosses it,
+/// [`Builder::unmended`]; points inside would only creep towards it).
+fn inside_point(c: &[[f64; 3]; 3], seg: &[[f64; 3]; 2], fixed: [bool; 3]) -> Option<[f64; 3]> {
+    let [p, q] = seg;
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let (mut lo_k, mut hi_k) = (None, None);
+    for k in 0..3 {
+        let (a, b) = (&c[k], &c[(k + 1) % 3]);
+        let (op, oq) = (crate::geom::orient(a, b, p), crate::geom::orient(a, b, q));
+        // op + s (oq - op) >= 0
+        if op == oq {
+            if op < 0.0 {
+                return None;
+            }
+            continue;
+        }
+        let s = op / (op - oq);
+        if oq > op {
+            if s > lo {
+                (lo, lo_k) = (s, Some(k));
+            }
+        } else if s < hi {
+            (hi, hi_k) = (s, Some(k));
+        }
+    }
+    if lo >= hi {
+        return None;
+    }
+    let at = |s: f64| [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
+    // ending on a fixed edge away from its ends: that edge is to be split
+    let len = (q[0] - p[0]).hypot(q[1] - p[1]);
+    let blocked = |k: Option<usize>, s: f64| {
+        k.is_some_and(|k| {
+            let e = at(s);
+            fixed[k]
+                && [&c[k], &c[(k + 1) % 3]]
+                    .iter()
+                    .all(|v| (v[0] - e[0]).hypot(v[1] - e[1]) > 1e-9 * len)
+        })
+    };
+    if blocked(lo_k, lo) || blocked(hi_k, hi) {
+        return None;
+    }
+    let s = (lo + hi) / 2.0;
+    let x = [
+        p[0] + s * (q[0] - p[0]),
+        p[1] + s * (q[1] - p[1]),
+        p[2] + s * (q[2] - p[2]),
+    ];
+    (0..3)
+        .all(|k| {
+            let (a, b) = (&c[k], &c[(k + 1) % 3]);
+            crate::geom::orient(a, b, &x) > 0.0 && !crate::geom::is_sliver(a, b, &x)
+        })
+        .then_some(x)
 }
 
 /// Whether a parent is outside the domain (a build's boundary, a hole in
@@ -2852,6 +3020,16 @@ pub fn lattice_build_bytes(samples: usize, levels: usize, between_samples: bool)
         300 + 40 * levels
     };
     samples.saturating_mul(per).saturating_add(1 << 20)
+}
+
+/// [`build_bytes`] for [`build_points`] and [`build_points_domain`]: the
+/// reference triangulation of all the samples
+/// ([`DelaunayReference::BYTES_PER_SAMPLE`]) held through the build, whose
+/// vertices at crossings cost as a raster's between samples do.
+pub fn points_build_bytes(samples: usize, levels: usize) -> usize {
+    samples
+        .saturating_mul(1000 + DelaunayReference::BYTES_PER_SAMPLE + 40 * levels)
+        .saturating_add(1 << 20)
 }
 
 /// [`build_bytes`] for [`build_domain_raster`] over `samples` valid pixels

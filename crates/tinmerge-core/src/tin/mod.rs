@@ -16,6 +16,7 @@ pub mod breaklines;
 pub mod build;
 pub mod check;
 pub mod compact;
+pub mod delaunay_ref;
 pub mod dense;
 pub mod domain;
 pub mod grid;
