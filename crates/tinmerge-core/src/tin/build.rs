@@ -429,15 +429,25 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 // while vertices at crossings stand inside its circle)
                 (m.best, m.cand) = (err, cand);
             } else if self.at_budget > 0 && r.splits_inside() {
-                // no sample left: the crossed edge's own point in the
-                // middle of its part inside this face
-                let fixed = [0, 1, 2].map(|k| {
-                    self.dt
-                        .get_edge_from_neighbors(vs[k].fix(), vs[(k + 1) % 3].fix())
-                        .is_none_or(|e| self.fixed_edge(e.fix()))
+                // no sample left: the crossing itself, on the reference
+                // (a rounding off this edge, the Delaunay triangulation
+                // flips the edge away rather than keep a sliver)
+                // never on a fixed edge up to rounding (a parent's side:
+                // its neighbour would not have the vertex), nor where the
+                // crossed edge runs on across one (that side is split
+                // there, `unmended`; points here would creep towards it)
+                let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
+                    f.as_inner().is_some_and(|f| {
+                        f.adjacent_edges().iter().any(|g| {
+                            let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
+                            self.fixed_edge(g.fix())
+                                && (crate::geom::is_sliver(&a, &b, &x.p)
+                                    || crosses_between(&a, &b, &x.seg[0], &x.seg[1]))
+                        })
+                    })
                 });
-                if let Some(p) = inside_point(&c, &x.seg, fixed) {
-                    (m.best, m.cand, m.at) = (err, AT_CAND, p);
+                if !near_fixed {
+                    (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
                 }
             }
         }
@@ -2575,6 +2585,7 @@ fn refine_parent_general(
 /// (corner `k` to `k + 1`) that is `fixed[k]` away from that edge's ends (a
 /// parent's side: there the side is split where the segment crosses it,
 /// [`Builder::unmended`]; points inside would only creep towards it).
+#[allow(dead_code)]
 fn inside_point(c: &[[f64; 3]; 3], seg: &[[f64; 3]; 2], fixed: [bool; 3]) -> Option<[f64; 3]> {
     let [p, q] = seg;
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
@@ -2628,6 +2639,19 @@ fn inside_point(c: &[[f64; 3]; 3], seg: &[[f64; 3]; 2], fixed: [bool; 3]) -> Opt
             crate::geom::orient(a, b, &x) > 0.0 && !crate::geom::is_sliver(a, b, &x)
         })
         .then_some(x)
+}
+
+/// Whether segment `p`-`q` crosses segment `a`-`b` away from `a` and `b`
+/// (more than 1e-9 of its length from them): through one of them, it
+/// meets that vertex.
+fn crosses_between(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3]) -> bool {
+    let (oa, ob) = (crate::geom::orient(p, q, a), crate::geom::orient(p, q, b));
+    let (op, oq) = (crate::geom::orient(a, b, p), crate::geom::orient(a, b, q));
+    if !(oa * ob < 0.0 && op * oq < 0.0) {
+        return false;
+    }
+    let s = oa / (oa - ob);
+    s > 1e-9 && s < 1.0 - 1e-9
 }
 
 /// Whether a parent is outside the domain (a build's boundary, a hole in
