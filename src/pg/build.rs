@@ -378,7 +378,8 @@ fn boundary_of(func: &str, g: ewkb::Ewkb, srid: i32) -> Option<Area> {
 
 /// A raster build with breaklines, a boundary or over the valid pixels
 /// only (`fill_gaps` false): the valid pixel centres in world
-/// coordinates, built as scattered samples with them.
+/// coordinates, built as scattered samples with them, measured between
+/// the samples too unless there are hard breaklines.
 #[allow(clippy::too_many_arguments)]
 fn build_raster_constrained(
     rast: &[u8],
@@ -404,10 +405,8 @@ fn build_raster_constrained(
     let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
         .into_iter()
         .collect();
-    // the valid pixels' own squares, holes included, and their heights in
-    // place (NaN without data)
+    // the valid pixels' own squares, holes included
     let mut footprint = None;
-    let mut z = Vec::new();
     if !fill_gaps && pts.len() < w * h {
         let mut valid = vec![false; w * h];
         for p in &pts {
@@ -419,11 +418,16 @@ fn build_raster_constrained(
             let (x, y) = lattice.centre(c - 0.5, r - 0.5);
             [x, y]
         }));
-        if lines.is_empty() {
-            z = vec![f64::NAN; w * h];
-            for p in &pts {
-                z[p[1] as usize * w + p[0] as usize] = p[2];
-            }
+    }
+    // without hard breaklines (heights of their own), the build follows
+    // the raster between its samples: its heights in place (NaN without
+    // data)
+    let between = !lines.iter().any(|l| l.hard);
+    let mut z = Vec::new();
+    if between {
+        z = vec![f64::NAN; w * h];
+        for p in &pts {
+            z[p[1] as usize * w + p[0] as usize] = p[2];
         }
     }
     for p in &mut pts {
@@ -433,13 +437,11 @@ fn build_raster_constrained(
     // boundaries holding the whole raster: the build without them, on the
     // pixel lattice
     areas.retain(|a| !boundary_holds_all(a, &pts));
-    // the footprint of the data alone (no boundary, no breaklines): built
-    // between the samples, against the raster's own surface
     let footprint = footprint.filter(|a| !boundary_holds_all(a, &pts));
-    let footprint_only = lines.is_empty() && areas.is_empty() && footprint.is_some();
     areas.extend(footprint);
     if lines.is_empty() && areas.is_empty() {
         drop(pts);
+        drop(z);
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
@@ -449,7 +451,7 @@ fn build_raster_constrained(
         );
     }
     let areas: Vec<&Area> = areas.iter().collect();
-    if footprint_only {
+    if between {
         reserve_build_bytes(
             "tin_from_raster",
             pts.len(),
@@ -466,7 +468,7 @@ fn build_raster_constrained(
         return TinOut::from_tin_on(
             &build_domain_raster(
                 pts,
-                &[],
+                &lines,
                 &areas,
                 tols,
                 srid,

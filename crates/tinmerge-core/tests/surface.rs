@@ -651,7 +651,7 @@ fn soft_breaklines_between_samples() {
             [x, y, 0.0]
         };
         let (w, h) = (r.w as f64, r.h as f64);
-        let lines = vec![
+        let lines = [
             vec![
                 at(0.11 * w, 0.23 * h),
                 at(0.37 * w, 0.41 * h),

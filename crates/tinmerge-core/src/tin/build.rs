@@ -1230,7 +1230,7 @@ fn with_crossings(
     on: Vec<[f64; 3]>,
 ) -> Vec<[f64; 3]> {
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return even;
     }
     let along =
