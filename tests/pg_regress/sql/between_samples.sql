@@ -7,13 +7,44 @@
 -- finest tolerance off.
 SET extra_float_digits = 0;
 -- The UTM DEM has nodata: built over its valid pixels (the default) and
--- on its lattice with the gaps filled; the geographic DEM has none.
+-- on its lattice with the gaps filled; the geographic DEM has none. Both
+-- also within a boundary (boundary.sql's: a concave shell reaching past
+-- the data, a hole, a second square; until 0.12.0 such builds were held
+-- at the samples only, and between samples they left holes and cracks
+-- along the rings), and with soft breaklines (a zigzag, a line along a
+-- pixel row, one running off the raster).
+CREATE FUNCTION bs_pt(r raster, fx float8, fy float8) RETURNS geometry
+LANGUAGE sql IMMUTABLE AS $$
+  SELECT ST_SetSRID(ST_MakePoint(ST_XMin(e) + fx * (ST_XMax(e) - ST_XMin(e)),
+                                 ST_YMax(e) - fy * (ST_YMax(e) - ST_YMin(e))), ST_SRID(r))
+  FROM (SELECT ST_Envelope(r) AS e) s $$;
+CREATE FUNCTION bs_line(r raster, VARIADIC f float8[]) RETURNS geometry
+LANGUAGE sql IMMUTABLE AS $$
+  SELECT ST_MakeLine(array_agg(bs_pt(r, f[i], f[i + 1]) ORDER BY i))
+  FROM generate_series(1, array_length(f, 1), 2) i $$;
+CREATE FUNCTION bs_ring(r raster, VARIADIC f float8[]) RETURNS geometry
+LANGUAGE sql IMMUTABLE AS $$ SELECT ST_AddPoint(bs_line(r, VARIADIC f), bs_pt(r, f[1], f[2])) $$;
 CREATE TABLE bs_terrain AS
   SELECT 'utm' AS dem, 'valid pixels' AS build, tin_from_raster(rast, 2.0, 5) AS t FROM dem
   UNION ALL
   SELECT 'utm', 'gaps filled', tin_from_raster(rast, 2.0, 5, fill_gaps => true) FROM dem
   UNION ALL
-  SELECT 'geographic', 'lattice', tin_from_raster(rast, 2.0, 5) FROM dem_geo;
+  SELECT 'geographic', 'lattice', tin_from_raster(rast, 2.0, 5) FROM dem_geo
+  UNION ALL
+  SELECT d.dem, 'boundary',
+         tin_from_raster(d.rast, 2.0, 5, boundary => ST_Collect(
+           ST_MakePolygon(bs_ring(d.rast, 0.08,0.10, 0.70,0.06, 0.52,0.43, 1.30,0.50, 0.81,0.77, 0.17,0.70),
+                          ARRAY[bs_ring(d.rast, 0.30,0.33, 0.42,0.37, 0.40,0.48, 0.27,0.45)]),
+           ST_MakePolygon(bs_ring(d.rast, 0.10,0.82, 0.25,0.82, 0.25,0.95, 0.10,0.95))))
+  FROM (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d
+  UNION ALL
+  SELECT d.dem, 'soft breaklines',
+         tin_from_raster(d.rast, 2.0, 5, soft_breaklines => ST_Collect(ARRAY[
+           bs_line(d.rast, 0.11,0.23, 0.37,0.41, 0.52,0.18, 0.83,0.57),
+           ST_MakeLine(ST_PixelAsCentroid(d.rast, ST_Width(d.rast) / 5, ST_Height(d.rast) * 3 / 4),
+                       ST_PixelAsCentroid(d.rast, ST_Width(d.rast) * 3 / 5, ST_Height(d.rast) * 3 / 4)),
+           bs_line(d.rast, 0.7,0.8, 1.3,0.93)]))
+  FROM (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d;
 -- the contour vertices on a grid line between two valid pixel centres
 -- (those gdal_contour puts on the half-pixel lines beside nodata follow
 -- its own rule there, not the raster's surface)
@@ -44,13 +75,17 @@ SELECT dem, count(*) AS vertices, count(*) FILTER (WHERE on_grid) > 0.95 * count
 FROM bs_vertices GROUP BY dem ORDER BY dem DESC;
 DELETE FROM bs_vertices WHERE NOT on_grid;
 -- vertices outside the surface (tin_height NULL): on its outline up to
--- the rounding of gdal_contour's text output (1e-6 pixel)
+-- the rounding of gdal_contour's text output (1e-6 pixel), but for builds
+-- within a boundary
 SELECT b.dem, b.build, count(*) AS outside,
        bool_and(ST_DWithin(v.p, ST_Boundary(fp), 1e-6 * ST_PixelWidth(d.rast))) AS on_the_outline
 FROM bs_terrain b JOIN bs_vertices v USING (dem)
      JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem),
      LATERAL (SELECT ST_Union(geom) AS fp FROM tin_triangles(b.t, 0)) f
-WHERE tin_height(b.t, v.p) IS NULL GROUP BY b.dem, b.build ORDER BY b.dem DESC, b.build;
+WHERE tin_height(b.t, v.p) IS NULL AND b.build <> 'boundary'
+GROUP BY b.dem, b.build ORDER BY b.dem DESC, b.build;
+-- every build a valid hierarchy (no holes, cracks, slivers)
+SELECT dem, build, (SELECT count(*) FROM tin_validate(t)) AS problems FROM bs_terrain ORDER BY 1 DESC, 2;
 CREATE TABLE bs_levels AS
   SELECT b.dem, b.build, l AS level, tin_tolerance(t, l) AS tolerance,
          (tin_info(t) -> 'levels' -> l ->> 'max_error')::float8 AS max_error,
@@ -73,7 +108,7 @@ SELECT dem, build, level,
 FROM bs_levels ORDER BY dem DESC, build, level;
 -- two such tins overlaid (vertices at grid-line crossings of two grids
 -- 0.48 pixel apart): every face, the area of the common domain
-WITH a AS MATERIALIZED (SELECT t FROM bs_terrain WHERE dem = 'geographic'),
+WITH a AS MATERIALIZED (SELECT t FROM bs_terrain WHERE dem = 'geographic' AND build = 'lattice'),
 b AS MATERIALIZED (
   SELECT tin_from_raster(ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + 0.0004, ST_UpperLeftY(rast)), 8.0, 2) AS t FROM dem_geo),
 d AS MATERIALIZED (
@@ -130,3 +165,4 @@ SELECT try($$SELECT count(*) FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast
 SELECT try($$SELECT count(*) FROM bs_tile b, dem d, tin_validate(b.t, d.rast)$$);
 SELECT count(*) AS null_rows FROM bs_tile b, tin_validate(b.t, NULL::raster);
 DROP TABLE bs_found, bs_tile, bs_levels, bs_vertices, bs_valid, bs_terrain;
+DROP FUNCTION bs_ring, bs_line, bs_pt;
