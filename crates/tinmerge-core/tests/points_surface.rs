@@ -163,56 +163,15 @@ fn point_builds_between_samples() {
             let new = build_points(pts.clone(), &tols, 0, &mut || Ok(())).unwrap();
             let t_new = t0.elapsed();
             let p = tinmerge_core::tin::check::problems(&new, &mut || Ok(())).unwrap();
-            if !p.is_empty() { // DEV2
-                let l = p[0].level; let lev = &new.levels[l]; let prev = &new.levels[l-1];
-                let area = |t: [u32;3]| { let [a,b,c] = t.map(|v| new.verts[v as usize]); ((b[0]-a[0])*(c[1]-a[1])-(c[0]-a[0])*(b[1]-a[1]))/2.0 };
-                for q in p.iter().take(6) { let t = q.triangle as usize; println!("PROB {} t{} {:?} parent {} nbrs {:?} area {}", q.kind, t, lev.tris[t], lev.parent[t], lev.nbrs[t], area(lev.tris[t])); }
-                { let pt = lev.parent[p[0].triangle as usize] as usize; let pc = prev.tris[pt].map(|v| new.verts[v as usize]); let o = pc[0];
-                  println!("PARENT corners {:?}", pc.map(|c| (c[0]-o[0], c[1]-o[1], c[2])));
-                  let mut vs: Vec<u32> = lev.tris.iter().enumerate().filter(|(t,_)| lev.parent[*t] as usize == pt).flat_map(|(_,tr)| tr.to_vec()).collect(); vs.sort(); vs.dedup();
-                  for v in vs { let c = new.verts[v as usize]; let inside: Vec<f64> = (0..3).map(|k| tinmerge_core::geom::orient(&pc[k], &pc[(k+1)%3], &c)).collect(); println!("   v{v} ({:.4}, {:.4}, {:.3}) orient {:?}", c[0]-o[0], c[1]-o[1], c[2], inside); }
-                  for (t, tr) in lev.tris.iter().enumerate() { if lev.parent[t] as usize == pt { println!("   tri {t} {:?} nb {:?} area {:.6}", tr, lev.nbrs[t], area(*tr)); } } }
-                let mut sum = vec![0.0; prev.tris.len()];
-                for (t, tri) in lev.tris.iter().enumerate() { sum[lev.parent[t] as usize] += area(*tri); }
-                for (pt, ptri) in prev.tris.iter().enumerate() { let a = area(*ptri); if (sum[pt]-a).abs() > 1e-6 * a.abs().max(1.0) {
-                    println!("PARENT {pt} area {a} children {} corners {:?}", sum[pt], ptri.map(|v| new.verts[v as usize]));
-                    for (t, tri) in lev.tris.iter().enumerate() { if lev.parent[t] as usize == pt { println!("   child {t} {:?} area {}", tri, area(*tri)); } }
-                }}
-            }
-            assert!(p.is_empty(), "{file} {name}: {} problems, e.g. {:?}", p.len(), &p[..p.len().min(4)]);
+            assert!(
+                p.is_empty(),
+                "{file} {name}: {} problems, e.g. {:?}",
+                p.len(),
+                &p[..p.len().min(4)]
+            );
             new.sanity_check().unwrap();
             tinmerge_core::tin::check::validate_structure(&new).unwrap();
             let errs = sample_errors(&new, &pts);
-            { // DEV
-                use tinmerge_core::tin::surface::Reference;
-                let rf = tinmerge_core::tin::delaunay_ref::DelaunayReference::new(&tinmerge_core::tin::build::prepare_samples(pts.clone()).unwrap()).unwrap();
-                for (l, lev) in new.levels.iter().enumerate() {
-                    let mut worst = (0.0f64, 0usize, 0usize);
-                    for (t, tri) in lev.tris.iter().enumerate() { for j in 0..3 {
-                        let (a, b) = (new.verts[tri[j] as usize], new.verts[tri[(j+1)%3] as usize]);
-                        let (e, _) = rf.edge_error(&a, &b);
-                        if e > worst.0 { worst = (e, t, j); }
-                    }}
-                    let (e, t, j) = worst;
-                    // is the worst edge an edge of the previous level (persisting)?
-                    let tri = lev.tris[t];
-                    let (u, v) = (tri[j], tri[(j+1)%3]);
-                    let persists = l > 0 && new.levels[l-1].tris.iter().any(|p| (0..3).any(|k| (p[k]==u && p[(k+1)%3]==v) || (p[k]==v && p[(k+1)%3]==u)));
-                    let on_parent_side = l > 0 && { let p = new.levels[l-1].tris[lev.parent[t] as usize].map(|x| new.verts[x as usize]); (0..3).any(|k| tinmerge_core::geom::is_sliver(&p[k], &p[(k+1)%3], &new.verts[u as usize]) && tinmerge_core::geom::is_sliver(&p[k], &p[(k+1)%3], &new.verts[v as usize])) };
-                    let nb = lev.nbrs[t][(j + 2) % 3];
-                    println!("DEV {name} L{l} worst {e:.3} tol {} edge {u}-{v} persists {persists} on_parent_side {on_parent_side} hull {}", tols[l], nb == u32::MAX);
-                    let sset: std::collections::HashSet<(u64,u64)> = pts.iter().map(|p| (p[0].to_bits(), p[1].to_bits())).collect();
-                    let vset: std::collections::HashMap<(u64,u64), usize> = new.verts[..lev.num_vertices as usize].iter().enumerate().map(|(i,p)| ((p[0].to_bits(), p[1].to_bits()), i)).collect();
-                    let isv = |p: &[f64;3]| sset.contains(&(p[0].to_bits(), p[1].to_bits()));
-                    let (a, b) = (new.verts[u as usize], new.verts[v as usize]);
-                    let (_, x) = rf.edge_error(&a, &b);
-                    let x = x.unwrap();
-                    let [p, q] = x.seg;
-                    println!("    tin edge ends sample? {} {}  ref edge ends vertices of level? {:?} {:?} t {:.3} s {:.3} len {:.1}", isv(&a), isv(&b), vset.get(&(p[0].to_bits(), p[1].to_bits())), vset.get(&(q[0].to_bits(), q[1].to_bits())), x.t, x.s, ((b[0]-a[0]).hypot(b[1]-a[1])));
-                    // the parent's corners: samples?
-                    if l > 0 { let pt = new.levels[l-1].tris[lev.parent[t] as usize]; let pc = pt.map(|i| new.verts[i as usize]); println!("    parent corners samples? {:?}; ref edge crosses a parent side? {}", pc.map(|c| isv(&c)), (0..3).any(|k| tinmerge_core::geom::segments_cross(tinmerge_core::geom::vco(&pc[k]), tinmerge_core::geom::vco(&pc[(k+1)%3]), tinmerge_core::geom::vco(&p), tinmerge_core::geom::vco(&q)))); }
-                }
-            }
             println!(
                 "{file} {name}: {} samples; finest triangles {} -> {} ({:.2}x), time {:.0} -> {:.0} ms; error at the samples per level {:?}",
                 pts.len(),

@@ -400,7 +400,17 @@ fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>]) {
     for (k, (&(c, rr), v)) in lv.iter().zip(&tin.verts).enumerate() {
         let near = |x: f64| (x - x.round()).abs() < 1e-6;
         let want = match (near(c), near(rr)) {
-            (true, true) => r.at(c.round() as i64, rr.round() as i64),
+            // at a pixel centre, or on one of its two grid lines a hair
+            // from it (a crossing of a nearly parallel edge): the line's
+            // height there
+            (true, true) => {
+                let at = r.at(c.round() as i64, rr.round() as i64);
+                [r.on_line(c, rr, 0), r.on_line(c, rr, 1)]
+                    .into_iter()
+                    .flatten()
+                    .find(|z| (v[2] - z).abs() <= 1e-9 * z.abs().max(1.0) + 1e-6)
+                    .or(at)
+            }
             (true, false) => r.on_line(c, rr, 0),
             (false, true) => r.on_line(c, rr, 1),
             (false, false) => None,
@@ -676,6 +686,64 @@ fn soft_breaklines_between_samples() {
             .map(|l| l.iter().map(|p| [p[0], p[1]]).collect())
             .collect();
         check_between_in(&format!("{file} with soft breaklines"), &tin, &r, &rings);
+    }
+}
+
+/// check_hierarchy.py's shapes: a disc with an off-centre hole as the
+/// boundary, and as soft lines a circle and the raster's diagonal, as
+/// PostGIS's ST_Buffer makes them (24 and 16 segments a quarter), at 5
+/// levels.
+#[test]
+fn round_shapes_between_samples() {
+    use tinmerge_core::tin::breaklines::Breakline;
+    for file in ["jacksboro_fault_dem.tif", "jacksboro_fault_dem_utm16n.tif"] {
+        let r = Raster::of_dem(&common::read_dem(file));
+        let (x0, y0) = r.lat.centre(-0.5, -0.5);
+        let (x1, y1) = r.lat.centre(r.w as f64 - 0.5, r.h as f64 - 0.5);
+        let (xmin, xmax, ymin, ymax) = (x0.min(x1), x0.max(x1), y0.min(y1), y0.max(y1));
+        let px = r.lat.pixel_size();
+        let (cx, cy) = ((xmin + xmax) / 2.0, (ymin + ymax) / 2.0);
+        let circle = |x: f64, y: f64, rad: f64, quarter: usize, ccw: bool| -> Vec<[f64; 2]> {
+            let n = 4 * quarter;
+            let mut v: Vec<[f64; 2]> = (0..=n)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * (k % n) as f64 / n as f64;
+                    [x + rad * a.cos(), y + rad * a.sin()]
+                })
+                .collect();
+            if !ccw {
+                v.reverse();
+            }
+            v
+        };
+        let w = r.w as f64 * px;
+        let disc = Area::new(vec![vec![
+            circle(cx, cy, 0.4 * w, 24, true),
+            circle(cx + 7.3 * px, cy, 0.1 * w, 12, false),
+        ]]);
+        let tols = default_tolerances(2.0, 5).unwrap();
+        let tin = data_build_in(&r, &tols, vec![disc.clone()]);
+        println!("{file} disc: {:?}", ratios(file, &tin, &r));
+        check_between_in(&format!("{file} within a disc"), &tin, &r, &disc.rings);
+        let lines = [
+            circle(cx, cy, 0.3 * w, 16, true),
+            vec![[xmin, ymin], [xmax, ymax]],
+        ];
+        let breaklines: Vec<Breakline> = lines
+            .iter()
+            .map(|l| Breakline {
+                pts: l.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+                hard: false,
+            })
+            .collect();
+        let tin = data_build_with(&r, &tols, Vec::new(), &breaklines);
+        println!("{file} circle and diagonal: {:?}", ratios(file, &tin, &r));
+        check_between_in(
+            &format!("{file} with a circle and a diagonal"),
+            &tin,
+            &r,
+            &lines,
+        );
     }
 }
 

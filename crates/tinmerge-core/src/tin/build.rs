@@ -43,6 +43,7 @@
 //! ```
 
 use super::breaklines::{clip_to_hull, drops_sample, network, profile, Breakline, Network};
+use super::delaunay_ref::DelaunayReference;
 use super::dense::Dense;
 use super::hierarchy::{child_starts, compute_neighbours};
 use super::lattice::Lattice;
@@ -51,7 +52,6 @@ use super::sides::{
     choose_border, close_chains, plan_side, sample_key, seg_key, side_key, Forced, Pt, SegKey,
     SideKey, SidePlan,
 };
-use super::delaunay_ref::DelaunayReference;
 use super::surface::{GridReference, Reference};
 use super::{grid, interpolate, Bbox, Level, Tin, TinError, MAX_LEVELS, NONE};
 use crate::interrupt::Interrupt;
@@ -256,8 +256,9 @@ struct FaceState {
     at: [f64; 3],
 }
 
-/// [`FaceState::cand`]: no sample, the point [`FaceState::at`] of the
-/// reference ([`Reference::splits_inside`]).
+/// [`FaceState::cand`]: no sample, the point [`FaceState::at`]: where a
+/// free edge crosses the reference's edge (a grid segment, an edge of the
+/// samples' Delaunay triangulation), at the reference's height.
 const AT_CAND: u32 = NONE - 1;
 
 /// A face's measure: its worst error (samples and free edges' crossings),
@@ -313,8 +314,8 @@ struct Builder<'g, S: Samples, T: Tri = Dt> {
     /// by vertex: bit k set when it is on the parent's side chain k (an
     /// edge between two vertices of one chain is a piece of that side)
     vside: Vec<u8>,
-    /// points of the reference inside faces ([`Reference::splits_inside`])
-    /// still to be inserted at most (their vertices' sample: NONE)
+    /// crossings ([`AT_CAND`]) still to be inserted at most (their
+    /// vertices' sample: NONE)
     at_budget: usize,
 }
 
@@ -422,16 +423,15 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             });
             if let Some(i) = sample {
                 (m.best, m.cand) = (err, i as u32);
-            } else if cand != NONE {
-                // none of them can be: the face's worst sample, so the face
-                // is split where it is too far from the surface (a
-                // triangulation's edge need not be an edge of a subset's
-                // while vertices at crossings stand inside its circle)
-                (m.best, m.cand) = (err, cand);
-            } else if self.at_budget > 0 && r.splits_inside() {
-                // no sample left: the crossing itself, on the reference
-                // (a rounding off this edge, the Delaunay triangulation
-                // flips the edge away rather than keep a sliver)
+            } else if self.at_budget > 0 {
+                // no sample can: the crossing itself, on the reference (a
+                // rounding off this edge, the Delaunay triangulation flips
+                // the edge away rather than keep a sliver). A
+                // triangulation's edge between two samples need not be an
+                // edge of a triangulation of fewer of them (a vertex at a
+                // crossing can stand inside its circle), nor a grid segment
+                // between a pixel and a ring's crossing an edge at all, so
+                // inserting samples alone need not end it
                 // never on a fixed edge up to rounding (a parent's side:
                 // its neighbour would not have the vertex), nor where the
                 // crossed edge runs on across one (that side is split
@@ -446,7 +446,12 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                         })
                     })
                 });
-                if !near_fixed {
+                // nor next to an end of the crossed segment (a pixel, a
+                // sample: a point beside it would make a sliver with it)
+                let [p0, p1] = x.seg;
+                let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
+                let near_end = x.s.min(1.0 - x.s) * seg_len <= 1e-6 * seg_len;
+                if !near_fixed && !near_end {
                     (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
                 }
             }
@@ -2232,7 +2237,9 @@ fn refine_by_parents<P: ParentSamples>(
                         }
                     }
                 }
-                if std::env::var("DBG").is_ok() { eprintln!("FORCE tol {tol} touched {}", touched.len()); }
+                if std::env::var("DBG").is_ok() {
+                    eprintln!("FORCE tol {tol} touched {}", touched.len());
+                }
                 if touched.is_empty() {
                     break;
                 }
@@ -2535,11 +2542,7 @@ fn refine_parent_general(
     }
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
     b.reference = if void.is_some() { None } else { reference };
-    b.at_budget = if b.reference.is_some_and(|r| r.splits_inside()) {
-        4 * n + 64
-    } else {
-        0
-    };
+    b.at_budget = if b.reference.is_some() { 4 * n + 64 } else { 0 };
     let (err, chains) = b.refine_parent(
         [pos[0], pos[1], pos[2]],
         &plans,
@@ -2559,13 +2562,15 @@ fn refine_parent_general(
         .vsample
         .iter()
         .enumerate()
-        .map(|(v, &l)| match local.ids.get(l as usize).map_or(NONE, |&k| gid[k as usize]) {
-            NONE => {
-                at.push(b.vert3(FixedVertexHandle::from_index(v)));
-                AT_FLAG | (at.len() - 1) as u32
-            }
-            g => g,
-        })
+        .map(
+            |(v, &l)| match local.ids.get(l as usize).map_or(NONE, |&k| gid[k as usize]) {
+                NONE => {
+                    at.push(b.vert3(FixedVertexHandle::from_index(v)));
+                    AT_FLAG | (at.len() - 1) as u32
+                }
+                g => g,
+            },
+        )
         .collect();
     scratch.keep(b);
     Ok(ParentOut {
@@ -2576,69 +2581,6 @@ fn refine_parent_general(
         err,
         unmended,
     })
-}
-
-/// A point of the segment `seg` strictly inside triangle `c` (counter-
-/// clockwise): the middle of the segment's part inside it, with the
-/// segment's height there; None when that part is too thin to hold a
-/// point away from the triangle's edges, or when it ends on an edge `k`
-/// (corner `k` to `k + 1`) that is `fixed[k]` away from that edge's ends (a
-/// parent's side: there the side is split where the segment crosses it,
-/// [`Builder::unmended`]; points inside would only creep towards it).
-#[allow(dead_code)]
-fn inside_point(c: &[[f64; 3]; 3], seg: &[[f64; 3]; 2], fixed: [bool; 3]) -> Option<[f64; 3]> {
-    let [p, q] = seg;
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    let (mut lo_k, mut hi_k) = (None, None);
-    for k in 0..3 {
-        let (a, b) = (&c[k], &c[(k + 1) % 3]);
-        let (op, oq) = (crate::geom::orient(a, b, p), crate::geom::orient(a, b, q));
-        // op + s (oq - op) >= 0
-        if op == oq {
-            if op < 0.0 {
-                return None;
-            }
-            continue;
-        }
-        let s = op / (op - oq);
-        if oq > op {
-            if s > lo {
-                (lo, lo_k) = (s, Some(k));
-            }
-        } else if s < hi {
-            (hi, hi_k) = (s, Some(k));
-        }
-    }
-    if lo >= hi {
-        return None;
-    }
-    let at = |s: f64| [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
-    // ending on a fixed edge away from its ends: that edge is to be split
-    let len = (q[0] - p[0]).hypot(q[1] - p[1]);
-    let blocked = |k: Option<usize>, s: f64| {
-        k.is_some_and(|k| {
-            let e = at(s);
-            fixed[k]
-                && [&c[k], &c[(k + 1) % 3]]
-                    .iter()
-                    .all(|v| (v[0] - e[0]).hypot(v[1] - e[1]) > 1e-9 * len)
-        })
-    };
-    if blocked(lo_k, lo) || blocked(hi_k, hi) {
-        return None;
-    }
-    let s = (lo + hi) / 2.0;
-    let x = [
-        p[0] + s * (q[0] - p[0]),
-        p[1] + s * (q[1] - p[1]),
-        p[2] + s * (q[2] - p[2]),
-    ];
-    (0..3)
-        .all(|k| {
-            let (a, b) = (&c[k], &c[(k + 1) % 3]);
-            crate::geom::orient(a, b, &x) > 0.0 && !crate::geom::is_sliver(a, b, &x)
-        })
-        .then_some(x)
 }
 
 /// Whether segment `p`-`q` crosses segment `a`-`b` away from `a` and `b`

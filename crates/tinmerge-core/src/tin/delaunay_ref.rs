@@ -82,10 +82,6 @@ impl DelaunayReference {
 }
 
 impl Reference for DelaunayReference {
-    fn splits_inside(&self) -> bool {
-        true
-    }
-
     /// The crossings of `a -> b` with the reference's edges, in order: the
     /// height there is the crossed edge's (linear between its two samples).
     /// `seg` is the crossed edge from its smaller end in (x, y), so both
@@ -132,7 +128,11 @@ impl Reference for DelaunayReference {
             let (near, far) = if s <= 0.5 { (p, q) } else { (q, p) };
             let corner = |h: Option<Point2<f64>>| h.map_or([far[0], far[1]], |c| [c.x, c.y]);
             let left = e.face().as_inner().map(|_| e.next().to().position());
-            let right = e.rev().face().as_inner().map(|_| e.rev().next().to().position());
+            let right = e
+                .rev()
+                .face()
+                .as_inner()
+                .map(|_| e.rev().next().to().position());
             let pix = [
                 [near[0], near[1]],
                 [far[0], far[1]],
@@ -173,17 +173,16 @@ mod tests {
             .map(|_| [rnd() * 100.0, rnd() * 50.0, rnd() * 20.0])
             .collect();
         let r = DelaunayReference::new(&pts).unwrap();
-        let edges: Vec<([f64; 3], [f64; 3])> = r
-            .dt
-            .undirected_edges()
-            .map(|e| {
-                let [u, v] = e.vertices().map(|v| {
-                    let d = v.data();
-                    [d.p.x, d.p.y, d.z]
-                });
-                (u, v)
-            })
-            .collect();
+        let edges: Vec<([f64; 3], [f64; 3])> =
+            r.dt.undirected_edges()
+                .map(|e| {
+                    let [u, v] = e.vertices().map(|v| {
+                        let d = v.data();
+                        [d.p.x, d.p.y, d.z]
+                    });
+                    (u, v)
+                })
+                .collect();
         for _ in 0..50 {
             let a = pts[(rnd() * 300.0) as usize];
             let b = [rnd() * 90.0 + 5.0, rnd() * 40.0 + 5.0, 0.0];

@@ -71,16 +71,6 @@ pub trait Reference: Sync {
     /// so are those within 1e-9 pixel of `a` or `b`.
     fn for_each_crossing(&self, a: &[f64; 3], b: &[f64; 3], f: &mut dyn FnMut(&Crossing));
 
-    /// Whether a build may insert a point of the reference inside a face
-    /// whose crossing no sample can mend: a triangulation's edge between
-    /// two samples need not be an edge of a triangulation of fewer of them
-    /// (a vertex at a crossing can stand inside its circle), so inserting
-    /// samples alone need not end it. A raster's grid segments are mended
-    /// by their pixels (or a parent's side split where they cross it).
-    fn splits_inside(&self) -> bool {
-        false
-    }
-
     /// The largest error of the straight edge `a -> b` (heights in `a[2]`,
     /// `b[2]`) at its crossings, and the worst crossing.
     fn edge_error(&self, a: &[f64; 3], b: &[f64; 3]) -> (f64, Option<Crossing>) {
