@@ -69,6 +69,8 @@ tests/big.sh
 
 echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 python3 tests/properties/check_hierarchy.py
+echo "== point builds between their samples against their Delaunay triangulation (independent oracle: matplotlib's qhull)"
+python3 tests/properties/check_points_between.py
 echo "== coverage-weighted raster statistics against exactextract"
 python3 tests/properties/check_raster_exactextract.py
 echo "== all tests passed"
