@@ -245,12 +245,16 @@ pub(crate) fn close_chains(
     for (v, &l) in vsample.iter().enumerate() {
         vertex_of.insert(l as usize, v as u32);
     }
+    // (two samples at one place are one vertex: once in its chain)
     let chains: Vec<Vec<u32>> = chains
         .iter()
         .map(|ch| {
-            ch.iter()
+            let mut c: Vec<u32> = ch
+                .iter()
                 .filter_map(|l| vertex_of.get(l).copied())
-                .collect()
+                .collect();
+            c.dedup();
+            c
         })
         .collect();
     for (k, ch) in chains.iter().enumerate() {
@@ -259,8 +263,17 @@ pub(crate) fn close_chains(
         }
     }
     let mut out = Vec::with_capacity(tris.len());
+    // every split makes triangles with fewer chain vertices skipped, so
+    // this ends; a budget all the same, so that no input can keep a
+    // backend here (whatever is left is kept as it is)
+    let mut budget = 64 * (tris.len() + chains.iter().map(Vec::len).sum::<usize>()) + 1024;
     let mut work = tris;
     while let Some(t) = work.pop() {
+        if budget == 0 {
+            out.push(t);
+            continue;
+        }
+        budget -= 1;
         let mut split = None;
         'edges: for j in 0..3 {
             let (u, v) = (t[j], t[(j + 1) % 3]);
