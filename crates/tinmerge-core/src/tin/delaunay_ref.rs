@@ -82,6 +82,13 @@ impl DelaunayReference {
 }
 
 impl Reference for DelaunayReference {
+    /// A triangulation's edge between two samples need not be an edge of a
+    /// triangulation of fewer of them (a vertex at a crossing can stand
+    /// inside its circle), so samples alone cannot always mend a crossing.
+    fn mends_at_crossings(&self) -> bool {
+        true
+    }
+
     /// The crossings of `a -> b` with the reference's edges, in order: the
     /// height there is the crossed edge's (linear between its two samples).
     /// `seg` is the crossed edge from its smaller end in (x, y), so both

@@ -71,6 +71,16 @@ pub trait Reference: Sync {
     /// so are those within 1e-9 pixel of `a` or `b`.
     fn for_each_crossing(&self, a: &[f64; 3], b: &[f64; 3], f: &mut dyn FnMut(&Crossing));
 
+    /// Whether a crossing no sample can mend may be mended by a vertex at
+    /// the crossing itself ([`super::build`]'s `AT_CAND`). A raster's grid
+    /// segments are mended by their pixels, or a parent's side split where
+    /// they cross it; put on a raster build, such vertices made thin
+    /// triangles (under 1e-3 pixel high: pg_regress `exactness.sql`), so
+    /// only the samples' Delaunay triangulation asks for them.
+    fn mends_at_crossings(&self) -> bool {
+        false
+    }
+
     /// The largest error of the straight edge `a -> b` (heights in `a[2]`,
     /// `b[2]`) at its crossings, and the worst crossing.
     fn edge_error(&self, a: &[f64; 3], b: &[f64; 3]) -> (f64, Option<Crossing>) {
