@@ -2241,9 +2241,6 @@ fn refine_by_parents<P: ParentSamples>(
                         }
                     }
                 }
-                if std::env::var("DBG").is_ok() {
-                    eprintln!("FORCE tol {tol} touched {}", touched.len());
-                }
                 if touched.is_empty() {
                     break;
                 }
