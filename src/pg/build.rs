@@ -16,9 +16,8 @@ use tinmerge_core::io::{ewkb, gserialized, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    boundary_holds_all, build_domain, build_domain_raster, build_lattice, build_points,
-    check_tolerances, default_tolerances, domain_raster_build_bytes, points_build_bytes,
-    BuildOptions,
+    boundary_holds_all, build_domain_raster, build_lattice, build_points, check_tolerances,
+    default_tolerances, domain_raster_build_bytes, points_build_bytes, BuildOptions,
 };
 use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
@@ -262,7 +261,7 @@ fn explicit_tolerances(tolerances: Vec<Option<f64>>) -> Vec<f64> {
 
 /// The lines of the `breaklines` (hard: Z required) and `soft_breaklines`
 /// (Z ignored) arguments of `func`, in the samples' SRID.
-fn breaklines_arg(
+pub(super) fn breaklines_arg(
     func: &str,
     hard: Option<&[u8]>,
     soft: Option<&[u8]>,
@@ -420,16 +419,12 @@ fn build_raster_constrained(
             [x, y]
         }));
     }
-    // without hard breaklines (heights of their own), the build follows
-    // the raster between its samples: its heights in place (NaN without
-    // data)
-    let between = !lines.iter().any(|l| l.hard);
-    let mut z = Vec::new();
-    if between {
-        z = vec![f64::NAN; w * h];
-        for p in &pts {
-            z[p[1] as usize * w + p[0] as usize] = p[2];
-        }
+    // the build follows the raster between its samples: its heights in
+    // place (NaN without data); hard breaklines' heights are their own, the
+    // grid segments they cut are left out of that
+    let mut z = vec![f64::NAN; w * h];
+    for p in &pts {
+        z[p[1] as usize * w + p[0] as usize] = p[2];
     }
     for p in &mut pts {
         let (x, y) = lattice.centre(p[0], p[1]);
@@ -452,38 +447,31 @@ fn build_raster_constrained(
         );
     }
     let areas: Vec<&Area> = areas.iter().collect();
-    if between {
-        reserve_build_bytes(
-            "tin_from_raster",
-            pts.len(),
-            tols.len(),
-            domain_raster_build_bytes(pts.len(), w * h, tols.len()),
-        );
-        let heights = Dense {
-            c0: 0,
-            r0: 0,
-            width: w,
-            height: h,
-            z,
-        };
-        return TinOut::from_tin_on(
-            &build_domain_raster(
-                pts,
-                &lines,
-                &areas,
-                tols,
-                srid,
-                &heights,
-                &lattice,
-                &mut interrupt,
-            )
-            .or_raise(),
-            &lattice,
-        );
-    }
-    reserve_build("tin_from_raster", pts.len(), tols.len(), false);
+    reserve_build_bytes(
+        "tin_from_raster",
+        pts.len(),
+        tols.len(),
+        domain_raster_build_bytes(pts.len(), w * h, tols.len()),
+    );
+    let heights = Dense {
+        c0: 0,
+        r0: 0,
+        width: w,
+        height: h,
+        z,
+    };
     TinOut::from_tin_on(
-        &build_domain(pts, &lines, &areas, tols, srid, &mut interrupt).or_raise(),
+        &build_domain_raster(
+            pts,
+            &lines,
+            &areas,
+            tols,
+            srid,
+            &heights,
+            &lattice,
+            &mut interrupt,
+        )
+        .or_raise(),
         &lattice,
     )
 }

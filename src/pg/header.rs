@@ -118,7 +118,7 @@ fn tin_info(t: TinArg) -> JsonB {
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes, storage format version and per level: tolerance, triangles, vertices and the largest error measured when built: at the source samples and, for a raster build without hard breaklines (since 0.11.0; with a boundary or soft breaklines since 0.12.0), also between them where edges cross the grid lines between valid pixel centres (header only; tin_validate(tin, raster) measures a value against a raster).';
+COMMENT ON FUNCTION tin_info(tin) IS 'SRID, bounding box, size in bytes, storage format version and per level: tolerance, triangles, vertices and the largest error measured when built: at the source samples and, for a raster build (since 0.11.0; with a boundary or soft breaklines since 0.12.0, with hard breaklines since 0.13.0, the grid segments they cut left out), also between them where edges cross the grid lines between valid pixel centres (header only; tin_validate(tin, raster) measures a value against a raster).';
 "#,
     name = "tin_info_sql",
     requires = [tin_info]

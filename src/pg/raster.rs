@@ -366,6 +366,7 @@ fn _tin_validate_raster(
     t: TinArg,
     rast: &[u8],
     band: i32,
+    breaklines: &[u8],
 ) -> TableIterator<
     'static,
     (
@@ -392,6 +393,20 @@ fn _tin_validate_raster(
             .saturating_add(head.width.saturating_mul(head.height).saturating_mul(8)),
         || format!("{func}: reading a {} x {} raster", head.width, head.height),
     );
+    // the hard breaklines the tin was built with (empty: none): the grid
+    // segments they cut hold their heights, not the raster's
+    let hard: Vec<([f64; 2], [f64; 2])> = if breaklines.is_empty() {
+        Vec::new()
+    } else {
+        super::build::breaklines_arg(func, Some(breaklines), None, head.srid)
+            .iter()
+            .flat_map(|l| {
+                l.pts
+                    .windows(2)
+                    .map(|w| ([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
+            })
+            .collect()
+    };
     let r = raster::read(rast, Some(band as usize)).or_raise();
     let tin = t.tin();
     let mut found = tinmerge_core::tin::check::problems(&tin, &mut interrupt).or_raise();
@@ -411,6 +426,7 @@ fn _tin_validate_raster(
                 &tin,
                 &heights,
                 &r.gt.lattice(),
+                &hard,
                 &mut interrupt,
             )
             .or_raise(),
@@ -421,8 +437,8 @@ fn _tin_validate_raster(
 
 extension_sql!(
     r#"
-ALTER FUNCTION _tin_validate_raster(tin, bytea, int) ROWS 10;
-COMMENT ON FUNCTION _tin_validate_raster(tin, bytea, int) IS 'Internal: use tin_validate(tin, raster, int).';
+ALTER FUNCTION _tin_validate_raster(tin, bytea, int, bytea) ROWS 10;
+COMMENT ON FUNCTION _tin_validate_raster(tin, bytea, int, bytea) IS 'Internal: use tin_validate(tin, raster, int, geometry).';
 "#,
     name = "tin_validate_raster_sql",
     requires = [_tin_validate_raster]

@@ -156,7 +156,15 @@ fn grid_line_errors_but(
             } else {
                 None
             };
-            if let Some(zr) = e {
+            // the grid segment it lies on
+            let ends = if near(c) {
+                let k = c.round() as i64;
+                ((k, rr.floor() as i64), (k, rr.floor() as i64 + 1))
+            } else {
+                let k = rr.round() as i64;
+                ((c.floor() as i64, k), (c.floor() as i64 + 1, k))
+            };
+            if let Some(zr) = e.filter(|_| !skip(ends.0, ends.1)) {
                 errs.push((z - zr).abs());
             }
         }
@@ -310,7 +318,7 @@ fn check_between_seams(what: &str, tin: &Tin, r: &Raster, seams: bool, rings: &[
     tinmerge_core::tin::check::validate_structure(tin).unwrap();
     let p = tinmerge_core::tin::check::problems(tin, &mut || Ok(())).unwrap();
     assert!(p.is_empty(), "{what}: {p:?}");
-    structure(what, tin, r, rings);
+    structure(what, tin, r, rings, false);
     let hull = if seams { pixel_hull(r) } else { Vec::new() };
     let on_hull = |q: (i64, i64)| {
         (0..hull.len()).any(|i| {
@@ -376,7 +384,9 @@ fn pixel_hull(r: &Raster) -> Vec<(i64, i64)> {
 /// edge used by one triangle or by two in opposite directions; every level
 /// covering the same area; every triangle inside its parent (its corners
 /// within rounding of the parent's sides, its centroid strictly inside).
-fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>]) {
+/// `hard`: the rings are hard breaklines, their vertices at heights of
+/// their own.
+fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>], hard: bool) {
     let lv: Vec<(f64, f64)> = tin.verts.iter().map(|v| r.to_lattice(v[0], v[1])).collect();
     // the rings' sides in lattice coordinates
     let ring_sides: Vec<((f64, f64), (f64, f64))> = rings
@@ -416,6 +426,9 @@ fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>]) {
             (false, false) => None,
         };
         let half = |x: f64| (x - x.floor() - 0.5).abs() < 1e-6;
+        if hard && on_ring((c, rr)) {
+            continue;
+        }
         let Some(z) = want else {
             // a vertex of the data's outline (a build over the data): on a
             // pixel square's side, its height the boundary's own; or of a
@@ -543,12 +556,12 @@ fn geographic_dem_between_samples() {
         .expect("a vertex at a crossing");
     let mut bad = tin.clone();
     bad.verts[at_crossing][2] += 0.01;
-    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r, &[]));
+    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r, &[], false));
     assert!(caught.is_err(), "a vertex 1 cm off was not seen");
     let mut bad = tin.clone();
     let v = bad.levels[4].tris[0][0] as usize;
     bad.verts[v][0] += 2.0 * r.lat.scale_x;
-    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r, &[]));
+    let caught = std::panic::catch_unwind(|| structure("damaged", &bad, &r, &[], false));
     assert!(caught.is_err(), "a vertex 2 pixels off was not seen");
 }
 
@@ -689,6 +702,184 @@ fn soft_breaklines_between_samples() {
     }
 }
 
+/// Hard breaklines (heights of their own: an embankment 4 m over the DEM,
+/// a level cut, one running off the raster) between samples: every grid
+/// segment a line does not cut (within 1e-6 pixel) holds each level's
+/// tolerance, and every vertex off the grid lines lies on a line.
+#[test]
+fn hard_breaklines_between_samples() {
+    use tinmerge_core::tin::breaklines::Breakline;
+    for file in ["jacksboro_fault_dem.tif", "jacksboro_fault_dem_utm16n.tif"] {
+        let r = Raster::of_dem(&common::read_dem(file));
+        let (w, h) = (r.w as f64, r.h as f64);
+        let near_z = |c: f64, row: f64| {
+            let (c, row) = (
+                c.round().clamp(0.0, w - 1.0),
+                row.round().clamp(0.0, h - 1.0),
+            );
+            r.at(c as i64, row as i64).unwrap_or(0.0)
+        };
+        let lattice_lines: [Vec<[f64; 3]>; 3] = [
+            [(0.11, 0.23), (0.37, 0.41), (0.52, 0.18), (0.83, 0.57)]
+                .map(|(u, v)| [u * w, v * h, near_z(u * w, v * h) + 4.0])
+                .to_vec(),
+            vec![
+                [0.2 * w + 0.37, 0.75 * h + 0.11, 300.0],
+                [0.6 * w - 0.2, 0.7 * h, 300.0],
+            ],
+            vec![
+                [0.7 * w + 0.3, 0.8 * h, near_z(0.7 * w, 0.8 * h)],
+                [1.3 * w, 0.9 * h + 0.7, near_z(w, 0.9 * h)],
+            ],
+        ];
+        let lines: Vec<Vec<[f64; 3]>> = lattice_lines
+            .iter()
+            .map(|l| {
+                l.iter()
+                    .map(|p| {
+                        let (x, y) = r.lat.centre(p[0], p[1]);
+                        [x, y, p[2]]
+                    })
+                    .collect()
+            })
+            .collect();
+        let breaklines: Vec<Breakline> = lines
+            .iter()
+            .map(|l| Breakline {
+                pts: l.clone(),
+                hard: true,
+            })
+            .collect();
+        let tols = default_tolerances(2.0, 4).unwrap();
+        let tin = data_build_with(&r, &tols, Vec::new(), &breaklines);
+        let what = format!("{file} with hard breaklines");
+        tinmerge_core::tin::check::validate_structure(&tin).unwrap();
+        let p = tinmerge_core::tin::check::problems(&tin, &mut || Ok(())).unwrap();
+        assert!(p.is_empty(), "{what}: {p:?}");
+        let rings: Vec<Vec<[f64; 2]>> = lines
+            .iter()
+            .map(|l| l.iter().map(|p| [p[0], p[1]]).collect())
+            .collect();
+        structure(&what, &tin, &r, &rings, true);
+        // the lines' sides in lattice coordinates (the test's own inverse)
+        let sides: Vec<((f64, f64), (f64, f64))> = rings
+            .iter()
+            .flat_map(|l| l.windows(2))
+            .map(|s| {
+                (
+                    r.to_lattice(s[0][0], s[0][1]),
+                    r.to_lattice(s[1][0], s[1][1]),
+                )
+            })
+            .collect();
+        let cut = |p: (i64, i64), q: (i64, i64)| {
+            let (p, q) = ((p.0 as f64, p.1 as f64), (q.0 as f64, q.1 as f64));
+            sides.iter().any(|&(a, b)| seg_dist(p, q, a, b) <= 1e-6)
+        };
+        let errs = grid_line_errors_but(&tin, &r, &cut);
+        let mut cut_out = 0usize;
+        let mut worst = Vec::new();
+        for (l, e) in errs.into_iter().enumerate() {
+            let tol = tin.levels[l].tolerance;
+            let max = e.iter().copied().fold(0.0, f64::max) / tol;
+            worst.push((max * 1000.0).round() / 1000.0);
+            assert!(
+                max <= 1.0 + 1e-9,
+                "{what}: level {l} is {max:.4}x its tolerance on a grid line no line cuts"
+            );
+        }
+        for row in 0..r.h as i64 {
+            for c in 0..r.w as i64 {
+                cut_out +=
+                    cut((c, row), (c + 1, row)) as usize + cut((c, row), (c, row + 1)) as usize;
+            }
+        }
+        // the same build held at the samples only (tinmerge 0.12.0's)
+        let samples: Vec<[f64; 3]> = (0..r.h)
+            .flat_map(|row| (0..r.w).map(move |c| (c, row)))
+            .filter_map(|(c, row)| {
+                let z = r.z[row * r.w + c];
+                let (x, y) = r.lat.centre(c as f64, row as f64);
+                (!z.is_nan()).then_some([x, y, z])
+            })
+            .collect();
+        let old = tinmerge_core::tin::build::build_domain(
+            samples,
+            &breaklines,
+            &[],
+            &tols,
+            0,
+            &mut || Ok(()),
+        )
+        .unwrap();
+        let before: Vec<f64> = grid_line_errors_but(&old, &r, &cut)
+            .into_iter()
+            .enumerate()
+            .map(|(l, e)| {
+                (e.iter().copied().fold(0.0, f64::max) / old.levels[l].tolerance * 1000.0).round()
+                    / 1000.0
+            })
+            .collect();
+        let count = |t: &Tin| t.levels.iter().map(|l| l.num_domain()).collect::<Vec<_>>();
+        println!(
+            "{what}: largest error per level {worst:?}x (at the samples only: {before:?}x); \
+             triangles {:?} (at the samples only: {:?}); {cut_out} grid segments cut by the lines",
+            count(&tin),
+            count(&old)
+        );
+        // tin_validate(t, rast, breaklines => ...) names nothing; without
+        // the lines, the levels where they cut the grid far from the DEM
+        let heights = Dense {
+            c0: 0,
+            r0: 0,
+            width: r.w,
+            height: r.h,
+            z: r.z.clone(),
+        };
+        let hard: Vec<([f64; 2], [f64; 2])> = rings
+            .iter()
+            .flat_map(|l| l.windows(2).map(|s| (s[0], s[1])))
+            .collect();
+        let over = |cuts: &[([f64; 2], [f64; 2])]| {
+            tinmerge_core::tin::check::over_tolerance(&tin, &heights, &r.lat, cuts, &mut || Ok(()))
+                .unwrap()
+        };
+        assert_eq!(over(&hard), [], "{what}");
+        assert!(
+            !over(&[]).is_empty(),
+            "{what}: the lines' own heights were not seen"
+        );
+        assert!(
+            cut_out > 100,
+            "{what}: the lines cut only {cut_out} grid segments"
+        );
+    }
+}
+
+/// Distance between the closed segments p-q and a-b (the test's own).
+fn seg_dist(p: (f64, f64), q: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let pd = |p: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let l2 = dx * dx + dy * dy;
+        let s = if l2 > 0.0 {
+            (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (p.0 - a.0 - s * dx).hypot(p.1 - a.1 - s * dy)
+    };
+    let cross = |o: (f64, f64), u: (f64, f64), v: (f64, f64)| {
+        (u.0 - o.0) * (v.1 - o.1) - (u.1 - o.1) * (v.0 - o.0)
+    };
+    if cross(p, q, a) * cross(p, q, b) < 0.0 && cross(a, b, p) * cross(a, b, q) < 0.0 {
+        return 0.0;
+    }
+    pd(p, a, b)
+        .min(pd(q, a, b))
+        .min(pd(a, p, q))
+        .min(pd(b, p, q))
+}
+
 /// check_hierarchy.py's shapes: a disc with an off-centre hole as the
 /// boundary, and as soft lines a circle and the raster's diagonal, as
 /// PostGIS's ST_Buffer makes them (24 and 16 segments a quarter), at 5
@@ -774,7 +965,7 @@ fn over_tolerance_finds_values_built_at_the_samples_only() {
             lattice_build(&r, &tols, false, true)
         };
         for (what, tin) in [("samples only", &old), ("between samples", &new)] {
-            let found = over_tolerance(tin, &heights, &r.lat, &mut || Ok(())).unwrap();
+            let found = over_tolerance(tin, &heights, &r.lat, &[], &mut || Ok(())).unwrap();
             let oracle = grid_line_errors(tin, &r);
             for (l, e) in oracle.iter().enumerate() {
                 let tol = tin.levels[l].tolerance;

@@ -24,6 +24,21 @@ LANGUAGE sql IMMUTABLE AS $$
   FROM generate_series(1, array_length(f, 1), 2) i $$;
 CREATE FUNCTION bs_ring(r raster, VARIADIC f float8[]) RETURNS geometry
 LANGUAGE sql IMMUTABLE AS $$ SELECT ST_AddPoint(bs_line(r, VARIADIC f), bs_pt(r, f[1], f[2])) $$;
+-- hard breaklines (heights of their own: an embankment 4 m over the DEM,
+-- a level cut at 300 m, one running off the raster at the DEM's height):
+-- held between samples too since 0.13.0, but on the grid segments the
+-- lines cut, where the surface is the lines' own
+CREATE FUNCTION bs_line_z(r raster, dz float8, VARIADIC f float8[]) RETURNS geometry
+LANGUAGE sql IMMUTABLE AS $$
+  SELECT ST_MakeLine(array_agg(ST_SetSRID(ST_MakePoint(ST_X(p), ST_Y(p),
+           CASE WHEN ST_Intersects(ST_Envelope(r), p) THEN ST_Value(r, 1, p) + dz ELSE 300 END), ST_SRID(r)) ORDER BY i))
+  FROM generate_series(1, array_length(f, 1), 2) i, LATERAL bs_pt(r, f[i], f[i + 1]) p $$;
+CREATE TABLE bs_hard AS
+  SELECT d.dem, ST_Collect(ARRAY[
+           bs_line_z(d.rast, 4.0, 0.11,0.23, 0.37,0.41, 0.52,0.18, 0.83,0.57),
+           ST_Force3D(bs_line(d.rast, 0.2013,0.7511, 0.6,0.7), 300),
+           bs_line_z(d.rast, 0.0, 0.7,0.8, 1.3,0.93)]) AS lines
+  FROM (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d;
 CREATE TABLE bs_terrain AS
   SELECT 'utm' AS dem, 'valid pixels' AS build, tin_from_raster(rast, 2.0, 5) AS t FROM dem
   UNION ALL
@@ -44,7 +59,11 @@ CREATE TABLE bs_terrain AS
            ST_MakeLine(ST_PixelAsCentroid(d.rast, ST_Width(d.rast) / 5, ST_Height(d.rast) * 3 / 4),
                        ST_PixelAsCentroid(d.rast, ST_Width(d.rast) * 3 / 5, ST_Height(d.rast) * 3 / 4)),
            bs_line(d.rast, 0.7,0.8, 1.3,0.93)]))
-  FROM (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d;
+  FROM (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d
+  UNION ALL
+  SELECT d.dem, 'hard breaklines', tin_from_raster(d.rast, 2.0, 5, breaklines => h.lines)
+  FROM (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d
+       JOIN bs_hard h USING (dem);
 -- the contour vertices on a grid line between two valid pixel centres
 -- (those gdal_contour puts on the half-pixel lines beside nodata follow
 -- its own rule there, not the raster's surface)
@@ -89,8 +108,16 @@ SELECT dem, build, (SELECT count(*) FROM tin_validate(t)) AS problems FROM bs_te
 CREATE TABLE bs_levels AS
   SELECT b.dem, b.build, l AS level, tin_tolerance(t, l) AS tolerance,
          (tin_info(t) -> 'levels' -> l ->> 'max_error')::float8 AS max_error,
-         (SELECT array_agg(tin_height(b.t, v.p, l) - v.elev) FROM bs_vertices v WHERE v.dem = b.dem) AS err
-  FROM bs_terrain b, generate_series(0, 4) l;
+         (SELECT array_agg(tin_height(b.t, v.p, l) - v.elev) FROM bs_vertices v
+          WHERE v.dem = b.dem
+            -- beside a hard line (within a pixel: every grid segment it
+            -- cuts) the surface is the line's
+            AND NOT (b.build = 'hard breaklines'
+                     AND ST_DWithin(v.p, (SELECT lines FROM bs_hard h WHERE h.dem = b.dem), px))) AS err
+  FROM bs_terrain b
+       JOIN (SELECT 'utm' AS dem, ST_PixelWidth(rast) * 1.5 AS px FROM dem
+             UNION ALL SELECT 'geographic', ST_PixelWidth(rast) * 1.5 FROM dem_geo) d USING (dem),
+       generate_series(0, 4) l;
 -- every contour vertex at every level: none further from its contour's
 -- height than the level's tolerance. The slack is GDAL's: a pixel whose
 -- value equals a contour's is nudged by about 1e-6 m, so a contour vertex
@@ -137,8 +164,16 @@ GROUP BY 1, 2 ORDER BY 1, 2;
 SELECT b.dem, b.build, count(v.*) AS problems
 FROM bs_terrain b
      JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem)
-     LEFT JOIN LATERAL tin_validate(b.t, d.rast) v ON true
+     LEFT JOIN bs_hard h ON h.dem = b.dem AND b.build = 'hard breaklines'
+     LEFT JOIN LATERAL tin_validate(b.t, d.rast, breaklines => h.lines) v ON true
 GROUP BY 1, 2 ORDER BY 1 DESC, 2;
+-- without its lines, tin_validate sees their own heights on the grid
+-- segments they cut: every level over
+SELECT b.dem, count(v.*) AS levels_over
+FROM bs_terrain b
+     JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem),
+     tin_validate(b.t, d.rast) v
+WHERE b.build = 'hard breaklines' GROUP BY 1 ORDER BY 1 DESC;
 -- a tile's build (keep_border) is held at the samples only in the
 -- one-pixel strip along its hull (the seam's vertices are its own samples,
 -- so that the tile beside it agrees): tin_validate names the levels over
@@ -163,6 +198,9 @@ FROM bs_found f, bs_tile b, dem_geo d ORDER BY 1;
 SELECT try($$SELECT count(*) FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast, 0)$$);
 SELECT try($$SELECT count(*) FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast, 2)$$);
 SELECT try($$SELECT count(*) FROM bs_tile b, dem d, tin_validate(b.t, d.rast)$$);
+SELECT try($$SELECT count(*) FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast, breaklines => 'SRID=4326;POINT Z(0 0 0)'::geometry)$$);
+SELECT try($$SELECT count(*) FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast, breaklines => 'SRID=32616;LINESTRING Z(0 0 1, 1 1 1)'::geometry)$$);
 SELECT count(*) AS null_rows FROM bs_tile b, tin_validate(b.t, NULL::raster);
-DROP TABLE bs_found, bs_tile, bs_levels, bs_vertices, bs_valid, bs_terrain;
-DROP FUNCTION bs_ring, bs_line, bs_pt;
+SELECT count(*) AS null_rows FROM bs_tile b, dem_geo d, tin_validate(b.t, d.rast, NULL::int);
+DROP TABLE bs_found, bs_tile, bs_levels, bs_vertices, bs_valid, bs_terrain, bs_hard;
+DROP FUNCTION bs_ring, bs_line_z, bs_line, bs_pt;

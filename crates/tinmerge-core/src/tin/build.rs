@@ -1108,9 +1108,10 @@ fn build_domain_with(
 /// its data, with a boundary or with breaklines): every free edge of every
 /// level is also measured where it crosses a grid segment between two valid
 /// pixel centres, against the raster's `heights` ([`super::surface`]), and
-/// coarse edges are split at those crossings level by level. With hard
-/// breaklines (heights of their own, not the raster's) the error is
-/// measured at the samples only.
+/// coarse edges are split at those crossings level by level. Hard
+/// breaklines keep heights of their own, not the raster's: the grid
+/// segments they cut (within [`super::surface::CUT_SLACK`] pixel) are left
+/// out ([`GridReference::cut_by`]), every other one is measured.
 #[allow(clippy::too_many_arguments)]
 pub fn build_domain_raster(
     samples: Vec<[f64; 3]>,
@@ -1122,15 +1123,26 @@ pub fn build_domain_raster(
     lat: &Lattice,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    let reference = GridReference::in_world(heights, *lat);
-    let hard = lines.iter().any(|l| l.hard);
+    // hard lines' heights are their own: the grid segments they cut are
+    // no measure of the build
+    let cuts: Vec<([f64; 2], [f64; 2])> = lines
+        .iter()
+        .filter(|l| l.hard)
+        .flat_map(|l| {
+            l.pts
+                .windows(2)
+                .map(|w| ([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
+        })
+        .collect();
+    let reference = GridReference::in_world(heights, *lat).cut_by(&cuts);
+    drop(cuts);
     build_domain_with(
         samples,
         lines,
         boundaries,
         tolerances,
         srid,
-        (!hard && lat.is_valid()).then_some(&reference as &dyn Reference),
+        lat.is_valid().then_some(&reference as &dyn Reference),
         interrupt,
     )
 }

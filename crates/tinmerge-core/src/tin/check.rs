@@ -590,14 +590,19 @@ mod tests {
 /// the tolerance or of the tin's height range). Values built before the
 /// build measured between samples (tinmerge 0.10.0 and earlier, and tiles
 /// still) are within tolerance at the samples only, and show here.
+/// `hard`: the segments of the hard breaklines the tin was built with
+/// (world coordinates); the grid segments they cut hold the lines' own
+/// heights, not the raster's, and are left out
+/// ([`super::surface::GridReference::cut_by`]), as the build leaves them.
 pub fn over_tolerance(
     tin: &Tin,
     heights: &super::dense::Dense,
     lat: &super::lattice::Lattice,
+    hard: &[([f64; 2], [f64; 2])],
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<Problem>, TinError> {
     use super::surface::{GridReference, Reference};
-    let reference = GridReference::in_world(heights, *lat);
+    let reference = GridReference::in_world(heights, *lat).cut_by(hard);
     let zspan = (tin.bbox.max_z - tin.bbox.min_z).abs();
     let mut out = Vec::new();
     for (l, lv) in tin.levels.iter().enumerate() {
@@ -639,6 +644,9 @@ pub fn over_tolerance(
                 continue;
             }
             let (c, r) = heights.col_row(i);
+            if reference.cuts_centre(c, r) {
+                continue;
+            }
             let (x, y) = lat.centre(c as f64, r as f64);
             let Some(t) = super::locate::locate(tin, l, x, y) else {
                 continue;

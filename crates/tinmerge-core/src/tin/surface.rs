@@ -102,7 +102,18 @@ pub struct GridReference<'a> {
     d: &'a Dense,
     /// the build's frame: `None` for the lattice itself
     world: Option<Inverse>,
+    /// grid segments left out ([`GridReference::cut_by`]): `(col, row,
+    /// axis)` of their first pixel, axis 0 down a column (to `(col, row +
+    /// 1)`), 1 along a row (to `(col + 1, row)`)
+    cut: rustc_hash::FxHashSet<(i64, i64, u8)>,
+    /// pixel centres on those lines (within [`CUT_SLACK`] pixel)
+    cut_centres: rustc_hash::FxHashSet<(i64, i64)>,
 }
+
+/// Distance in pixels under which a grid segment counts as crossed by a
+/// line of [`GridReference::cut_by`]: far above the rounding of world to
+/// lattice coordinates, far below any pixel.
+pub const CUT_SLACK: f64 = 1e-6;
 
 /// A lattice and its inverse (world to lattice coordinates).
 struct Inverse {
@@ -114,7 +125,12 @@ struct Inverse {
 impl<'a> GridReference<'a> {
     /// The reference of a build on the lattice itself.
     pub fn on_lattice(d: &'a Dense) -> GridReference<'a> {
-        GridReference { d, world: None }
+        GridReference {
+            d,
+            world: None,
+            cut: Default::default(),
+            cut_centres: Default::default(),
+        }
     }
 
     /// The reference of a build on the pixel centres in world coordinates
@@ -129,7 +145,87 @@ impl<'a> GridReference<'a> {
         GridReference {
             d,
             world: Some(Inverse { lat, m }),
+            cut: Default::default(),
+            cut_centres: Default::default(),
         }
+    }
+
+    /// This reference without the grid segments that lines of their own
+    /// heights cut: hard breaklines, `lines` in the build's frame (as
+    /// segments, each within [`CUT_SLACK`] pixel of a grid segment leaves
+    /// it out). On such a segment the surface is the line's, not the two
+    /// pixels' line, so it is no measure of the build there.
+    ///
+    /// ```
+    /// use tinmerge_core::tin::dense::Dense;
+    /// use tinmerge_core::tin::surface::{GridReference, Reference};
+    /// let d = Dense { c0: 0, r0: 0, width: 4, height: 4, z: (0..16).map(f64::from).collect() };
+    /// // a line down column 1.5, from row 0.2 to 1.7: it cuts the row
+    /// // segments (1, 1) - (2, 1), and no other
+    /// let r = GridReference::on_lattice(&d).cut_by(&[([1.5, 0.2], [1.5, 1.7])]);
+    /// let mut seen = Vec::new();
+    /// r.for_each_crossing(&[0.0, 0.5, 0.0], &[3.0, 1.5, 0.0], &mut |c| seen.push(c.seg));
+    /// // crossings of columns 1 and 2 (rows 0 to 1) are kept; row 1 at
+    /// // x = 1.5 is cut
+    /// assert_eq!(seen.len(), 2);
+    /// assert!(seen.iter().all(|s| s[0][0] == s[1][0]));
+    /// ```
+    pub fn cut_by(mut self, lines: &[([f64; 2], [f64; 2])]) -> GridReference<'a> {
+        let e = CUT_SLACK;
+        for (a, b) in lines {
+            let la = self.to_lattice(&[a[0], a[1], 0.0]);
+            let lb = self.to_lattice(&[b[0], b[1], 0.0]);
+            if !(la
+                .iter()
+                .chain(&lb)
+                .all(|v| v.is_finite() && v.abs() < 1e12))
+            {
+                continue;
+            }
+            let (x0, x1) = (la[0].min(lb[0]), la[0].max(lb[0]));
+            let (dx, dy) = (lb[0] - la[0], lb[1] - la[1]);
+            // each column of pixel squares the line meets, and there the
+            // rows it meets, each grid segment of those squares tested
+            let mut c = (x0 - e).floor() as i64;
+            while (c as f64) <= x1 + e {
+                let (u0, u1) = ((c as f64 - e).max(x0), (c as f64 + 1.0 + e).min(x1));
+                let (ya, yb) = if dx.abs() <= f64::EPSILON * (1.0 + x1.abs()) {
+                    (la[1], lb[1])
+                } else {
+                    let y = |x: f64| la[1] + (x - la[0]) / dx * dy;
+                    (y(u0), y(u1))
+                };
+                let (r0, r1) = (
+                    (ya.min(yb) - e).floor() as i64,
+                    (ya.max(yb) + e).floor() as i64,
+                );
+                for r in r0..=r1 {
+                    if crate::geom::point_segment_distance([c as f64, r as f64], la, lb) <= e {
+                        self.cut_centres.insert((c, r));
+                    }
+                    for (sc, sr, axis) in [(c, r, 0), (c + 1, r, 0), (c, r, 1), (c, r + 1, 1)] {
+                        let p = [sc as f64, sr as f64];
+                        let q = if axis == 0 {
+                            [p[0], p[1] + 1.0]
+                        } else {
+                            [p[0] + 1.0, p[1]]
+                        };
+                        if segment_distance(p, q, la, lb) <= e {
+                            self.cut.insert((sc, sr, axis));
+                        }
+                    }
+                }
+                c += 1;
+            }
+        }
+        self
+    }
+
+    /// Whether pixel `(col, row)`'s centre lies on a line of
+    /// [`GridReference::cut_by`] (within [`CUT_SLACK`] pixel): the
+    /// surface there is the line's.
+    pub fn cuts_centre(&self, col: i64, row: i64) -> bool {
+        self.cut_centres.contains(&(col, row))
     }
 
     /// A point of the build's frame in lattice coordinates.
@@ -233,6 +329,9 @@ impl Reference for GridReference<'_> {
             } else {
                 ((lo, k), (lo + 1, k))
             };
+            if !self.cut.is_empty() && self.cut.contains(&(p0.0, p0.1, axis as u8)) {
+                continue;
+            }
             let (Some(z0), Some(z1)) = (self.z(p0.0, p0.1), self.z(p1.0, p1.1)) else {
                 continue;
             };
@@ -265,6 +364,23 @@ impl Reference for GridReference<'_> {
             f(&Crossing { t, p, pix, seg, s });
         }
     }
+}
+
+/// Distance between the closed segments `p -> q` and `a -> b`.
+fn segment_distance(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    use crate::geom::point_segment_distance as d;
+    let o = |u: [f64; 2], v: [f64; 2], w: [f64; 2]| {
+        robust::orient2d(
+            robust::Coord { x: u[0], y: u[1] },
+            robust::Coord { x: v[0], y: v[1] },
+            robust::Coord { x: w[0], y: w[1] },
+        )
+    };
+    let (o1, o2, o3, o4) = (o(p, q, a), o(p, q, b), o(a, b, p), o(a, b, q));
+    if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+        return 0.0;
+    }
+    d(p, a, b).min(d(q, a, b)).min(d(a, p, q)).min(d(b, p, q))
 }
 
 /// The grid lines one coordinate crosses going from `u` by `d`, strictly
