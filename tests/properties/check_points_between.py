@@ -13,7 +13,9 @@ level, that the error is within the level's tolerance (plus 1e-9
 relative) at every sample, at every crossing of a level edge with a
 reference edge, and at every vertex of the level that is not a sample.
 
-Three sample sets per DEM, each built by a form users write:
+Three sample sets per DEM, each built by a form users write (and the
+scattered one again within a boundary with a hole, with a soft and a hard
+breakline):
  - the DEM's pixel centres (every other row and column; PostGIS's
    ST_PixelAsCentroids) moved by up to a tenth of a pixel, seeded: a grid's
    own points are cocircular, so no Delaunay triangulation of them is *the*
@@ -90,7 +92,29 @@ def sample_sets(table, rng):
             ("LiDAR-like", lidar, "collect")]
 
 
-def build(samples, srid, how):
+def domain_args(samples, srid):
+    """A boundary (a rectangle inset from the samples' extent with a square
+    hole), a soft line across it and a hard line (a level road 10 m over
+    the mean height, heights of its own) away from the soft one, as
+    shapely geometries and as tin_from_points' arguments in SQL."""
+    from shapely.geometry import LineString, Polygon
+    x0, x1 = samples[:, 0].min(), samples[:, 0].max()
+    y0, y1 = samples[:, 1].min(), samples[:, 1].max()
+
+    def at(u, v):
+        return (x0 + u * (x1 - x0), y0 + v * (y1 - y0))
+    shell = [at(0.05, 0.04), at(0.93, 0.06), at(0.95, 0.96), at(0.07, 0.94)]
+    hole = [at(0.4, 0.45), at(0.4, 0.58), at(0.55, 0.58), at(0.55, 0.45)]
+    area = Polygon(shell, [hole])
+    soft = LineString([at(0.1, 0.2), at(0.5, 0.33), at(0.9, 0.31)])
+    zr = float(samples[:, 2].mean()) + 10.0
+    hard = LineString([(*at(0.15, 0.7), zr), (*at(0.6, 0.75), zr), (*at(0.85, 0.82), zr)])
+    geo = lambda g: f"ST_GeomFromText('{g.wkt}', {srid})"
+    args = f"breaklines => {geo(hard)}, soft_breaklines => {geo(soft)}, boundary => {geo(area)}"
+    return area, soft, hard, args
+
+
+def build(samples, srid, how, extra=""):
     sql("SET client_min_messages = warning; DROP TABLE IF EXISTS prop_pts; DROP TABLE IF EXISTS prop_ptin; "
         "CREATE TABLE prop_pts (x float8, y float8, z float8)")
     buf = io.StringIO()
@@ -100,7 +124,7 @@ def build(samples, srid, how):
     if how == "agg":
         body = f"SELECT tin_from_points_agg({pt}, {TOL}, {LEVELS}) AS t FROM prop_pts"
     else:
-        body = f"SELECT tin_from_points(ST_Collect({pt}), {TOL}, {LEVELS}) AS t FROM prop_pts"
+        body = f"SELECT tin_from_points(ST_Collect({pt}), {TOL}, {LEVELS}{extra}) AS t FROM prop_pts"
     sql(f"CREATE TABLE prop_ptin AS {body}")
 
 
@@ -148,11 +172,33 @@ def crossing_errors(ev, ez, ref_edges, rv, rz):
     return np.abs(zl - zr)[proper]
 
 
-def check_set(name, samples, how, srid, check):
+def check_set(name, samples, how, srid, check, domain=False):
+    """The checks of one build; with `domain`, within domain_args's
+    boundary and with its lines: the samples outside the boundary or on a
+    line are no vertices, the reference's edges a hard line cuts (within
+    1e-6 m: the surface there is the line's) and the level's vertices on
+    it (the line's heights) are left out."""
     print(f"-- {name}: {len(samples)} samples ({'tin_from_points_agg' if how == 'agg' else 'tin_from_points(ST_Collect(...))'})")
-    build(samples, srid, how)
+    hard = None
+    want = np.ones(len(samples), dtype=bool)
+    if domain:
+        from shapely import distance, points
+        area, soft, hard, args = domain_args(samples, srid)
+        build(samples, srid, how, ", " + args)
+        p = points(samples[:, :2])
+        # samples in the domain, away from its rings and the lines
+        want = area.contains(p) & (distance(p, area.boundary) > 1e-6) & (distance(p, soft) > 1e-6) \
+            & (distance(p, hard) > 1e-6)
+        print(f"   within a boundary with a hole, a soft and a hard line: {want.sum()} samples inside")
+    else:
+        build(samples, srid, how)
     ref = Triangulation(samples[:, 0], samples[:, 1])
     ref_edges = ref.edges
+    if hard is not None:
+        from shapely import distance
+        cut = distance(linestrings(samples[:, :2][ref_edges]), hard) <= 1e-6
+        ref_edges = ref_edges[~cut]
+        print(f"   {cut.sum()} reference edges cut by the hard line")
     ref_at = LinearTriInterpolator(ref, samples[:, 2])
     for l in range(LEVELS):
         tol = TOL * 2 ** (LEVELS - 1 - l)
@@ -164,18 +210,24 @@ def check_set(name, samples, how, srid, check):
         # at the samples: the level's own triangles, matplotlib's interpolation
         lev = LinearTriInterpolator(Triangulation(verts[:, 0], verts[:, 1], tri), z)
         at = lev(samples[:, 0], samples[:, 1])
-        inside = ~np.ma.getmaskarray(at)
+        inside = ~np.ma.getmaskarray(at) & want
         at_samples = np.abs(np.ma.getdata(at)[inside] - samples[inside, 2])
         # the level's vertices that are not samples: on the reference
         rz = ref_at(verts[:, 0], verts[:, 1])
         has = ~np.ma.getmaskarray(rz)
+        if hard is not None:
+            from shapely import distance, points
+            has &= distance(points(verts), hard) > 1e-6
         at_verts = np.abs(np.ma.getdata(rz)[has] - z[has])
         worst = max(cross.max(initial=0), at_samples.max(initial=0), at_verts.max(initial=0))
+        if at_verts.max(initial=0) > tol:
+            k = np.flatnonzero(has)[np.argmax(at_verts)]
+            print(f"   worst vertex POINT({verts[k, 0]!r} {verts[k, 1]!r}) at {z[k]!r}, the reference's {float(rz[k])!r}")
         print(f"level {l}: {len(tri)} triangles; {len(cross)} crossings with the reference's edges, largest error "
               f"{cross.max(initial=0):.4f} m; {inside.sum()} samples, {at_samples.max(initial=0):.4f} m; "
               f"{has.sum()} vertices, {at_verts.max(initial=0):.4f} m ({worst / tol:.3f}x the tolerance {tol:g})")
         check(worst <= tol * (1 + 1e-9), f"{name} level {l}: {worst} m off the samples' Delaunay surface, tolerance {tol}")
-        check(inside.sum() == len(samples), f"{name} level {l}: {len(samples) - inside.sum()} samples outside the level")
+        check(inside.sum() == want.sum(), f"{name} level {l}: {want.sum() - inside.sum()} samples outside the level")
     sql("DROP TABLE prop_ptin; DROP TABLE prop_pts")
 
 
@@ -191,8 +243,12 @@ def main():
     for table in ("dem", "dem_geo"):
         srid = sql_rows(f"SELECT ST_SRID(rast) FROM {table}")[0][0]
         print(f"== {table} (SRID {srid})")
-        for name, samples, how in sample_sets(table, rng):
+        sets = sample_sets(table, rng)
+        for name, samples, how in sets:
             check_set(f"{table} {name}", samples, how, srid, check)
+        # the scattered samples again, within a boundary and with lines
+        name, samples, _ = sets[1]
+        check_set(f"{table} {name}, boundary and lines", samples, "collect", srid, check, domain=True)
     if failures:
         print(f"{len(failures)} point-build checks FAILED")
         sys.exit(1)

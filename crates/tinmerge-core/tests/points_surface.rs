@@ -196,10 +196,13 @@ fn point_builds_between_samples() {
 
 /// pointcloud.sql's domain build: a jittered grid of 120 x 120 DEM pixel
 /// centres, within its hull less a square hole, with a soft line along the
-/// diagonal. Between samples it first looped without end in
+/// diagonal, built between samples. It first looped without end in
 /// `close_chains` (one vertex twice in a side's chain), then left holes
-/// beside the line, so point builds with lines or a boundary are measured
-/// at the samples only for now; this pins that they build sound.
+/// beside the line: a side from a vertex on an edge of the reference (a
+/// ring's crossing) crossed that edge again 1e-7 m from its start, past
+/// the 1e-9 parameter slack, and a vertex put there stood beside the
+/// corner. The bound against the samples' Delaunay is checked by
+/// `tests/properties/check_points_between.py` (its domain builds).
 #[test]
 fn point_build_with_a_boundary_and_a_soft_line() {
     use tinmerge_core::merge::area::polygon::Area;

@@ -888,9 +888,11 @@ pub fn build_points(
     build_points_domain(samples, &[], &[], tolerances, srid, interrupt)
 }
 
-/// [`build_domain`] of points: measured between the samples as
-/// [`build_points`] is without breaklines or a boundary; with them, at the
-/// samples only (not yet between them).
+/// [`build_domain`] of points, measured between the samples against
+/// their whole Delaunay triangulation as [`build_points`] is: soft lines
+/// and boundary rings take their heights from it, and the edges of it a
+/// hard line cuts are left out ([`DelaunayReference::cut_by`]: the surface
+/// there is the line's).
 pub fn build_points_domain(
     samples: Vec<[f64; 3]>,
     lines: &[Breakline],
@@ -900,16 +902,21 @@ pub fn build_points_domain(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
-    if !lines.is_empty() || !boundaries.is_empty() {
-        // not yet: with a boundary and a soft line, the points of the
-        // samples' Delaunay put where no sample mends a crossing left holes
-        // beside the lines (tests/points_surface.rs,
-        // point_build_with_a_boundary_and_a_soft_line)
-        return build_domain(samples, lines, boundaries, tolerances, srid, interrupt);
-    }
     let samples = prepare_samples(samples)?;
     interrupt()?;
-    let reference = DelaunayReference::new(&samples)?;
+    // hard lines' heights are their own: the samples' edges they cut are
+    // no measure of the build
+    let cuts: Vec<([f64; 2], [f64; 2])> = lines
+        .iter()
+        .filter(|l| l.hard)
+        .flat_map(|l| {
+            l.pts
+                .windows(2)
+                .map(|w| ([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
+        })
+        .collect();
+    let reference = DelaunayReference::new(&samples)?.cut_by(&cuts);
+    drop(cuts);
     interrupt()?;
     build_domain_with(
         samples,
@@ -1252,7 +1259,14 @@ fn with_breaklines(
     }
     let lines = clip_to_hull(&lines, &hull);
     let grid = SampleGrid::new(pts, 1.0);
-    let net = network(&lines, tol, &|x, y| sample_height(&grid, x, y), interrupt)?;
+    // heights along soft lines: the reference's where it has them (the
+    // samples' whole Delaunay triangulation), else the samples around
+    let height = |x: f64, y: f64| {
+        reference
+            .and_then(|r| r.height_at(x, y))
+            .or_else(|| sample_height(&grid, x, y))
+    };
+    let net = network(&lines, tol, &height, interrupt)?;
     drop(lines);
     for v in &net.verts {
         if (0..hull.len())
@@ -1300,7 +1314,7 @@ fn with_breaklines(
             Vec::new()
         } else {
             let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
-            let even = profile(&a, &b, step, &|x, y| sample_height(&grid, x, y), interrupt)?;
+            let even = profile(&a, &b, step, &height, interrupt)?;
             match reference {
                 Some(r) => {
                     with_crossings(&a, &b, even, r, step, std::mem::take(&mut on_segment[k]))

@@ -29,7 +29,7 @@
 use super::surface::{Crossing, Reference};
 use super::TinError;
 use spade::{
-    DelaunayTriangulation, HasPosition, HierarchyHintGenerator, Intersection,
+    DelaunayTriangulation, FloatTriangulation, HasPosition, HierarchyHintGenerator, Intersection,
     LineIntersectionIterator, Point2, Triangulation,
 };
 
@@ -52,6 +52,27 @@ impl HasPosition for Sample {
 /// ([`DelaunayReference::BYTES_PER_SAMPLE`]).
 pub struct DelaunayReference {
     dt: DelaunayTriangulation<Sample, (), (), (), HierarchyHintGenerator<f64>>,
+    /// edges left out ([`DelaunayReference::cut_by`]), by their two ends'
+    /// bits, the smaller in (x, y) first
+    cut: rustc_hash::FxHashSet<EdgeKey>,
+}
+
+/// An edge of the reference by its two ends' (x, y) bits, the smaller
+/// first.
+type EdgeKey = [u64; 4];
+
+fn edge_key(p: &[f64; 3], q: &[f64; 3]) -> EdgeKey {
+    let (p, q) = if (q[0], q[1]) < (p[0], p[1]) {
+        (q, p)
+    } else {
+        (p, q)
+    };
+    [
+        p[0].to_bits(),
+        p[1].to_bits(),
+        q[0].to_bits(),
+        q[1].to_bits(),
+    ]
 }
 
 /// Where along an edge (0 to 1) a crossing is that edge's end: within it
@@ -77,7 +98,55 @@ impl DelaunayReference {
         let dt = DelaunayTriangulation::bulk_load_stable(pts).map_err(|e| {
             TinError::InvalidParameter(format!("cannot triangulate the samples: {e:?}"))
         })?;
-        Ok(DelaunayReference { dt })
+        Ok(DelaunayReference {
+            dt,
+            cut: Default::default(),
+        })
+    }
+
+    /// This reference without the edges that lines of their own heights
+    /// cut (hard breaklines, as segments): every edge crossing one, running
+    /// along one, or with an end on one. The surface there is the line's,
+    /// not the samples', so it is no measure of the build.
+    ///
+    /// ```
+    /// use tinmerge_core::tin::delaunay_ref::DelaunayReference;
+    /// use tinmerge_core::tin::surface::Reference;
+    /// let r = DelaunayReference::new(&[
+    ///     [0.0, 0.0, 0.0], [2.0, -1.0, 0.0], [4.0, 0.0, 0.0], [2.0, 1.0, 4.0],
+    /// ]).unwrap();
+    /// // a hard line across the short diagonal (2, -1)-(2, 1)
+    /// let r = r.cut_by(&[([1.5, 0.5], [2.5, 0.5])]);
+    /// let mut n = 0;
+    /// r.for_each_crossing(&[0.0, 0.0, 0.0], &[4.0, 0.0, 0.0], &mut |_| n += 1);
+    /// assert_eq!(n, 0);
+    /// ```
+    pub fn cut_by(mut self, lines: &[([f64; 2], [f64; 2])]) -> DelaunayReference {
+        let pos = |d: &Sample| [d.p.x, d.p.y, d.z];
+        let mut cut = rustc_hash::FxHashSet::default();
+        for (a, b) in lines {
+            if !(a.iter().chain(b).all(|v| v.is_finite())) || a == b {
+                continue;
+            }
+            if self.dt.num_inner_faces() == 0 {
+                break;
+            }
+            let (pa, pb) = (Point2::new(a[0], a[1]), Point2::new(b[0], b[1]));
+            for x in LineIntersectionIterator::new(&self.dt, pa, pb) {
+                match x {
+                    Intersection::EdgeIntersection(e) | Intersection::EdgeOverlap(e) => {
+                        cut.insert(edge_key(&pos(e.from().data()), &pos(e.to().data())));
+                    }
+                    Intersection::VertexIntersection(h) => {
+                        for e in h.out_edges() {
+                            cut.insert(edge_key(&pos(e.from().data()), &pos(e.to().data())));
+                        }
+                    }
+                }
+            }
+        }
+        self.cut = cut;
+        self
     }
 }
 
@@ -87,6 +156,16 @@ impl Reference for DelaunayReference {
     /// inside its circle), so samples alone cannot always mend a crossing.
     fn mends_at_crossings(&self) -> bool {
         true
+    }
+
+    /// Linear in the triangle holding `(x, y)`; None outside the hull.
+    fn height_at(&self, x: f64, y: f64) -> Option<f64> {
+        if !(x.is_finite() && y.is_finite()) || self.dt.num_inner_faces() == 0 {
+            return None;
+        }
+        self.dt
+            .barycentric()
+            .interpolate(|v| v.data().z, Point2::new(x, y))
     }
 
     /// The crossings of `a -> b` with the reference's edges, in order: the
@@ -108,6 +187,9 @@ impl Reference for DelaunayReference {
             };
             let (u, v) = (*e.from().data(), *e.to().data());
             let (u3, v3) = ([u.p.x, u.p.y, u.z], [v.p.x, v.p.y, v.z]);
+            if !self.cut.is_empty() && self.cut.contains(&edge_key(&u3, &v3)) {
+                continue;
+            }
             // where the lines meet, from exact orientations
             let (oa, ob) = (
                 crate::geom::orient(&u3, &v3, a),
@@ -118,6 +200,13 @@ impl Reference for DelaunayReference {
                 crate::geom::orient(a, b, &v3),
             );
             if oa == ob || ou == ov {
+                continue;
+            }
+            // an end on the crossed edge up to rounding (a vertex put at a
+            // crossing of it, a profile point of a line): that crossing is
+            // the end itself, however far the rounding moves it along a
+            // nearly parallel query
+            if crate::geom::is_sliver(&u3, &v3, a) || crate::geom::is_sliver(&u3, &v3, b) {
                 continue;
             }
             let t = oa / (oa - ob);

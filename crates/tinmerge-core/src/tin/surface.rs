@@ -81,6 +81,14 @@ pub trait Reference: Sync {
         false
     }
 
+    /// The surface's height at `(x, y)` where it is defined everywhere
+    /// (a triangulation of the samples): soft lines' heights are taken
+    /// from it. None where it has none, or where it is defined on grid
+    /// lines only (a raster's: the samples around give the height).
+    fn height_at(&self, _x: f64, _y: f64) -> Option<f64> {
+        None
+    }
+
     /// The largest error of the straight edge `a -> b` (heights in `a[2]`,
     /// `b[2]`) at its crossings, and the worst crossing.
     fn edge_error(&self, a: &[f64; 3], b: &[f64; 3]) -> (f64, Option<Crossing>) {
