@@ -1,0 +1,645 @@
+//! The greedy refinement of one triangulation ([`Builder`]): faces
+//! measured at their samples and crossings, the worst mended first.
+
+use super::common::*;
+use crate::interrupt::Interrupt;
+use crate::tin::samples::Samples;
+use crate::tin::sides::{sample_key, seg_key, side_key, Pt, SegKey, SideKey, SidePlan};
+use crate::tin::surface::Reference;
+use crate::tin::{interpolate, TinError, NONE};
+use spade::handles::FixedVertexHandle;
+use spade::Point2;
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+#[derive(Clone, Copy)]
+pub(super) struct FaceState {
+    pub(super) gen: u32,
+    /// the face's worst error (samples and free edges' crossings)
+    pub(super) err: f64,
+    pub(super) cand: u32,
+    /// a corner of the face: where spade's point location starts when the
+    /// candidate is inserted (it lies in this face, so the walk is short)
+    pub(super) corner: u32,
+    /// the point to insert when `cand` is [`AT_CAND`]
+    pub(super) at: [f64; 3],
+}
+
+/// [`FaceState::cand`]: no sample, the point [`FaceState::at`]: where a
+/// free edge crosses the reference's edge (a grid segment, an edge of the
+/// samples' Delaunay triangulation), at the reference's height.
+pub(super) const AT_CAND: u32 = NONE - 1;
+
+/// A face's measure: its worst error (samples and free edges' crossings),
+/// the error and candidate sample (or NONE) that insertion can mend, a
+/// corner.
+#[derive(Clone, Copy)]
+pub(super) struct Measure {
+    pub(super) worst: f64,
+    pub(super) best: f64,
+    pub(super) cand: u32,
+    pub(super) corner: u32,
+    pub(super) at: [f64; 3],
+}
+
+#[derive(PartialEq)]
+pub(super) struct Entry {
+    pub(super) err: f64,
+    pub(super) face: u32,
+    pub(super) gen: u32,
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Entry {
+    fn cmp(&self, o: &Self) -> Ordering {
+        self.err
+            .total_cmp(&o.err)
+            .then(o.face.cmp(&self.face))
+            .then(self.gen.cmp(&o.gen))
+    }
+}
+
+pub(super) struct Builder<'g, S: Samples, T: Tri = Dt> {
+    pub(super) dt: T,
+    /// z of each triangulation vertex (by spade vertex index).
+    pub(super) vz: Vec<f64>,
+    /// the sample (index in `grid.pts`) each triangulation vertex is
+    pub(super) vsample: Vec<u32>,
+    pub(super) grid: &'g S,
+    pub(super) inserted: Vec<bool>,
+    /// Samples on the hull's sides under `keep_border`: never a candidate of
+    /// the greedy refinement (`choose_border` decides them, the same way in
+    /// every tile sharing the side).
+    pub(super) reserved: Vec<bool>,
+    pub(super) faces: Vec<FaceState>,
+    pub(super) heap: BinaryHeap<Entry>,
+    /// the surface between the samples ([`crate::tin::surface`]): free edges
+    /// are measured at their crossings too
+    pub(super) reference: Option<&'g dyn Reference>,
+    /// by vertex: bit k set when it is on the parent's side chain k (an
+    /// edge between two vertices of one chain is a piece of that side)
+    pub(super) vside: Vec<u8>,
+    /// crossings ([`AT_CAND`]) still to be inserted at most (their
+    /// vertices' sample: NONE)
+    pub(super) at_budget: usize,
+}
+
+impl<S: Samples, T: Tri> Builder<'_, S, T> {
+    pub(super) fn vert3(&self, h: FixedVertexHandle) -> [f64; 3] {
+        let p = self.dt.vertex(h).position();
+        [p.x, p.y, self.vz[h.index()]]
+    }
+
+    /// Whether a directed edge is fixed: on the triangulation's hull, a
+    /// constraint, or a piece of a parent's side. Fixed edges are chosen
+    /// from their own profile; the others are measured at their crossings.
+    pub(super) fn fixed_edge(&self, e: spade::handles::FixedDirectedEdgeHandle) -> bool {
+        let e = self.dt.directed_edge(e);
+        if e.face().is_outer() || e.rev().face().is_outer() {
+            return true;
+        }
+        let [u, w] = e.vertices().map(|v| v.fix().index());
+        if self
+            .vside
+            .get(u)
+            .zip(self.vside.get(w))
+            .is_some_and(|(a, b)| a & b != 0)
+        {
+            return true;
+        }
+        self.dt.is_constraint(e.as_undirected().fix())
+    }
+
+    /// The worst sample of one inner face, and the worst crossing of its
+    /// free edges with the reference's grid segments (a sample next to it,
+    /// or the crossing itself, is the candidate then). Read-only: runs on
+    /// `tin::par`'s threads.
+    pub(super) fn measure(&self, face: FaceHandle) -> Measure {
+        let f = self.dt.face(face);
+        let vs = f.vertices();
+        let c = [
+            self.vert3(vs[0].fix()),
+            self.vert3(vs[1].fix()),
+            self.vert3(vs[2].fix()),
+        ];
+        let mut best = 0.0f64;
+        let mut cand = NONE;
+        let (inserted, reserved) = (&self.inserted, &self.reserved);
+        // a sliver's plane says nothing about the samples in it (and
+        // `snapshot` leaves slivers out): they must all become vertices
+        let sliver = crate::geom::is_sliver(&c[0], &c[1], &c[2]);
+        self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
+            if inserted[i] || (!reserved.is_empty() && reserved[i]) {
+                return;
+            }
+            let e = if sliver {
+                f64::MAX
+            } else {
+                (interpolate(&c, p[0], p[1]) - p[2]).abs()
+            };
+            if e > best {
+                best = e;
+                cand = i as u32;
+            }
+        });
+        let mut m = Measure {
+            worst: best,
+            best,
+            cand,
+            corner: vs[0].fix().index() as u32,
+            at: [f64::NAN; 3],
+        };
+        let Some(r) = self.reference else {
+            return m;
+        };
+        if sliver {
+            return m;
+        }
+        for e in f.adjacent_edges() {
+            if self.fixed_edge(e.fix()) {
+                continue;
+            }
+            let [u, w] = e.vertices().map(|v| self.vert3(v.fix()));
+            let (err, Some(x)) = r.edge_error(&u, &w) else {
+                continue;
+            };
+            m.worst = m.worst.max(err);
+            if err <= m.best {
+                continue;
+            }
+            // the pixel nearest the crossing that can be inserted (it is
+            // inside the triangulation: the domain or the parent): once the
+            // segment's two pixels are vertices the edge is no longer
+            // Delaunay unless the crossing is within about a quarter pixel
+            // of an end; the pixels beside them help where one is outside
+            let hint = e.from().fix();
+            let sample = x.pix.iter().find_map(|q| {
+                let i = self.grid.find(q[0], q[1])?;
+                if inserted[i] || (!reserved.is_empty() && reserved[i]) {
+                    return None;
+                }
+                let p = self.grid.point(i);
+                matches!(
+                    self.dt.locate_with_hint(Point2::new(p[0], p[1]), hint),
+                    spade::PositionInTriangulation::OnFace(_)
+                        | spade::PositionInTriangulation::OnEdge(_)
+                )
+                .then_some(i)
+            });
+            if let Some(i) = sample {
+                (m.best, m.cand) = (err, i as u32);
+            } else if self.at_budget > 0 {
+                // no sample can: the crossing itself, on the reference (a
+                // rounding off this edge, the Delaunay triangulation flips
+                // the edge away rather than keep a sliver). A
+                // triangulation's edge between two samples need not be an
+                // edge of a triangulation of fewer of them (a vertex at a
+                // crossing can stand inside its circle), nor a grid segment
+                // between a pixel and a ring's crossing an edge at all, so
+                // inserting samples alone need not end it
+                // never on a fixed edge up to rounding (a parent's side:
+                // its neighbour would not have the vertex), nor where the
+                // crossed edge runs on across one (that side is split
+                // there, `unmended`; points here would creep towards it)
+                let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
+                    f.as_inner().is_some_and(|f| {
+                        f.adjacent_edges().iter().any(|g| {
+                            let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
+                            self.fixed_edge(g.fix())
+                                && (crate::geom::is_sliver(&a, &b, &x.p)
+                                    || crosses_between(&a, &b, &x.seg[0], &x.seg[1]))
+                        })
+                    })
+                });
+                // nor next to an end of the crossed segment (a pixel, a
+                // sample: a point beside it would make a sliver with it)
+                let [p0, p1] = x.seg;
+                let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
+                let near_end = x.s.min(1.0 - x.s) * seg_len <= 1e-6 * seg_len;
+                if !near_fixed && !near_end {
+                    (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
+                }
+            }
+        }
+        m
+    }
+
+    /// Store a face's measure and queue the face if it has a candidate.
+    pub(super) fn record(&mut self, idx: usize, m: Measure) {
+        if idx >= self.faces.len() {
+            self.faces.resize(
+                idx + 1,
+                FaceState {
+                    gen: 0,
+                    err: 0.0,
+                    cand: NONE,
+                    corner: 0,
+                    at: [f64::NAN; 3],
+                },
+            );
+        }
+        let st = &mut self.faces[idx];
+        st.gen = st.gen.wrapping_add(1);
+        st.err = m.worst;
+        st.cand = m.cand;
+        st.corner = m.corner;
+        st.at = m.at;
+        if m.cand != NONE {
+            self.heap.push(Entry {
+                err: m.best,
+                face: idx as u32,
+                gen: st.gen,
+            });
+        }
+    }
+
+    /// The vertices (positions, by triangulation index) and the sample
+    /// each one is, the triangulation dropped.
+    pub(super) fn finish(self) -> (Vec<[f64; 3]>, Vec<u32>) {
+        let verts = (0..self.dt.num_vertices())
+            .map(|i| self.vert3(FixedVertexHandle::from_index(i)))
+            .collect();
+        (verts, self.vsample)
+    }
+
+    /// Re-measure one inner face and queue it.
+    pub(super) fn scan_face(&mut self, face: FaceHandle) {
+        let m = self.measure(face);
+        self.record(face.index(), m);
+    }
+
+    /// Samples a face's area holds, about (for deciding what is worth
+    /// handing to threads).
+    pub(super) fn face_samples(&self, face: FaceHandle) -> f64 {
+        let vs = self.dt.face(face).vertices();
+        let [a, b, c] = vs.map(|v| self.dt.vertex(v.fix()).position());
+        ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)).abs() / 2.0 / self.grid.cell_area()
+    }
+
+    /// Insert sample `i`; `hint` is a vertex near it (spade's point
+    /// location walks from there; without one it walks from the last
+    /// inserted vertex, which in greedy order is anywhere: that walk was
+    /// 58 % of the build).
+    pub(super) fn insert_sample(
+        &mut self,
+        i: usize,
+        hint: Option<FixedVertexHandle>,
+    ) -> Result<FixedVertexHandle, TinError> {
+        let p = self.grid.point(i);
+        let h = self.insert_point(p, hint)?;
+        self.inserted[i] = true;
+        if self.vsample.len() < self.vz.len() {
+            self.vsample.push(i as u32);
+        }
+        Ok(h)
+    }
+
+    /// Insert a point into the triangulation; a new vertex gets its height
+    /// and side flags (the caller pushes its `vsample`).
+    pub(super) fn insert_point(
+        &mut self,
+        p: [f64; 3],
+        hint: Option<FixedVertexHandle>,
+    ) -> Result<FixedVertexHandle, TinError> {
+        let before = self.dt.num_vertices();
+        let pt = Point2::new(p[0], p[1]);
+        let h = match hint {
+            Some(v) if v.index() < before => self.dt.insert_with_hint(pt, v),
+            _ => self.dt.insert(pt),
+        }
+        .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
+        if self.dt.num_vertices() > before {
+            self.vz.push(p[2]);
+            self.vside.push(0);
+        }
+        Ok(h)
+    }
+
+    /// Re-measure the faces around a new vertex: on threads when they are
+    /// large (the first insertions of a level), results recorded in order.
+    pub(super) fn rescan_around(&mut self, v: FixedVertexHandle) {
+        let faces: Vec<_> = self
+            .dt
+            .vertex(v)
+            .out_edges()
+            .filter_map(|e| e.face().as_inner().map(|f| f.fix()))
+            .collect();
+        if crate::tin::par::threads() > 1
+            && faces.iter().map(|&f| self.face_samples(f)).sum::<f64>() > PAR_SAMPLES
+        {
+            let ms = crate::tin::par::map(&faces, |&f| self.measure(f));
+            for (f, m) in faces.iter().zip(ms) {
+                self.record(f.index(), m);
+            }
+        } else {
+            for f in faces {
+                self.scan_face(f);
+            }
+        }
+    }
+
+    /// Refine until every face is within `tol` or the triangulation has
+    /// `max_vertices`; returns the measured max error.
+    pub(super) fn refine(
+        &mut self,
+        tol: f64,
+        max_vertices: usize,
+        interrupt: &mut Interrupt<'_>,
+    ) -> Result<f64, TinError> {
+        self.heap.clear();
+        // every face measured (on threads, in chunks, interrupts between
+        // batches), then recorded in face order
+        let all: Vec<_> = self.dt.fixed_inner_faces().collect();
+        let chunks: Vec<&[FaceHandle]> = all.chunks(4096).collect();
+        let mut ms: Vec<Vec<Measure>> = Vec::with_capacity(chunks.len());
+        crate::tin::par::map_batched(
+            &chunks,
+            |c| c.iter().map(|&f| self.measure(f)).collect(),
+            interrupt,
+            &mut |m| {
+                ms.push(m);
+                Ok(())
+            },
+        )?;
+        for (f, m) in all.iter().zip(ms.into_iter().flatten()) {
+            self.record(f.index(), m);
+        }
+        let mut n = 0usize;
+        while let Some(top) = self.heap.pop() {
+            let st = self.faces[top.face as usize];
+            if st.gen != top.gen {
+                continue;
+            }
+            if top.err <= tol || self.dt.num_vertices() >= max_vertices {
+                self.heap.push(top);
+                break;
+            }
+            n += 1;
+            if n.is_multiple_of(256) {
+                interrupt()?;
+            }
+            let hint = Some(FixedVertexHandle::from_index(st.corner as usize));
+            let v = if st.cand == AT_CAND {
+                self.at_budget = self.at_budget.saturating_sub(1);
+                let v = self.insert_point(st.at, hint)?;
+                if self.vsample.len() < self.vz.len() {
+                    self.vsample.push(NONE);
+                }
+                v
+            } else {
+                self.insert_sample(st.cand as usize, hint)?
+            };
+            self.rescan_around(v);
+            // A sample that did not become a new vertex (cannot happen for
+            // distinct samples, but never loop on it) is marked inserted;
+            // its old face must be re-measured without it.
+            let idx = top.face as usize;
+            if self.faces[idx].gen == st.gen {
+                if let Some(f) = self.dt.fixed_inner_faces().find(|f| f.index() == idx) {
+                    self.scan_face(f);
+                }
+            }
+        }
+        let mut max = 0.0f64;
+        for f in self.dt.fixed_inner_faces() {
+            max = max.max(self.faces[f.index()].err);
+        }
+        Ok(max)
+    }
+
+    /// One parent's refinement in this (emptied) builder: its `corners`
+    /// inserted, then each of its fixed sides' chosen vertices ([`plan_side`](crate::tin::sides::plan_side):
+    /// the side's other samples reserved, chain `k`'s vertices flagged),
+    /// then greedy insertion to `tol`. The worst error left, and each
+    /// side's chain by builder sample (`grid.len() + k`: extra `k`).
+    pub(super) fn refine_parent(
+        &mut self,
+        corners: [usize; 3],
+        plans: &[SidePlan],
+        tol: f64,
+    ) -> Result<(f64, Vec<Vec<usize>>), TinError> {
+        let mut hint = None;
+        for s in corners {
+            hint = Some(self.insert_sample(s, hint)?);
+        }
+        let mut err = 0.0f64;
+        for plan in plans {
+            for &i in &plan.reserve {
+                self.reserved[i] = true;
+            }
+            err = err.max(plan.err);
+        }
+        let internal = || {
+            TinError::Degenerate(
+                "internal: a side's crossing was not made a sample of its parent".into(),
+            )
+        };
+        for &p in plans.iter().flat_map(|p| &p.order) {
+            let Pt::Sample(i) = p else {
+                return Err(internal());
+            };
+            if !self.inserted[i] {
+                hint = Some(self.insert_sample(i, hint)?);
+            }
+        }
+        let mut chains = Vec::with_capacity(plans.len());
+        for (k, plan) in plans.iter().enumerate() {
+            let mut chain = Vec::with_capacity(plan.chosen.len());
+            for &p in &plan.chosen {
+                let Pt::Sample(i) = p else {
+                    return Err(internal());
+                };
+                let q = self.grid.point(i);
+                let h = self
+                    .dt
+                    .locate_vertex(Point2::new(q[0], q[1]))
+                    .map(|v| v.fix())
+                    .ok_or_else(|| {
+                        TinError::Degenerate("internal: a side's vertex was lost".into())
+                    })?;
+                self.vside[h.index()] |= 1 << k;
+                chain.push(self.vsample[h.index()] as usize);
+            }
+            chains.push(chain);
+        }
+        Ok((
+            err.max(self.refine(tol, usize::MAX, &mut || Ok(()))?),
+            chains,
+        ))
+    }
+
+    /// The crossings of free edges over `tol` that no pixel could mend,
+    /// each with the side of the parent (corners `c`, counter-clockwise;
+    /// side `k` from corner `k`, not `free[k]`) its grid segment crosses:
+    /// the segment's far pixel lies across that side, in the neighbour.
+    pub(super) fn unmended(
+        &self,
+        tol: f64,
+        c: &[[f64; 3]; 3],
+        free: [bool; 3],
+    ) -> Vec<(SideKey, SegKey)> {
+        let Some(r) = self.reference else {
+            return Vec::new();
+        };
+        let mut out: Vec<(SideKey, SegKey)> = Vec::new();
+        for f in self.dt.fixed_inner_faces() {
+            if self.faces.get(f.index()).is_none_or(|st| st.err <= tol) {
+                continue;
+            }
+            for e in self.dt.face(f).adjacent_edges() {
+                if self.fixed_edge(e.fix()) {
+                    continue;
+                }
+                let [u, w] = e.vertices().map(|v| self.vert3(v.fix()));
+                r.for_each_crossing(&u, &w, &mut |x| {
+                    if x.error(&u, &w) <= tol {
+                        return;
+                    }
+                    let [p, q] = x.seg;
+                    for k in (0..3).filter(|&k| !free[k]) {
+                        let (a, b) = (&c[k], &c[(k + 1) % 3]);
+                        let crosses = crate::geom::segments_cross(
+                            crate::geom::vco(a),
+                            crate::geom::vco(b),
+                            crate::geom::vco(&p),
+                            crate::geom::vco(&q),
+                        );
+                        let mut push = |item: (SideKey, SegKey)| {
+                            if !out.contains(&item) {
+                                out.push(item);
+                            }
+                        };
+                        if crosses {
+                            push((side_key(a, b), seg_key(x)));
+                        }
+                        // a pixel of the segment on the side, reserved
+                        // there: the side takes it as a vertex
+                        for z in [p, q] {
+                            let on_side = crate::geom::is_sliver(a, b, &z)
+                                && (z[0] - a[0]) * (z[0] - b[0]) + (z[1] - a[1]) * (z[1] - b[1])
+                                    < 0.0;
+                            let reserved = self
+                                .grid
+                                .find(z[0], z[1])
+                                .is_some_and(|i| self.reserved.get(i).copied().unwrap_or(false));
+                            if on_side && reserved {
+                                push((side_key(a, b), sample_key(&z)));
+                            }
+                        }
+                    }
+                });
+            }
+        }
+        out
+    }
+
+    /// The current triangles, without slivers (zero area up to rounding).
+    /// Only scattered samples make them, and only along the triangulation's
+    /// hull (the domain's, or a parent's sides in
+    /// [`refine_parent_general`](super::parents::refine_parent_general)): a sample within rounding of a hull
+    /// edge leaves a sliver between itself and the edge (spade keeps the
+    /// convex hull; the edge cannot flip), and later samples there split
+    /// that sliver into more. Leaving them out makes the boundary run
+    /// through those samples (convex up to rounding) instead of hiding a
+    /// crack behind a wall; along a parent's side [`close_chains`](crate::tin::sides::close_chains) then
+    /// meets the neighbour's vertices. Raster builds, decided on the
+    /// lattice, have none.
+    pub(super) fn snapshot(&self) -> Vec<[u32; 3]> {
+        self.dt
+            .inner_faces()
+            .filter(|f| {
+                let v = f.vertices().map(|v| self.vert3(v.fix()));
+                !crate::geom::is_sliver(&v[0], &v[1], &v[2])
+            })
+            .map(|f| {
+                let v = f.vertices();
+                [
+                    v[0].fix().index() as u32,
+                    v[1].fix().index() as u32,
+                    v[2].fix().index() as u32,
+                ]
+            })
+            .collect()
+    }
+}
+
+/// A builder's buffers, kept from one parent to the next on a thread: a
+/// parent's triangulation is small, and allocating it anew for each (two
+/// threads allocating at once through the counting allocator's shared
+/// counters) made the build slower on 2 threads than on 1.
+#[derive(Default)]
+pub(super) struct Scratch<T: Tri = Dt> {
+    pub(super) dt: T,
+    pub(super) vz: Vec<f64>,
+    pub(super) vsample: Vec<u32>,
+    pub(super) inserted: Vec<bool>,
+    pub(super) reserved: Vec<bool>,
+    pub(super) faces: Vec<FaceState>,
+    pub(super) heap: BinaryHeap<Entry>,
+    pub(super) vside: Vec<u8>,
+}
+
+impl<T: Tri> Scratch<T> {
+    /// A builder on `grid` (`n` samples; `reserve`: flags for reserved
+    /// samples) made of these buffers, emptied.
+    pub(super) fn builder<'g, S: Samples>(
+        &mut self,
+        grid: &'g S,
+        n: usize,
+        reserve: bool,
+    ) -> Builder<'g, S, T> {
+        let mut b = Builder {
+            dt: std::mem::take(&mut self.dt),
+            vz: std::mem::take(&mut self.vz),
+            vsample: std::mem::take(&mut self.vsample),
+            grid,
+            inserted: std::mem::take(&mut self.inserted),
+            reserved: std::mem::take(&mut self.reserved),
+            faces: std::mem::take(&mut self.faces),
+            heap: std::mem::take(&mut self.heap),
+            reference: None,
+            vside: std::mem::take(&mut self.vside),
+            at_budget: 0,
+        };
+        b.dt.clear();
+        b.vz.clear();
+        b.vsample.clear();
+        b.inserted.clear();
+        b.inserted.resize(n, false);
+        b.reserved.clear();
+        b.reserved.resize(if reserve { n } else { 0 }, false);
+        b.faces.clear();
+        b.heap.clear();
+        b.vside.clear();
+        b
+    }
+
+    /// Take the buffers back from a finished builder.
+    pub(super) fn keep<S: Samples>(&mut self, b: Builder<'_, S, T>) {
+        self.dt = b.dt;
+        self.vz = b.vz;
+        self.vsample = b.vsample;
+        self.inserted = b.inserted;
+        self.reserved = b.reserved;
+        self.faces = b.faces;
+        self.heap = b.heap;
+        self.vside = b.vside;
+    }
+}
+
+/// Whether segment `p`-`q` crosses segment `a`-`b` away from `a` and `b`
+/// (more than 1e-9 of its length from them): through one of them, it
+/// meets that vertex.
+pub(super) fn crosses_between(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3]) -> bool {
+    let (oa, ob) = (crate::geom::orient(p, q, a), crate::geom::orient(p, q, b));
+    let (op, oq) = (crate::geom::orient(a, b, p), crate::geom::orient(a, b, q));
+    if !(oa * ob < 0.0 && op * oq < 0.0) {
+        return false;
+    }
+    let s = oa / (oa - ob);
+    s > 1e-9 && s < 1.0 - 1e-9
+}
