@@ -192,6 +192,78 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             });
             if let Some(i) = sample {
                 (m.best, m.cand) = (err, i as u32);
+            } else if self.at_budget > 0 && !r.mends_at_crossings() {
+                // a raster, where no pixel mends the crossing: the two
+                // pixels of the segment are vertices and the edge between
+                // two others crosses it all the same, or the segment runs
+                // from a pixel to a side's vertex where it crosses that side
+                // (a ring's crossing: its other pixel is outside), crossed
+                // in between. A vertex at the crossing, at least a
+                // hundredth of a pixel from the ends of that stretch and
+                // from the lines of the triangles it makes (a vertex
+                // anywhere made triangles under 1e-3 pixel high:
+                // pg_regress `exactness.sql`)
+                let [p0, p1] = x.seg;
+                let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
+                let along = |q: &[f64; 3]| {
+                    ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
+                        / (seg_len * seg_len)
+                };
+                let faces: Vec<_> = [e.face(), e.rev().face()]
+                    .iter()
+                    .filter_map(|f| f.as_inner())
+                    .collect();
+                // the side's vertex on the segment, and whether a fixed
+                // edge runs through the crossing or across the segment
+                let (mut stop, mut across, mut on_fixed) = (None::<f64>, false, false);
+                for f in &faces {
+                    for g in f.adjacent_edges() {
+                        if !self.fixed_edge(g.fix()) {
+                            continue;
+                        }
+                        let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
+                        for q in [a, b] {
+                            let t = along(&q);
+                            if crate::geom::is_sliver(&p0, &p1, &q) && t > 0.0 && t < 1.0 {
+                                stop = Some(t);
+                            }
+                        }
+                        // never on a fixed edge up to rounding (its other
+                        // parent would not have the vertex)
+                        on_fixed |= crate::geom::is_sliver(&a, &b, &x.p);
+                        across |= crosses_between(&a, &b, &p0, &p1);
+                    }
+                }
+                let (lo, hi) = match stop {
+                    _ if on_fixed => (1.0, 0.0),
+                    Some(t) if x.s < t => (0.0, t),
+                    Some(t) => (t, 1.0),
+                    None if across => (1.0, 0.0),
+                    None => (0.0, 1.0),
+                };
+                // the triangles the vertex makes: its distance to the
+                // lines from the crossed edge's ends to the faces' third
+                // corners
+                let min_h = 0.01 * seg_len;
+                let thin = faces.iter().any(|f| {
+                    let vs = f.vertices();
+                    let o = vs
+                        .iter()
+                        .map(|v| self.vert3(v.fix()))
+                        .find(|q| q[..2] != u[..2] && q[..2] != w[..2]);
+                    o.is_none_or(|o| {
+                        [u, w].iter().any(|q| {
+                            crate::geom::point_segment_distance(
+                                [x.p[0], x.p[1]],
+                                [q[0], q[1]],
+                                [o[0], o[1]],
+                            ) < min_h
+                        })
+                    })
+                });
+                if x.s > lo + 0.01 && x.s < hi - 0.01 && !thin {
+                    (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
+                }
             } else if self.at_budget > 0 {
                 // no sample can: the crossing itself, on the reference (a
                 // rounding off this edge, the Delaunay triangulation flips

@@ -689,11 +689,10 @@ pub(super) fn refine_parent_general(
     }
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
     b.reference = if void.is_some() { None } else { reference };
-    b.at_budget = if b.reference.is_some_and(|r| r.mends_at_crossings()) {
-        4 * n + 64
-    } else {
-        0
-    };
+    // vertices at crossings: anywhere no sample mends one for the samples'
+    // Delaunay; on a raster only beside a side's vertex at a grid
+    // segment's crossing ([`Builder::measure`])
+    b.at_budget = if b.reference.is_some() { 4 * n + 64 } else { 0 };
     let (err, chains) = b.refine_parent(
         [pos[0], pos[1], pos[2]],
         &plans,
