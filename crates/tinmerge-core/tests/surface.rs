@@ -751,7 +751,9 @@ fn hard_breaklines_between_samples() {
             })
             .collect();
         let tols = default_tolerances(2.0, 4).unwrap();
+        let t0 = std::time::Instant::now();
         let tin = data_build_with(&r, &tols, Vec::new(), &breaklines);
+        let secs = t0.elapsed().as_secs_f64();
         let what = format!("{file} with hard breaklines");
         tinmerge_core::tin::check::validate_structure(&tin).unwrap();
         let p = tinmerge_core::tin::check::problems(&tin, &mut || Ok(())).unwrap();
@@ -803,6 +805,7 @@ fn hard_breaklines_between_samples() {
                 (!z.is_nan()).then_some([x, y, z])
             })
             .collect();
+        let t0 = std::time::Instant::now();
         let old = tinmerge_core::tin::build::build_domain(
             samples,
             &breaklines,
@@ -812,6 +815,7 @@ fn hard_breaklines_between_samples() {
             &mut || Ok(()),
         )
         .unwrap();
+        let old_secs = t0.elapsed().as_secs_f64();
         let before: Vec<f64> = grid_line_errors_but(&old, &r, &cut)
             .into_iter()
             .enumerate()
@@ -823,7 +827,8 @@ fn hard_breaklines_between_samples() {
         let count = |t: &Tin| t.levels.iter().map(|l| l.num_domain()).collect::<Vec<_>>();
         println!(
             "{what}: largest error per level {worst:?}x (at the samples only: {before:?}x); \
-             triangles {:?} (at the samples only: {:?}); {cut_out} grid segments cut by the lines",
+             triangles {:?} (at the samples only: {:?}); {secs:.2} s (at the samples only: \
+             {old_secs:.2} s); {cut_out} grid segments cut by the lines",
             count(&tin),
             count(&old)
         );

@@ -86,6 +86,9 @@ pub(super) struct Builder<'g, S: Samples, T: Tri = Dt> {
     /// crossings ([`AT_CAND`]) still to be inserted at most (their
     /// vertices' sample: NONE)
     pub(super) at_budget: usize,
+    /// a raster's last resort ([`Builder::refine`]): vertices at crossings
+    /// no pixel mends, once the greedy insertion of samples is done
+    pub(super) raster_at: bool,
 }
 
 impl<S: Samples, T: Tri> Builder<'_, S, T> {
@@ -192,7 +195,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             });
             if let Some(i) = sample {
                 (m.best, m.cand) = (err, i as u32);
-            } else if self.at_budget > 0 && !r.mends_at_crossings() {
+            } else if self.raster_at && self.at_budget > 0 && !r.mends_at_crossings() {
                 // a raster, where no pixel mends the crossing: the two
                 // pixels of the segment are vertices and the edge between
                 // two others crosses it all the same, or the segment runs
@@ -441,15 +444,42 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             self.record(f.index(), m);
         }
         let mut n = 0usize;
-        while let Some(top) = self.heap.pop() {
-            let st = self.faces[top.face as usize];
-            if st.gen != top.gen {
+        loop {
+            let top = self.heap.pop();
+            if let Some(t) = &top {
+                if self.faces[t.face as usize].gen != t.gen {
+                    continue;
+                }
+            }
+            let full = self.dt.num_vertices() >= max_vertices;
+            if full || top.as_ref().is_none_or(|t| t.err <= tol) {
+                if let Some(t) = top {
+                    self.heap.push(t);
+                }
+                // a raster build's faces still over the tolerance: measured
+                // again with vertices at the crossings no pixel mends
+                // (never before, so that the samples decide wherever they
+                // can)
+                let last = !full
+                    && !self.raster_at
+                    && self.at_budget > 0
+                    && self.reference.is_some_and(|r| !r.mends_at_crossings());
+                if !last {
+                    break;
+                }
+                self.raster_at = true;
+                let over: Vec<FaceHandle> = self
+                    .dt
+                    .fixed_inner_faces()
+                    .filter(|f| self.faces.get(f.index()).is_some_and(|st| st.err > tol))
+                    .collect();
+                for f in over {
+                    self.scan_face(f);
+                }
                 continue;
             }
-            if top.err <= tol || self.dt.num_vertices() >= max_vertices {
-                self.heap.push(top);
-                break;
-            }
+            let Some(top) = top else { break };
+            let st = self.faces[top.face as usize];
             n += 1;
             if n.is_multiple_of(256) {
                 interrupt()?;
@@ -476,6 +506,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 }
             }
         }
+        self.raster_at = false;
         let mut max = 0.0f64;
         for f in self.dt.fixed_inner_faces() {
             max = max.max(self.faces[f.index()].err);
@@ -676,6 +707,7 @@ impl<T: Tri> Scratch<T> {
             reference: None,
             vside: std::mem::take(&mut self.vside),
             at_budget: 0,
+            raster_at: false,
         };
         b.dt.clear();
         b.vz.clear();

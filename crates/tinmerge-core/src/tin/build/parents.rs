@@ -52,6 +52,7 @@ pub(super) fn refine_parent(
     free: [bool; 3],
     void: Void,
     tol: f64,
+    last_resort: bool,
 ) -> Result<ParentOut, TinError> {
     let n = d.z.len();
     let pos = |s: u32| -> [f64; 3] {
@@ -63,7 +64,9 @@ pub(super) fn refine_parent(
         }
     };
     let c = corners.map(pos);
-    if void.is_none() && corners.iter().all(|&s| (s as usize) < n) {
+    // (a last resort is refined as scattered samples are: its vertices at
+    // crossings are no pixels)
+    if void.is_none() && !last_resort && corners.iter().all(|&s| (s as usize) < n) {
         let plans: Vec<SidePlan> = (0..3)
             .filter(|&k| !free[k])
             .map(|k| {
@@ -156,7 +159,18 @@ pub(super) fn refine_parent(
     };
     let is_sample = corners.map(|s| (s as usize) < n);
     refine_parent_general(
-        &gather, reference, forced, scratch, parent, corners, c, is_sample, free, void, tol,
+        &gather,
+        reference,
+        forced,
+        scratch,
+        parent,
+        corners,
+        c,
+        is_sample,
+        free,
+        void,
+        tol,
+        last_resort,
     )
 }
 
@@ -274,6 +288,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
         let run = |ts: &[usize],
                    groups: &[std::ops::Range<usize>],
                    forced: &Forced,
+                   last_resort: bool,
                    interrupt: &mut Interrupt<'_>,
                    take: &mut dyn FnMut(ParentOut) -> Result<(), TinError>|
          -> Result<(), TinError> {
@@ -295,6 +310,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                                 free_of(t),
                                 void_of(t),
                                 tol,
+                                last_resort,
                             )
                         })
                         .collect::<Result<Vec<_>, TinError>>()
@@ -346,7 +362,14 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
         if reference.is_none() {
             // measured at the samples only: each batch merged as it comes
             // (no level's parents held at once)
-            run(&all, &all_groups, &Forced::default(), interrupt, &mut merge)?;
+            run(
+                &all,
+                &all_groups,
+                &Forced::default(),
+                false,
+                interrupt,
+                &mut merge,
+            )?;
         } else {
             let mut forced = Forced::default();
             // under keep_border a hull side is a tile's seam: its vertices
@@ -365,7 +388,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                 Default::default()
             };
             let mut outs: Vec<ParentOut> = Vec::with_capacity(prev.len());
-            run(&all, &all_groups, &forced, interrupt, &mut |o| {
+            run(&all, &all_groups, &forced, false, interrupt, &mut |o| {
                 outs.push(o);
                 Ok(())
             })?;
@@ -398,8 +421,30 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                     .collect();
                 let redo_groups = groups_of(&redo);
                 let mut k = 0;
-                run(&redo, &redo_groups, &forced, interrupt, &mut |o| {
+                run(&redo, &redo_groups, &forced, false, interrupt, &mut |o| {
                     outs[redo[k]] = o;
+                    k += 1;
+                    Ok(())
+                })?;
+            }
+            // parents still over the tolerance (a crossing no pixel mends
+            // and no side's split reaches): refined again with vertices at
+            // such crossings as a last resort (raster builds;
+            // [`Builder::refine`](super::builder::Builder::refine)). Not
+            // for tiles (keep_border): there the parents over are those of
+            // the strip along a seam, whose crossings it cannot mend, and
+            // vertices beside the seam moved the worst error onto it
+            let limit = tol * (1.0 + 1e-9);
+            let over: Vec<usize> = if keep_border {
+                Vec::new()
+            } else {
+                (0..prev.len()).filter(|&t| outs[t].err > limit).collect()
+            };
+            if !over.is_empty() {
+                let over_groups = groups_of(&over);
+                let mut k = 0;
+                run(&over, &over_groups, &forced, true, interrupt, &mut |o| {
+                    outs[over[k]] = o;
                     k += 1;
                     Ok(())
                 })?;
@@ -457,6 +502,7 @@ pub(super) trait ParentSamples: Sync {
         free: [bool; 3],
         void: Void,
         tol: f64,
+        last_resort: bool,
     ) -> Result<ParentOut, TinError>;
 }
 
@@ -481,9 +527,20 @@ impl ParentSamples for Dense {
         free: [bool; 3],
         void: Void,
         tol: f64,
+        last_resort: bool,
     ) -> Result<ParentOut, TinError> {
         refine_parent(
-            self, reference, extras, forced, scratch, parent, corners, free, void, tol,
+            self,
+            reference,
+            extras,
+            forced,
+            scratch,
+            parent,
+            corners,
+            free,
+            void,
+            tol,
+            last_resort,
         )
     }
 }
@@ -509,6 +566,7 @@ impl ParentSamples for SampleGrid {
         free: [bool; 3],
         void: Void,
         tol: f64,
+        last_resort: bool,
     ) -> Result<ParentOut, TinError> {
         let n = self.pts.len();
         let c = corners.map(|s| {
@@ -524,7 +582,18 @@ impl ParentSamples for SampleGrid {
         };
         let is_sample = corners.map(|s| (s as usize) < n);
         refine_parent_general(
-            &gather, reference, forced, scratch, parent, corners, c, is_sample, free, void, tol,
+            &gather,
+            reference,
+            forced,
+            scratch,
+            parent,
+            corners,
+            c,
+            is_sample,
+            free,
+            void,
+            tol,
+            last_resort,
         )
     }
 }
@@ -562,6 +631,7 @@ pub(super) fn refine_parent_general(
     free: [bool; 3],
     void: Void,
     tol: f64,
+    last_resort: bool,
 ) -> Result<ParentOut, TinError> {
     // each edge from its canonical end (the smaller in (x, y))
     let ends: [(usize, usize); 3] = [0, 1, 2].map(|k| {
@@ -690,9 +760,11 @@ pub(super) fn refine_parent_general(
     let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
     b.reference = if void.is_some() { None } else { reference };
     // vertices at crossings: anywhere no sample mends one for the samples'
-    // Delaunay; on a raster only beside a side's vertex at a grid
-    // segment's crossing ([`Builder::measure`])
-    b.at_budget = if b.reference.is_some() { 4 * n + 64 } else { 0 };
+    // Delaunay; on a raster only as a last resort ([`Builder::refine`])
+    b.at_budget = match b.reference {
+        Some(r) if r.mends_at_crossings() || last_resort => 4 * n + 64,
+        _ => 0,
+    };
     let (err, chains) = b.refine_parent(
         [pos[0], pos[1], pos[2]],
         &plans,
