@@ -395,17 +395,15 @@ fn _tin_validate_raster(
     );
     // the hard breaklines the tin was built with (empty: none): the grid
     // segments they cut hold their heights, not the raster's
-    let hard: Vec<([f64; 2], [f64; 2])> = if breaklines.is_empty() {
+    let hard = if breaklines.is_empty() {
         Vec::new()
     } else {
-        super::build::breaklines_arg(func, Some(breaklines), None, head.srid)
-            .iter()
-            .flat_map(|l| {
-                l.pts
-                    .windows(2)
-                    .map(|w| ([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
-            })
-            .collect()
+        tinmerge_core::tin::breaklines::hard_segments(&super::build::breaklines_arg(
+            func,
+            Some(breaklines),
+            None,
+            head.srid,
+        ))
     };
     let r = raster::read(rast, Some(band as usize)).or_raise();
     let tin = t.tin();

@@ -384,12 +384,9 @@ fn pixel_hull(r: &Raster) -> Vec<(i64, i64)> {
 /// edge used by one triangle or by two in opposite directions; every level
 /// covering the same area; every triangle inside its parent (its corners
 /// within rounding of the parent's sides, its centroid strictly inside).
-/// `hard`: the rings are hard breaklines, their vertices at heights of
-/// their own.
-fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>], hard: bool) {
-    let lv: Vec<(f64, f64)> = tin.verts.iter().map(|v| r.to_lattice(v[0], v[1])).collect();
-    // the rings' sides in lattice coordinates
-    let ring_sides: Vec<((f64, f64), (f64, f64))> = rings
+/// The sides of `rings` (world coordinates) in lattice coordinates.
+fn lattice_sides(r: &Raster, rings: &[Vec<[f64; 2]>]) -> Vec<((f64, f64), (f64, f64))> {
+    rings
         .iter()
         .flat_map(|ring| ring.windows(2))
         .map(|w| {
@@ -398,7 +395,14 @@ fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>], hard: b
                 r.to_lattice(w[1][0], w[1][1]),
             )
         })
-        .collect();
+        .collect()
+}
+
+/// `hard`: the rings are hard breaklines, their vertices at heights of
+/// their own.
+fn structure(what: &str, tin: &Tin, r: &Raster, rings: &[Vec<[f64; 2]>], hard: bool) {
+    let lv: Vec<(f64, f64)> = tin.verts.iter().map(|v| r.to_lattice(v[0], v[1])).collect();
+    let ring_sides = lattice_sides(r, rings);
     let on_ring = |(x, y): (f64, f64)| {
         ring_sides.iter().any(|&((ax, ay), (bx, by))| {
             let (dx, dy) = (bx - ax, by - ay);
@@ -764,16 +768,7 @@ fn hard_breaklines_between_samples() {
             .collect();
         structure(&what, &tin, &r, &rings, true);
         // the lines' sides in lattice coordinates (the test's own inverse)
-        let sides: Vec<((f64, f64), (f64, f64))> = rings
-            .iter()
-            .flat_map(|l| l.windows(2))
-            .map(|s| {
-                (
-                    r.to_lattice(s[0][0], s[0][1]),
-                    r.to_lattice(s[1][0], s[1][1]),
-                )
-            })
-            .collect();
+        let sides = lattice_sides(&r, &rings);
         let cut = |p: (i64, i64), q: (i64, i64)| {
             let (p, q) = ((p.0 as f64, p.1 as f64), (q.0 as f64, q.1 as f64));
             sides.iter().any(|&(a, b)| seg_dist(p, q, a, b) <= 1e-6)

@@ -93,6 +93,31 @@ pub fn drops_sample(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> bool {
     (-slack..=1.0 + slack).contains(&t)
 }
 
+/// The segments of the hard lines among `lines`, in x and y: where a
+/// build's reference leaves the surface to the lines' own heights
+/// ([`super::surface::GridReference::cut_by`],
+/// [`super::delaunay_ref::DelaunayReference::cut_by`]).
+///
+/// ```
+/// use tinmerge_core::tin::breaklines::{hard_segments, Breakline};
+/// let lines = [
+///     Breakline { pts: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 2.0]], hard: true },
+///     Breakline { pts: vec![[5.0, 5.0, 0.0], [6.0, 5.0, 0.0]], hard: false },
+/// ];
+/// assert_eq!(hard_segments(&lines), [([0.0, 0.0], [1.0, 0.0]), ([1.0, 0.0], [1.0, 1.0])]);
+/// ```
+pub fn hard_segments(lines: &[Breakline]) -> Vec<([f64; 2], [f64; 2])> {
+    lines
+        .iter()
+        .filter(|l| l.hard)
+        .flat_map(|l| {
+            l.pts
+                .windows(2)
+                .map(|w| ([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
+        })
+        .collect()
+}
+
 /// Two points of the lines closer than this times the magnitude of their
 /// coordinates (in x and in y) are one point: about 2e-10, a millimetre at
 /// UTM northings, far below any survey and far above the rounding of a

@@ -151,15 +151,7 @@ pub fn build_points_domain(
     interrupt()?;
     // hard lines' heights are their own: the samples' edges they cut are
     // no measure of the build
-    let cuts: Vec<([f64; 2], [f64; 2])> = lines
-        .iter()
-        .filter(|l| l.hard)
-        .flat_map(|l| {
-            l.pts
-                .windows(2)
-                .map(|w| ([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
-        })
-        .collect();
+    let cuts = super::breaklines::hard_segments(lines);
     let reference = DelaunayReference::new(&samples)?.cut_by(&cuts);
     drop(cuts);
     interrupt()?;
@@ -377,15 +369,7 @@ pub fn build_domain_raster(
 ) -> Result<Tin, TinError> {
     // hard lines' heights are their own: the grid segments they cut are
     // no measure of the build
-    let cuts: Vec<([f64; 2], [f64; 2])> = lines
-        .iter()
-        .filter(|l| l.hard)
-        .flat_map(|l| {
-            l.pts
-                .windows(2)
-                .map(|w| ([w[0][0], w[0][1]], [w[1][0], w[1][1]]))
-        })
-        .collect();
+    let cuts = super::breaklines::hard_segments(lines);
     let reference = GridReference::in_world(heights, *lat).cut_by(&cuts);
     drop(cuts);
     build_domain_with(
