@@ -374,21 +374,12 @@ impl Reference for GridReference<'_> {
     }
 }
 
-/// Distance between the closed segments `p -> q` and `a -> b`.
+/// Distance between the closed segments `p -> q` and `a -> b` (geo's:
+/// zero where they meet by its robust predicates).
 fn segment_distance(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    use crate::geom::point_segment_distance as d;
-    let o = |u: [f64; 2], v: [f64; 2], w: [f64; 2]| {
-        robust::orient2d(
-            robust::Coord { x: u[0], y: u[1] },
-            robust::Coord { x: v[0], y: v[1] },
-            robust::Coord { x: w[0], y: w[1] },
-        )
-    };
-    let (o1, o2, o3, o4) = (o(p, q, a), o(p, q, b), o(a, b, p), o(a, b, q));
-    if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
-        return 0.0;
-    }
-    d(p, a, b).min(d(q, a, b)).min(d(a, p, q)).min(d(b, p, q))
+    use geo::{Distance, Euclidean, Line};
+    let line = |u: [f64; 2], v: [f64; 2]| Line::new((u[0], u[1]), (v[0], v[1]));
+    Euclidean.distance(&line(p, q), &line(a, b))
 }
 
 /// The grid lines one coordinate crosses going from `u` by `d`, strictly
