@@ -45,6 +45,7 @@
 mod assemble;
 mod builder;
 mod common;
+mod general;
 mod levels;
 mod lines;
 mod parents;

@@ -1,0 +1,233 @@
+//! A parent's refinement where "on the edge" is decided up to rounding
+//! ([`refine_parent_general`]): scattered samples, and lattice parents
+//! with a vertex at a grid-line crossing.
+
+use super::builder::*;
+use super::common::*;
+use crate::tin::samples::SampleGrid;
+use crate::tin::sides::{close_chains, plan_side, Forced, Pt, SegKey, SideKey, SidePlan};
+use crate::tin::surface::Reference;
+use crate::tin::{TinError, NONE};
+use spade::handles::FixedVertexHandle;
+
+/// Calls `f(slot, sample)` for every sample in a closed box
+/// (`x0, y0, x1, y1`).
+pub(super) type Gather<'a> = dyn Fn(f64, f64, f64, f64, &mut dyn FnMut(u32, &[f64; 3])) + 'a;
+
+/// A parent's refinement where "on the edge" is decided up to rounding:
+/// scattered samples, and on a lattice a parent with a corner or a side's
+/// vertex at a grid-line crossing. No lattice decides which samples lie on
+/// an edge: a sample within rounding of it (the triangle it makes with the
+/// edge is a sliver, [`crate::geom::is_sliver`]), on either side, between
+/// its ends, is the edge's sample. Both triangles sharing the edge find the
+/// same ones (the test is symmetric and exact) and list them in the same
+/// order (along the edge's longer axis from its canonical end), so
+/// [`plan_side`] picks the same vertices there in both. The triangle's own
+/// samples, its edges' and their chosen crossings are triangulated alone;
+/// slivers along an edge are dropped ([`Builder::snapshot`]) and a triangle
+/// whose side skips chosen vertices of the edge (they lie a rounding
+/// outside it) is split into a fan through them, so both sides of the edge
+/// meet at exactly the same vertices: no crack and no T-junction.
+/// `corners`: slots, at `c`; `is_sample[k]`: corner `k` is a sample (else a
+/// vertex at a crossing).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn refine_parent_general(
+    gather: &Gather<'_>,
+    reference: Option<&dyn Reference>,
+    forced: &Forced,
+    scratch: &mut Scratch,
+    parent: u32,
+    corners: [u32; 3],
+    c: [[f64; 3]; 3],
+    is_sample: [bool; 3],
+    free: [bool; 3],
+    void: Void,
+    tol: f64,
+    last_resort: bool,
+) -> Result<ParentOut, TinError> {
+    // each edge from its canonical end (the smaller in (x, y))
+    let ends: [(usize, usize); 3] = [0, 1, 2].map(|k| {
+        let (i, j) = (k, (k + 1) % 3);
+        if (c[j][0], c[j][1]) < (c[i][0], c[i][1]) {
+            (j, i)
+        } else {
+            (i, j)
+        }
+    });
+    // the band of a sliver is within about 128 ulps of the largest
+    // coordinate of an edge: the box searched is wider
+    let m = crate::geom::max_abs_xy(&c[0], &c[1], &c[2]).max(f64::MIN_POSITIVE);
+    let pad = 1024.0 * f64::EPSILON * m;
+    let x0 = c.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min) - pad;
+    let x1 = c.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max) + pad;
+    let y0 = c.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min) - pad;
+    let y1 = c.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max) + pad;
+    // the triangle's samples, corners first, in the order found; `on[k]`:
+    // edge k's samples as (position along it, x, y, index in `pts`)
+    let mut pts: Vec<[f64; 3]> = c.to_vec();
+    let mut gid: Vec<u32> = (0..3)
+        .map(|k| if is_sample[k] { corners[k] } else { NONE })
+        .collect();
+    let mut on: [Vec<(f64, f64, f64, u32)>; 3] = Default::default();
+    gather(x0, y0, x1, y1, &mut |i, p| {
+        if (0..3).any(|k| is_sample[k] && corners[k] == i) {
+            return;
+        }
+        let mut keep = (0..3).all(|k| crate::geom::orient(&c[k], &c[(k + 1) % 3], p) >= 0.0);
+        for k in 0..3 {
+            if free[k] {
+                continue;
+            }
+            let (a, b) = (&c[ends[k].0], &c[ends[k].1]);
+            if !crate::geom::is_sliver(a, b, p) {
+                continue;
+            }
+            // strictly between the ends along the edge's longer axis
+            let ax = if (b[0] - a[0]).abs() >= (b[1] - a[1]).abs() {
+                0
+            } else {
+                1
+            };
+            let (lo, hi) = (a[ax].min(b[ax]), a[ax].max(b[ax]));
+            if p[ax] > lo && p[ax] < hi {
+                on[k].push(((p[ax] - a[ax]).abs(), p[0], p[1], pts.len() as u32));
+                keep = true;
+            }
+        }
+        if keep {
+            pts.push(*p);
+            gid.push(i);
+        }
+    });
+    // each fixed side's plan, by index in `pts`; its chosen crossings
+    // become points of `pts` too (no sample: `gid` NONE)
+    let mut plans: Vec<SidePlan> = Vec::new();
+    for k in 0..3 {
+        if free[k] {
+            continue;
+        }
+        on[k].sort_by(|u, v| {
+            u.0.total_cmp(&v.0)
+                .then(u.1.total_cmp(&v.1))
+                .then(u.2.total_cmp(&v.2))
+        });
+        let side: Vec<(usize, [f64; 3])> = on[k]
+            .iter()
+            .map(|e| (e.3 as usize, pts[e.3 as usize]))
+            .collect();
+        let (ea, eb) = ends[k];
+        // a void parent's side between two void parents: left whole
+        let (side_reference, side_tol) = match void {
+            Some(domain) if !domain[k] => (None, VOID_TOL),
+            _ => (reference, tol),
+        };
+        let mut plan = plan_side(
+            [Pt::Sample(ea), Pt::Sample(eb)],
+            &c[ea],
+            &c[eb],
+            &side,
+            side_reference,
+            forced,
+            side_tol,
+        );
+        for q in &mut plan.chosen {
+            if let Pt::At(p) = *q {
+                *q = Pt::Sample(pts.len());
+                pts.push(p);
+                gid.push(NONE);
+            }
+        }
+        // the same points in the split's order: the crossings by the index
+        // just given them
+        for q in &mut plan.order {
+            if let Pt::At(p) = *q {
+                let k = (0..pts.len())
+                    .rev()
+                    .find(|&k| gid[k] == NONE && pts[k][..2] == p[..2])
+                    .ok_or_else(|| {
+                        TinError::Degenerate("internal: a chosen crossing was lost".into())
+                    })?;
+                *q = Pt::Sample(k);
+            }
+        }
+        plans.push(plan);
+    }
+    let n = pts.len();
+    let local = SampleGrid::with_ids(pts, (0..n as u32).collect(), 1.0);
+    // the local sample of each position in `pts`
+    let mut pos = vec![0usize; n];
+    for (l, &k) in local.ids.iter().enumerate() {
+        pos[k as usize] = l;
+    }
+    for plan in &mut plans {
+        for s in &mut plan.reserve {
+            *s = pos[*s];
+        }
+        for q in plan.chosen.iter_mut().chain(plan.order.iter_mut()) {
+            if let Pt::Sample(s) = q {
+                *s = pos[*s];
+            }
+        }
+    }
+    let mut b = scratch.builder(&local, n, free.iter().any(|f| !f));
+    b.reference = if void.is_some() { None } else { reference };
+    // vertices at crossings: anywhere no sample mends one for the samples'
+    // Delaunay; on a raster only as a last resort ([`Builder::refine`])
+    b.at_budget = match b.reference {
+        Some(r) if r.mends_at_crossings() || last_resort => 4 * n + 64,
+        _ => 0,
+    };
+    let (err, chains) = b.refine_parent(
+        [pos[0], pos[1], pos[2]],
+        &plans,
+        if void.is_some() { VOID_TOL } else { tol },
+    )?;
+    // a void parent's error is no level's
+    let err = if void.is_some() { 0.0 } else { err };
+    let unmended = b.unmended(tol, &c, free);
+    let mut tris = b.snapshot();
+    if chains.iter().any(|ch| ch.len() > 2) {
+        tris = close_chains(tris, &chains, &b.vsample, &|v| {
+            b.vert3(FixedVertexHandle::from_index(v))
+        });
+    }
+    let mut at: Vec<[f64; 3]> = Vec::new();
+    let verts = b
+        .vsample
+        .iter()
+        .enumerate()
+        .map(
+            |(v, &l)| match local.ids.get(l as usize).map_or(NONE, |&k| gid[k as usize]) {
+                NONE => {
+                    at.push(b.vert3(FixedVertexHandle::from_index(v)));
+                    AT_FLAG | (at.len() - 1) as u32
+                }
+                g => g,
+            },
+        )
+        .collect();
+    scratch.keep(b);
+    Ok(ParentOut {
+        parent,
+        verts,
+        at,
+        tris,
+        err,
+        unmended,
+    })
+}
+
+/// One parent's refinement: its vertices (samples by slot, or points at
+/// grid-line crossings; its corners first), its triangles by index into
+/// them, the worst error left.
+pub(super) struct ParentOut {
+    pub(super) parent: u32,
+    /// a sample's slot, or `AT_FLAG | k` for the point `at[k]`
+    pub(super) verts: Vec<u32>,
+    pub(super) at: Vec<[f64; 3]>,
+    pub(super) tris: Vec<[u32; 3]>,
+    pub(super) err: f64,
+    /// crossings over the tolerance that no pixel could mend, by the side
+    /// their grid segment crosses ([`Builder::unmended`])
+    pub(super) unmended: Vec<(SideKey, SegKey)>,
+}
