@@ -920,6 +920,14 @@ struct TableTiles {
     /// Bands read, by tile index.
     loaded: std::collections::HashMap<usize, raster::Band>,
     ready: std::collections::VecDeque<(i32, i32, TinOut)>,
+    /// Seam samples kept so far (`tin::tiles::Seams`): rounds of planning
+    /// (`round`, while `planning`) build the tiles whose seams gained
+    /// samples and keep only what they ask for (`asked`), as `tin_tiles`
+    /// does; then every tile is built once more, with them, and returned.
+    seams: tinmerge_core::tin::tiles::Seams,
+    asked: Vec<tinmerge_core::tin::tiles::Wanted>,
+    round: usize,
+    planning: bool,
 }
 
 impl TableTiles {
@@ -1045,7 +1053,41 @@ impl TableTiles {
             at,
             loaded: Default::default(),
             ready: Default::default(),
+            seams: Default::default(),
+            asked: Vec::new(),
+            round: 0,
+            planning: true,
         }
+    }
+
+    /// The end of a round of planning: the seam samples asked for taken,
+    /// and the tiles that hold new ones to build in the next round; or,
+    /// when there are none (or after `SEAM_ROUNDS` rounds), every tile, to
+    /// return.
+    fn end_round(&mut self) {
+        use tinmerge_core::tin::tiles::SEAM_ROUNDS;
+        let mut again: Vec<usize> = Vec::new();
+        for w in std::mem::take(&mut self.asked) {
+            for (c, r) in self.seams.add(&w) {
+                again.extend(
+                    self.grid
+                        .tiles_holding(c, r)
+                        .into_iter()
+                        .filter_map(|t| self.at.get(&t).copied()),
+                );
+            }
+        }
+        self.round += 1;
+        let grid = &self.grid;
+        if again.is_empty() || self.round >= SEAM_ROUNDS {
+            self.planning = false;
+            again = (0..grid.tiles.len()).collect();
+        }
+        again.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
+        again.dedup();
+        self.order = again;
+        self.next = 0;
+        self.loaded.clear();
     }
 
     /// Read the bands of tile rows `rows` not read yet, and forget the
@@ -1054,10 +1096,7 @@ impl TableTiles {
         let grid = &self.grid;
         self.loaded
             .retain(|&k, _| grid.tiles[k].ty >= *rows.start());
-        let want: Vec<usize> = self
-            .order
-            .iter()
-            .copied()
+        let want: Vec<usize> = (0..grid.tiles.len())
             .filter(|&k| rows.contains(&grid.tiles[k].ty) && !self.loaded.contains_key(&k))
             .collect();
         if want.is_empty() {
@@ -1132,7 +1171,7 @@ impl TableTiles {
 
     /// Build the next batch of tiles (one per thread) into `ready`.
     fn build_batch(&mut self) {
-        use tinmerge_core::tin::tiles::{build_tile, keep_border_samples, Block};
+        use tinmerge_core::tin::tiles::{build_tile_kept, keep_border_samples, Block};
         let threads = tinmerge_core::tin::par::threads().max(1);
         let batch: Vec<usize> =
             self.order[self.next..(self.next + threads).min(self.order.len())].to_vec();
@@ -1169,6 +1208,7 @@ impl TableTiles {
             })
         };
         let (lattice, tols, srid) = (self.grid.lattice, &self.tols, self.srid);
+        let (seams, planning) = (&self.seams, self.planning);
         let built = tinmerge_core::tin::par::map(&batch, |&k| {
             let p = self.grid.tiles[k];
             let own = block(p.tx, p.ty)?;
@@ -1178,9 +1218,23 @@ impl TableTiles {
                 block(p.tx, p.ty + 1).as_ref(),
                 block(p.tx + 1, p.ty + 1).as_ref(),
             );
+            let keep = seams.border(
+                p.col..p.col + p.width as i64 + 1,
+                p.row..p.row + p.height as i64 + 1,
+            );
             Some(
-                build_tile(s, &lattice, (p.col, p.row), tols, srid, &mut || Ok(())).map(|t| {
-                    t.map(|t| (p.tx as i32, p.ty as i32, TinOut::from_tin_on(&t, &lattice)))
+                build_tile_kept(s, &lattice, (p.col, p.row), tols, srid, &keep, &mut || {
+                    Ok(())
+                })
+                .map(|t| {
+                    t.map(|(t, wanted)| {
+                        if planning {
+                            (None, wanted)
+                        } else {
+                            let out = TinOut::from_tin_on(&t, &lattice);
+                            (Some((p.tx as i32, p.ty as i32, out)), Vec::new())
+                        }
+                    })
                 }),
             )
         });
@@ -1191,8 +1245,9 @@ impl TableTiles {
                     "tin_tiles_from_table: a tile of the batch was not read",
                 );
             };
-            if let Some(row) = r.or_raise() {
-                self.ready.push_back(row);
+            if let Some((row, wanted)) = r.or_raise() {
+                self.ready.extend(row);
+                self.asked.push(wanted);
             }
         }
     }
@@ -1206,7 +1261,11 @@ impl Iterator for TableTiles {
                 return Some(r);
             }
             if self.next >= self.order.len() {
-                return None;
+                if !self.planning {
+                    return None;
+                }
+                self.end_round();
+                continue;
             }
             pgrx::check_for_interrupts!();
             self.build_batch();

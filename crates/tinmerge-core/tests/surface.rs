@@ -998,19 +998,30 @@ fn over_tolerance_finds_values_built_at_the_samples_only() {
     }
 }
 
-/// `tin_tiles`' tiles (`tin::tiles::build_tiles`: keep_border, decided in
-/// each tile's own frame) on the geographic DEM: every tile within its
-/// tolerances between its samples, measured on the tile's own pixels (the
-/// one-pixel strip along its seams held at the samples only, as for any
-/// keep_border build).
-#[test]
-fn tiles_between_samples() {
-    let d = common::read_dem("jacksboro_fault_dem.tif");
-    let r = Raster::of_dem(&d);
-    let n = 97;
-    let tols = default_tolerances(2.0, 3).unwrap();
-    let tiles = common::tiles_of(&d, n, &tols, 4326);
-    assert!(tiles.len() > 6);
+/// The tiles of `r` in tiles of `n` pixels (`tin::tiles::build_tiles`, as
+/// `tin_tiles` builds them: keep_border, decided in each tile's own frame,
+/// seam samples the tiles beside ask for kept by both), each within its
+/// tolerances on its own pixels, between the samples and in the one-pixel
+/// strips along its seams too ([`check_between`]). The number of tiles.
+fn check_tiles(what: &str, r: &Raster, n: usize, tols: &[f64]) -> usize {
+    let mut tiles = Vec::new();
+    tinmerge_core::tin::tiles::build_tiles(
+        &r.z,
+        r.w,
+        r.h,
+        &|v: f64| !v.is_nan(),
+        &r.lat,
+        n,
+        tols,
+        0,
+        &mut || Ok(()),
+        &|tx, ty, t| (tx, ty, t),
+        &mut |t| {
+            tiles.push(t);
+            Ok(())
+        },
+    )
+    .unwrap();
     for (tx, ty, tin) in &tiles {
         let (c0, r0) = (tx * n, ty * n);
         let (w, h) = ((n + 1).min(r.w - c0), (n + 1).min(r.h - r0));
@@ -1021,12 +1032,36 @@ fn tiles_between_samples() {
         lat.ip_x += c0 as f64 * lat.scale_x + r0 as f64 * lat.skew_x;
         lat.ip_y += c0 as f64 * lat.skew_y + r0 as f64 * lat.scale_y;
         let own = Raster { w, h, z, lat };
-        check_between_seams(
-            &format!("geographic DEM tile {tx},{ty}"),
-            tin,
-            &own,
-            true,
-            &[],
-        );
+        check_between(&format!("{what} tile {tx},{ty}"), tin, &own);
+    }
+    tiles.len()
+}
+
+/// `tin_tiles`' tiles on both bundled DEMs (the geographic one in 97-pixel
+/// tiles, where the strips along the seams were up to 2.5x the tolerance
+/// before the tiles kept the seam samples their neighbours ask for; the UTM
+/// one in 128-pixel tiles) and on generated grids with nodata holes,
+/// fractional origins and both row directions, in small tiles (many seams).
+#[test]
+fn tiles_between_samples() {
+    let r = Raster::of_dem(&common::read_dem("jacksboro_fault_dem.tif"));
+    let tols = default_tolerances(2.0, 3).unwrap();
+    assert!(check_tiles("geographic DEM", &r, 97, &tols) > 6);
+    let r = Raster::of_dem(&common::read_dem("jacksboro_fault_dem_utm16n.tif"));
+    let tols = default_tolerances(2.0, 4).unwrap();
+    assert!(check_tiles("UTM DEM", &r, 128, &tols) > 6);
+    use rand::SeedableRng;
+    let mut rng = rand::rngs::StdRng::seed_from_u64(4343);
+    for k in 0..8 {
+        let g = common::grids::generate(&mut rng, k);
+        let r = Raster {
+            w: g.w,
+            h: g.h,
+            z: g.z.clone(),
+            lat: g.lat,
+        };
+        let tols = default_tolerances(70.0 / 40.0, 3).unwrap();
+        let n = 9 + 4 * k;
+        check_tiles(&format!("{} in {n}-pixel tiles", g.name), &r, n, &tols);
     }
 }

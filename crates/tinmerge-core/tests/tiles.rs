@@ -166,7 +166,7 @@ fn shared_border_column_gives_a_continuous_surface() {
 #[test]
 fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
     use tinmerge_core::merge::point::height;
-    use tinmerge_core::tin::build::build_lattice;
+    use tinmerge_core::tin::build::build_lattice_window_kept;
     let n = 97;
     for (name, file, tol, srid) in [
         ("utm", "jacksboro_fault_dem_utm16n.tif", 2.0, 32616),
@@ -176,7 +176,7 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
         let lat = d.lattice();
         let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
         let tols = default_tolerances(tol, 3).unwrap();
-        let tiles = common::tiles_of(&d, n, &tols, srid);
+        let (tiles, seams) = common::tiles_and_seams_of(&d, n, &tols, srid);
         let (nx, ny) = (d.width.div_ceil(n), d.height.div_ceil(n));
         // the test's own cut: own pixels plus one more column and row
         let mut expect = 0;
@@ -203,28 +203,44 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
                     keep_border: true,
                     between_samples: true,
                 };
-                let Ok(want) = build_lattice(s, &own, &tols, srid, keep, &mut || Ok(())) else {
+                let got = tiles.iter().find(|t| (t.0, t.1) == (tx, ty));
+                // the seam samples the tiles kept (in this tile's own
+                // frame); the rest is its own build
+                let mut border = seams.border(
+                    c0 as i64..((tx + 1) * n + 1) as i64,
+                    r0 as i64..((ty + 1) * n + 1) as i64,
+                );
+                for l in &mut border.levels {
+                    for p in l.iter_mut() {
+                        *p = [p[0] - c0 as f64, p[1] - r0 as f64];
+                    }
+                }
+                let Ok(want) = build_lattice_window_kept(
+                    s,
+                    &own,
+                    (0, 0),
+                    &tols,
+                    srid,
+                    keep,
+                    &border,
+                    &mut |_| Ok(()),
+                    &mut || Ok(()),
+                ) else {
                     continue;
                 };
-                let got = tiles.iter().find(|t| (t.0, t.1) == (tx, ty));
                 let got = got.unwrap_or_else(|| panic!("{name}: tile {tx},{ty} missing"));
-                // the same triangles, the vertices the same up to the
-                // rounding of the tile's origin (the tile is placed on the
-                // raster's lattice, this build on the tile's own)
-                for (l, (a, b)) in got.2.levels.iter().zip(&want.levels).enumerate() {
-                    assert!(
-                        a.tris == b.tris && a.parent == b.parent,
-                        "{name}: tile {tx},{ty} level {l} differs from its own build"
-                    );
-                }
-                assert_eq!(got.2.verts.len(), want.verts.len());
+                // the same triangles with the same parents, the vertices the
+                // same up to the rounding of the tile's origin (the tile is
+                // placed on the raster's lattice, this build on the tile's
+                // own); numbered maybe otherwise (the kept seam samples come
+                // first in one build, as Douglas-Peucker picks them in the other)
                 let px = lat.scale_x.abs().max(lat.scale_y.abs());
-                for (a, b) in got.2.verts.iter().zip(&want.verts) {
+                assert_eq!(got.2.verts.len(), want.verts.len());
+                assert_eq!(got.2.levels.len(), want.levels.len());
+                for l in 0..want.levels.len() {
                     assert!(
-                        (a[0] - b[0]).abs() <= 1e-9 * px
-                            && (a[1] - b[1]).abs() <= 1e-9 * px
-                            && a[2] == b[2],
-                        "{name}: tile {tx},{ty}: vertex {a:?} against {b:?}"
+                        shape(&got.2, l, px) == shape(&want, l, px),
+                        "{name}: tile {tx},{ty} level {l} differs from its own build"
                     );
                 }
                 // (sanity_check is exact in the lattice frame only; in world
@@ -300,10 +316,44 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
     }
 }
 
+/// Level `l` of `t` as a sorted list of triangles, each its corners
+/// (positions to a millionth of `px`, heights exact, sorted) and its
+/// parent's: the same for two builds of one hierarchy however they number
+/// their vertices.
+#[allow(clippy::type_complexity)]
+fn shape(t: &Tin, l: usize, px: f64) -> Vec<([(i64, i64, u64); 3], Option<[(i64, i64, u64); 3]>)> {
+    let key = |v: u32| {
+        let p = t.verts[v as usize];
+        (
+            (p[0] / px * 1e6).round() as i64,
+            (p[1] / px * 1e6).round() as i64,
+            p[2].to_bits(),
+        )
+    };
+    let tri = |l: usize, k: usize| {
+        let mut c = t.levels[l].tris[k].map(key);
+        c.sort_unstable();
+        c
+    };
+    let lv = &t.levels[l];
+    let mut out: Vec<_> = (0..lv.tris.len())
+        .map(|k| {
+            (
+                tri(l, k),
+                (l > 0).then(|| tri(l - 1, lv.parent[k] as usize)),
+            )
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
 /// A table of raster tiles (cut as `raster2pgsql -t` cuts: each tile its
 /// own origin `origin + k * size`, the last column and row narrower), given
 /// in a shuffled order, placed by `place_tiles` and built from
-/// `keep_border_samples`, gives every tile of `build_tiles` on the whole
+/// `keep_border_samples` in the rounds of seam samples kept that
+/// `tin_tiles_from_table` runs (`TableGrid::tiles_holding` finding the tiles
+/// a kept sample touches), gives every tile of `build_tiles` on the whole
 /// raster bit for bit (that path is checked against the test's own cut
 /// above), on both DEMs. A table with a tile missing leaves its neighbours
 /// without that border; misaligned tables are refused.
@@ -311,7 +361,9 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
 fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
     use rand::{seq::SliceRandom, SeedableRng};
     use tinmerge_core::tin::lattice::Lattice;
-    use tinmerge_core::tin::tiles::{build_tile, keep_border_samples, place_tiles, Block};
+    use tinmerge_core::tin::tiles::{
+        build_tile_kept, keep_border_samples, place_tiles, Block, Seams, SEAM_ROUNDS,
+    };
     let n = 97;
     for (name, file, tol, srid) in [
         ("utm", "jacksboro_fault_dem_utm16n.tif", 2.0, 32616),
@@ -361,25 +413,65 @@ fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
             .collect();
         let at =
             |tx: usize, ty: usize| blocks.iter().find(|b| (b.place.tx, b.place.ty) == (tx, ty));
-        let built = |tx: usize, ty: usize| {
-            let own = at(tx, ty).unwrap();
+        // tin_tiles_from_table's rounds: every tile, then those holding the
+        // seam samples a tile asked for, until none is new; each tile's
+        // last build is its tin
+        let build = |k: usize, seams: &Seams| {
+            let own = &blocks[k];
+            let (tx, ty) = (own.place.tx, own.place.ty);
             let s = keep_border_samples(own, at(tx + 1, ty), at(tx, ty + 1), at(tx + 1, ty + 1));
-            build_tile(
+            let p = own.place;
+            let keep = seams.border(
+                p.col..p.col + p.width as i64 + 1,
+                p.row..p.row + p.height as i64 + 1,
+            );
+            build_tile_kept(
                 s,
                 &grid.lattice,
-                (own.place.col, own.place.row),
+                (p.col, p.row),
                 &tols,
                 srid,
+                &keep,
                 &mut || Ok(()),
             )
             .unwrap()
-            .map(|t| tinmerge_core::tin::layout::encode(&t))
         };
+        let mut seams = Seams::default();
+        let mut last: Vec<Option<Vec<u8>>> = vec![None; blocks.len()];
+        let mut todo: Vec<usize> = (0..blocks.len()).collect();
+        for round in 0..=SEAM_ROUNDS {
+            let mut asked = Vec::new();
+            for &k in &todo {
+                let r = build(k, &seams);
+                last[k] = r
+                    .as_ref()
+                    .map(|(t, _)| tinmerge_core::tin::layout::encode(t));
+                asked.extend(r.map(|(_, w)| w));
+            }
+            if round == SEAM_ROUNDS {
+                break;
+            }
+            let mut again: Vec<usize> = Vec::new();
+            for w in &asked {
+                for (c, r) in seams.add(w) {
+                    for t in grid.tiles_holding(c, r) {
+                        again.extend(blocks.iter().position(|b| (b.place.tx, b.place.ty) == t));
+                    }
+                }
+            }
+            again.sort_unstable();
+            again.dedup();
+            if again.is_empty() {
+                break;
+            }
+            todo = again;
+        }
+        eprintln!("{name}: {} seam samples kept", seams.len());
         let mut same = 0;
-        for b in &blocks {
+        for (k, b) in blocks.iter().enumerate() {
             let (tx, ty) = (b.place.tx, b.place.ty);
             let want = whole.iter().find(|w| (w.0, w.1) == (tx, ty)).map(|w| &w.2);
-            let got = built(tx, ty);
+            let got = &last[k];
             assert!(
                 got.as_ref() == want,
                 "{name}: tile {tx},{ty} differs from build_tiles'"

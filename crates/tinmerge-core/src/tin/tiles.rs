@@ -36,9 +36,14 @@
 //! assert_eq!(tiles.iter().map(|t| (t.0, t.1)).collect::<Vec<_>>(), [(0, 0), (1, 0), (0, 1), (1, 1)]);
 //! ```
 
-use super::build::{build_lattice_window, BuildOptions};
+#[cfg(doc)]
+use super::build::build_lattice_window;
+use super::build::{build_lattice_window_kept, Border, BuildOptions};
+use super::dense::Dense;
 use super::lattice::Lattice;
 use super::par;
+use super::surface::{GridReference, Reference};
+use super::NONE;
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
 use std::ops::Range;
@@ -72,13 +77,17 @@ pub fn tile_window(
 
 /// Build every tile of a band (`values` row-major, `width x height`,
 /// `valid` telling data from nodata) on `lattice`, with `tolerances` per
-/// level and keep_border. `each(tx, ty, tin)` runs on the build's thread
-/// (on `tin::par`'s threads when there are several: encode there), and
-/// `consume` gets its results on the calling thread in row-major tile
-/// order. A tile without three non-collinear valid samples (nodata, or a
-/// last row or column one pixel thick) gives nothing. Interrupts are
-/// checked between tiles (on threads, between rounds of one tile per
-/// thread; a tile's own build is not interrupted).
+/// level and keep_border. Every tile holds its tolerances between the
+/// samples, the one-pixel strips along its seams included: the seam samples
+/// a tile asks for ([`Wanted`]) are kept by both tiles of the seam, which
+/// are built again, for up to [`SEAM_ROUNDS`] rounds ([`Seams`]).
+/// `each(tx, ty, tin)` runs on the build's thread (on `tin::par`'s threads
+/// when there are several: encode there), and `consume` gets the results of
+/// the last round on the calling thread in row-major tile order. A tile
+/// without three non-collinear valid samples (nodata, or a last row or
+/// column one pixel thick) gives nothing. Interrupts are checked between
+/// tiles (on threads, between rounds of one tile per thread; a tile's own
+/// build is not interrupted). The seam samples kept.
 #[allow(clippy::too_many_arguments)]
 pub fn build_tiles<R: Send>(
     values: &[f64],
@@ -92,7 +101,7 @@ pub fn build_tiles<R: Send>(
     interrupt: &mut Interrupt<'_>,
     each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
     consume: &mut dyn FnMut(R) -> Result<(), TinError>,
-) -> Result<(), TinError> {
+) -> Result<Seams, TinError> {
     if tile_px < 2 {
         return Err(TinError::InvalidParameter(format!(
             "tile_px must be at least 2 pixels, got {tile_px}"
@@ -108,46 +117,155 @@ pub fn build_tiles<R: Send>(
     let tiles: Vec<(usize, usize)> = (0..ny)
         .flat_map(|ty| (0..nx).map(move |tx| (tx, ty)))
         .collect();
-    // one tile: Ok(None) when it has too few samples to triangulate
-    let one = |&(tx, ty): &(usize, usize),
-               interrupt: &mut Interrupt<'_>|
-     -> Result<Option<R>, TinError> {
-        let (cols, rows) = tile_window(width, height, tile_px, tx, ty);
-        let mut samples = Vec::new();
-        for r in rows.clone() {
-            for c in cols.clone() {
-                let v = values[r * width + c];
-                if valid(v) {
-                    samples.push([c as f64, r as f64, v]);
+    // one tile with the seam samples kept so far: Ok(None) when it has too
+    // few samples to triangulate
+    let one =
+        |&(tx, ty): &(usize, usize), seams: &Seams| -> Result<Option<(R, Wanted)>, TinError> {
+            let (cols, rows) = tile_window(width, height, tile_px, tx, ty);
+            let mut samples = Vec::new();
+            for r in rows.clone() {
+                for c in cols.clone() {
+                    let v = values[r * width + c];
+                    if valid(v) {
+                        samples.push([c as f64, r as f64, v]);
+                    }
+                }
+            }
+            let origin = (cols.start as i64, rows.start as i64);
+            let keep = seams.border(
+                cols.start as i64..cols.end as i64,
+                rows.start as i64..rows.end as i64,
+            );
+            Ok(build_tile_kept(
+                samples,
+                lattice,
+                origin,
+                tolerances,
+                srid,
+                &keep,
+                &mut || Ok(()),
+            )?
+            .map(|(tin, wanted)| (each(tx, ty, tin), wanted)))
+        };
+    let mut results: Vec<Option<R>> = (0..tiles.len()).map(|_| None).collect();
+    let mut seams = Seams::default();
+    let mut todo: Vec<usize> = (0..tiles.len()).collect();
+    for round in 0..=SEAM_ROUNDS {
+        let mut asked: Vec<Wanted> = Vec::new();
+        // one tile per thread at a time (a tile is a whole build:
+        // interrupts are seen between tiles, not within one)
+        for batch in todo.chunks(par::threads().max(1)) {
+            interrupt()?;
+            let built = par::map(batch, |&k| one(&tiles[k], &seams));
+            for (&k, r) in batch.iter().zip(built) {
+                let r = r?;
+                let (res, wanted) = match r {
+                    Some((res, w)) => (Some(res), w),
+                    None => (None, Vec::new()),
+                };
+                results[k] = res;
+                asked.push(wanted);
+            }
+        }
+        if round == SEAM_ROUNDS {
+            break;
+        }
+        let mut again: Vec<usize> = Vec::new();
+        for w in &asked {
+            for (c, r) in seams.add(w) {
+                for tx in tiles_holding(c, tile_px, nx) {
+                    for ty in tiles_holding(r, tile_px, ny) {
+                        again.push(ty * nx + tx);
+                    }
                 }
             }
         }
-        let origin = (cols.start as i64, rows.start as i64);
-        Ok(
-            build_tile(samples, lattice, origin, tolerances, srid, interrupt)?
-                .map(|tin| each(tx, ty, tin)),
-        )
-    };
-    if par::threads() <= 1 {
-        for t in &tiles {
-            interrupt()?;
-            if let Some(r) = one(t, interrupt)? {
-                consume(r)?;
-            }
+        again.sort_unstable();
+        again.dedup();
+        if again.is_empty() {
+            break;
         }
-        return Ok(());
+        todo = again;
     }
-    // one tile per thread at a time (a tile is a whole build: interrupts
-    // are seen between tiles, not within one)
-    for batch in tiles.chunks(par::threads()) {
+    for r in results.into_iter().flatten() {
         interrupt()?;
-        for r in par::map(batch, |t| one(t, &mut || Ok(()))) {
-            if let Some(r) = r? {
-                consume(r)?;
+        consume(r)?;
+    }
+    Ok(seams)
+}
+
+/// Rounds of building again the tiles whose seams gained samples that a
+/// tile beside them asked for ([`build_tiles`]).
+pub const SEAM_ROUNDS: usize = 8;
+
+/// The tiles (columns, or rows) whose window holds pixel column (or row)
+/// `c` of `n` tiles of `tile_px` pixels: its own, and the one before when
+/// it is that tile's added first column.
+fn tiles_holding(c: i64, tile_px: usize, n: usize) -> impl Iterator<Item = usize> {
+    let px = tile_px as i64;
+    let own = c.div_euclid(px);
+    let before = (c.rem_euclid(px) == 0).then_some(own - 1);
+    [Some(own), before]
+        .into_iter()
+        .flatten()
+        .filter(move |&t| t >= 0 && (t as usize) < n)
+        .map(|t| t as usize)
+}
+
+/// The seam samples every tile of a grid keeps, per level (columns and rows
+/// on the common lattice): what the tiles asked for ([`Wanted`]), each at
+/// the coarsest level it was asked at (a vertex stays one at the finer
+/// levels).
+#[derive(Clone, Debug, Default)]
+pub struct Seams {
+    levels: Vec<rustc_hash::FxHashSet<(i64, i64)>>,
+}
+
+impl Seams {
+    /// Take what a tile asked for; the positions new at their level and
+    /// every coarser one (the tiles holding them must be built again).
+    pub fn add(&mut self, wanted: &Wanted) -> Vec<(i64, i64)> {
+        let mut added = Vec::new();
+        for (l, w) in wanted.iter().enumerate() {
+            if self.levels.len() <= l {
+                self.levels.resize_with(l + 1, Default::default);
+            }
+            for &p in w {
+                if self.levels[..=l].iter().all(|s| !s.contains(&p)) {
+                    self.levels[l].insert(p);
+                    added.push(p);
+                }
             }
         }
+        added
     }
-    Ok(())
+
+    /// Number of seam samples kept, at all levels.
+    pub fn len(&self) -> usize {
+        self.levels.iter().map(|s| s.len()).sum()
+    }
+
+    /// Whether no seam sample is kept.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The kept samples within a tile's window (`cols` x `rows`), as a
+    /// build takes them ([`build_tile_kept`]).
+    pub fn border(&self, cols: Range<i64>, rows: Range<i64>) -> Border {
+        let inside = |&&(c, r): &&(i64, i64)| cols.contains(&c) && rows.contains(&r);
+        Border {
+            levels: self
+                .levels
+                .iter()
+                .map(|s| {
+                    let mut v: Vec<(i64, i64)> = s.iter().filter(inside).copied().collect();
+                    v.sort_unstable();
+                    v.into_iter().map(|(c, r)| [c as f64, r as f64]).collect()
+                })
+                .collect(),
+        }
+    }
 }
 
 /// Build one tile's samples (column, row, value on `lattice`) with
@@ -155,7 +273,9 @@ pub fn build_tiles<R: Send>(
 /// frame (`origin`: its first pixel; [`build_lattice_window`]), so it is
 /// the tin of that tile cut out in SQL up to the rounding of the vertices
 /// put at grid-line crossings: `Ok(None)` when they cannot be triangulated
-/// (fewer than three, or all on one line).
+/// (fewer than three, or all on one line). Its seams hold the tolerance
+/// at their samples only: [`build_tile_kept`] and [`Seams`] hold it in the
+/// strips along them too.
 pub fn build_tile(
     samples: Vec<[f64; 3]>,
     lattice: &Lattice,
@@ -164,6 +284,37 @@ pub fn build_tile(
     srid: i32,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<Tin>, TinError> {
+    Ok(build_tile_kept(
+        samples,
+        lattice,
+        origin,
+        tolerances,
+        srid,
+        &Border::default(),
+        interrupt,
+    )?
+    .map(|(tin, _)| tin))
+}
+
+/// Seam samples a tile asks for, per level (columns and rows on the
+/// lattice): pixel centres on its hull at an end of a grid segment of the
+/// one-pixel strip along the hull where an edge of that level crosses it
+/// more than the level's tolerance from the raster's surface.
+pub type Wanted = Vec<Vec<(i64, i64)>>;
+
+/// [`build_tile`] keeping the hull samples `keep` (column and row on the
+/// lattice, per level) as vertices, and the seam samples it asks for
+/// ([`Wanted`]): kept by both tiles of the seam, they split the edges whose
+/// crossings in the strip beside it the tile could not mend from inside.
+pub fn build_tile_kept(
+    samples: Vec<[f64; 3]>,
+    lattice: &Lattice,
+    origin: (i64, i64),
+    tolerances: &[f64],
+    srid: i32,
+    keep: &Border,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Option<(Tin, Wanted)>, TinError> {
     if samples.len() < 3 {
         return Ok(None);
     }
@@ -171,11 +322,159 @@ pub fn build_tile(
         keep_border: true,
         between_samples: true,
     };
-    match build_lattice_window(samples, lattice, origin, tolerances, srid, opts, interrupt) {
-        Ok(tin) => Ok(Some(tin)),
+    let heights = window_heights(&samples, origin);
+    let mut wanted = Vec::new();
+    match build_lattice_window_kept(
+        samples,
+        lattice,
+        origin,
+        tolerances,
+        srid,
+        opts,
+        keep,
+        &mut |tin| {
+            if let Some(h) = &heights {
+                wanted = strip_wanted(tin, h, origin);
+            }
+            Ok(())
+        },
+        interrupt,
+    ) {
+        Ok(tin) => Ok(Some((tin, wanted))),
         Err(TinError::Degenerate(_)) => Ok(None),
         Err(e) => Err(e),
     }
+}
+
+/// The samples' heights on their window (its frame: columns and rows less
+/// `origin`), NaN without data; None for an empty or absurd window.
+fn window_heights(samples: &[[f64; 3]], origin: (i64, i64)) -> Option<Dense> {
+    let (mut c0, mut r0, mut c1, mut r1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
+    for p in samples {
+        let (c, r) = (p[0] as i64 - origin.0, p[1] as i64 - origin.1);
+        (c0, r0, c1, r1) = (c0.min(c), r0.min(r), c1.max(c), r1.max(r));
+    }
+    let (w, h) = (
+        usize::try_from(c1.checked_sub(c0)? + 1).ok()?,
+        usize::try_from(r1.checked_sub(r0)? + 1).ok()?,
+    );
+    if w.checked_mul(h)? > 4 * samples.len() + (1 << 20) {
+        return None;
+    }
+    let mut d = Dense {
+        c0,
+        r0,
+        width: w,
+        height: h,
+        z: vec![f64::NAN; w * h],
+    };
+    for p in samples {
+        let i = d.index(p[0] as i64 - origin.0, p[1] as i64 - origin.1);
+        d.z[i] = p[2];
+    }
+    Some(d)
+}
+
+/// The convex hull of the valid pixels of `d` (columns and rows),
+/// counter-clockwise, collinear pixels left out.
+fn pixel_hull(d: &Dense) -> Vec<(i64, i64)> {
+    let mut pts: Vec<(i64, i64)> = Vec::new();
+    for r in 0..d.height {
+        let row = r * d.width..(r + 1) * d.width;
+        let first = row.clone().find(|&i| d.valid(i));
+        let last = row.rev().find(|&i| d.valid(i));
+        pts.extend(first.map(|i| d.col_row(i)));
+        pts.extend(last.filter(|&l| Some(l) != first).map(|i| d.col_row(i)));
+    }
+    pts.sort_unstable();
+    let cross = |a: (i64, i64), b: (i64, i64), c: (i64, i64)| {
+        (b.0 - a.0) as i128 * (c.1 - a.1) as i128 - (b.1 - a.1) as i128 * (c.0 - a.0) as i128
+    };
+    let mut h: Vec<(i64, i64)> = Vec::with_capacity(pts.len());
+    for pass in 0..2 {
+        let start = h.len();
+        let it: Box<dyn Iterator<Item = &(i64, i64)>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for &p in it {
+            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], p) <= 0 {
+                h.pop();
+            }
+            h.push(p);
+        }
+        h.pop();
+    }
+    h
+}
+
+/// [`Wanted`] of a tin built on `d`'s window (its frame), measured as
+/// [`super::check::over_tolerance`] does on every edge with an end within
+/// 1.5 pixel of the hull (an edge crossing a grid segment of the strip
+/// inside it ends in the strip or on the hull).
+fn strip_wanted(tin: &Tin, d: &Dense, origin: (i64, i64)) -> Wanted {
+    let hull = pixel_hull(d);
+    let n = hull.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    let on_hull = |c: i64, r: i64| {
+        (0..n).any(|i| {
+            let (a, b) = (hull[i], hull[(i + 1) % n]);
+            let cross =
+                (b.0 - a.0) as i128 * (r - a.1) as i128 - (b.1 - a.1) as i128 * (c - a.0) as i128;
+            cross == 0 && (c - a.0) * (c - b.0) <= 0 && (r - a.1) * (r - b.1) <= 0
+        })
+    };
+    let near: Vec<bool> = tin
+        .verts
+        .iter()
+        .map(|v| {
+            (0..n).any(|i| {
+                let (a, b) = (hull[i], hull[(i + 1) % n]);
+                let (ax, ay, bx, by) = (a.0 as f64, a.1 as f64, b.0 as f64, b.1 as f64);
+                let (dx, dy) = (bx - ax, by - ay);
+                let len2 = dx * dx + dy * dy;
+                let t = (((v[0] - ax) * dx + (v[1] - ay) * dy) / len2).clamp(0.0, 1.0);
+                let (px, py) = (ax + t * dx - v[0], ay + t * dy - v[1]);
+                px * px + py * py <= 2.25
+            })
+        })
+        .collect();
+    let reference = GridReference::on_lattice(d);
+    let mut out: Wanted = Vec::with_capacity(tin.levels.len());
+    for lv in &tin.levels {
+        let limit = lv.tolerance * (1.0 + 1e-10);
+        let mut want: Vec<(i64, i64)> = Vec::new();
+        for (t, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
+            for j in 0..3 {
+                if nb[j] != NONE && (nb[j] as usize) < t {
+                    continue;
+                }
+                let (u, w) = (tri[(j + 1) % 3] as usize, tri[(j + 2) % 3] as usize);
+                if !(near[u] || near[w]) {
+                    continue;
+                }
+                let (a, b) = (tin.verts[u], tin.verts[w]);
+                reference.for_each_crossing(&a, &b, &mut |c| {
+                    if c.error(&a, &b) <= limit {
+                        return;
+                    }
+                    for z in c.seg {
+                        let (zc, zr) = (z[0] as i64, z[1] as i64);
+                        if on_hull(zc, zr) {
+                            want.push((zc + origin.0, zr + origin.1));
+                        }
+                    }
+                });
+            }
+        }
+        want.sort_unstable();
+        want.dedup();
+        out.push(want);
+    }
+    out
 }
 
 /// A raster tile of a table of tiles (`raster2pgsql -t`, `ST_Tile`) placed
@@ -210,6 +509,24 @@ impl TableGrid {
         let nx = self.tiles.iter().map(|p| p.tx + 1).max().unwrap_or(0);
         let ny = self.tiles.iter().map(|p| p.ty + 1).max().unwrap_or(0);
         (nx, ny)
+    }
+
+    /// The places (tile column, row) whose window ([`keep_border_samples`]:
+    /// own pixels, the next tile's first column and row) holds pixel
+    /// `(c, r)` of the common lattice: the tiles a seam sample kept there
+    /// ([`Seams`]) must be built with.
+    pub fn tiles_holding(&self, c: i64, r: i64) -> Vec<(usize, usize)> {
+        let Some(p) = self.tiles.first() else {
+            return Vec::new();
+        };
+        let (oc, or) = (
+            p.col - (p.tx * self.tile_width) as i64,
+            p.row - (p.ty * self.tile_height) as i64,
+        );
+        let (nx, ny) = self.counts();
+        tiles_holding(c - oc, self.tile_width, nx)
+            .flat_map(|tx| tiles_holding(r - or, self.tile_height, ny).map(move |ty| (tx, ty)))
+            .collect()
     }
 }
 

@@ -212,9 +212,23 @@ pub fn tiles_of(
     tols: &[f64],
     srid: i32,
 ) -> Vec<(usize, usize, tinmerge_core::tin::Tin)> {
+    tiles_and_seams_of(d, n, tols, srid).0
+}
+
+/// [`tiles_of`] and the seam samples the tiles kept.
+#[allow(dead_code)]
+pub fn tiles_and_seams_of(
+    d: &Dem,
+    n: usize,
+    tols: &[f64],
+    srid: i32,
+) -> (
+    Vec<(usize, usize, tinmerge_core::tin::Tin)>,
+    tinmerge_core::tin::tiles::Seams,
+) {
     let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
     let mut tiles = Vec::new();
-    tinmerge_core::tin::tiles::build_tiles(
+    let seams = tinmerge_core::tin::tiles::build_tiles(
         &d.values,
         d.width,
         d.height,
@@ -231,7 +245,7 @@ pub fn tiles_of(
         },
     )
     .unwrap();
-    tiles
+    (tiles, seams)
 }
 
 /// Convex polygon clipped to the left of the line a -> b (Sutherland-Hodgman

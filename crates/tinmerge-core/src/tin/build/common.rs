@@ -213,6 +213,25 @@ pub struct BuildOptions {
     pub between_samples: bool,
 }
 
+/// Samples on the convex hull's sides that a keep_border build must keep
+/// as vertices, per level (positions in the build's frame): a tile's seam
+/// samples that the tiles beside it asked for, so that the one-pixel strip
+/// along the seam holds the tolerance between the samples too
+/// ([`crate::tin::tiles`]). Both tiles of a seam are given the same ones and
+/// take them before their own Douglas-Peucker choice, so they still agree.
+/// A position that is no sample of a hull side is ignored.
+#[derive(Clone, Debug, Default)]
+pub struct Border {
+    pub levels: Vec<Vec<[f64; 2]>>,
+}
+
+impl Border {
+    /// The positions level `l` must keep (none past the last given).
+    pub fn at(&self, l: usize) -> &[[f64; 2]] {
+        self.levels.get(l).map(|v| v.as_slice()).unwrap_or(&[])
+    }
+}
+
 /// One level of the build before [`assemble`](super::assemble::assemble).
 pub(super) struct RawLevel {
     pub(super) tolerance: f64,

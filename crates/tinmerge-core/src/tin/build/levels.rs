@@ -30,6 +30,7 @@ pub(super) fn build_inner(
     opts: BuildOptions,
     on_lattice: bool,
     reference: Option<&dyn Reference>,
+    border: &Border,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
@@ -48,7 +49,7 @@ pub(super) fn build_inner(
         }
         if let Some(d) = dense_of(&samples) {
             drop(samples);
-            return build_dense(d, tolerances, srid, opts, interrupt);
+            return build_dense(d, tolerances, srid, opts, border, interrupt);
         }
     }
     let mut pts = prepare_samples(samples)?;
@@ -84,7 +85,7 @@ pub(super) fn build_inner(
     let (verts, raw_levels) = if net.segs.is_empty() {
         let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border, reference)?;
         build_levels(
-            b, &grid, reference, &sides, boundaries, tolerances, opts, interrupt,
+            b, &grid, reference, &sides, boundaries, tolerances, opts, border, interrupt,
         )?
     } else {
         // each soft segment's samples from end to end (a hard one: none),
@@ -118,7 +119,15 @@ pub(super) fn build_inner(
             .filter(|s| !s.is_empty())
             .collect();
         build_levels(
-            b, &grid, reference, &sides, boundaries, tolerances, opts, interrupt,
+            b,
+            &grid,
+            reference,
+            &sides,
+            boundaries,
+            tolerances,
+            opts,
+            &Border::default(),
+            interrupt,
         )?
     };
     drop(grid);
@@ -172,9 +181,17 @@ pub(super) fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
     boundaries: &[&Area],
     tolerances: &[f64],
     opts: BuildOptions,
+    border: &Border,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
-    let mut level0 = refine_level0(&mut b, sides, tolerances[0], SEED_VERTICES, interrupt)?;
+    let mut level0 = refine_level0(
+        &mut b,
+        sides,
+        tolerances[0],
+        SEED_VERTICES,
+        border.at(0),
+        interrupt,
+    )?;
     let (mut verts, vsample) = b.finish();
     if !boundaries.is_empty() {
         mark_void(&verts, &mut level0, boundaries, interrupt)?;
@@ -192,6 +209,7 @@ pub(super) fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
         &mut raw_levels,
         &tolerances[usize::from(!seeded)..],
         opts.keep_border,
+        border.levels.get(usize::from(!seeded)..).unwrap_or(&[]),
         interrupt,
     )?;
     if seeded {
@@ -230,14 +248,21 @@ pub(super) fn start<'g, S: Samples, T: Tri>(
 
 /// Level 0: refine `b` (its hull inserted) to `tol`, the vertices of the
 /// hull's `sides` (keep_border) chosen first, from each side's samples
-/// alone (a seam's two tiles agree on them).
+/// alone (a seam's two tiles agree on them), those at `forced` positions
+/// (the seam's samples both tiles were told to keep, [`Border`]) among
+/// them from the start.
 pub(super) fn refine_level0<S: Samples, T: Tri>(
     b: &mut Builder<'_, S, T>,
     sides: &[Vec<usize>],
     tol: f64,
     max_vertices: usize,
+    forced: &[[f64; 2]],
     interrupt: &mut Interrupt<'_>,
 ) -> Result<RawLevel, TinError> {
+    let forced: rustc_hash::FxHashSet<(u64, u64)> = forced
+        .iter()
+        .map(|p| (p[0].to_bits(), p[1].to_bits()))
+        .collect();
     for &i in sides.iter().flatten() {
         b.reserved[i] = true;
     }
@@ -245,10 +270,18 @@ pub(super) fn refine_level0<S: Samples, T: Tri>(
     let mut new = Vec::new();
     for side in sides {
         interrupt()?;
-        let mut chosen: Vec<bool> = (0..side.len())
-            .map(|k| k == 0 || k + 1 == side.len())
-            .collect();
         let grid = b.grid;
+        let mut chosen: Vec<bool> = (0..side.len())
+            .map(|k| {
+                let p = grid.point(side[k]);
+                k == 0 || k + 1 == side.len() || forced.contains(&(p[0].to_bits(), p[1].to_bits()))
+            })
+            .collect();
+        for k in 1..side.len().saturating_sub(1) {
+            if chosen[k] {
+                new.push(side[k]);
+            }
+        }
         border_error = border_error.max(choose_border(
             &|i| grid.point(i),
             side,
@@ -318,6 +351,7 @@ pub(super) fn build_dense(
     tolerances: &[f64],
     srid: i32,
     opts: BuildOptions,
+    border: &Border,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     let mut ends: Vec<usize> = Vec::new();
@@ -354,8 +388,17 @@ pub(super) fn build_dense(
     } else {
         Vec::new()
     };
-    let (verts, raw_levels) =
-        build_levels(b, &d, reference, &sides, &[], tolerances, opts, interrupt)?;
+    let (verts, raw_levels) = build_levels(
+        b,
+        &d,
+        reference,
+        &sides,
+        &[],
+        tolerances,
+        opts,
+        border,
+        interrupt,
+    )?;
     drop(d);
     assemble(verts, raw_levels, srid, false, interrupt)
 }

@@ -53,7 +53,7 @@ mod parents;
 use self::assemble::*;
 use self::common::*;
 pub use self::common::{
-    check_tolerances, default_tolerances, prepare_samples, BuildOptions, MAX_SAMPLES,
+    check_tolerances, default_tolerances, prepare_samples, Border, BuildOptions, MAX_SAMPLES,
 };
 use self::levels::*;
 use super::breaklines::{clip_to_hull, Breakline};
@@ -101,6 +101,7 @@ pub fn build_with(
         opts,
         false,
         None,
+        &Border::default(),
         interrupt,
     )
 }
@@ -344,6 +345,7 @@ fn build_domain_with(
         BuildOptions::default(),
         false,
         reference,
+        &Border::default(),
         interrupt,
     )
 }
@@ -408,12 +410,42 @@ pub fn build_lattice(
 /// (vertices at `origin` + their window coordinates, samples exactly),
 /// so a pixel centre two windows share is the same point in both.
 pub fn build_lattice_window(
+    samples: Vec<[f64; 3]>,
+    lattice: &Lattice,
+    origin: (i64, i64),
+    tolerances: &[f64],
+    srid: i32,
+    opts: BuildOptions,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    build_lattice_window_kept(
+        samples,
+        lattice,
+        origin,
+        tolerances,
+        srid,
+        opts,
+        &Border::default(),
+        &mut |_| Ok(()),
+        interrupt,
+    )
+}
+
+/// [`build_lattice_window`] with keep_border's hull samples that each level
+/// must keep (`keep`: column and row on `lattice`, as the samples), and
+/// `local` shown the tin in the window's own frame (pixel centres at their
+/// column and row less `origin`) before it is put on the lattice
+/// ([`crate::tin::tiles`] measures the seam strips there).
+#[allow(clippy::too_many_arguments)]
+pub fn build_lattice_window_kept(
     mut samples: Vec<[f64; 3]>,
     lattice: &Lattice,
     origin: (i64, i64),
     tolerances: &[f64],
     srid: i32,
     opts: BuildOptions,
+    keep: &Border,
+    local: &mut dyn FnMut(&Tin) -> Result<(), TinError>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     let (c0, r0) = (origin.0 as f64, origin.1 as f64);
@@ -443,6 +475,13 @@ pub fn build_lattice_window(
             p[1] + r0
         )));
     }
+    let keep = Border {
+        levels: keep
+            .levels
+            .iter()
+            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
+            .collect(),
+    };
     let mut tin = build_inner(
         samples,
         &[],
@@ -452,8 +491,10 @@ pub fn build_lattice_window(
         opts,
         true,
         None,
+        &keep,
         interrupt,
     )?;
+    local(&tin)?;
     for v in &mut tin.verts {
         v[0] += c0;
         v[1] += r0;

@@ -9,7 +9,7 @@ use crate::interrupt::Interrupt;
 use crate::tin::dense::Dense;
 use crate::tin::hierarchy::compute_neighbours;
 use crate::tin::samples::{SampleGrid, Samples};
-use crate::tin::sides::{plan_side, side_key, Forced, Pt, SideKey, SidePlan};
+use crate::tin::sides::{plan_side, sample_key, side_key, Forced, Pt, SideKey, SidePlan};
 use crate::tin::surface::Reference;
 use crate::tin::{TinError, NONE};
 
@@ -202,6 +202,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
     raw: &mut Vec<RawLevel>,
     tolerances: &[f64],
     keep_border: bool,
+    border: &[Vec<[f64; 2]>],
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
     let slots = d.slots();
@@ -214,7 +215,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
     }
     let key = |p: &[f64; 3]| (p[0].to_bits(), p[1].to_bits());
     let mut extra_slot: rustc_hash::FxHashMap<(u64, u64), usize> = Default::default();
-    for &tol in tolerances {
+    for (li, &tol) in tolerances.iter().enumerate() {
         let Some((prev, prev_void)) = raw.last().map(|r| (&r.tris, &r.void)) else {
             return Err(TinError::Degenerate("internal: no level to refine".into()));
         };
@@ -387,6 +388,28 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
             } else {
                 Default::default()
             };
+            // the seam samples this level must keep ([`Border`]): forced
+            // onto the hull side they lie strictly inside
+            if let Some(keep) = border.get(li).filter(|k| keep_border && !k.is_empty()) {
+                for (t, k) in (0..prev.len())
+                    .flat_map(|t| (0..3).map(move |k| (t, k)))
+                    .filter(|&(t, k)| hull[t] & (1 << k) != 0)
+                {
+                    let c = prev[t].map(|v| corner_pos(corner_samples[v as usize]));
+                    let (a, b) = (c[k], c[(k + 1) % 3]);
+                    for p in keep {
+                        let on = (b[0] - a[0]) * (p[1] - a[1]) == (b[1] - a[1]) * (p[0] - a[0])
+                            && (p[0] - a[0]) * (p[0] - b[0]) + (p[1] - a[1]) * (p[1] - b[1]) < 0.0;
+                        if on {
+                            let key = sample_key(&[p[0], p[1], 0.0]);
+                            let v = forced.entry(side_key(&a, &b)).or_default();
+                            if !v.contains(&key) {
+                                v.push(key);
+                            }
+                        }
+                    }
+                }
+            }
             let mut outs: Vec<ParentOut> = Vec::with_capacity(prev.len());
             run(&all, &all_groups, &forced, false, interrupt, &mut |o| {
                 outs.push(o);
