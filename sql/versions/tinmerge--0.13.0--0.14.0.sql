@@ -1,0 +1,4 @@
+-- tinmerge 0.13.0 -> 0.14.0: no change to the catalog. tin_tiles and
+-- tin_tiles_from_table now hold each level's tolerance in the one-pixel
+-- strips along the tiles' seams too (docs/upgrading.md); values stored
+-- before read and answer as they did.
