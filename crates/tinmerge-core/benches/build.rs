@@ -32,6 +32,12 @@ fn main() {
         valid_pixels(&d);
         return;
     }
+    if std::env::args().any(|a| a == "tiles") {
+        // `cargo bench --bench build -- tiles [x1]`: that table alone (of
+        // the DEM alone)
+        tiles(&d);
+        return;
+    }
     println!("| raster | between samples | samples | levels | threads | finest triangles | ms (median of 3) | samples/s | peak heap B/sample |");
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for (f, threads, levels, between) in [
@@ -74,7 +80,112 @@ fn main() {
         );
     }
     valid_pixels(&d);
+    tiles(&d);
     cloud(&d);
+}
+
+/// `tin_tiles`' build of the DEM (and of it upsampled 4x) in 256-pixel
+/// tiles at 2 m, 5 levels, on 2 threads: every tile built once on its own
+/// (`build_tile`, what `tin_from_raster(tile, ..., keep_border => true)`
+/// gives, and `tin_tiles` before 0.14.0: the strips along the seams held at
+/// the samples only), against `build_tiles`' rounds (the seam samples a
+/// tile asks for kept by both tiles, the tiles holding them built again).
+/// Wall time (median of 3), tile builds, seam samples kept, finest
+/// triangles.
+fn tiles(d: &common::Dem) {
+    use tinmerge_core::tin::tiles::{build_tile, build_tiles, tile_counts, tile_window};
+    println!();
+    println!("| raster | tiles | build | tile builds | seam samples kept | finest triangles | ms (median of 3) |");
+    println!("|---|---:|---|---:|---:|---:|---:|");
+    par::set_threads(2);
+    let tols = default_tolerances(2.0, 5).unwrap();
+    let n: usize = std::env::var("TILE_PX").ok().and_then(|v| v.parse().ok()).unwrap_or(256);
+    let scales: &[usize] = if std::env::args().any(|a| a == "x1") { &[1] } else { &[1, 4] };
+    for &f in scales {
+        let (gt, w, h, values) = d.upsampled(f);
+        let lat = lattice_of(&gt);
+        let valid = |v: f64| !(v.is_nan() || Some(v) == d.nodata);
+        let (nx, ny) = tile_counts(w, h, n);
+        let finest = |t: &tinmerge_core::tin::Tin| t.levels.last().map_or(0, |l| l.tris.len());
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        // each tile once, on its own
+        let (mut times, mut tris, mut count) = (Vec::new(), 0, 0);
+        for _ in 0..3 {
+            let t0 = Instant::now();
+            let all: Vec<(usize, usize)> = (0..ny)
+                .flat_map(|ty| (0..nx).map(move |tx| (tx, ty)))
+                .collect();
+            let built = par::map(&all, |&(tx, ty)| {
+                let (cols, rows) = tile_window(w, h, n, tx, ty);
+                let mut s = Vec::new();
+                for r in rows.clone() {
+                    for c in cols.clone() {
+                        let v = values[r * w + c];
+                        if valid(v) {
+                            s.push([c as f64, r as f64, v]);
+                        }
+                    }
+                }
+                build_tile(
+                    s,
+                    &lat,
+                    (cols.start as i64, rows.start as i64),
+                    &tols,
+                    32616,
+                    &mut || Ok(()),
+                )
+                .unwrap()
+                .map(|t| finest(&t))
+            });
+            times.push(t0.elapsed().as_secs_f64() * 1e3);
+            count = built.iter().flatten().count();
+            tris = built.iter().flatten().sum::<usize>();
+        }
+        println!(
+            "| DEM x{f} | {count} | each tile on its own | {count} | 0 | {tris} | {:.0} |",
+            median(times)
+        );
+        // build_tiles' rounds
+        let builds = std::sync::atomic::AtomicUsize::new(0);
+        let (mut times, mut tris, mut kept, mut count) = (Vec::new(), 0, 0, 0);
+        for _ in 0..3 {
+            builds.store(0, std::sync::atomic::Ordering::Relaxed);
+            let mut out = Vec::new();
+            let t0 = Instant::now();
+            let seams = build_tiles(
+                &values,
+                w,
+                h,
+                &valid,
+                &lat,
+                n,
+                &tols,
+                32616,
+                &mut || Ok(()),
+                &|_, _, t| {
+                    builds.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    finest(&t)
+                },
+                &mut |k| {
+                    out.push(k);
+                    Ok(())
+                },
+            )
+            .unwrap();
+            times.push(t0.elapsed().as_secs_f64() * 1e3);
+            kept = seams.len();
+            count = out.len();
+            tris = out.iter().sum::<usize>();
+        }
+        println!(
+            "| DEM x{f} | {count} | build_tiles (seam rounds) | {} | {kept} | {tris} | {:.0} |",
+            builds.load(std::sync::atomic::Ordering::Relaxed),
+            median(times)
+        );
+    }
 }
 
 /// `tin_from_raster`'s default on a raster with nodata: the build over the
