@@ -42,6 +42,19 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean, geometry, geometry, geometry, boolean) IS
 'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample and of the raster''s surface between the samples too (with a boundary or soft breaklines too; hard breaklines keep their own heights, and the grid segments they cut are left out): on every grid line between two valid pixel centres (their straight line, what gdal_contour and bilinear ST_Value use), a vertex being put where an edge over the tolerance crosses one; with keep_border everywhere but the one-pixel strip along the hull, whose vertices are its own samples so that tiles agree (tin_validate(tin, raster) checks a value); levels 1..16. keep_border => true decides the vertices on each side of the convex hull from that side''s samples alone, simplified to each level''s tolerance, so tiles that share a border row or column of pixels have the same vertices and the same surface along it at every level (see docs/scaling.md, tiled terrains). breaklines (LINESTRING Z / MULTILINESTRING Z, the raster''s SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). boundary (POLYGON / MULTIPOLYGON, holes allowed, valid, the same SRID) limits the terrain to its area within the samples'' convex hull, concave parts and holes included: its rings there are edges at every level with heights from the samples, the samples outside it are left out, and every merge answers NULL or no rows outside it (the triangles there are void, not returned by tin_triangles; docs/breaklines.md). Breaklines outside the boundary shape nothing that is returned. The terrain is where the raster has data: the domain is the union of the valid pixels'' squares (what ST_Value answers on) within the convex hull of their centres, nodata around and inside the data left out, so tin_height is NULL wherever ST_Value is NULL (a build with a boundary of those squares; a raster without nodata in that hull builds on its pixel lattice as before). fill_gaps => true fills the nodata gaps instead, the domain being the hull of the valid centres (the default until 0.9.0); keep_border => true needs it where nodata cuts into that hull (tiles over the valid pixels only are not built yet). NULL for a NULL raster, tolerance, levels, band, keep_border or fill_gaps.';
 
+-- An untyped tolerance (NULL, 'Infinity', '{8,4,2}') matches both the
+-- float8 and the float8[] forms; this text form, which PostgreSQL prefers
+-- for it, reads it as one float8, or as the tolerances per level when it
+-- is an array literal.
+CREATE FUNCTION tin_from_raster(rast raster, tolerance text, levels int DEFAULT 5, band int DEFAULT 1, keep_border boolean DEFAULT false, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL, boundary geometry DEFAULT NULL, fill_gaps boolean DEFAULT false)
+RETURNS tin AS $$ SELECT CASE WHEN pg_catalog.btrim($2) LIKE '{%'
+  THEN @extschema@.tin_from_raster($1, $2::float8[], $4, $5, $6, $7, $8, $9)
+  ELSE @extschema@.tin_from_raster($1, $2::float8, $3, $4, $5, $6, $7, $8, $9) END $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_from_raster(raster, text, int, int, boolean, geometry, geometry, geometry, boolean) IS
+'tin_from_raster with the tolerance given as text (e.g. an untyped literal: NULL, ''Infinity'', ''2.5''): tin_from_raster(rast, tolerance::float8, levels, ...); an array literal (''{8,4,2}'') is the tolerances per level, coarsest first: tin_from_raster(rast, tolerance::float8[], band, ...), levels unused.';
+
 CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAULT 1, keep_border boolean DEFAULT false, breaklines geometry DEFAULT NULL, soft_breaklines geometry DEFAULT NULL, boundary geometry DEFAULT NULL, fill_gaps boolean DEFAULT false)
 RETURNS tin AS $$ SELECT CASE WHEN $5 IS NULL AND $6 IS NULL AND $7 IS NULL AND $8
   THEN @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3, $4)
@@ -164,6 +177,39 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
 'tin_line_segments through a stored line tree: the same rows as for its geometry.';
+
+-- Untyped literals: a quoted line ('SRID=32616;LINESTRING(...)', as
+-- PostGIS users write them) matches both the geometry and the linetree
+-- forms, and PostgreSQL refused it as "not unique". PostgreSQL prefers a
+-- text form for an untyped literal, so these take the text as a geometry
+-- (PostGIS's own text forms, ST_AsText(text) and others, do the same).
+CREATE FUNCTION tin_line_triangles(t tin, line text, level int DEFAULT NULL, width float8 DEFAULT 0)
+RETURNS TABLE(seq int, triangle int) AS
+$$ SELECT * FROM @extschema@.tin_line_triangles($1, $2::geometry, $3, $4) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_line_triangles(tin, text, int, float8) IS
+'tin_line_triangles of a line given as text (WKT or EWKT, e.g. an untyped literal): the rows of line::geometry.';
+CREATE FUNCTION tin_line_segments(t tin, line text, level int DEFAULT NULL)
+RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
+$$ SELECT * FROM @extschema@.tin_line_segments($1, $2::geometry, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_line_segments(tin, text, int) IS
+'tin_line_segments of a line given as text (WKT or EWKT, e.g. an untyped literal): the rows of line::geometry.';
+CREATE FUNCTION tin_line_profile(t tin, line text, level int DEFAULT NULL)
+RETURNS TABLE(distance float8, z float8) AS
+$$ SELECT * FROM @extschema@.tin_line_profile($1, $2::geometry, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_line_profile(tin, text, int) IS
+'tin_line_profile of a line given as text (WKT or EWKT, e.g. an untyped literal): the rows of line::geometry.';
+CREATE FUNCTION tin_line_climb(t tin, line text, level int DEFAULT NULL)
+RETURNS float8 AS $$ SELECT @extschema@.tin_line_climb($1, $2::geometry, $3) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
+'tin_line_climb of a line given as text (WKT or EWKT, e.g. an untyped literal): the value for line::geometry.';
 
 -- Area merge: tin_area_triangles, tin_area_stats and tin_volume are Rust
 -- functions (src/pg/area.rs: flags, cost, rows, comments) that take the

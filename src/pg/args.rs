@@ -4,7 +4,7 @@
 use pgrx::pg_sys;
 use pgrx::prelude::*;
 
-use super::errors::{raise, OrRaise};
+use super::errors::{raise, raise_hint, OrRaise};
 use super::varlena::varlena_datum;
 use pgrx::callconv::{BoxRet, FcInfo};
 use pgrx::datum::Datum as RetDatum;
@@ -31,7 +31,7 @@ impl GeomArg {
     /// check; an ERROR naming the type for anything but a point.
     pub fn point_xy(&self, tin_srid: i32, func: &str) -> Option<[f64; 2]> {
         let p = gserialized::peek(self.bytes()).or_raise();
-        check_srid(p.srid, tin_srid, func);
+        check_srid(p.srid, tin_srid, func, p.point.flatten());
         if p.has_m {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -85,16 +85,53 @@ fn not_a_point(func: &str, type_name: &str) -> ! {
     )
 }
 
-/// ERROR unless the SRIDs agree (0 on either side means "unknown": accepted).
-pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str) {
-    if geom_srid != 0 && tin_srid != 0 && geom_srid != tin_srid {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-            format!(
-                "{func}: geometry has SRID {geom_srid} but the tin has SRID {tin_srid}; transform it first, e.g. ST_Transform(geom, {tin_srid})"
-            ),
+/// ERROR unless the geometry has the tin's SRID, as PostGIS refuses
+/// geometries of mixed SRIDs, 0 (none) included: a point without an SRID
+/// taken as if it were in the tin's answered quietly, often NULL (a
+/// longitude/latitude point on a UTM tin). `at`: a coordinate of the
+/// geometry, for the hint when it has none and looks like longitude and
+/// latitude.
+pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str, at: Option<[f64; 2]>) {
+    if geom_srid == tin_srid {
+        return;
+    }
+    let code = PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE;
+    if geom_srid == 0 {
+        let lonlat = at.is_some_and(|p| p[0].abs() <= 180.0 && p[1].abs() <= 90.0);
+        raise_hint(
+            code,
+            format!("{func}: the geometry has no SRID (0) but the tin has SRID {tin_srid}"),
+            if lonlat && tin_srid != 4326 {
+                format!("its coordinates look like longitude and latitude: ST_Transform(ST_SetSRID(geom, 4326), {tin_srid}); if they are in the tin's SRID already, ST_SetSRID(geom, {tin_srid})")
+            } else {
+                format!("give it the tin's SRID with ST_SetSRID(geom, {tin_srid}) if its coordinates are in it, or ST_Transform(ST_SetSRID(geom, srid), {tin_srid}) from the SRID they are in")
+            },
         );
     }
+    if tin_srid == 0 {
+        raise_hint(
+            code,
+            format!("{func}: the geometry has SRID {geom_srid} but the tin has none (0)"),
+            "build the tin from samples with an SRID, or query it with ST_SetSRID(geom, 0)",
+        );
+    }
+    raise(
+        code,
+        format!(
+            "{func}: geometry has SRID {geom_srid} but the tin has SRID {tin_srid}; transform it first, e.g. ST_Transform(geom, {tin_srid})"
+        ),
+    );
+}
+
+/// The first x, y of a geometry (None when it is empty).
+pub fn first_xy(g: &tinmerge_core::io::ewkb::Geom) -> Option<[f64; 2]> {
+    let mut first = None;
+    g.for_each_coord(&mut |c| {
+        if first.is_none() {
+            first = Some([c[0], c[1]]);
+        }
+    });
+    first
 }
 
 thread_local! {

@@ -5,7 +5,7 @@
 
 use pgrx::prelude::*;
 
-use super::errors::{raise, OrRaise};
+use super::errors::{raise, raise_hint, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
 use super::tin_type::TinOut;
@@ -290,7 +290,7 @@ fn breaklines_of(
                     "{func}: {arg} must be LINESTRING or MULTILINESTRING, got {}{}",
                     other.type_name(),
                     if matches!(other, Geom::Polygon(_) | Geom::MultiPolygon(_)) {
-                        " (ST_Boundary gives a polygon's rings as lines)"
+                        " (to build within a polygon pass it as boundary; ST_Boundary gives its rings as lines)"
                     } else {
                         ""
                     }
@@ -301,15 +301,10 @@ fn breaklines_of(
     let mut out = Vec::new();
     for (arg, g, is_hard) in [("breaklines", hard, true), ("soft_breaklines", soft, false)] {
         let Some(g) = g else { continue };
-        if g.srid != srid {
-            raise(
-                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                format!(
-                    "{func}: {arg} have SRID {} but the samples have SRID {srid} (ST_Transform them first)",
-                    g.srid
-                ),
-            );
-        }
+        check_arg_srid(func, arg, &g, srid);
+        // the type first: a 2D polygon is no line at all, whatever its Z
+        let mut lines = Vec::new();
+        lines_of(func, arg, &g.geom, &mut lines);
         if is_hard && !g.has_z && !g.geom.is_empty() {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -318,8 +313,6 @@ fn breaklines_of(
                 ),
             );
         }
-        let mut lines = Vec::new();
-        lines_of(func, arg, &g.geom, &mut lines);
         out.extend(lines.into_iter().filter(|l| !l.is_empty()).map(|mut pts| {
             if !is_hard {
                 pts.iter_mut().for_each(|p| p[2] = f64::NAN);
@@ -328,6 +321,30 @@ fn breaklines_of(
         }));
     }
     out
+}
+
+/// ERROR unless the geometry argument `arg` of a build has the samples'
+/// SRID (0 included, as PostGIS refuses mixed SRIDs), with a hint saying
+/// how to give it that SRID.
+fn check_arg_srid(func: &str, arg: &str, g: &ewkb::Ewkb, srid: i32) {
+    if g.srid == srid {
+        return;
+    }
+    let code = PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE;
+    if g.srid == 0 {
+        raise_hint(
+            code,
+            format!("{func}: {arg} has no SRID (0) but the samples have SRID {srid}"),
+            format!("give it the samples' SRID with ST_SetSRID({arg}, {srid}) if its coordinates are in it, or ST_Transform(ST_SetSRID({arg}, srid), {srid}) from the SRID they are in"),
+        );
+    }
+    raise(
+        code,
+        format!(
+            "{func}: {arg} has SRID {} but the samples have SRID {srid} (ST_Transform it first)",
+            g.srid
+        ),
+    );
 }
 
 /// The `boundary` argument of `func` (POLYGON or MULTIPOLYGON, holes
@@ -339,15 +356,7 @@ fn boundary_arg(func: &str, bytes: Option<&[u8]>, srid: i32) -> Option<Area> {
 /// [`boundary_arg`] of a geometry already read.
 fn boundary_of(func: &str, g: ewkb::Ewkb, srid: i32) -> Option<Area> {
     use tinmerge_core::io::ewkb::Geom;
-    if g.srid != srid {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-            format!(
-                "{func}: boundary has SRID {} but the samples have SRID {srid} (ST_Transform it first)",
-                g.srid
-            ),
-        );
-    }
+    check_arg_srid(func, "boundary", &g, srid);
     let polys = match g.geom {
         Geom::Polygon(p) => vec![p],
         Geom::MultiPolygon(ps) => ps,

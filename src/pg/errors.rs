@@ -12,6 +12,15 @@ pub(crate) fn raise(code: PgSqlErrorCode, msg: impl Into<String>) -> ! {
     ereport!(ERROR, code, msg);
 }
 
+/// Raise an ERROR with an SQLSTATE and a HINT saying what to do; never
+/// returns.
+pub(crate) fn raise_hint(code: PgSqlErrorCode, msg: impl Into<String>, hint: impl Into<String>) -> ! {
+    pgrx::pg_sys::panic::ErrorReport::new(code, msg.into(), "tinmerge")
+        .set_hint(hint)
+        .report(PgLogLevel::ERROR);
+    unreachable!("an ERROR does not return")
+}
+
 /// Map a core error to its SQLSTATE and raise it.
 pub(crate) fn raise_tin(e: TinError) -> ! {
     use PgSqlErrorCode::*;

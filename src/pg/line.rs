@@ -27,7 +27,7 @@ use tinmerge_core::tin::{check_xy, Tin, TinError};
 /// coordinates finite); an ERROR naming the type for anything else.
 pub(crate) fn line_parts(bytes: &[u8], tin_srid: i32, func: &str) -> Vec<Part> {
     let g = ewkb::read(bytes).or_raise();
-    check_srid(g.srid, tin_srid, func);
+    check_srid(g.srid, tin_srid, func, super::args::first_xy(&g.geom));
     let lines: Vec<&Vec<[f64; 3]>> = match &g.geom {
         Geom::LineString(l) => vec![l],
         Geom::MultiLineString(ls) => ls.iter().collect(),
@@ -305,7 +305,7 @@ fn tin_drape(
 
 /// Drape a decoded geometry after the SRID and coordinate checks.
 fn drape_checked(tin: &Tin, l: usize, g: &ewkb::Ewkb) -> Option<Geom> {
-    check_srid(g.srid, tin.srid, "tin_drape");
+    check_srid(g.srid, tin.srid, "tin_drape", super::args::first_xy(&g.geom));
     let mut bad = None;
     g.geom.for_each_coord(&mut |c| {
         if bad.is_none() && check_xy("", c[0], c[1]).is_err() {

@@ -148,12 +148,43 @@ SELECT try($$SELECT t = overlay(t::text placing 'FF' from 900 for 2)::tin FROM t
 SELECT tin_height(NULL::tin, 'POINT(0 0)'::geometry) IS NULL AS null_tin,
        tin_height(t, NULL::geometry) IS NULL AS null_geom,
        tin_height(t, 'SRID=32616;POINT EMPTY'::geometry) IS NULL AS empty_point,
-       tin_locate(t, 'POINT EMPTY'::geometry) IS NULL AS empty_locate,
+       tin_locate(t, 'SRID=32616;POINT EMPTY'::geometry) IS NULL AS empty_locate,
        tin_drape(t, 'SRID=32616;MULTIPOINT EMPTY'::geometry) IS NULL AS empty_drape,
-       tin_height(t, 'POINT(740000 4060000)'::geometry) IS NOT NULL AS srid_0_accepted,
        (SELECT count(*) FROM tin_footprint(t, NULL, 1, 1, 0)) AS null_footprint,
        (SELECT count(*) FROM tin_footprint(t, 'SRID=32616;POINT EMPTY'::geometry, 1, 1, 0)) AS empty_footprint,
        (SELECT count(*) FROM tin_raster_stats(NULL, NULL)) AS null_raster_stats,
        (SELECT count(*) FROM dem, tin_raster_stats(t, rast, 0, 1, NULL)) AS null_weighted,
        (SELECT count(*) FROM dem, tin_paint(NULL, rast)) AS null_paint
 FROM terrain;
+
+-- What PostGIS users type (issue 44), one mistake per line: each an ERROR
+-- whose message or HINT names the fix.
+-- a point without an SRID on a tin with one (PostGIS refuses mixed SRIDs,
+-- 0 included; it used to be taken as if in the tin's SRID)
+SELECT tin_height(t, 'POINT(740000 4060000)'::geometry) FROM terrain;
+-- longitude/latitude without an SRID on a UTM tin (it answered NULL)
+SELECT tin_height(t, 'POINT(-84.2 36.4)'::geometry) FROM terrain;
+-- a line without an SRID, as an untyped literal
+SELECT count(*) FROM terrain, tin_line_segments(t, 'LINESTRING(740000 4060000, 741000 4061000)');
+-- a tin without an SRID queried with a geometry that has one
+SELECT tin_height(tin_from_points('MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3)'::geometry, 1, 1), 'SRID=32616;POINT(1 1)'::geometry);
+-- breaklines or a boundary without an SRID
+SELECT tin_from_raster(rast, 2.0, 3, soft_breaklines => 'LINESTRING(740000 4060000, 741000 4061000)'::geometry) FROM dem;
+SELECT tin_from_raster(rast, 2.0, 3, boundary => 'POLYGON((740000 4060000, 741000 4060000, 741000 4061000, 740000 4060000))'::geometry) FROM dem;
+-- a 2D polygon as breaklines: named as the wrong type (it used to be told
+-- it has no Z, then refused as soft_breaklines as a polygon)
+SELECT try($$SELECT tin_from_raster(rast, 2.0, 3, breaklines => ST_MakeEnvelope(740000, 4060000, 741000, 4061000, 32616)) FROM dem$$);
+SELECT try($$SELECT tin_from_raster(rast, 2.0, 3, soft_breaklines => ST_MakeEnvelope(740000, 4060000, 741000, 4061000, 32616)) FROM dem$$);
+-- untyped literals where a function has two forms: the line functions
+-- (geometry and linetree) and tin_from_raster's tolerance (float8 and
+-- float8[]) take them as a geometry and as one float8
+SELECT count(*) AS segments, round(sum(length2d)::numeric, 3) AS length2d,
+       (SELECT count(*) FROM terrain, tin_line_triangles(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)')) AS triangles,
+       (SELECT count(*) FROM terrain, tin_line_profile(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)')) AS profile_points,
+       (SELECT tin_line_climb(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)') FROM terrain)
+         = (SELECT tin_line_climb(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)'::geometry) FROM terrain) AS climb_same
+FROM terrain, tin_line_segments(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)');
+SELECT tin_from_raster(rast, NULL, 3) IS NULL AS null_tolerance_gives_null FROM dem;
+SELECT tin_num_levels(tin_from_raster(rast, '8', 2)) AS text_tolerance_levels FROM dem;
+SELECT try($$SELECT tin_from_raster(rast, 'Infinity', 3) FROM dem$$);
+SELECT tin_num_levels(tin_from_raster(rast, '{16,8,4}')) AS array_literal_levels FROM dem;
