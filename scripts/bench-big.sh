@@ -40,7 +40,7 @@ dir=target/big
 mkdir -p "$dir"
 echo "== the DEM: the bundled one x$FACTOR with fractal detail (scripts/make-big-dem.py)"
 t0=$(date +%s.%N)
-python3 scripts/make-big-dem.py "$FACTOR" "$dir/dem$FACTOR.vrt"
+scripts/python.sh scripts/make-big-dem.py "$FACTOR" "$dir/dem$FACTOR.vrt"
 t1=$(date +%s.%N)
 raster2pgsql -s 32616 -N -9999 -t ${TILE}x${TILE} -I -Y "$dir/dem$FACTOR.vrt" public.big_tiles 2>/dev/null \
   | scripts/cluster.sh psql -q -d "$DB" >/dev/null

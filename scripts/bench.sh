@@ -87,7 +87,7 @@ SELECT * FROM bench('tinmerge: tin_footprint(t, geom, 200, 500, angle)', 'SELECT
 UNION ALL SELECT * FROM bench('PostGIS: ST_Intersects(tri, ST_Rotate(ST_MakeEnvelope(...))) + GiST', 'SELECT count(*) FROM rects r JOIN tri_rows t ON ST_Intersects(t.geom, ST_Rotate(ST_MakeEnvelope(ST_X(r.geom) - 100, ST_Y(r.geom) - 250, ST_X(r.geom) + 100, ST_Y(r.geom) + 250, 32616), -radians(r.angle), r.geom))', 3);
 SQL
 echo "== line merge: a fractal river of 100,000 vertices, real contours (gdal_contour, 50 m)"
-scripts/fractal-river.py 744000 4050000 752000 4055000 17 0.3 100000 7 > target/river.wkt
+scripts/python.sh scripts/fractal-river.py 744000 4050000 752000 4055000 17 0.3 100000 7 > target/river.wkt
 q <<'SQL'
 CREATE TABLE river_raw(wkt text);
 \copy river_raw FROM 'target/river.wkt'
@@ -170,7 +170,7 @@ ORDER BY a.ord;
 SQL
 
 echo "== raster merge: per-triangle mean of the DEM and a 4x finer copy, every level (tinmerge, exactextract, PostGIS)"
-TINMERGE_DB=tinmerge_bench python3 scripts/bench-raster.py
+TINMERGE_DB=tinmerge_bench scripts/python.sh scripts/bench-raster.py
 echo "== core raster sweep (cargo bench -p tinmerge-core --bench raster)"
 cargo bench -p tinmerge-core --bench raster 2>/dev/null
 

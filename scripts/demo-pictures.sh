@@ -29,7 +29,7 @@ pic() {
   local file=$1 group=$2 caption=$3 sql=$4
   q -c "$sql" > "$out/$file"
   [ -s "$out/$file" ] || { echo "demo-pictures: $file is empty" >&2; exit 1; }
-  python3 - "$file" "$group" "$caption" "$sql" >> "$pictures" <<'PY'
+  scripts/python.sh - "$file" "$group" "$caption" "$sql" >> "$pictures" <<'PY'
 import json, sys
 f, g, c, s = sys.argv[1:]
 print(json.dumps({"file": f, "group": g, "caption": c, "sql": " ".join(s.split())}) + ",")

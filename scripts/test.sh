@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 
 echo "== no module imports one that imports it back"
-python3 scripts/check-cycles.py src crates/tinmerge-core/src
+scripts/python.sh scripts/check-cycles.py src crates/tinmerge-core/src
 echo "== cargo fmt --check"
 cargo fmt --check
 echo "== cargo test -p tinmerge-core (the pure core, real DEMs, no PostgreSQL)"
@@ -40,6 +40,9 @@ tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | 
   --inputdir=tests/pg_regress --outputdir=target/regress $tests \
   || { cat target/regress/regression.diffs 2>/dev/null | head -200; exit 1; }
 
+echo "== docs/sql-reference.md against pg_proc: every public function, its arguments, defaults and result"
+scripts/python.sh tests/docs_signatures.py tinmerge_regress
+
 echo "== shared_preload_libraries: point, area and storage regress tests on a preloaded server"
 tests/preload.sh
 
@@ -51,6 +54,9 @@ tests/globe.sh
 
 echo "== tutorial: every block of docs/tutorial.md, in order"
 tests/tutorial.sh
+
+echo "== every SQL block of README.md and docs/sql-reference.md, as written"
+tests/doc_examples.sh
 
 echo "== COPY, pg_dump, pg_restore"
 tests/dump_restore.sh
@@ -68,9 +74,9 @@ echo "== a terrain bigger than one value at test size: 4.5 million pixels as til
 tests/big.sh
 
 echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
-python3 tests/properties/check_hierarchy.py
+scripts/python.sh tests/properties/check_hierarchy.py
 echo "== point builds between their samples against their Delaunay triangulation (independent oracle: matplotlib's qhull)"
-python3 tests/properties/check_points_between.py
+scripts/python.sh tests/properties/check_points_between.py
 echo "== coverage-weighted raster statistics against exactextract"
-python3 tests/properties/check_raster_exactextract.py
+scripts/python.sh tests/properties/check_raster_exactextract.py
 echo "== all tests passed"

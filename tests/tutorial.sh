@@ -22,7 +22,7 @@ expected=tests/tutorial
 out=target/tutorial
 rm -rf "$out" && mkdir -p "$out" "$expected"
 blocks=$(mktemp -d)
-python3 - docs/tutorial.md "$blocks" <<'PY'
+scripts/python.sh - docs/tutorial.md "$blocks" <<'PY'
 import re, sys
 src, out = sys.argv[1], sys.argv[2]
 text = open(src).read()
