@@ -171,6 +171,10 @@ SELECT tin_height(tin_from_points('MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3)'::geomet
 -- breaklines or a boundary without an SRID
 SELECT tin_from_raster(rast, 2.0, 3, soft_breaklines => 'LINESTRING(740000 4060000, 741000 4061000)'::geometry) FROM dem;
 SELECT tin_from_raster(rast, 2.0, 3, boundary => 'POLYGON((740000 4060000, 741000 4060000, 741000 4061000, 740000 4060000))'::geometry) FROM dem;
+-- a geography (PostgreSQL has no implicit cast to geometry; the error was
+-- "function does not exist")
+SELECT tin_height(t, 'SRID=4326;POINT(-84.2 36.4)'::geography) FROM terrain;
+SELECT count(*) FROM terrain, tin_area_stats(t, 'SRID=4326;POLYGON((-84.2 36.4, -84.1 36.4, -84.1 36.5, -84.2 36.4))'::geography);
 -- a 2D polygon as breaklines: named as the wrong type (it used to be told
 -- it has no Z, then refused as soft_breaklines as a polygon)
 SELECT try($$SELECT tin_from_raster(rast, 2.0, 3, breaklines => ST_MakeEnvelope(740000, 4060000, 741000, 4061000, 32616)) FROM dem$$);
@@ -184,6 +188,10 @@ SELECT count(*) AS segments, round(sum(length2d)::numeric, 3) AS length2d,
        (SELECT tin_line_climb(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)') FROM terrain)
          = (SELECT tin_line_climb(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)'::geometry) FROM terrain) AS climb_same
 FROM terrain, tin_line_segments(t, 'SRID=32616;LINESTRING(740000 4060000, 741000 4061000)');
+SELECT tin_height(t, 'SRID=32616;POINT(740000 4060000)') = tin_height(t, 'SRID=32616;POINT(740000 4060000)'::geometry) AS point_literal,
+       (SELECT count(*) FROM tin_footprint(t, 'SRID=32616;POINT(740000 4060000)', 30, 80, 45)) > 0 AS footprint_literal,
+       (SELECT area2d FROM tin_area_stats(t, 'SRID=32616;POLYGON((740000 4060000, 740600 4060000, 740600 4060400, 740000 4060000))')) AS area_literal
+FROM terrain;
 SELECT tin_from_raster(rast, NULL, 3) IS NULL AS null_tolerance_gives_null FROM dem;
 SELECT tin_num_levels(tin_from_raster(rast, '8', 2)) AS text_tolerance_levels FROM dem;
 SELECT try($$SELECT tin_from_raster(rast, 'Infinity', 3) FROM dem$$);
