@@ -14,7 +14,11 @@ pub(crate) fn raise(code: PgSqlErrorCode, msg: impl Into<String>) -> ! {
 
 /// Raise an ERROR with an SQLSTATE and a HINT saying what to do; never
 /// returns.
-pub(crate) fn raise_hint(code: PgSqlErrorCode, msg: impl Into<String>, hint: impl Into<String>) -> ! {
+pub(crate) fn raise_hint(
+    code: PgSqlErrorCode,
+    msg: impl Into<String>,
+    hint: impl Into<String>,
+) -> ! {
     pgrx::pg_sys::panic::ErrorReport::new(code, msg.into(), "tinmerge")
         .set_hint(hint)
         .report(PgLogLevel::ERROR);

@@ -305,7 +305,12 @@ fn tin_drape(
 
 /// Drape a decoded geometry after the SRID and coordinate checks.
 fn drape_checked(tin: &Tin, l: usize, g: &ewkb::Ewkb) -> Option<Geom> {
-    check_srid(g.srid, tin.srid, "tin_drape", super::args::first_xy(&g.geom));
+    check_srid(
+        g.srid,
+        tin.srid,
+        "tin_drape",
+        super::args::first_xy(&g.geom),
+    );
     let mut bad = None;
     g.geom.for_each_coord(&mut |c| {
         if bad.is_none() && check_xy("", c[0], c[1]).is_err() {

@@ -82,7 +82,12 @@ fn _tin_as_svg(
     };
     let g = features.map(|b| {
         let g = ewkb::read(b).or_raise();
-        check_srid(g.srid, tin.srid, "tin_as_svg", super::args::first_xy(&g.geom));
+        check_srid(
+            g.srid,
+            tin.srid,
+            "tin_as_svg",
+            super::args::first_xy(&g.geom),
+        );
         g
     });
     let width = width.unwrap_or(800);

@@ -99,8 +99,15 @@ fn tiles(d: &common::Dem) {
     println!("|---|---:|---|---:|---:|---:|---:|");
     par::set_threads(2);
     let tols = default_tolerances(2.0, 5).unwrap();
-    let n: usize = std::env::var("TILE_PX").ok().and_then(|v| v.parse().ok()).unwrap_or(256);
-    let scales: &[usize] = if std::env::args().any(|a| a == "x1") { &[1] } else { &[1, 4] };
+    let n: usize = std::env::var("TILE_PX")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(256);
+    let scales: &[usize] = if std::env::args().any(|a| a == "x1") {
+        &[1]
+    } else {
+        &[1, 4]
+    };
     for &f in scales {
         let (gt, w, h, values) = d.upsampled(f);
         let lat = lattice_of(&gt);
