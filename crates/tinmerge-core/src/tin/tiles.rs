@@ -347,32 +347,15 @@ pub fn build_tile_kept(
 }
 
 /// The samples' heights on their window (its frame: columns and rows less
-/// `origin`), NaN without data; None for an empty or absurd window.
+/// `origin`), NaN without data ([`dense_of`](super::build::dense_of)); None
+/// for a window much larger than its samples.
 fn window_heights(samples: &[[f64; 3]], origin: (i64, i64)) -> Option<Dense> {
-    let (mut c0, mut r0, mut c1, mut r1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
-    for p in samples {
-        let (c, r) = (p[0] as i64 - origin.0, p[1] as i64 - origin.1);
-        (c0, r0, c1, r1) = (c0.min(c), r0.min(r), c1.max(c), r1.max(r));
-    }
-    let (w, h) = (
-        usize::try_from(c1.checked_sub(c0)? + 1).ok()?,
-        usize::try_from(r1.checked_sub(r0)? + 1).ok()?,
-    );
-    if w.checked_mul(h)? > 4 * samples.len() + (1 << 20) {
-        return None;
-    }
-    let mut d = Dense {
-        c0,
-        r0,
-        width: w,
-        height: h,
-        z: vec![f64::NAN; w * h],
-    };
-    for p in samples {
-        let i = d.index(p[0] as i64 - origin.0, p[1] as i64 - origin.1);
-        d.z[i] = p[2];
-    }
-    Some(d)
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
+    let local: Vec<[f64; 3]> = samples
+        .iter()
+        .map(|p| [p[0] - c0, p[1] - r0, p[2]])
+        .collect();
+    super::build::dense_of(&local)
 }
 
 /// The convex hull of the valid pixels of `d` (columns and rows),

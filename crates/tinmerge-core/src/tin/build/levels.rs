@@ -312,7 +312,7 @@ pub(super) const DENSE_PIXELS_PER_SAMPLE: usize = 8;
 
 /// The samples of a lattice build in place on their window of the lattice,
 /// when it is not much larger than they are and no pixel is given twice.
-pub(super) fn dense_of(samples: &[[f64; 3]]) -> Option<Dense> {
+pub(crate) fn dense_of(samples: &[[f64; 3]]) -> Option<Dense> {
     let (mut c0, mut r0, mut c1, mut r1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
     for p in samples {
         let (c, r) = (p[0] as i64, p[1] as i64);
