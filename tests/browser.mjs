@@ -47,6 +47,18 @@ try {
     console.log(`  ${view}: ${n} pixels drawn`);
   }
   if (rep.pictures.length < 9) bad.push(`only ${rep.pictures.length} pictures on the page`);
+  // the close-ups of the levels show their triangles: each differs from
+  // the next (mean grey difference of their 32 x 32 drawings)
+  const zooms = rep.pictures.filter((p) => /^zoom-level-\d+\.svg$/.test(p.file))
+    .sort((a, b) => parseInt(a.file.match(/\d+/)[0]) - parseInt(b.file.match(/\d+/)[0]));
+  if (zooms.length < 3) bad.push(`only ${zooms.length} close-ups of the levels`);
+  for (let i = 1; i < zooms.length; i++) {
+    const [a, b] = [zooms[i - 1].signature, zooms[i].signature];
+    if (a.length !== 1024 || b.length !== 1024) { bad.push(`${zooms[i].file}: no signature`); continue; }
+    const diff = a.reduce((s, v, k) => s + Math.abs(v - b[k]), 0) / 1024;
+    console.log(`  ${zooms[i - 1].file} -> ${zooms[i].file}: mean grey difference ${diff.toFixed(1)}`);
+    if (diff < 2) bad.push(`${zooms[i].file} looks like ${zooms[i - 1].file} (mean grey difference ${diff.toFixed(2)})`);
+  }
   const png = path.join(out, 'screenshot.png');
   await page.screenshot({ path: png, fullPage: true });
   if (!fs.existsSync(png) || fs.statSync(png).size < 10000) bad.push('no screenshot');
