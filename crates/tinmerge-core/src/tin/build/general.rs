@@ -14,6 +14,26 @@ use spade::handles::FixedVertexHandle;
 /// (`x0, y0, x1, y1`).
 pub(super) type Gather<'a> = dyn Fn(f64, f64, f64, f64, &mut dyn FnMut(u32, &[f64; 3])) + 'a;
 
+/// One parent to refine at the level being built: the reference surface
+/// (None: at the samples only), the vertices at crossings of the levels
+/// before (slot `slots() + k` is `extras[k]`), the crossings forced onto
+/// sides, the parent's number and corner slots (counter-clockwise), which
+/// sides are free ([`refine_parent`](super::parents::refine_parent)), whether it is void ([`Void`]), the
+/// level's tolerance and whether this is the last resort (vertices at
+/// crossings no pixel mends).
+#[derive(Clone, Copy)]
+pub(super) struct Job<'a> {
+    pub(super) reference: Option<&'a dyn Reference>,
+    pub(super) extras: &'a [[f64; 3]],
+    pub(super) forced: &'a Forced,
+    pub(super) parent: u32,
+    pub(super) corners: [u32; 3],
+    pub(super) free: [bool; 3],
+    pub(super) void: Void,
+    pub(super) tol: f64,
+    pub(super) last_resort: bool,
+}
+
 /// A parent's refinement where "on the edge" is decided up to rounding:
 /// scattered samples, and on a lattice a parent with a corner or a side's
 /// vertex at a grid-line crossing. No lattice decides which samples lie on
@@ -30,21 +50,24 @@ pub(super) type Gather<'a> = dyn Fn(f64, f64, f64, f64, &mut dyn FnMut(u32, &[f6
 /// meet at exactly the same vertices: no crack and no T-junction.
 /// `corners`: slots, at `c`; `is_sample[k]`: corner `k` is a sample (else a
 /// vertex at a crossing).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn refine_parent_general(
     gather: &Gather<'_>,
-    reference: Option<&dyn Reference>,
-    forced: &Forced,
+    job: &Job<'_>,
     scratch: &mut Scratch,
-    parent: u32,
-    corners: [u32; 3],
     c: [[f64; 3]; 3],
     is_sample: [bool; 3],
-    free: [bool; 3],
-    void: Void,
-    tol: f64,
-    last_resort: bool,
 ) -> Result<ParentOut, TinError> {
+    let Job {
+        reference,
+        forced,
+        parent,
+        corners,
+        free,
+        void,
+        tol,
+        last_resort,
+        ..
+    } = *job;
     // each edge from its canonical end (the smaller in (x, y))
     let ends: [(usize, usize); 3] = [0, 1, 2].map(|k| {
         let (i, j) = (k, (k + 1) % 3);

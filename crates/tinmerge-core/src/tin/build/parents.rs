@@ -40,20 +40,22 @@ pub(super) const FORCING_ROUNDS: usize = 8;
 /// in a Delaunay triangulation of the triangle's own samples. Otherwise
 /// (a corner or a side's vertex at a grid-line crossing) as scattered
 /// samples are ([`refine_parent_general`]).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn refine_parent(
     d: &Dense,
-    reference: Option<&dyn Reference>,
-    extras: &[[f64; 3]],
-    forced: &Forced,
+    job: &Job<'_>,
     scratch: &mut Scratch,
-    parent: u32,
-    corners: [u32; 3],
-    free: [bool; 3],
-    void: Void,
-    tol: f64,
-    last_resort: bool,
 ) -> Result<ParentOut, TinError> {
+    let Job {
+        reference,
+        extras,
+        forced,
+        parent,
+        corners,
+        free,
+        void,
+        tol,
+        last_resort,
+    } = *job;
     let n = d.z.len();
     let pos = |s: u32| -> [f64; 3] {
         let s = s as usize;
@@ -158,20 +160,7 @@ pub(super) fn refine_parent(
         }
     };
     let is_sample = corners.map(|s| (s as usize) < n);
-    refine_parent_general(
-        &gather,
-        reference,
-        forced,
-        scratch,
-        parent,
-        corners,
-        c,
-        is_sample,
-        free,
-        void,
-        tol,
-        last_resort,
-    )
+    refine_parent_general(&gather, job, scratch, c, is_sample)
 }
 
 /// Samples' worth of parents handed to a thread at once.
@@ -300,19 +289,18 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                     ts[g.clone()]
                         .iter()
                         .map(|&t| {
-                            let corners = prev[t].map(|v| corner_samples[v as usize]);
-                            d.refine_parent(
+                            let job = Job {
                                 reference,
-                                &corner_extras,
+                                extras: &corner_extras,
                                 forced,
-                                &mut scratch,
-                                t as u32,
-                                corners,
-                                free_of(t),
-                                void_of(t),
+                                parent: t as u32,
+                                corners: prev[t].map(|v| corner_samples[v as usize]),
+                                free: free_of(t),
+                                void: void_of(t),
                                 tol,
                                 last_resort,
-                            )
+                            };
+                            d.refine_parent(&job, &mut scratch)
                         })
                         .collect::<Result<Vec<_>, TinError>>()
                 },
@@ -513,20 +501,7 @@ pub(super) trait ParentSamples: Sync {
     /// `k + 1`) not `free[k]` keep the vertices [`plan_side`] picks from the
     /// edge's own profile. `void`: the triangle is outside the domain
     /// ([`Void`]).
-    #[allow(clippy::too_many_arguments)]
-    fn refine_parent(
-        &self,
-        reference: Option<&dyn Reference>,
-        extras: &[[f64; 3]],
-        forced: &Forced,
-        scratch: &mut Scratch,
-        parent: u32,
-        corners: [u32; 3],
-        free: [bool; 3],
-        void: Void,
-        tol: f64,
-        last_resort: bool,
-    ) -> Result<ParentOut, TinError>;
+    fn refine_parent(&self, job: &Job<'_>, scratch: &mut Scratch) -> Result<ParentOut, TinError>;
 }
 
 impl ParentSamples for Dense {
@@ -539,32 +514,8 @@ impl ParentSamples for Dense {
     fn cell_area(&self) -> f64 {
         1.0
     }
-    fn refine_parent(
-        &self,
-        reference: Option<&dyn Reference>,
-        extras: &[[f64; 3]],
-        forced: &Forced,
-        scratch: &mut Scratch,
-        parent: u32,
-        corners: [u32; 3],
-        free: [bool; 3],
-        void: Void,
-        tol: f64,
-        last_resort: bool,
-    ) -> Result<ParentOut, TinError> {
-        refine_parent(
-            self,
-            reference,
-            extras,
-            forced,
-            scratch,
-            parent,
-            corners,
-            free,
-            void,
-            tol,
-            last_resort,
-        )
+    fn refine_parent(&self, job: &Job<'_>, scratch: &mut Scratch) -> Result<ParentOut, TinError> {
+        refine_parent(self, job, scratch)
     }
 }
 
@@ -578,19 +529,8 @@ impl ParentSamples for SampleGrid {
     fn cell_area(&self) -> f64 {
         SampleGrid::cell_area(self)
     }
-    fn refine_parent(
-        &self,
-        reference: Option<&dyn Reference>,
-        extras: &[[f64; 3]],
-        forced: &Forced,
-        scratch: &mut Scratch,
-        parent: u32,
-        corners: [u32; 3],
-        free: [bool; 3],
-        void: Void,
-        tol: f64,
-        last_resort: bool,
-    ) -> Result<ParentOut, TinError> {
+    fn refine_parent(&self, job: &Job<'_>, scratch: &mut Scratch) -> Result<ParentOut, TinError> {
+        let (corners, extras) = (job.corners, job.extras);
         let n = self.pts.len();
         let c = corners.map(|s| {
             let s = s as usize;
@@ -604,19 +544,6 @@ impl ParentSamples for SampleGrid {
             self.for_each_in_box(x0, y0, x1, y1, |i, p| f(i as u32, p));
         };
         let is_sample = corners.map(|s| (s as usize) < n);
-        refine_parent_general(
-            &gather,
-            reference,
-            forced,
-            scratch,
-            parent,
-            corners,
-            c,
-            is_sample,
-            free,
-            void,
-            tol,
-            last_resort,
-        )
+        refine_parent_general(&gather, job, scratch, c, is_sample)
     }
 }
