@@ -32,6 +32,11 @@ fn main() {
         valid_pixels(&d);
         return;
     }
+    if std::env::args().any(|a| a == "levels") {
+        // `cargo bench --bench build -- levels`: that table alone
+        levels_table();
+        return;
+    }
     if std::env::args().any(|a| a == "tiles") {
         // `cargo bench --bench build -- tiles [x1]`: that table alone (of
         // the DEM alone)
@@ -82,6 +87,102 @@ fn main() {
     valid_pixels(&d);
     tiles(&d);
     cloud(&d);
+}
+
+/// Issue 43's before/after table: `tin_from_raster`'s lattice build of
+/// both bundled DEMs and of the UTM one upsampled 4x (nearest neighbour),
+/// 2 m at the finest of 5 levels, one thread: at the samples only (before)
+/// and between them (after). Per level: triangles, and the largest error on
+/// the grid lines between valid pixel centres over the level's tolerance
+/// (`tin_validate(tin, raster)`'s measure, `check::over_tolerance`: the
+/// level's worst place when it is over, else at most 1x); per build: one
+/// run's time and heap peak per sample.
+fn levels_table() {
+    use tinmerge_core::tin::check::over_tolerance;
+    use tinmerge_core::tin::dense::Dense;
+    println!("| raster | build | level | tolerance | triangles | largest error on grid lines / tolerance | build s | peak heap B/sample |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|");
+    par::set_threads(1);
+    for (name, file, f) in [
+        ("UTM DEM", "jacksboro_fault_dem_utm16n.tif", 1usize),
+        ("geographic DEM", "jacksboro_fault_dem.tif", 1),
+        ("UTM DEM x4", "jacksboro_fault_dem_utm16n.tif", 4),
+    ] {
+        let d = common::read_dem(file);
+        let (gt, w, h, values) = d.upsampled(f);
+        let lat = lattice_of(&gt);
+        let z: Vec<f64> = values
+            .iter()
+            .map(|&v| {
+                if v.is_nan() || Some(v) == d.nodata {
+                    f64::NAN
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let tols = default_tolerances(2.0, 5).unwrap();
+        for between in [false, true] {
+            let samples: Vec<[f64; 3]> = (0..h)
+                .flat_map(|r| (0..w).map(move |c| (c, r)))
+                .filter(|&(c, r)| !z[r * w + c].is_nan())
+                .map(|(c, r)| [c as f64, r as f64, z[r * w + c]])
+                .collect();
+            let n = samples.len();
+            let base = memory::live() - n * 24;
+            memory::reset_peak();
+            let t0 = Instant::now();
+            let opts = BuildOptions {
+                keep_border: false,
+                between_samples: between,
+            };
+            let tin = build_lattice(samples, &lat, &tols, 32616, opts, &mut || Ok(())).unwrap();
+            let secs = t0.elapsed().as_secs_f64();
+            let peak = (memory::peak() - base) as f64 / n as f64;
+            let heights = Dense {
+                c0: 0,
+                r0: 0,
+                width: w,
+                height: h,
+                z: z.clone(),
+            };
+            let over = over_tolerance(&tin, &heights, &lat, &[], &mut || Ok(())).unwrap();
+            for (l, lv) in tin.levels.iter().enumerate() {
+                let worst = over
+                    .iter()
+                    .find(|p| p.level == l)
+                    .and_then(|p| {
+                        p.detail
+                            .strip_prefix("error ")?
+                            .split(' ')
+                            .next()?
+                            .parse::<f64>()
+                            .ok()
+                    })
+                    .map_or("≤ 1".to_string(), |e| format!("{:.2}", e / lv.tolerance));
+                println!(
+                    "| {name} | {} | {l} | {} | {} | {worst}x | {} | {} |",
+                    if between {
+                        "between samples"
+                    } else {
+                        "at the samples"
+                    },
+                    lv.tolerance,
+                    lv.tris.len(),
+                    if l == 0 {
+                        format!("{secs:.1}")
+                    } else {
+                        String::new()
+                    },
+                    if l == 0 {
+                        format!("{peak:.0}")
+                    } else {
+                        String::new()
+                    },
+                );
+            }
+        }
+    }
 }
 
 /// `tin_tiles`' build of the DEM (and of it upsampled 4x) in 256-pixel
