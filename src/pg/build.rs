@@ -333,24 +333,23 @@ fn check_arg_srid(func: &str, arg: &str, g: &ewkb::Ewkb, srid: i32) {
     let code = PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE;
     // tin_validate checks a tin's lines; the builds, their samples'
     let whose = if func == "tin_validate" {
-        "the tin"
+        "the tin has"
     } else {
-        "the samples"
+        "the samples have"
     };
     if g.srid == 0 {
         raise_hint(
             code,
-            format!("{func}: {arg} has no SRID (0) but {whose} have SRID {srid}").replace("the tin have", "the tin has"),
+            format!("{func}: {arg} has no SRID (0) but {whose} SRID {srid}"),
             format!("give it that SRID with ST_SetSRID({arg}, {srid}) if its coordinates are in it, or ST_Transform(ST_SetSRID({arg}, srid), {srid}) from the SRID they are in"),
         );
     }
     raise(
         code,
         format!(
-            "{func}: {arg} has SRID {} but {whose} have SRID {srid} (ST_Transform it first)",
+            "{func}: {arg} has SRID {} but {whose} SRID {srid} (ST_Transform it first)",
             g.srid
-        )
-        .replace("the tin have", "the tin has"),
+        ),
     );
 }
 
