@@ -50,14 +50,13 @@ echo "== the levels close up: one level-0 triangle and what each level makes of 
 # triangles of one level in a window three times the size of the level-0
 # triangle at the terrain's centre (grey by height), that triangle's edges
 # in red on top: the coarse edges persisting, split, into every finer level.
-for ((l = 0; l < levels; l++)); do
-  caption=$(q -c "SELECT format('Level %s close up: the triangles in a window around one level-0 triangle (red)', $l)")
-  pic "zoom-level-$l.svg" closeups "$caption" "
+# the SQL of a close-up, @LEVEL@ standing for the level
+read -r -d '' zoom_sql <<'SQL' || true
 WITH c AS (SELECT t, (SELECT geom FROM tin_triangles(t, 0)
                       WHERE id = tin_locate(t, ST_Centroid(tin_envelope(t)), 0)) AS g0 FROM terrain),
      w AS (SELECT t, g0, ST_Expand(ST_Envelope(g0), greatest(ST_XMax(g0) - ST_XMin(g0), ST_YMax(g0) - ST_YMin(g0))) AS win FROM c),
      z AS (SELECT min(ST_Z(ST_PointN(ST_ExteriorRing(geom), 1))) AS lo, max(ST_Z(ST_PointN(ST_ExteriorRing(geom), 1))) AS hi
-           FROM w, tin_triangles(w.t, $l) tr WHERE tr.geom && w.win)
+           FROM w, tin_triangles(w.t, @LEVEL@) tr WHERE tr.geom && w.win)
 SELECT format('<svg xmlns="http://www.w3.org/2000/svg" width="800" height="%s" viewBox="%s %s %s %s">',
               round(800 * (ST_YMax(win) - ST_YMin(win)) / (ST_XMax(win) - ST_XMin(win))),
               ST_XMin(win), -ST_YMax(win), ST_XMax(win) - ST_XMin(win), ST_YMax(win) - ST_YMin(win))
@@ -66,11 +65,15 @@ SELECT format('<svg xmlns="http://www.w3.org/2000/svg" width="800" height="%s" v
                   '')
     || format('<path d="%s" fill="none" stroke="#d00" stroke-width="%s"/></svg>',
               ST_AsSVG(g0, 0, 2), 4 * (ST_XMax(win) - ST_XMin(win)) / 800)
-FROM w, z, tin_triangles(w.t, $l) tr,
+FROM w, z, tin_triangles(w.t, @LEVEL@) tr,
      LATERAL (SELECT (90 + 150 * (ST_Z(ST_PointN(ST_ExteriorRing(tr.geom), 1)) - z.lo) / greatest(z.hi - z.lo, 1e-9))::int AS g,
                      ST_CollectionExtract(ST_Intersection(tr.geom, w.win), 3) AS piece) k
 WHERE tr.geom && w.win AND NOT ST_IsEmpty(k.piece)
-GROUP BY w.win, w.g0"
+GROUP BY w.win, w.g0
+SQL
+for ((l = 0; l < levels; l++)); do
+  caption="Level $l close up: the triangles in a window around one level-0 triangle (red)"
+  pic "zoom-level-$l.svg" closeups "$caption" "${zoom_sql//@LEVEL@/$l}"
 done
 
 echo "== pictures of the merges"
