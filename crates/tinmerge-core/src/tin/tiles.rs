@@ -358,46 +358,16 @@ fn window_heights(samples: &[[f64; 3]], origin: (i64, i64)) -> Option<Dense> {
     super::build::dense_of(&local)
 }
 
-/// The convex hull of the valid pixels of `d` (columns and rows),
-/// counter-clockwise, collinear pixels left out.
-fn pixel_hull(d: &Dense) -> Vec<(i64, i64)> {
-    let mut pts: Vec<(i64, i64)> = Vec::new();
-    for r in 0..d.height {
-        let row = r * d.width..(r + 1) * d.width;
-        let first = row.clone().find(|&i| d.valid(i));
-        let last = row.rev().find(|&i| d.valid(i));
-        pts.extend(first.map(|i| d.col_row(i)));
-        pts.extend(last.filter(|&l| Some(l) != first).map(|i| d.col_row(i)));
-    }
-    pts.sort_unstable();
-    let cross = |a: (i64, i64), b: (i64, i64), c: (i64, i64)| {
-        (b.0 - a.0) as i128 * (c.1 - a.1) as i128 - (b.1 - a.1) as i128 * (c.0 - a.0) as i128
-    };
-    let mut h: Vec<(i64, i64)> = Vec::with_capacity(pts.len());
-    for pass in 0..2 {
-        let start = h.len();
-        let it: Box<dyn Iterator<Item = &(i64, i64)>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for &p in it {
-            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], p) <= 0 {
-                h.pop();
-            }
-            h.push(p);
-        }
-        h.pop();
-    }
-    h
-}
-
 /// [`Wanted`] of a tin built on `d`'s window (its frame), measured as
 /// [`super::check::over_tolerance`] does on every edge with an end within
 /// 1.5 pixel of the hull (an edge crossing a grid segment of the strip
 /// inside it ends in the strip or on the hull).
 fn strip_wanted(tin: &Tin, d: &Dense, origin: (i64, i64)) -> Wanted {
-    let hull = pixel_hull(d);
+    // the build's own hull of the window's samples
+    let hull: Vec<(i64, i64)> = super::build::dense_hull(d)
+        .into_iter()
+        .map(|i| d.col_row(i))
+        .collect();
     let n = hull.len();
     if n < 3 {
         return Vec::new();

@@ -306,6 +306,26 @@ pub(super) fn refine_level0<S: Samples, T: Tri>(
     })
 }
 
+/// The convex hull of the valid samples of `d` (indices into it,
+/// counter-clockwise), from each row's first and last sample with data.
+pub(crate) fn dense_hull(d: &Dense) -> Vec<usize> {
+    let mut ends: Vec<usize> = Vec::new();
+    for r in 0..d.height {
+        let row = r * d.width..(r + 1) * d.width;
+        let first = row.clone().find(|&i| d.valid(i));
+        let last = row.rev().find(|&i| d.valid(i));
+        if let (Some(a), Some(b)) = (first, last) {
+            ends.push(a);
+            if b != a {
+                ends.push(b);
+            }
+        }
+    }
+    ends.sort_by_key(|&i| d.col_row(i));
+    let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
+    convex_hull(&pts).into_iter().map(|k| ends[k]).collect()
+}
+
 /// Largest lattice window, in pixels per sample, read in place
 /// ([`build_dense`]); sparser samples are bucketed.
 pub(super) const DENSE_PIXELS_PER_SAMPLE: usize = 8;
@@ -354,27 +374,13 @@ pub(super) fn build_dense(
     border: &Border,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    let mut ends: Vec<usize> = Vec::new();
-    for r in 0..d.height {
-        let row = r * d.width..(r + 1) * d.width;
-        let first = row.clone().find(|&i| d.valid(i));
-        let last = row.rev().find(|&i| d.valid(i));
-        if let (Some(a), Some(b)) = (first, last) {
-            ends.push(a);
-            if b != a {
-                ends.push(b);
-            }
-        }
-    }
     let count = d.z.iter().filter(|z| !z.is_nan()).count();
     if count < 3 {
         return Err(TinError::Degenerate(format!(
             "need at least 3 samples with distinct x,y to build a tin, got {count}"
         )));
     }
-    ends.sort_by_key(|&i| d.col_row(i));
-    let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
-    let hull: Vec<usize> = convex_hull(&pts).into_iter().map(|k| ends[k]).collect();
+    let hull = dense_hull(&d);
     let whole = d.window(d.c0, d.r0, d.width, d.height);
     let grid_reference = GridReference::on_lattice(&d);
     let reference = opts

@@ -55,8 +55,8 @@ use self::common::*;
 pub use self::common::{
     check_tolerances, default_tolerances, prepare_samples, Border, BuildOptions, MAX_SAMPLES,
 };
-pub(crate) use self::levels::dense_of;
 use self::levels::*;
+pub(crate) use self::levels::{dense_hull, dense_of};
 use super::breaklines::{clip_to_hull, Breakline};
 use super::delaunay_ref::DelaunayReference;
 use super::dense::Dense;
