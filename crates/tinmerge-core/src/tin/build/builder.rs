@@ -267,7 +267,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 if x.s > lo + 0.01 && x.s < hi - 0.01 && !thin {
                     (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
                 }
-            } else if self.at_budget > 0 {
+            } else if self.at_budget > 0 && r.mends_at_crossings() {
                 // no sample can: the crossing itself, on the reference (a
                 // rounding off this edge, the Delaunay triangulation flips
                 // the edge away rather than keep a sliver). A
