@@ -256,7 +256,14 @@ pub fn locate_descend(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
             prev.child_start[t as usize],
             prev.child_start[t as usize + 1],
         );
-        t = (a..b).find(|&c| locate::contains(tin, l, c, x, y))?;
+        // a parent's children cover it up to rounding only (a vertex at a
+        // grid-line crossing lies a rounding off the side it splits): a
+        // point on that side can be in the neighbour's children alone
+        // (the geographic DEM, level 2)
+        match (a..b).find(|&c| locate::contains(tin, l, c, x, y)) {
+            Some(c) => t = c,
+            None => return locate::locate(tin, level, x, y),
+        }
     }
     Some(locate::canonical(tin, level, t, x, y))
 }

@@ -156,7 +156,7 @@ pub fn dem_tin() -> tinmerge_core::tin::Tin {
 }
 
 /// The geographic bundled DEM (EPSG:4326) built at 4 levels, the finest at
-/// `tolerance`: the second terrain the tests run every merge on.
+/// `tolerance`: the second terrain of [`terrains`].
 pub fn geo_tin(tolerance: f64) -> tinmerge_core::tin::Tin {
     use tinmerge_core::tin::build::{build, default_tolerances};
     let dem = read_dem("jacksboro_fault_dem.tif");
@@ -167,6 +167,25 @@ pub fn geo_tin(tolerance: f64) -> tinmerge_core::tin::Tin {
         &mut || Ok(()),
     )
     .unwrap()
+}
+
+/// The terrains the per-element oracles (point location and heights,
+/// footprints, line clipping, area relation and coverage, raster pixel
+/// ownership) run on: the UTM DEM (5 levels, metres), the geographic DEM
+/// (4 levels, degrees: a grid whose pixels are not square in its own
+/// units), and the geographic DEM over its valid cells with a 30 x 20 pixel
+/// nodata hole (void triangles around and inside the domain). Each with a
+/// name for the messages.
+#[allow(dead_code)]
+pub fn terrains() -> Vec<(&'static str, tinmerge_core::tin::Tin)> {
+    vec![
+        ("UTM DEM", dem_tin()),
+        ("geographic DEM", geo_tin(2.0)),
+        (
+            "geographic DEM with a nodata hole",
+            data_tin("jacksboro_fault_dem.tif", 4326, 2.0),
+        ),
+    ]
 }
 
 /// A bundled DEM built over where it has data (its valid cells' outline,
