@@ -1,5 +1,6 @@
 //! Line merge against an independent oracle: `geo`'s clipping of the line by
-//! every triangle polygon (no code shared with the walk), on the real DEM and
+//! every triangle polygon (no code shared with the walk), on the bundled DEMs
+//! (both grids, and one with a nodata hole: `common::terrains`) and
 //! on small synthetic terrains for the edge cases (along an edge, through a
 //! vertex, ends on an edge, zero-length segments, repeated points, closed
 //! ring, partly outside).
@@ -62,7 +63,9 @@ fn oracle(tin: &Tin, level: usize, line: &[[f64; 2]]) -> BTreeMap<u32, (f64, Opt
     }
     let eps = 1e-9 * (tin.bbox.max_x - tin.bbox.min_x).max(tin.bbox.max_y - tin.bbox.min_y);
     let mut out = BTreeMap::new();
-    for t in 0..tin.levels[level].tris.len() as u32 {
+    // the void triangles (outside the domain) are the last of the level
+    let lv = &tin.levels[level];
+    for t in 0..lv.tris.len() as u32 - lv.num_void {
         let c = tin.corners(level, t);
         if c.iter().all(|v| v[0] < x0)
             || c.iter().all(|v| v[0] > x1)
@@ -112,6 +115,18 @@ fn inside_length(tin: &Tin, level: usize, line: &[[f64; 2]]) -> f64 {
             .collect::<Vec<_>>(),
     );
     let hull = mp.convex_hull();
+    // a domain with holes: the void triangles (the hull outside the
+    // domain) hold the rest (geo's clip of the line by each)
+    let lv = &tin.levels[level];
+    let ls = MultiLineString::new(vec![LineString::from(
+        line.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>(),
+    )]);
+    let void: f64 = (lv.tris.len() as u32 - lv.num_void..lv.tris.len() as u32)
+        .map(|t| {
+            let clipped = tri_poly(tin, level, t).clip(&ls, false);
+            clipped.0.iter().map(|l| Euclidean.length(l)).sum::<f64>()
+        })
+        .sum();
     let ring: Vec<Coord<f64>> = hull.exterior().0.clone();
     // geo's hull is counter-clockwise and closed
     let mut total = 0.0;
@@ -141,7 +156,7 @@ fn inside_length(tin: &Tin, level: usize, line: &[[f64; 2]]) -> f64 {
             total += (t1 - t0) * d[0].hypot(d[1]);
         }
     }
-    total
+    total - void
 }
 
 fn lengths(ps: &[Piece]) -> BTreeMap<u32, f64> {
@@ -262,7 +277,13 @@ fn dedup_runs(ps: &[Piece], seq: &[u32]) -> Vec<u32> {
 
 #[test]
 fn random_lines_on_the_real_dem_match_clipping_by_every_triangle() {
-    let tin = dem_tin();
+    for (name, tin) in common::terrains() {
+        eprintln!("{name}");
+        random_lines_on(&tin);
+    }
+}
+
+fn random_lines_on(tin: &Tin) {
     let b = tin.bbox;
     let mut rng = StdRng::seed_from_u64(4);
     for level in [0, 2, tin.num_levels() - 1] {
@@ -285,7 +306,24 @@ fn random_lines_on_the_real_dem_match_clipping_by_every_triangle() {
                 ];
                 line.push(p);
             }
-            compare(&tin, level, &line);
+            compare(tin, level, &line);
+        }
+        // lines through the domain's holes: from a random point through a
+        // void triangle's centroid and on as far again
+        let lv = &tin.levels[level];
+        for k in 0..lv.num_void.min(6) {
+            let t = lv.tris.len() as u32 - 1 - k * (lv.num_void / 6).max(1);
+            let c = tin.corners(level, t);
+            let m = [
+                (c[0][0] + c[1][0] + c[2][0]) / 3.0,
+                (c[0][1] + c[1][1] + c[2][1]) / 3.0,
+            ];
+            let step = (b.max_x - b.min_x) / 30.0;
+            let p = [
+                m[0] + rng.random_range(-step..step),
+                m[1] + rng.random_range(-step..step),
+            ];
+            compare(tin, level, &[p, m, [2.0 * m[0] - p[0], 2.0 * m[1] - p[1]]]);
         }
     }
 }
