@@ -300,7 +300,7 @@ fn random_polys(rng: &mut StdRng, tin: &Tin) -> Polys {
 
 #[test]
 fn random_polygons_match_the_oracle() {
-    for (name, tin) in common::terrains() {
+    for common::Terrain { name, tin, .. } in common::terrains() {
         let mut rng = StdRng::seed_from_u64(20261122);
         for i in 0..6 {
             let polys = random_polys(&mut rng, &tin);

@@ -277,7 +277,7 @@ fn dedup_runs(ps: &[Piece], seq: &[u32]) -> Vec<u32> {
 
 #[test]
 fn random_lines_on_the_real_dem_match_clipping_by_every_triangle() {
-    for (name, tin) in common::terrains() {
+    for common::Terrain { name, tin, .. } in common::terrains() {
         eprintln!("{name}");
         random_lines_on(&tin);
     }

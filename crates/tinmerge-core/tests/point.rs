@@ -116,7 +116,7 @@ fn oracle_height(c: &[[f64; 3]; 3], x: f64, y: f64) -> f64 {
 
 #[test]
 fn locate_and_height_match_brute_force_at_every_level() {
-    for (name, tin) in terrains() {
+    for common::Terrain { name, tin, .. } in terrains() {
         eprintln!("{name}");
         locate_and_height_on(&tin);
     }
@@ -236,7 +236,7 @@ fn oracle_footprint(tin: &Tin, level: usize, r: &Rect) -> Vec<u32> {
 
 #[test]
 fn footprints_match_brute_force_polygon_intersection() {
-    for (name, tin) in terrains() {
+    for common::Terrain { name, tin, .. } in terrains() {
         eprintln!("{name}");
         footprints_on(&tin);
     }

@@ -174,17 +174,33 @@ pub fn geo_tin(tolerance: f64) -> tinmerge_core::tin::Tin {
 /// ownership) run on: the UTM DEM (5 levels, metres), the geographic DEM
 /// (4 levels, degrees: a grid whose pixels are not square in its own
 /// units), and the geographic DEM over its valid cells with a 30 x 20 pixel
-/// nodata hole (void triangles around and inside the domain). Each with a
-/// name for the messages.
+/// nodata hole (void triangles around and inside the domain).
+pub struct Terrain {
+    /// for the messages
+    pub name: &'static str,
+    /// the bundled DEM it is built from (`read_dem`)
+    pub file: &'static str,
+    pub tin: tinmerge_core::tin::Tin,
+}
+
 #[allow(dead_code)]
-pub fn terrains() -> Vec<(&'static str, tinmerge_core::tin::Tin)> {
+pub fn terrains() -> Vec<Terrain> {
     vec![
-        ("UTM DEM", dem_tin()),
-        ("geographic DEM", geo_tin(2.0)),
-        (
-            "geographic DEM with a nodata hole",
-            data_tin("jacksboro_fault_dem.tif", 4326, 2.0),
-        ),
+        Terrain {
+            name: "UTM DEM",
+            file: "jacksboro_fault_dem_utm16n.tif",
+            tin: dem_tin(),
+        },
+        Terrain {
+            name: "geographic DEM",
+            file: "jacksboro_fault_dem.tif",
+            tin: geo_tin(2.0),
+        },
+        Terrain {
+            name: "geographic DEM with a nodata hole",
+            file: "jacksboro_fault_dem.tif",
+            tin: data_tin("jacksboro_fault_dem.tif", 4326, 2.0),
+        },
     ]
 }
 
