@@ -13,6 +13,7 @@
 //! hold every vertex; normals point up; fill covers the whole tile.
 mod common;
 
+use std::collections::HashMap;
 use tinmerge_core::serve::quantized_mesh::{ecef, encode, needed, split_length};
 use tinmerge_core::serve::tiling::{
     geometric_error, level_for_zoom, max_zoom, tile_bounds, tile_range, TileBounds,
@@ -523,6 +524,154 @@ fn tiles_cover_the_level_and_hold_its_heights() {
             );
             assert!(tiles.len() > 1 || z <= 9);
         }
+    }
+}
+
+/// WGS84 geodetic (degrees, metres) to ECEF (metres): the test's own.
+fn ecef_wgs84(p: [f64; 3]) -> [f64; 3] {
+    let (a, f) = (6_378_137.0, 1.0 / 298.257_223_563);
+    let e2 = f * (2.0 - f);
+    let (lo, la) = (p[0].to_radians(), p[1].to_radians());
+    let n = a / (1.0 - e2 * la.sin() * la.sin()).sqrt();
+    [
+        (n + p[2]) * la.cos() * lo.cos(),
+        (n + p[2]) * la.cos() * lo.sin(),
+        (n * (1.0 - e2) + p[2]) * la.sin(),
+    ]
+}
+
+/// Cesium's octDecode of an oct-encoded 8-bit normal, unit length.
+fn oct_decode(n: [u8; 2]) -> [f64; 3] {
+    let mut x = n[0] as f64 / 255.0 * 2.0 - 1.0;
+    let mut y = n[1] as f64 / 255.0 * 2.0 - 1.0;
+    let zc = 1.0 - x.abs() - y.abs();
+    if zc < 0.0 {
+        let ox = x;
+        x = (1.0 - y.abs()) * ox.signum();
+        y = (1.0 - ox.abs()) * y.signum();
+    }
+    let l = (x * x + y * y + zc * zc).sqrt();
+    [x / l, y / l, zc / l]
+}
+
+/// Cesium's octEncode (toSNorm: rounded to the nearest of 256 steps) of a
+/// vector, the test's own.
+fn oct_encode(v: [f64; 3]) -> [u8; 2] {
+    let l1 = v[0].abs() + v[1].abs() + v[2].abs();
+    let (mut x, mut y) = (v[0] / l1, v[1] / l1);
+    if v[2] < 0.0 {
+        let ox = x;
+        x = (1.0 - y.abs()) * if ox >= 0.0 { 1.0 } else { -1.0 };
+        y = (1.0 - ox.abs()) * if y >= 0.0 { 1.0 } else { -1.0 };
+    }
+    let snorm = |t: f64| ((t.clamp(-1.0, 1.0) * 0.5 + 0.5) * 255.0).round() as u8;
+    [snorm(x), snorm(y)]
+}
+
+/// The oracle's vertex normals: for every vertex of the level's image
+/// (degrees), the sum of the ECEF cross products of the domain triangles
+/// around it (each twice its area times its unit normal: an area-weighted
+/// sum), by (lon, lat) bits.
+fn oracle_normals(tris: &[[[f64; 3]; 3]]) -> HashMap<(u64, u64), [f64; 3]> {
+    let mut out: HashMap<(u64, u64), [f64; 3]> = HashMap::new();
+    for t in tris {
+        let [a, b, c] = t.map(ecef_wgs84);
+        let (u, v) = (
+            [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+            [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+        );
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        for p in t {
+            let e = out.entry((p[0].to_bits(), p[1].to_bits())).or_default();
+            for k in 0..3 {
+                e[k] += n[k];
+            }
+        }
+    }
+    out
+}
+
+/// The served vertex normals against [`oracle_normals`] at the vertices
+/// that are the level's own (a decoded vertex within half a quantization
+/// step of exactly one image vertex, away from the tile's sides, whose
+/// clip points take the normal of the triangle they lie in). The bound:
+/// the served code is the oracle's own 8-bit octahedral code, or a
+/// neighbour of it (one step in either byte: the two sums can round
+/// differently near a step's middle); the angle is reported.
+#[test]
+fn normals_are_the_area_weighted_ecef_normals_of_the_level() {
+    for c in cases() {
+        let level = c.tin.levels.len() - 2;
+        let tris = image(&c, level);
+        let want = oracle_normals(&tris);
+        // image vertices by a grid of cells 1e-3 degree across
+        let mut cells: HashMap<(i64, i64), Vec<[f64; 2]>> = HashMap::new();
+        for t in &tris {
+            for p in t {
+                let k = ((p[0] * 1e3).floor() as i64, (p[1] * 1e3).floor() as i64);
+                let v = cells.entry(k).or_default();
+                if !v.contains(&[p[0], p[1]]) {
+                    v.push([p[0], p[1]]);
+                }
+            }
+        }
+        let b = bounds(&tris);
+        let (mut checked, mut worst) = (0usize, 0.0f64);
+        for z in [10, 12] {
+            let (x0, y0, x1, y1) = tile_range(z, &b);
+            for (x, y) in [(x0, y0), ((x0 + x1) / 2, (y0 + y1) / 2), (x1, y1)] {
+                let tb = tile_bounds(z, x as i32, y as i32).unwrap();
+                let Some(bytes) = tile(&c, level, &tb, true, None) else {
+                    continue;
+                };
+                let d = decode(&bytes);
+                let normals = d.normals.as_ref().unwrap();
+                let step = (tb.east - tb.west) / 32767.0;
+                for (i, n) in normals.iter().enumerate() {
+                    if d.u[i] == 0 || d.u[i] == 32767 || d.v[i] == 0 || d.v[i] == 32767 {
+                        continue;
+                    }
+                    let p = d.lonlat(&tb, i);
+                    let k = ((p[0] * 1e3).floor() as i64, (p[1] * 1e3).floor() as i64);
+                    let near: Vec<[f64; 2]> = (-1..=1)
+                        .flat_map(|dx| (-1..=1).map(move |dy| (k.0 + dx, k.1 + dy)))
+                        .filter_map(|k| cells.get(&k))
+                        .flatten()
+                        .filter(|q| {
+                            (q[0] - p[0]).abs() <= 0.5 * step && (q[1] - p[1]).abs() <= 0.5 * step
+                        })
+                        .copied()
+                        .collect();
+                    let [q] = near.as_slice() else {
+                        continue;
+                    };
+                    let w = want[&(q[0].to_bits(), q[1].to_bits())];
+                    let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+                    let got = oct_decode(*n);
+                    let cos = (got[0] * w[0] + got[1] * w[1] + got[2] * w[2]) / l;
+                    let angle = cos.clamp(-1.0, 1.0).acos().to_degrees();
+                    let code = oct_encode(w);
+                    assert!(
+                        (0..2).all(|k| n[k].abs_diff(code[k]) <= 1),
+                        "{} z{z} {x}/{y}: normal of vertex {i} at {p:?} is {n:?}, the oracle's {code:?} ({angle:.2} degrees off)",
+                        c.name
+                    );
+                    assert!(
+                        angle <= 2.0,
+                        "{} z{z} {x}/{y}: normal of vertex {i} at {p:?} is {angle:.2} degrees off",
+                        c.name
+                    );
+                    worst = worst.max(angle);
+                    checked += 1;
+                }
+            }
+        }
+        eprintln!("{}: {checked} normals, worst {worst:.3} degrees", c.name);
+        assert!(checked > 100, "{}: only {checked} normals checked", c.name);
     }
 }
 
