@@ -4,16 +4,26 @@
 # property tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# each step's wall time, printed as a table at the end
+STEP_NAME="setup"
+STEP_T0=$SECONDS
+TIMES=""
+step() {
+  TIMES+="$(printf '%6d s  %s' $((SECONDS - STEP_T0)) "$STEP_NAME")"$'\n'
+  STEP_NAME="$1"
+  STEP_T0=$SECONDS
+  echo "== $1"
+}
 scripts/setup.sh
 
-echo "== no module imports one that imports it back"
+step "no module imports one that imports it back"
 scripts/python.sh scripts/check-cycles.py src crates/tinmerge-core/src
-echo "== cargo fmt --check"
+step "cargo fmt --check"
 cargo fmt --check
-echo "== cargo test -p tinmerge-core (the pure core, real DEMs, no PostgreSQL)"
+step "cargo test -p tinmerge-core (the pure core, real DEMs, no PostgreSQL)"
 cargo test --release -p tinmerge-core
 
-echo "== cargo pgrx test (#[pg_test] only: the integration tests ran above in release)"
+step "cargo pgrx test (#[pg_test] only: the integration tests ran above in release)"
 if [ "$(id -u)" -eq 0 ]; then
   mkdir -p target/pgrx-test && chown postgres target/pgrx-test
   cargo pgrx test pg15 pg::tests:: --runas postgres --pgdata "$PWD/target/pgrx-test/data"
@@ -21,10 +31,10 @@ else
   cargo pgrx test pg15 pg::tests::
 fi
 
-echo "== install the extension"
+step "install the extension"
 scripts/install.sh
 
-echo "== pg_regress"
+step "pg_regress"
 scripts/cluster.sh stop
 rm -rf target/pg
 scripts/cluster.sh start
@@ -40,43 +50,50 @@ tests=$(ls tests/pg_regress/sql/*.sql | xargs -n1 basename | sed 's/\.sql$//' | 
   --inputdir=tests/pg_regress --outputdir=target/regress $tests \
   || { cat target/regress/regression.diffs 2>/dev/null | head -200; exit 1; }
 
-echo "== docs/sql-reference.md against pg_proc: every public function, its arguments, defaults and result"
+step "docs/sql-reference.md against pg_proc: every public function, its arguments, defaults and result"
 scripts/python.sh tests/docs_signatures.py tinmerge_regress
 
-echo "== shared_preload_libraries: point, area and storage regress tests on a preloaded server"
+step "every public function near an oracle in a test file (tests/function_coverage.py)"
+scripts/python.sh tests/function_coverage.py tinmerge_regress
+
+step "shared_preload_libraries: point, area and storage regress tests on a preloaded server"
 tests/preload.sh
 
-echo "== browser: the demo page's pictures and 3D views in headless Chromium"
+step "browser: the demo page's pictures and 3D views in headless Chromium"
 tests/browser.sh
 
-echo "== globe: quantized-mesh tiles decoded by loaders.gl against PostGIS, CesiumJS drawing the served terrain"
+step "globe: quantized-mesh tiles decoded by loaders.gl against PostGIS, CesiumJS drawing the served terrain"
 tests/globe.sh
 
-echo "== tutorial: every block of docs/tutorial.md, in order"
+step "tutorial: every block of docs/tutorial.md, in order"
 tests/tutorial.sh
 
-echo "== every SQL block of README.md and docs/sql-reference.md, as written"
+step "every SQL block of README.md and docs/sql-reference.md, as written"
 tests/doc_examples.sh
 
-echo "== COPY, pg_dump, pg_restore"
+step "COPY, pg_dump, pg_restore"
 tests/dump_restore.sh
 
-echo "== extension upgrade from the previous release"
+step "extension upgrade from the previous release"
 tests/upgrade.sh
 
-echo "== concurrency: 8 clients, mixed merges, results against a single client"
+step "concurrency: 8 clients, mixed merges, results against a single client"
 tests/concurrency.sh
 
-echo "== sharding: 3 clusters, postgres_fdw, merges pushed to the shards, answers against one node"
+step "sharding: 3 clusters, postgres_fdw, merges pushed to the shards, answers against one node"
 tests/sharding.sh
 
-echo "== a terrain bigger than one value at test size: 4.5 million pixels as tiles, checked against PostGIS"
+step "a terrain bigger than one value at test size: 4.5 million pixels as tiles, checked against PostGIS"
 tests/big.sh
 
-echo "== hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
+step "hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 scripts/python.sh tests/properties/check_hierarchy.py
-echo "== point builds between their samples against their Delaunay triangulation (independent oracle: matplotlib's qhull)"
+step "point builds between their samples against their Delaunay triangulation (independent oracle: matplotlib's qhull)"
 scripts/python.sh tests/properties/check_points_between.py
-echo "== coverage-weighted raster statistics against exactextract"
+step "coverage-weighted raster statistics against exactextract"
 scripts/python.sh tests/properties/check_raster_exactextract.py
+step "done"
+echo "== step times"
+printf '%s' "$TIMES"
+echo "total: $SECONDS s"
 echo "== all tests passed"

@@ -13,12 +13,18 @@ SELECT count(*) AS lines, count(DISTINCT z) AS heights, min(z), max(z),
        count(*) FILTER (WHERE ST_IsClosed(geom)) AS rings, bool_and(ST_SRID(geom) = 32616) AS srid,
        bool_and(GeometryType(geom) = 'LINESTRING') AS linestrings
 FROM an_lines;
--- per height: the same number of pieces and the same total length
-WITH cross_pts AS (
+-- per height: the same number of pieces and the same total length; the
+-- heights are the oracle's (every multiple of 25 m within the level's
+-- height range), not taken from tin_contours' output
+WITH heights AS (
+  SELECT generate_series((ceil(min(least(az, bz, cz)) / 25) * 25)::int,
+                         (floor(max(greatest(az, bz, cz)) / 25) * 25)::int, 25)::float8 AS z
+  FROM an_tris
+), cross_pts AS (
   SELECT z.z, t.id, e.k,
          CASE WHEN e.z1 = z.z THEN e.x1 WHEN e.z2 = z.z THEN e.x2 ELSE e.x1 + (z.z - e.z1) / (e.z2 - e.z1) * (e.x2 - e.x1) END AS x,
          CASE WHEN e.z1 = z.z THEN e.y1 WHEN e.z2 = z.z THEN e.y2 ELSE e.y1 + (z.z - e.z1) / (e.z2 - e.z1) * (e.y2 - e.y1) END AS y
-  FROM (SELECT DISTINCT z FROM an_lines) z, an_tris t,
+  FROM heights z, an_tris t,
        LATERAL (VALUES (1, ax, ay, az, bx, by_, bz), (2, bx, by_, bz, cx, cy, cz), (3, cx, cy, cz, ax, ay, az)) e(k, x1, y1, z1, x2, y2, z2)
   WHERE (e.z1 >= z.z) <> (e.z2 >= z.z)
 ), oracle AS (
@@ -31,8 +37,9 @@ WITH cross_pts AS (
   SELECT z, sum(ST_NPoints(geom) - 1) AS pieces, sum(ST_Length(geom)) AS len FROM an_lines GROUP BY z
 )
 SELECT count(*) AS heights, count(*) FILTER (WHERE o.pieces = g.pieces) AS same_pieces,
-       count(*) FILTER (WHERE abs(o.len - g.len) <= 1e-9 * o.len) AS same_length
-FROM oracle o JOIN got g USING (z);
+       count(*) FILTER (WHERE abs(o.len - g.len) <= 1e-9 * o.len) AS same_length,
+       count(*) FILTER (WHERE o.z IS NULL OR g.z IS NULL) AS height_missing
+FROM (SELECT * FROM oracle WHERE pieces > 0) o FULL JOIN got g USING (z);
 -- open lines end on the domain's edge (the boundary of the level's union)
 SELECT count(*) AS open_lines,
        count(*) FILTER (WHERE ST_DWithin(ST_StartPoint(l.geom), ST_Boundary(d.u), 1e-6)

@@ -205,8 +205,27 @@ SELECT g.name, abs(sum(s.length2d) / ST_Length(ST_Intersection(ln.geom, g.region
 FROM gaps g, LATERAL (SELECT ST_MakeLine(bd_pt(g.rast, 0.05, 0.4), bd_pt(g.rast, 0.95, 0.42)) AS geom) ln,
      tin_line_segments(g.t, ln.geom) s
 GROUP BY g.name, ln.geom, g.region ORDER BY 1;
--- a raster without nodata: fill_gaps => false is the plain build
-SELECT tin_from_raster(rast, 2.0, 4, fill_gaps => false) = tin_from_raster(rast, 2.0, 4) AS plain FROM dem_geo;
+-- a raster without nodata has no gaps: fill_gaps changes nothing
+SELECT tin_from_raster(rast, 2.0, 4, fill_gaps => true) = tin_from_raster(rast, 2.0, 4, fill_gaps => false) AS no_gaps_to_fill FROM dem_geo;
+-- fill_gaps => true on the UTM DEM (nodata on its rotated border): the
+-- terrain is the hull of the valid pixel centres (PostGIS's ST_ConvexHull
+-- has the triangles' area at every level), every valid centre is within
+-- each level's tolerance of its ST_PixelAsCentroids value, and the points
+-- a third of a pixel off the nodata centres inside the hull have heights
+CREATE TABLE gaps_filled AS
+SELECT tin_from_raster(rast, 2.0, 4, fill_gaps => true) AS t,
+       (SELECT ST_ConvexHull(ST_Collect(geom)) FROM ST_PixelAsCentroids(rast)) AS hull
+FROM dem;
+SELECT l AS level, abs(sum(ST_Area(tr.geom)) / ST_Area(g.hull) - 1) < 1e-9 AS hull_area
+FROM gaps_filled g, generate_series(0, 3) l, tin_triangles(g.t, l) tr GROUP BY l, g.hull ORDER BY 1;
+SELECT l AS level, count(*) AS valid_centres,
+       max(abs(tin_height(g.t, c.geom, l) - c.val)) <= 2.0 * 2 ^ (3 - l) + 1e-6 AS within_tolerance
+FROM gaps_filled g, dem, ST_PixelAsCentroids(dem.rast) c, generate_series(0, 3) l GROUP BY l ORDER BY 1;
+SELECT count(*) > 0 AS nodata_centres_in_the_hull,
+       bool_and(tin_height(g.t, ST_Translate(c.geom, 0.33 * ST_PixelWidth(dem.rast), 0)) IS NOT NULL) AS heights_there
+FROM gaps_filled g, dem, ST_PixelAsCentroids(dem.rast, 1, false) c
+WHERE c.val = ST_BandNoDataValue(dem.rast) AND ST_Contains(g.hull, ST_Translate(c.geom, 0.33 * ST_PixelWidth(dem.rast), 0));
+DROP TABLE gaps_filled;
 SELECT tin_from_raster(rast, 2.0, 4, fill_gaps => NULL) IS NULL AS null_fill_gaps FROM dem_geo;
 DROP TABLE gap_pts;
 DROP TABLE gaps;
@@ -218,10 +237,10 @@ SELECT tin_from_raster(rast, 2.0, 2, boundary => ST_Transform(boundary, 3857)) F
 SELECT tin_from_raster(rast, 2.0, 2, boundary => ST_Translate(boundary, 10, 0)) FROM bd WHERE name = 'geo';
 SELECT tin_from_raster(rast, 2.0, 2, keep_border => true, boundary => boundary) FROM bd WHERE name = 'geo';
 -- keep_border over the valid pixels only: a raster without nodata builds
--- its tiles as before; nodata cutting into the hull (the UTM DEM's border)
--- is refused, naming fill_gaps => true
+-- the same tile with or without fill_gaps; nodata cutting into the hull
+-- (the UTM DEM's border) is refused, naming fill_gaps => true
 SELECT tin_from_raster(rast, 2.0, 2, keep_border => true, fill_gaps => false)
-       = tin_from_raster(rast, 2.0, 2, keep_border => true) AS tiles_as_before FROM dem_geo;
+       = tin_from_raster(rast, 2.0, 2, keep_border => true, fill_gaps => true) AS tiles_as_before FROM dem_geo;
 SELECT tin_from_raster(rast, 2.0, 2, keep_border => true, fill_gaps => false) FROM dem;
 DROP TABLE bd_lines;
 DROP TABLE bd;

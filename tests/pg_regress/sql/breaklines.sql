@@ -101,9 +101,10 @@ SELECT tin_from_raster(rast, 2.0, 4, breaklines => (SELECT ST_Collect(geom) FROM
          soft_breaklines => (SELECT geom FROM bl_lines l WHERE l.name = 'utm' AND kind = 'ridge')) = b.t AS one_thread_same
 FROM dem, bl_tins b WHERE b.name = 'utm';
 RESET tinmerge.threads;
--- no breaklines (NULL) is the plain build, byte for byte
-SELECT tin_from_raster(rast, 2.0, 4, breaklines => NULL) = p.t AS same,
-       tin_from_raster(rast, 2.0, 4, 1, false, NULL, NULL) = p.t AS same_positional
+-- no breaklines is the plain build, byte for byte: empty ones, and lines
+-- wholly off the terrain
+SELECT tin_from_raster(rast, 2.0, 4, breaklines => 'SRID=32616;MULTILINESTRING Z EMPTY'::geometry) = p.t AS empty_same,
+       tin_from_raster(rast, 2.0, 4, breaklines => 'SRID=32616;LINESTRING Z(0 0 0, 10 10 0)'::geometry) = p.t AS off_terrain_same
 FROM dem, bl_plain p;
 -- NULL for any other NULL argument
 SELECT tin_from_raster(NULL::raster, 2.0, 4, breaklines => geom) IS NULL AS null_raster,

@@ -40,6 +40,14 @@ SELECT count(*) AS problems FROM exact_geo, tin_validate(t);
 \set fixture :abs_srcdir '/../data/format-v1/geo-0.2.0.tin'
 CREATE TABLE exact_old AS SELECT encode(pg_read_binary_file(:'fixture'), 'hex')::tin AS t;
 SELECT level, problem, count(*) FROM exact_old, tin_validate(t) GROUP BY 1, 2 ORDER BY 1, 2;
+-- PostGIS finds the same triangles: those of zero area up to rounding
+-- (ST_Area under 1e-15 square degrees; a pixel's is 7.7e-8)
+SELECT level, v.n AS named, p.n AS postgis_zero_area, v.ids = p.ids AS same_triangles
+FROM (SELECT level, count(*) AS n, array_agg(triangle ORDER BY triangle) AS ids
+      FROM exact_old, tin_validate(t) WHERE problem IN ('crack', 'sliver') GROUP BY 1) v
+FULL JOIN (SELECT l AS level, count(*) AS n, array_agg(tr.id ORDER BY tr.id) AS ids
+           FROM exact_old, generate_series(0, tin_num_levels(t) - 1) l, tin_triangles(t, l) tr
+           WHERE ST_Area(tr.geom) < 1e-15 GROUP BY 1) p USING (level) ORDER BY 1;
 SELECT tin_num_triangles(t, 3) > 0 AS still_reads, tin_height(t, ST_Centroid(tin_envelope(t))) IS NOT NULL AS answers
 FROM exact_old;
 -- the rebuild of docs/upgrading.md: same source pixels, the tolerances the

@@ -95,15 +95,53 @@ FROM line_ab, terrain WHERE tin_height(t, v, level) IS NOT NULL GROUP BY 1 ORDER
 SELECT count(*) AS sequences_differ FROM contours c, terrain
 WHERE ARRAY(SELECT triangle FROM tin_line_triangles(t, c.geom, 4) ORDER BY seq)
    IS DISTINCT FROM ARRAY(SELECT triangle FROM tin_line_segments(t, c.geom, 4) ORDER BY seq);
--- profile: distances increase, heights are the draped line's; climb = the
--- sum of the positive steps
-SELECT count(*) AS profiles_wrong FROM contours c, terrain
-WHERE ARRAY(SELECT z FROM tin_line_profile(t, c.geom) ORDER BY distance)
-   IS DISTINCT FROM ARRAY(SELECT ST_Z((ST_DumpPoints(tin_drape(t, c.geom))).geom));
-SELECT count(*) AS climb_wrong FROM contours c, terrain,
-  LATERAL (SELECT sum(greatest(0, z - lag)) AS climb
-           FROM (SELECT z, lag(z) OVER (ORDER BY distance) FROM tin_line_profile(t, c.geom)) s) s
-WHERE abs(coalesce(s.climb, 0) - coalesce(tin_line_climb(t, c.geom), 0)) > 1e-6;
+-- profile against PostGIS (every third contour): the point at `distance`
+-- along the line (ST_LineInterpolatePoint), and the height there of the
+-- finest level's triangle holding it (plane_z); distances from 0 up to
+-- the line's length, never decreasing
+CREATE TABLE lt_profile AS
+SELECT c.id, p.distance, p.z, ST_Length(c.geom) AS len,
+       ST_LineInterpolatePoint(c.geom, least(1, p.distance / ST_Length(c.geom))) AS pt,
+       lag(p.distance) OVER (PARTITION BY c.id ORDER BY p.distance) AS prev
+FROM contours c, terrain, tin_line_profile(t, c.geom) p WHERE c.id % 3 = 0;
+-- (the triangle nearest the point: a point on the domain's edge can lie
+-- a rounding outside it)
+ALTER TABLE lt_profile ADD COLUMN oz float8, ADD COLUMN off float8;
+UPDATE lt_profile p SET oz = o.z, off = o.d
+FROM (SELECT q.id, q.distance, n.z, n.d FROM lt_profile q,
+      LATERAL (SELECT plane_z(tr.geom, q.pt) AS z, ST_Distance(tr.geom, q.pt) AS d FROM line_tris tr
+               WHERE tr.level = 4 ORDER BY tr.geom <-> q.pt LIMIT 1) n) o
+WHERE o.id = p.id AND o.distance = p.distance;
+SELECT count(*) > 50000 AS many_points, count(DISTINCT id) AS lines,
+       count(*) FILTER (WHERE off > 1e-6) AS off_the_terrain,
+       count(*) FILTER (WHERE abs(oz - z) > 1e-6) AS z_differs,
+       count(*) FILTER (WHERE distance < 0 OR distance > len * (1 + 1e-12) OR distance < prev) AS distance_wrong
+FROM lt_profile;
+-- a line inside the domain: the profile runs from 0 to its whole length
+SELECT count(*) AS inside_lines,
+       count(*) FILTER (WHERE abs(first - 0) > 1e-9 OR abs(last - len) > 1e-6 * len) AS ends_wrong
+FROM (SELECT id, min(distance) AS first, max(distance) AS last, max(len) AS len FROM lt_profile GROUP BY id) s
+JOIN contours c USING (id), line_hull WHERE ST_Within(c.geom, h);
+-- climb: the sum of the positive steps between consecutive profile heights
+-- taken from PostGIS (plane_z, above), along every ninth contour
+SELECT count(*) AS lines, count(*) FILTER (WHERE abs(coalesce(o.climb, 0) - coalesce(tin_line_climb(t, c.geom), 0)) > 1e-5) AS climb_wrong
+FROM contours c, terrain,
+  LATERAL (SELECT sum(greatest(0, oz - lag)) AS climb
+           FROM (SELECT oz, lag(oz) OVER (ORDER BY distance) FROM lt_profile p WHERE p.id = c.id) s) o
+WHERE c.id % 9 = 0;
+-- tin_line_segments' rise and 3D length against PostGIS (every ninth
+-- contour): the heights at the piece's points from the plane of its
+-- triangle (plane_z), the lengths summed from them
+SELECT count(*) AS pieces,
+       count(*) FILTER (WHERE abs(s.rise - (plane_z(tr.geom, ST_EndPoint(s.geom)) - plane_z(tr.geom, ST_StartPoint(s.geom)))) > 1e-6) AS rise_differs,
+       count(*) FILTER (WHERE abs(s.length2d - ST_Length(s.geom)) > 1e-6) AS length2d_differs,
+       count(*) FILTER (WHERE abs(s.length3d - o.len3d) > 1e-6) AS length3d_differs
+FROM contours c, terrain, tin_line_segments(t, c.geom) s
+JOIN line_tris tr ON tr.level = 4 AND tr.id = s.triangle,
+LATERAL (SELECT sum(sqrt((ST_X(q) - ST_X(pq)) ^ 2 + (ST_Y(q) - ST_Y(pq)) ^ 2 + (plane_z(tr.geom, q) - plane_z(tr.geom, pq)) ^ 2)) AS len3d
+         FROM (SELECT d.geom AS q, lag(d.geom) OVER (ORDER BY d.path) AS pq FROM ST_DumpPoints(s.geom) d) x
+         WHERE pq IS NOT NULL) o
+WHERE c.id % 9 = 0;
 -- river running uphill? a line drawn downhill along the steepest contour
 -- crossing climbs less than it falls
 SELECT tin_line_climb(t, ST_MakeLine(a, b)) < tin_line_climb(t, ST_MakeLine(b, a)) AS downhill_climbs_less
@@ -141,8 +179,8 @@ UNION ALL
 SELECT 'multilinestring', 'SRID=32616;MULTILINESTRING((745000 4050000, 746000 4051000), (747000 4052000, 748000 4051000))'::geometry;
 SELECT e.name,
        (SELECT count(*) FROM tin_line_segments(t, e.geom, 1)) AS pieces,
-       round(coalesce((SELECT sum(length2d) FROM tin_line_segments(t, e.geom, 1)), 0)::numeric, 6) AS length_inside,
-       round(ST_Length(ST_Intersection(e.geom, h))::numeric, 6) AS postgis_length_inside,
+       abs(coalesce((SELECT sum(length2d) FROM tin_line_segments(t, e.geom, 1)), 0)
+           - ST_Length(ST_Intersection(e.geom, h))) < 1e-6 AS length_inside_is_postgis,
        (SELECT count(*) FROM line_tris tr WHERE tr.level = 1 AND ST_Length(ST_Intersection(e.geom, tr.geom)) > 1e-6
           AND tr.id NOT IN (SELECT triangle FROM tin_line_segments(t, e.geom, 1))) AS missed,
        (SELECT count(*) FROM tin_line_segments(t, e.geom, 1) u
@@ -166,7 +204,7 @@ FROM edge_cases, terrain WHERE name = 'closed ring';
 -- kept; parts outside dropped; polygons and collections
 SELECT ST_NPoints(tin_drape(t, geom, 1)) = (SELECT count(*) + 1 FROM tin_line_segments(t, geom, 1)) +
          (SELECT sum(ST_NPoints(geom) - 2) FROM tin_line_segments(t, geom, 1)) AS drape_vertex_count,
-       ST_Length(tin_drape(t, geom, 1)) AS draped_length2d_is_line_length
+       abs(ST_Length(tin_drape(t, geom, 1)) - ST_Length(geom)) < 1e-9 * ST_Length(geom) AS draped_length2d_is_line_length
 FROM edge_cases, terrain WHERE name = 'through a vertex';
 SELECT name, GeometryType(tin_drape(t, geom)), ST_NumGeometries(tin_drape(t, geom)), ST_Zmflag(tin_drape(t, geom)) AS zm
 FROM edge_cases, terrain ORDER BY name;

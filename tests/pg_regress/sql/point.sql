@@ -37,15 +37,7 @@ SELECT p.level, p.kind, p.geom,
        (SELECT min(id) FROM tris t WHERE t.level = p.level AND ST_Intersects(t.geom, p.geom)) AS id
 FROM pts p;
 -- height on the oracle's triangle: plane through its three corners
-CREATE FUNCTION plane_z(tri geometry, p geometry) RETURNS float8 LANGUAGE sql IMMUTABLE AS $$
-  SELECT z0 - (nx * (ST_X(p) - x0) + ny * (ST_Y(p) - y0)) / nz
-  FROM (SELECT x0, y0, z0,
-               (y1 - y0) * (z2 - z0) - (z1 - z0) * (y2 - y0) AS nx,
-               (z1 - z0) * (x2 - x0) - (x1 - x0) * (z2 - z0) AS ny,
-               (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0) AS nz
-        FROM (SELECT ST_X(a) x0, ST_Y(a) y0, ST_Z(a) z0, ST_X(b) x1, ST_Y(b) y1, ST_Z(b) z1, ST_X(c) x2, ST_Y(c) y2, ST_Z(c) z2
-              FROM (SELECT ST_PointN(r, 1) a, ST_PointN(r, 2) b, ST_PointN(r, 3) c FROM (SELECT ST_ExteriorRing(tri) r) s) s) s) s
-$$;
+-- (plane_z: 00_setup.sql, the height of a triangle's plane by Cramer's rule)
 -- per level and kind: points inside/outside, and disagreements (must be 0)
 SELECT o.level, o.kind,
        count(*) FILTER (WHERE o.id IS NOT NULL) AS inside,

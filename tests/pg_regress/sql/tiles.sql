@@ -110,12 +110,21 @@ WITH tiled AS (
 ), single AS (
   SELECT c.id, sum(s.length2d) AS len2d, sum(s.length3d) AS len3d
   FROM tile_contours c, window_tin w, tin_line_segments(w.t, c.geom, 1) s GROUP BY c.id
+), oracle AS (
+  -- PostGIS: each piece cut by every triangle of its tile (level 1), each
+  -- segment's rise from the plane of its triangle (plane_z)
+  SELECT p.contour AS id,
+         sum(sqrt(ST_Length(g.geom) ^ 2 + (plane_z(tr.geom, ST_EndPoint(g.geom)) - plane_z(tr.geom, ST_StartPoint(g.geom))) ^ 2)) AS len3d
+  FROM tile_pieces p, tin_triangles(p.t, 1) tr,
+       ST_DumpSegments(ST_CollectionExtract(ST_Intersection(p.geom, tr.geom), 2)) g
+  WHERE tr.geom && p.geom
+  GROUP BY p.contour
 )
 SELECT count(*) AS contours,
        count(*) FILTER (WHERE abs(tiled.len2d - single.len2d) > 1e-9 * single.len2d) AS len2d_differ,
        count(*) FILTER (WHERE abs(tiled.len2d - ST_Length(c.geom)) > 1e-9 * tiled.len2d) AS len2d_not_st_length,
-       count(*) FILTER (WHERE abs(tiled.len3d - single.len3d) > 0.01 * single.len3d) AS len3d_differ_over_1pct
-FROM tiled JOIN single USING (id) JOIN tile_contours c USING (id);
+       count(*) FILTER (WHERE abs(tiled.len3d - oracle.len3d) > 1e-6 * oracle.len3d) AS len3d_not_postgis
+FROM tiled JOIN single USING (id) JOIN oracle USING (id) JOIN tile_contours c USING (id);
 WITH ends AS (
   SELECT p.contour, p.tile, e.geom
   FROM tile_pieces p, ST_Dump(tin_drape(p.t, p.geom, 1)) d,
@@ -127,7 +136,8 @@ FROM ends a JOIN ends b ON a.contour = b.contour AND a.tile < b.tile AND ST_DWit
 
 -- areas against the tile table: contour bands cut by the tile envelopes,
 -- merged per tile, summed per band. Planar areas equal the single tin's;
--- surface areas within 1 % of it.
+-- surface areas are PostGIS's: each piece cut by every triangle of its
+-- tile, each part's planar area times its triangle's slope factor.
 WITH wbands AS (
   SELECT b.id, ST_Intersection(b.geom, w.env) AS geom
   FROM contour_bands b, (SELECT tin_envelope(t) AS env FROM window_tin) w
@@ -139,16 +149,31 @@ WITH wbands AS (
   GROUP BY b.id
 ), single AS (
   SELECT b.id, s.area2d AS a2, s.area3d AS a3 FROM wbands b, window_tin w, tin_area_stats(w.t, b.geom, 1) s
+), parts AS (
+  -- each band's piece in each tile cut into parts of at most 64 vertices
+  -- (ST_Subdivide: they partition it), so that each triangle is cut by a
+  -- few small parts
+  SELECT b.id, k.t, ST_Subdivide(ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), 64) AS geom
+  FROM wbands b JOIN tin_tiles k ON tin_envelope(k.t) && b.geom
+), oracle AS (
+  SELECT p.id, sum(ST_Area(ST_Intersection(tr.geom, p.geom)) * slope_factor(tr.geom)) AS a3
+  FROM parts p, tin_triangles(p.t, 1) tr
+  WHERE tr.geom && p.geom
+  GROUP BY p.id
 )
 SELECT count(*) AS bands,
        count(*) FILTER (WHERE abs(tiled.a2 - single.a2) > 1e-9 * single.a2) AS area2d_differ,
-       count(*) FILTER (WHERE abs(tiled.a3 - single.a3) > 0.01 * single.a3) AS area3d_differ_over_1pct
-FROM tiled JOIN single USING (id);
+       count(*) FILTER (WHERE abs(tiled.a3 - oracle.a3) > 1e-6 * oracle.a3) AS area3d_not_postgis
+FROM tiled JOIN single USING (id) JOIN oracle USING (id);
 
 -- volumes against the tile table: cut and fill of each band against the
 -- window's median height, per tile piece, summed. The tiles and the single
 -- tin are different surfaces within 2 m of every pixel, so their net
--- volumes (cut - fill) differ by less than 2 x 2 m x the band's area.
+-- volumes (cut - fill) differ by less than 2 x 2 m x the band's area; the
+-- tiles' net volume is PostGIS's: each piece cut by every triangle of its
+-- tile's finest level (tin_volume's level here), each part's area times its
+-- triangle's plane height at its centroid above the base (the integral of
+-- a linear function over a polygon).
 WITH wbands AS (
   SELECT b.id, ST_Intersection(b.geom, w.env) AS geom
   FROM contour_bands b, (SELECT tin_envelope(t) AS env FROM window_tin) w
@@ -162,10 +187,22 @@ WITH wbands AS (
   GROUP BY b.id
 ), single AS (
   SELECT b.id, v.cut, v.fill, ST_Area(b.geom) AS area FROM wbands b, window_tin w, base, tin_volume(w.t, b.geom, base.z) v
+), parts AS (
+  -- (every third band: the finest level's triangles are many)
+  SELECT b.id, k.t, ST_Subdivide(ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), 64) AS geom
+  FROM wbands b JOIN tin_tiles k ON tin_envelope(k.t) && b.geom WHERE b.id % 3 = 0
+), oracle AS (
+  SELECT p.id, sum(ST_Area(i.geom) * (plane_z(tr.geom, ST_Centroid(i.geom)) - base.z)) AS net
+  FROM parts p, base, tin_triangles(p.t) tr,
+       LATERAL (SELECT ST_CollectionExtract(ST_Intersection(tr.geom, p.geom), 3) AS geom) i
+  WHERE tr.geom && p.geom AND NOT ST_IsEmpty(i.geom)
+  GROUP BY p.id
 )
 SELECT count(*) AS bands, count(*) FILTER (WHERE single.cut + single.fill > 0) AS with_volume,
-       count(*) FILTER (WHERE abs((tiled.cut - tiled.fill) - (single.cut - single.fill)) > 2 * 2.0 * area) AS net_volume_beyond_bound
-FROM tiled JOIN single USING (id);
+       count(*) FILTER (WHERE abs((tiled.cut - tiled.fill) - (single.cut - single.fill)) > 2 * 2.0 * area) AS net_volume_beyond_bound,
+       count(oracle.net) AS against_postgis,
+       count(*) FILTER (WHERE abs((tiled.cut - tiled.fill) - oracle.net) > 1e-6 * (tiled.cut + tiled.fill) + 1e-6) AS net_volume_not_postgis
+FROM tiled JOIN single USING (id) LEFT JOIN oracle USING (id);
 
 -- drapes against the tile table: the draped pieces merged back into one
 -- line per contour (ST_LineMerge joins them where they meet on a seam;
@@ -272,6 +309,15 @@ SELECT count(*) FROM dem_window, tin_tiles(rast, 100, -1.0, 3);
 CREATE TABLE from_table AS SELECT * FROM tin_tiles_from_table('window_tiles', 2.0, 3);
 SELECT count(*) AS tiles, count(o.t) AS matched, count(*) FILTER (WHERE f.t::text = o.t::text) AS same_bytes
 FROM from_table f LEFT JOIN one_call o USING (tx, ty);
+-- and against the table's own pixels (PostGIS's ST_PixelAsCentroids of
+-- its rasters): every valid centre within each level's tolerance on a
+-- tile holding it
+SELECT l AS level, count(*) AS centres, count(h.z) AS answered,
+       count(*) FILTER (WHERE abs(h.z - c.val) > 2.0 * 2 ^ (2 - l) + 1e-6) AS beyond_tolerance
+FROM window_tiles w, ST_PixelAsCentroids(w.rast) c, generate_series(0, 2) l,
+     LATERAL (SELECT tin_height(f.t, c.geom, l) AS z FROM from_table f
+              WHERE tin_envelope(f.t) && c.geom ORDER BY tin_height(f.t, c.geom, l) IS NULL LIMIT 1) h
+GROUP BY l ORDER BY l;
 -- ST_Tile of the whole DEM (nodata corners, last tiles narrower) in 64 x 64
 -- tiles, the rows in a shuffled order, against tin_tiles of the DEM raster;
 -- and the geographic DEM in 90 x 90 tiles
