@@ -116,17 +116,22 @@ def documented(text):
     return found
 
 
-def catalog(db):
-    q = """
-SELECT p.proname, pg_get_function_arguments(p.oid), pg_get_function_result(p.oid)
+# the extension's public functions in pg_proc (p): names not starting with
+# "_", the type's I/O and the operators' support functions aside (also
+# used by tests/function_coverage.py)
+PUBLIC_FUNCTIONS = """
 FROM pg_proc p
 JOIN pg_depend d ON d.classid = 'pg_proc'::regclass AND d.objid = p.oid AND d.deptype = 'e'
 JOIN pg_extension e ON e.oid = d.refobjid AND e.extname = 'tinmerge'
 WHERE p.proname !~ '^_'
   AND NOT EXISTS (SELECT FROM pg_type t WHERE p.oid IN (t.typinput, t.typoutput, t.typreceive, t.typsend))
   AND NOT EXISTS (SELECT FROM pg_operator o WHERE o.oprcode = p.oid)
-  AND NOT EXISTS (SELECT FROM pg_amproc a WHERE a.amproc = p.oid)
-ORDER BY 1, 2"""
+  AND NOT EXISTS (SELECT FROM pg_amproc a WHERE a.amproc = p.oid)"""
+
+
+def catalog(db):
+    q = ("SELECT p.proname, pg_get_function_arguments(p.oid), pg_get_function_result(p.oid)"
+         + PUBLIC_FUNCTIONS + "\nORDER BY 1, 2")
     out = subprocess.run(
         ["scripts/cluster.sh", "psql", "-X", "-q", "-A", "-t", "-F", "\t", "-d", db, "-c", q],
         check=True, capture_output=True, text=True,

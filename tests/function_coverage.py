@@ -18,9 +18,13 @@ fails when a new function has no oracle test near its name.
 Usage: tests/function_coverage.py DATABASE (the test cluster running).
 """
 import glob
+import os
 import re
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import docs_signatures  # noqa: E402
 
 WINDOW = 12
 
@@ -50,16 +54,7 @@ FILES = (
 
 
 def catalog(db):
-    q = """
-SELECT DISTINCT p.proname
-FROM pg_proc p
-JOIN pg_depend d ON d.classid = 'pg_proc'::regclass AND d.objid = p.oid AND d.deptype = 'e'
-JOIN pg_extension e ON e.oid = d.refobjid AND e.extname = 'tinmerge'
-WHERE p.proname !~ '^_'
-  AND NOT EXISTS (SELECT FROM pg_type t WHERE p.oid IN (t.typinput, t.typoutput, t.typreceive, t.typsend))
-  AND NOT EXISTS (SELECT FROM pg_operator o WHERE o.oprcode = p.oid)
-  AND NOT EXISTS (SELECT FROM pg_amproc a WHERE a.amproc = p.oid)
-ORDER BY 1"""
+    q = "SELECT DISTINCT p.proname" + docs_signatures.PUBLIC_FUNCTIONS + "\nORDER BY 1"
     out = subprocess.run(
         ["scripts/cluster.sh", "psql", "-X", "-q", "-A", "-t", "-d", db, "-c", q],
         check=True, capture_output=True, text=True,

@@ -420,18 +420,10 @@ fn overlay_with_itself_is_itself() {
 }
 
 /// The linear function through a triangle's three corners, as
-/// `(x, y) -> z` (its gradient by a cross product about the first corner:
-/// the test's own, not the extension's interpolation).
+/// `(x, y) -> z` (`common::plane_height`: the tests' own, not the
+/// extension's interpolation).
 fn plane(c: [[f64; 3]; 3]) -> impl Fn(P) -> f64 {
-    let u = [c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]];
-    let v = [c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]];
-    let n = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    let (gx, gy) = (-n[0] / n[2], -n[1] / n[2]);
-    move |p: P| c[0][2] + gx * (p[0] - c[0][0]) + gy * (p[1] - c[0][1])
+    move |p: P| common::plane_height(&c, p[0], p[1])
 }
 
 /// The integral of the linear `f` over the part of the convex polygon

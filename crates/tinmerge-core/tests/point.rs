@@ -104,14 +104,7 @@ fn oracle_locate(tin: &Tin, level: usize, bins: &Bins, x: f64, y: f64) -> Option
 
 /// Height on the plane through the triangle, by the normal vector.
 fn oracle_height(c: &[[f64; 3]; 3], x: f64, y: f64) -> f64 {
-    let u = [c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]];
-    let v = [c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]];
-    let n = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    c[0][2] - (n[0] * (x - c[0][0]) + n[1] * (y - c[0][1])) / n[2]
+    common::plane_height(c, x, y)
 }
 
 #[test]

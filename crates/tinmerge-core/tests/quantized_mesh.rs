@@ -702,17 +702,7 @@ fn fill_covers_the_tile_and_normals_point_up() {
                 let normals = d.normals.as_ref().unwrap();
                 let mut steep = 0;
                 for (i, n) in normals.iter().enumerate() {
-                    // oct decode (Cesium's octDecode)
-                    let mut x = n[0] as f64 / 255.0 * 2.0 - 1.0;
-                    let mut y = n[1] as f64 / 255.0 * 2.0 - 1.0;
-                    let zc = 1.0 - x.abs() - y.abs();
-                    if zc < 0.0 {
-                        let ox = x;
-                        x = (1.0 - y.abs()) * ox.signum();
-                        y = (1.0 - ox.abs()) * y.signum();
-                    }
-                    let l = (x * x + y * y + zc * zc).sqrt();
-                    let nv = [x / l, y / l, zc / l];
+                    let nv = oct_decode(*n);
                     let p = d.lonlat(&tb, i);
                     let (lo, la) = (p[0].to_radians(), p[1].to_radians());
                     let up = [la.cos() * lo.cos(), la.cos() * lo.sin(), la.sin()];

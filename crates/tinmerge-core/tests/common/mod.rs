@@ -327,3 +327,18 @@ pub fn edge_on(
     (dp <= eps && dq <= eps && tp.min(tq) >= -eps && tp.max(tq) <= 1.0 + eps)
         .then(|| (tp.min(tq), tp.max(tq)))
 }
+
+/// The height at `(x, y)` of the plane through a triangle's three corners,
+/// by the normal of their cross product: the tests' own interpolation (no
+/// code of the extension's), for the oracles.
+#[allow(dead_code)]
+pub fn plane_height(c: &[[f64; 3]; 3], x: f64, y: f64) -> f64 {
+    let u = [c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]];
+    let v = [c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]];
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    c[0][2] - (n[0] * (x - c[0][0]) + n[1] * (y - c[0][1])) / n[2]
+}
