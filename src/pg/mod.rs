@@ -134,4 +134,77 @@ mod tests {
         .unwrap();
         assert_eq!(same, Some(true));
     }
+
+    /// A tin built from samples of a plane is that plane at every level:
+    /// heights at points off the samples, and the heights of a profile,
+    /// against the plane's own formula (z = 3x - 2y + 7; the samples a
+    /// 12 x 12 grid of unit cells, jittered by a seeded sequence).
+    #[pg_test]
+    fn heights_on_a_plane_are_the_plane() {
+        Spi::run("CREATE EXTENSION IF NOT EXISTS postgis").unwrap();
+        Spi::run("CREATE EXTENSION IF NOT EXISTS postgis_raster").unwrap();
+        Spi::run(
+            "CREATE TABLE pt_plane AS
+             SELECT tin_from_points(ST_SetSRID(ST_Collect(ST_MakePoint(x, y, 3 * x - 2 * y + 7)), 32616), 0.01, 3) AS t
+             FROM (SELECT i + 0.3 * sin(i * 7 + j * 13) AS x, j + 0.3 * cos(i * 5 + j * 11) AS y
+                   FROM generate_series(0, 11) i, generate_series(0, 11) j) s",
+        )
+        .unwrap();
+        let worst: Option<f64> = Spi::get_one(
+            "SELECT max(abs(tin_height(t, ST_SetSRID(ST_MakePoint(x, y), 32616), l) - (3 * x - 2 * y + 7)))
+             FROM pt_plane, generate_series(0, 2) l,
+                  (SELECT 1 + 9 * random_x AS x, 1 + 9 * random_y AS y
+                   FROM (SELECT (k * 0.618034) % 1 AS random_x, (k * 0.414214) % 1 AS random_y
+                         FROM generate_series(1, 200) k) r) p",
+        )
+        .unwrap();
+        let worst = worst.expect("heights inside the samples' hull");
+        assert!(worst < 1e-9, "heights off the plane by {worst}");
+        let profile: Option<f64> = Spi::get_one(
+            "SELECT max(abs(p.z - (3 * ST_X(q) - 2 * ST_Y(q) + 7)))
+             FROM pt_plane, LATERAL (SELECT 'SRID=32616;LINESTRING(1.5 1.5, 9.5 8.25, 2 9)'::geometry AS g) g,
+                  tin_line_profile(t, g.g) p,
+                  LATERAL (SELECT ST_LineInterpolatePoint(g.g, p.distance / ST_Length(g.g)) AS q) q",
+        )
+        .unwrap();
+        let profile = profile.expect("a profile");
+        assert!(profile < 1e-9, "profile heights off the plane by {profile}");
+    }
+
+    /// Bad input is an ERROR with its SQLSTATE, not a crash: caught in
+    /// PL/pgSQL, one per mistake.
+    #[pg_test]
+    fn bad_input_is_an_error_with_its_sqlstate() {
+        Spi::run("CREATE EXTENSION IF NOT EXISTS postgis").unwrap();
+        Spi::run("CREATE EXTENSION IF NOT EXISTS postgis_raster").unwrap();
+        Spi::run(
+            "CREATE FUNCTION pt_state(q text) RETURNS text LANGUAGE plpgsql AS $$
+             BEGIN EXECUTE q; RETURN 'ok'; EXCEPTION WHEN others THEN RETURN SQLSTATE; END $$",
+        )
+        .unwrap();
+        let tin = "tin_from_points('SRID=32616;MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3, 10 10 9)'::geometry, 0.5, 1)";
+        for (q, want) in [
+            // another SRID
+            (
+                format!("SELECT tin_height({tin}, 'SRID=4326;POINT(1 1)'::geometry)"),
+                "22023",
+            ),
+            // a bad level
+            (
+                format!("SELECT tin_height({tin}, 'SRID=32616;POINT(1 1)'::geometry, 7)"),
+                "22023",
+            ),
+            // not a tin
+            ("SELECT 'deadbeef'::tin".to_string(), "22P02"),
+            // a good call
+            (
+                format!("SELECT tin_height({tin}, 'SRID=32616;POINT(1 1)'::geometry)"),
+                "ok",
+            ),
+        ] {
+            let got: Option<String> =
+                Spi::get_one_with_args("SELECT pt_state($1)", &[q.as_str().into()]).unwrap();
+            assert_eq!(got.as_deref(), Some(want), "{q}");
+        }
+    }
 }
