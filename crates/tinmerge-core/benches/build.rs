@@ -19,7 +19,7 @@
 mod common;
 
 use std::time::Instant;
-use tinmerge_core::tin::build::{build, build_lattice, default_tolerances, BuildOptions};
+use tinmerge_core::tin::build::{BuildOptions, build, build_lattice, default_tolerances};
 use tinmerge_core::tin::{memory, par};
 
 #[global_allocator]
@@ -43,7 +43,9 @@ fn main() {
         tiles(&d);
         return;
     }
-    println!("| raster | between samples | samples | levels | threads | finest triangles | ms (median of 3) | samples/s | peak heap B/sample |");
+    println!(
+        "| raster | between samples | samples | levels | threads | finest triangles | ms (median of 3) | samples/s | peak heap B/sample |"
+    );
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for (f, threads, levels, between) in [
         (1usize, 1usize, 5, false),
@@ -100,7 +102,9 @@ fn main() {
 fn levels_table() {
     use tinmerge_core::tin::check::over_tolerance;
     use tinmerge_core::tin::dense::Dense;
-    println!("| raster | build | level | tolerance | triangles | largest error on grid lines / tolerance | build s | peak heap B/sample |");
+    println!(
+        "| raster | build | level | tolerance | triangles | largest error on grid lines / tolerance | build s | peak heap B/sample |"
+    );
     println!("|---|---|---:|---:|---:|---:|---:|---:|");
     par::set_threads(1);
     for (name, file, f) in [
@@ -196,7 +200,9 @@ fn levels_table() {
 fn tiles(d: &common::Dem) {
     use tinmerge_core::tin::tiles::{build_tile, build_tiles, tile_counts, tile_window};
     println!();
-    println!("| raster | tiles | build | tile builds | seam samples kept | finest triangles | ms (median of 3) |");
+    println!(
+        "| raster | tiles | build | tile builds | seam samples kept | finest triangles | ms (median of 3) |"
+    );
     println!("|---|---:|---|---:|---:|---:|---:|");
     par::set_threads(2);
     let tols = default_tolerances(2.0, 5).unwrap();
@@ -305,7 +311,9 @@ fn valid_pixels(d: &common::Dem) {
     use tinmerge_core::tin::dense::Dense;
     use tinmerge_core::tin::domain::{cell_outline, outline_area};
     println!();
-    println!("| raster, over its valid pixels | between samples | samples | levels | finest triangles | ms (median of 3) | peak heap B/sample |");
+    println!(
+        "| raster, over its valid pixels | between samples | samples | levels | finest triangles | ms (median of 3) | peak heap B/sample |"
+    );
     println!("|---|---|---:|---:|---:|---:|---:|");
     par::set_threads(1);
     for (f, between) in [(1usize, false), (1, true), (4, false), (4, true)] {
@@ -419,7 +427,9 @@ fn bilinear(d: &common::Dem, x: f64, y: f64) -> Option<f64> {
 
 fn cloud(d: &common::Dem) {
     println!();
-    println!("| point cloud | points | levels | threads | finest triangles | ms | points/s | peak heap B/point |");
+    println!(
+        "| point cloud | points | levels | threads | finest triangles | ms | points/s | peak heap B/point |"
+    );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     for (f, threads, runs) in [(4usize, 1usize, 3usize), (4, 2, 3), (9, 2, 1)] {
         par::set_threads(threads);

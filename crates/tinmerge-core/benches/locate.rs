@@ -19,8 +19,8 @@ use spade::{
 use std::hint::black_box;
 use std::time::Instant;
 use tinmerge_core::merge::point::{height, locate, locate_descend};
-use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::build::{build, default_tolerances};
 
 type SpadeCdt =
     ConstrainedDelaunayTriangulation<Point2<f64>, (), (), (), HierarchyHintGenerator<f64>>;
@@ -123,7 +123,9 @@ fn main() {
         "built the three tins in {:.1} s",
         t0.elapsed().as_secs_f64()
     );
-    println!("| tin | finest triangles | grid + walk ns | top-down ns | spade (hierarchy hint) ns | locate + interpolate ns | locate + interpolate, Morton-ordered points ns | spade / grid |");
+    println!(
+        "| tin | finest triangles | grid + walk ns | top-down ns | spade (hierarchy hint) ns | locate + interpolate ns | locate + interpolate, Morton-ordered points ns | spade / grid |"
+    );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     let mut rng = StdRng::seed_from_u64(42);
     for (name, tin) in &cases {

@@ -55,7 +55,9 @@ fn main() {
         }
         return;
     }
-    println!("| B | level | triangles A | triangles B | crossings K | output triangles | overlay ms | path | M input triangles/s | + difference ms | constrained path ms | naive CDT ms | naive / overlay |");
+    println!(
+        "| B | level | triangles A | triangles B | crossings K | output triangles | overlay ms | path | M input triangles/s | + difference ms | constrained path ms | naive CDT ms | naive / overlay |"
+    );
     println!("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|");
     for (name, b) in [
         ("other tolerances (1.5 m)", &other),

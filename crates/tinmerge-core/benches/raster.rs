@@ -10,7 +10,7 @@ use std::hint::black_box;
 use std::time::Instant;
 use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
-use tinmerge_core::merge::raster::{sweep, PixelGrid};
+use tinmerge_core::merge::raster::{PixelGrid, sweep};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -20,7 +20,9 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn main() {
     let tin = common::dem_tin();
     let d = common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    println!("| raster | pixels | level | triangles | sweep only ms | Mpx/s | mean per triangle ms | Mpx/s | + mode ms | weighted mean ms | Mpx/s |");
+    println!(
+        "| raster | pixels | level | triangles | sweep only ms | Mpx/s | mean per triangle ms | Mpx/s | + mode ms | weighted mean ms | Mpx/s |"
+    );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for f in [1usize, 4, 8] {
         let (gt, w, h, values) = d.upsampled(f);

@@ -13,14 +13,14 @@ use std::hint::black_box;
 use std::time::Instant;
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::surface::stats;
-use tinmerge_core::merge::area::{sweep, Method};
-use tinmerge_core::merge::line::{pieces_in, Part};
+use tinmerge_core::merge::area::{Method, sweep};
+use tinmerge_core::merge::line::{Part, pieces_in};
 use tinmerge_core::merge::point::height_in;
-use tinmerge_core::tin::build::{build_lattice, default_tolerances, BuildOptions};
+use tinmerge_core::tin::build::{BuildOptions, build_lattice, default_tolerances};
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::layout::{self, HEADER_LEN};
 use tinmerge_core::tin::sliced::SlicedTin;
-use tinmerge_core::tin::{par, Tin, TinError};
+use tinmerge_core::tin::{Tin, TinError, par};
 
 /// TOAST chunk of 8 KB pages: what `pg_detoast_datum_slice` reads.
 const TOAST_CHUNK: u64 = 1996;
@@ -128,7 +128,9 @@ fn group_costs(v4: &[u8]) {
         r[5] += (t3 - t2).as_secs_f64() * 1e6 - (t2 - t1).as_secs_f64() * 1e6;
     }
     println!();
-    println!("| group kind | groups | mean coded bytes | mean packed bytes | check us | unpack us | decode us (after unpack) |");
+    println!(
+        "| group kind | groups | mean coded bytes | mean packed bytes | check us | unpack us | decode us (after unpack) |"
+    );
     println!("|---|---:|---:|---:|---:|---:|---:|");
     for (kind, r) in rows {
         let n = r[0];
@@ -158,7 +160,9 @@ fn main() {
         ),
     ];
     println!();
-    println!("| terrain | finest triangles | format 3 bytes | format 4 bytes | format 4 bytes per finest triangle | encode 3 ms | encode 4 ms (1 thread) | decode 3 ms | decode 4 ms, 1 thread | decode 4 ms, 2 threads |");
+    println!(
+        "| terrain | finest triangles | format 3 bytes | format 4 bytes | format 4 bytes per finest triangle | encode 3 ms | encode 4 ms (1 thread) | decode 3 ms | decode 4 ms, 1 thread | decode 4 ms, 2 threads |"
+    );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut cold_rows = Vec::new();
     for (label, file, tol) in terrains {
@@ -267,7 +271,9 @@ fn main() {
         }
     }
     println!();
-    println!("UTM DEM, finest level, in memory (no TOAST): a fresh reader (cold) and the same reader again (warm)");
+    println!(
+        "UTM DEM, finest level, in memory (no TOAST): a fresh reader (cold) and the same reader again (warm)"
+    );
     println!(
         "| format | reads | query | groups held | fetches | bytes fetched | cold ms | warm ms |"
     );

@@ -8,9 +8,9 @@ mod common;
 
 use std::hint::black_box;
 use std::time::Instant;
+use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
-use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::par;
 

@@ -11,7 +11,7 @@
 //! assert!(segments_intersect(co([0.0, 0.0]), co([2.0, 2.0]), co([0.0, 2.0]), co([2.0, 0.0])));
 //! ```
 
-use robust::{orient2d, Coord};
+use robust::{Coord, orient2d};
 
 /// A point in the plane (x, y).
 pub type P2 = [f64; 2];

@@ -8,7 +8,7 @@ mod common;
 use std::collections::BTreeMap;
 use tinmerge_core::analysis::contour::contours;
 use tinmerge_core::analysis::slope::slope_aspect;
-use tinmerge_core::tin::{Tin, NONE};
+use tinmerge_core::tin::{NONE, Tin};
 
 fn tins() -> Vec<(&'static str, Tin)> {
     vec![
@@ -141,7 +141,10 @@ fn contours_match_the_per_triangle_oracle() {
                 }
                 assert!(checked > 100, "{name} level {level}: {checked} pieces");
                 if level + 1 == tin.levels.len() && interval == 10.0 {
-                    eprintln!("{name} finest level, 10 m: {} lines ({open} open, {rings} rings), {checked} pieces", lines.len());
+                    eprintln!(
+                        "{name} finest level, 10 m: {} lines ({open} open, {rings} rings), {checked} pieces",
+                        lines.len()
+                    );
                 }
             }
         }

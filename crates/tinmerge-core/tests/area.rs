@@ -10,14 +10,14 @@ mod common;
 
 use common::dem_tin;
 use geo::orient::{Direction, Orient};
-use geo::{line_intersection::line_intersection, Coord, Line, LineIntersection};
-use rand::{rngs::StdRng, Rng, SeedableRng};
+use geo::{Coord, Line, LineIntersection, line_intersection::line_intersection};
+use rand::{Rng, SeedableRng, rngs::StdRng};
 use std::collections::{BTreeMap, HashSet};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::surface::{stats, volume};
-use tinmerge_core::merge::area::{area_rows, sweep, AreaRow, Method, Relation};
-use tinmerge_core::tin::build::build;
+use tinmerge_core::merge::area::{AreaRow, Method, Relation, area_rows, sweep};
 use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::build::build;
 use wkt::TryFromWkt;
 
 type P2 = [f64; 2];
@@ -194,11 +194,7 @@ fn oracle(tin: &Tin, l: usize, polys: &Polys) -> BTreeMap<u32, (Relation, f64)> 
 }
 
 fn signed_area_or_zero(p: &[P2]) -> f64 {
-    if p.len() < 3 {
-        0.0
-    } else {
-        signed_area(p)
-    }
+    if p.len() < 3 { 0.0 } else { signed_area(p) }
 }
 
 fn rows_of(tin: &Tin, l: usize, polys: &Polys, method: Method) -> Vec<AreaRow> {

@@ -20,26 +20,26 @@
 //!   invariants hold (`sanity_check`, `check::problems`).
 mod common;
 
-use common::{edge_on, read_dem, Dem};
+use common::{Dem, edge_on, read_dem};
 use geo::{
     Area as _, BooleanOps, Contains, ConvexHull, Coord, Euclidean, Length, LineString,
     MultiLineString, MultiPoint, MultiPolygon, Point, Polygon,
 };
 use tinmerge_core::io::ewkb::Geom;
 use tinmerge_core::merge::area::polygon::Area;
-use tinmerge_core::merge::area::{area_rows, sweep, Method};
+use tinmerge_core::merge::area::{Method, area_rows, sweep};
 use tinmerge_core::merge::line::drape::drape;
-use tinmerge_core::merge::line::{pieces, Part};
+use tinmerge_core::merge::line::{Part, pieces};
 use tinmerge_core::merge::overlay::overlay;
 use tinmerge_core::merge::point::height;
+use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::zonal_stats;
-use tinmerge_core::merge::raster::PixelGrid;
+use tinmerge_core::tin::Tin;
 use tinmerge_core::tin::build::{boundary, build, build_domain, default_tolerances};
 use tinmerge_core::tin::check::problems;
-use tinmerge_core::tin::layout::{decode, encode, read_header, VERSION_5};
+use tinmerge_core::tin::layout::{VERSION_5, decode, encode, read_header};
 use tinmerge_core::tin::locate::locate;
-use tinmerge_core::tin::Tin;
 
 /// World coordinates of fractional pixel position (col, row).
 fn world(d: &Dem, c: f64, r: f64) -> [f64; 2] {

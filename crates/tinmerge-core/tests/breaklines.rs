@@ -20,14 +20,14 @@
 //! a hard one (a T-junction within rounding) and two overlapping lines.
 mod common;
 
-use common::{along, edge_on, read_dem, Dem};
+use common::{Dem, along, edge_on, read_dem};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use tinmerge_core::merge::point::height;
+use tinmerge_core::tin::Tin;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{build_breaklines, default_tolerances};
 use tinmerge_core::tin::check::problems;
-use tinmerge_core::tin::Tin;
 
 /// World coordinates of fractional pixel position (col, row).
 fn world(d: &Dem, c: f64, r: f64) -> (f64, f64) {
@@ -485,7 +485,9 @@ fn random_breakline_sets_build_or_refuse_cleanly() {
                                         }
                                     }
                                 }
-                                panic!("case {case} level {l}: sample {s:?} outside the tin: {lines:?}");
+                                panic!(
+                                    "case {case} level {l}: sample {s:?} outside the tin: {lines:?}"
+                                );
                             };
                             assert!(
                                 (hz - s[2]).abs() <= tols[l] + 1e-6,
@@ -525,7 +527,9 @@ fn random_breakline_sets_build_or_refuse_cleanly() {
                                 })
                             });
                             let Some(z) = on else {
-                                panic!("case {case} level {l}: point {p:?} (t {t}, px {c} {r}) of {a:?}-{b:?} is on no edge along it: {lines:?}");
+                                panic!(
+                                    "case {case} level {l}: point {p:?} (t {t}, px {c} {r}) of {a:?}-{b:?} is on no edge along it: {lines:?}"
+                                );
                             };
                             // along a hard line, the line's own heights (read
                             // along the edge: `height` at a point computed on

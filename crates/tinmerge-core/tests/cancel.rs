@@ -14,12 +14,12 @@ mod common;
 use std::time::Instant;
 use tinmerge_core::interrupt::Interrupt;
 use tinmerge_core::merge::area::polygon::Area;
-use tinmerge_core::merge::area::{sweep, Method};
-use tinmerge_core::merge::line::{walk_parts, Part, TriangleSink};
+use tinmerge_core::merge::area::{Method, sweep};
+use tinmerge_core::merge::line::{Part, TriangleSink, walk_parts};
 use tinmerge_core::merge::overlay::{overlay, overlay_constrained};
+use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::{weighted_stats, zonal_stats};
-use tinmerge_core::merge::raster::PixelGrid;
 use tinmerge_core::tin::build::{build, default_tolerances};
 use tinmerge_core::tin::{Tin, TinError};
 

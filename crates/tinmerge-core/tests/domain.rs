@@ -7,7 +7,7 @@
 mod common;
 
 use rand::{Rng, SeedableRng};
-use tinmerge_core::tin::domain::{ring_area2, valid_outline, LatticePoint};
+use tinmerge_core::tin::domain::{LatticePoint, ring_area2, valid_outline};
 
 /// The block rule: is lattice point (x, y) (not on a lattice line) in the
 /// domain? Its block's valid corners: all four, or three with the point in

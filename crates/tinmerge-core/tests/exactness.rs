@@ -18,14 +18,14 @@
 //!   level's tolerance of the surface.
 mod common;
 
-use common::grids::{generate, Grid};
-use rand::rngs::StdRng;
+use common::grids::{Grid, generate};
 use rand::SeedableRng;
+use rand::rngs::StdRng;
 use std::collections::HashMap;
-use tinmerge_core::tin::build::{build, build_lattice, default_tolerances, BuildOptions};
+use tinmerge_core::tin::build::{BuildOptions, build, build_lattice, default_tolerances};
 use tinmerge_core::tin::check::problems;
 use tinmerge_core::tin::lattice::Lattice;
-use tinmerge_core::tin::{Tin, NONE};
+use tinmerge_core::tin::{NONE, Tin};
 
 fn cross(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> i64 {
     (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)

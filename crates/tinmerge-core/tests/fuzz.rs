@@ -12,17 +12,17 @@ mod common;
 
 use rand::rngs::StdRng;
 use rand::{Rng as _, SeedableRng};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::panic::{AssertUnwindSafe, catch_unwind};
 use tinmerge_core::io::ewkb::{self, Geom};
 use tinmerge_core::io::{gserialized, raster};
 use tinmerge_core::merge::area::polygon::Area;
-use tinmerge_core::merge::area::{sweep, Method};
+use tinmerge_core::merge::area::{Method, sweep};
 use tinmerge_core::merge::line::drape;
 use tinmerge_core::merge::line::tree::{self, View};
 use tinmerge_core::merge::line::{self, Part};
 use tinmerge_core::merge::overlay;
 use tinmerge_core::tin::build::build;
-use tinmerge_core::tin::{check_xy, layout, locate, Tin};
+use tinmerge_core::tin::{Tin, check_xy, layout, locate};
 
 /// The mutation source: `rand`'s seeded `StdRng` (reproducible: the seed is
 /// `TINMERGE_FUZZ_SEED`, default 0x5eed, mixed with a per-target salt).
@@ -187,27 +187,26 @@ fn tin_values() {
             layout::reseal(&mut m);
         }
         // read in slices: an error or an answer, never a panic
-        if m.len() >= layout::HEADER_LEN {
-            if let Ok(Some(s)) =
+        if m.len() >= layout::HEADER_LEN
+            && let Ok(Some(s)) =
                 tinmerge_core::tin::sliced::SlicedTin::new(&m[..layout::HEADER_LEN])
-            {
-                let mut fetch = |at: u64, len: usize| {
-                    m.get(at as usize..at as usize + len)
-                        .map(|b| b.to_vec())
-                        .ok_or_else(|| tinmerge_core::tin::TinError::Corrupt("past the end".into()))
-                };
-                let reader = s.reader(&mut fetch);
-                let b = t.bbox;
-                for l in 0..t.levels.len() {
-                    for k in 0..4 {
-                        let f = k as f64 / 3.0;
-                        let _ = tinmerge_core::merge::point::height_in(
-                            &reader,
-                            l,
-                            b.min_x + f * (b.max_x - b.min_x),
-                            b.min_y + (1.0 - f) * (b.max_y - b.min_y),
-                        );
-                    }
+        {
+            let mut fetch = |at: u64, len: usize| {
+                m.get(at as usize..at as usize + len)
+                    .map(|b| b.to_vec())
+                    .ok_or_else(|| tinmerge_core::tin::TinError::Corrupt("past the end".into()))
+            };
+            let reader = s.reader(&mut fetch);
+            let b = t.bbox;
+            for l in 0..t.levels.len() {
+                for k in 0..4 {
+                    let f = k as f64 / 3.0;
+                    let _ = tinmerge_core::merge::point::height_in(
+                        &reader,
+                        l,
+                        b.min_x + f * (b.max_x - b.min_x),
+                        b.min_y + (1.0 - f) * (b.max_y - b.min_y),
+                    );
                 }
             }
         }

@@ -5,8 +5,8 @@
 mod common;
 
 use std::time::Instant;
-use tinmerge_core::tin::build::{build, build_lattice, default_tolerances, BuildOptions};
-use tinmerge_core::tin::{layout, locate, Tin};
+use tinmerge_core::tin::build::{BuildOptions, build, build_lattice, default_tolerances};
+use tinmerge_core::tin::{Tin, layout, locate};
 
 /// Brute-force max |surface - sample| per level over all samples, by
 /// rasterising each triangle's bbox over the sample list sorted into rows.
@@ -76,7 +76,7 @@ fn lattice_samples(values: &[f64], w: usize, nodata: Option<f64>) -> Vec<[f64; 3
     values
         .iter()
         .enumerate()
-        .filter(|(_, &v)| !v.is_nan() && Some(v) != nodata)
+        .filter(|(_, v)| !v.is_nan() && Some(**v) != nodata)
         .map(|(i, &v)| [(i % w) as f64, (i / w) as f64, v])
         .collect()
 }

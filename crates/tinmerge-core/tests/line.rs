@@ -10,9 +10,9 @@ use geo::{BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, Pol
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
-use tinmerge_core::merge::line::{pieces, triangles, Part, Piece};
+use tinmerge_core::merge::line::{Part, Piece, pieces, triangles};
 use tinmerge_core::tin::build::build;
-use tinmerge_core::tin::{interpolate, Tin, NONE};
+use tinmerge_core::tin::{NONE, Tin, interpolate};
 
 use common::dem_tin;
 
@@ -452,9 +452,11 @@ fn parts_outside_the_domain_are_skipped() {
     let total: f64 = ps.iter().map(|p| p.length2d()).sum();
     assert!((total - 5.0).abs() < 1e-12, "{total}");
     // entirely outside
-    assert!(pieces(&tin, 0, &[Part::new(vec![[5.0, 5.0], [9.0, 7.0]])])
-        .unwrap()
-        .is_empty());
+    assert!(
+        pieces(&tin, 0, &[Part::new(vec![[5.0, 5.0], [9.0, 7.0]])])
+            .unwrap()
+            .is_empty()
+    );
     // crossing the domain from outside to outside, through corners
     compare(&tin, 0, &[[-1.0, -1.0], [5.0, 5.0]]);
     compare(&tin, 0, &[[-2.0, 1.0], [6.0, 3.0]]);
@@ -529,9 +531,9 @@ fn tree_of(parts: &[Vec<[f64; 2]>]) -> Vec<u8> {
 /// The line tree gives exactly what the plain walk gives: pieces, triangle
 /// sequences and widened-line triangles.
 fn same_through_tree(tin: &Tin, level: usize, parts: &[Vec<[f64; 2]>], width: f64) {
-    use tinmerge_core::merge::line::tree::{near_tree, walk_tree, View};
+    use tinmerge_core::merge::line::tree::{View, near_tree, walk_tree};
     use tinmerge_core::merge::line::widened::near_line;
-    use tinmerge_core::merge::line::{walk_parts, PieceSink, TriangleSink};
+    use tinmerge_core::merge::line::{PieceSink, TriangleSink, walk_parts};
     let bytes = tree_of(parts);
     let view = View::new(&bytes).unwrap();
     view.validate().unwrap();

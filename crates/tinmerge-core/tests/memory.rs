@@ -16,7 +16,7 @@ use common::read_dem;
 use tinmerge_core::io::raster;
 use tinmerge_core::merge::overlay::overlay;
 use tinmerge_core::tin::build::{
-    build, build_domain_raster, build_lattice, default_tolerances, BuildOptions,
+    BuildOptions, build, build_domain_raster, build_lattice, default_tolerances,
 };
 use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};

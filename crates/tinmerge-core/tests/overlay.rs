@@ -6,11 +6,11 @@
 mod common;
 
 use common::read_dem;
-use robust::{orient2d, Coord};
+use robust::{Coord, orient2d};
 use std::collections::{HashMap, HashSet};
-use tinmerge_core::merge::overlay::{difference, overlay, overlay_constrained, Overlay};
+use tinmerge_core::merge::overlay::{Overlay, difference, overlay, overlay_constrained};
 use tinmerge_core::tin::build::build;
-use tinmerge_core::tin::{interpolate, locate, Tin, NONE};
+use tinmerge_core::tin::{NONE, Tin, interpolate, locate};
 
 type P = [f64; 2];
 

@@ -9,7 +9,7 @@ mod common;
 use geo::{Coord, Intersects, Line, Point, Polygon, Triangle};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use tinmerge_core::merge::point::{footprint, height, locate, locate_descend, Rect};
+use tinmerge_core::merge::point::{Rect, footprint, height, locate, locate_descend};
 use tinmerge_core::tin::Tin;
 
 use common::terrains;

@@ -12,8 +12,8 @@
 mod common;
 
 use std::time::Instant;
-use tinmerge_core::tin::build::{build, build_points, default_tolerances};
 use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::build::{build, build_points, default_tolerances};
 
 /// xorshift, seeded: the same samples on every run.
 struct Rng(u64);

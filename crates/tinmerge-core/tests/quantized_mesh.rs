@@ -16,10 +16,10 @@ mod common;
 use std::collections::HashMap;
 use tinmerge_core::serve::quantized_mesh::{ecef, encode, needed, split_length};
 use tinmerge_core::serve::tiling::{
-    geometric_error, level_for_zoom, max_zoom, tile_bounds, tile_range, TileBounds,
+    TileBounds, geometric_error, level_for_zoom, max_zoom, tile_bounds, tile_range,
 };
 use tinmerge_core::tin::build::{build, default_tolerances};
-use tinmerge_core::tin::{Tin, NONE};
+use tinmerge_core::tin::{NONE, Tin};
 
 struct Decoded {
     min_h: f64,
@@ -164,11 +164,7 @@ fn clipped_area(tris: &[[[f64; 3]; 3]], tb: &TileBounds) -> f64 {
     tris.iter()
         .map(|t| {
             let p = clip_rect(t.iter().map(|p| [p[0], p[1]]).collect(), tb);
-            if p.len() < 3 {
-                0.0
-            } else {
-                area2(&p)
-            }
+            if p.len() < 3 { 0.0 } else { area2(&p) }
         })
         .sum()
 }
@@ -441,7 +437,11 @@ fn tiles_cover_the_level_and_hold_its_heights() {
                                 let near = hull
                                     .iter()
                                     .any(|e| seg_dist([p[0], p[1]], e[0], e[1]) <= 2.0 * ustep);
-                                assert!(near, "{} z{z} {x}/{y} vertex {i} at {p:?} is off the terrain, not by quantization on its edge", c.name);
+                                assert!(
+                                    near,
+                                    "{} z{z} {x}/{y} vertex {i} at {p:?} is off the terrain, not by quantization on its edge",
+                                    c.name
+                                );
                             }
                         }
                         checked += 1;
@@ -803,7 +803,7 @@ fn a_vertex_near_a_side_is_not_an_edge_vertex() {
 /// terrain's outer edge, never along a seam.
 #[test]
 fn tiled_terrain_is_one_mesh() {
-    use tinmerge_core::serve::quantized_mesh::{encode_many, Source};
+    use tinmerge_core::serve::quantized_mesh::{Source, encode_many};
     let d = common::read_dem("jacksboro_fault_dem.tif");
     let tols = default_tolerances(2.0, 3).unwrap();
     let tins: Vec<Tin> = common::tiles_of(&d, 150, &tols, 4326)
@@ -913,13 +913,19 @@ fn tiled_terrain_is_one_mesh() {
                                     .iter()
                                     .map(|e| seg_dist([p[0], p[1]], e[0], e[1]))
                                     .fold(f64::INFINITY, f64::min);
-                                assert!(dist <= 2.0 * ustep, "level {level} z{z} {x}/{y}: a wall at {p:?}, {dist} deg from the terrain's edge");
+                                assert!(
+                                    dist <= 2.0 * ustep,
+                                    "level {level} z{z} {x}/{y}: a wall at {p:?}, {dist} deg from the terrain's edge"
+                                );
                             }
                         }
                     }
                 }
             }
-            println!("tiled level {level} z{z}: {} duplicate positions (distinct vertices only by height)", seam_shared);
+            println!(
+                "tiled level {level} z{z}: {} duplicate positions (distinct vertices only by height)",
+                seam_shared
+            );
         }
     }
 }

@@ -9,12 +9,12 @@
 mod common;
 
 use common::{dem_tin, read_dem};
-use robust::{orient2d, Coord};
+use robust::{Coord, orient2d};
 use tinmerge_core::io::raster::GeoTransform;
 use tinmerge_core::merge::raster::patch::TinLevel;
 use tinmerge_core::merge::raster::stats::zonal_stats;
-use tinmerge_core::merge::raster::{sweep, PixelGrid};
-use tinmerge_core::tin::{Tin, NONE};
+use tinmerge_core::merge::raster::{PixelGrid, sweep};
+use tinmerge_core::tin::{NONE, Tin};
 
 const UNOWNED: u32 = u32::MAX;
 
@@ -32,11 +32,7 @@ fn moved_inside(t: [[f64; 2]; 3], p: [f64; 2]) -> bool {
         }
         // orient(u, v, p + (ε, ε²)) = ε (v - u) x (1, ε)
         let (dx, dy) = (v[0] - u[0], v[1] - u[1]);
-        if dy != 0.0 {
-            dy < 0.0
-        } else {
-            dx > 0.0
-        }
+        if dy != 0.0 { dy < 0.0 } else { dx > 0.0 }
     })
 }
 

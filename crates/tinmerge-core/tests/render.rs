@@ -5,8 +5,8 @@ mod common;
 
 use tinmerge_core::io::ewkb::Geom;
 use tinmerge_core::io::raster::{Band, GeoTransform, Raster};
-use tinmerge_core::render::gltf::{tin_glb, GlbOptions, Texture};
-use tinmerge_core::render::svg::{tin_svg, Fill, SvgOptions};
+use tinmerge_core::render::gltf::{GlbOptions, Texture, tin_glb};
+use tinmerge_core::render::svg::{Fill, SvgOptions, tin_svg};
 use tinmerge_core::tin::{Tin, TinError};
 
 fn ok() -> Result<(), TinError> {
@@ -200,24 +200,28 @@ fn glb_texture_is_the_raster_and_every_vertex_points_at_its_pixel() {
 #[test]
 fn bad_render_arguments_are_errors() {
     let t = common::dem_tin();
-    assert!(tin_glb(
-        &t,
-        0,
-        &GlbOptions {
-            texture: None,
-            z_factor: 0.0
-        }
-    )
-    .is_err());
-    assert!(tin_glb(
-        &t,
-        0,
-        &GlbOptions {
-            texture: None,
-            z_factor: f64::NAN
-        }
-    )
-    .is_err());
+    assert!(
+        tin_glb(
+            &t,
+            0,
+            &GlbOptions {
+                texture: None,
+                z_factor: 0.0
+            }
+        )
+        .is_err()
+    );
+    assert!(
+        tin_glb(
+            &t,
+            0,
+            &GlbOptions {
+                texture: None,
+                z_factor: f64::NAN
+            }
+        )
+        .is_err()
+    );
     assert!(matches!(
         tin_glb(&t, 99, &GlbOptions::default()),
         Err(TinError::LevelOutOfRange { .. })
@@ -252,16 +256,18 @@ fn bad_render_arguments_are_errors() {
     };
     let many: Vec<String> = (0..21).map(|i| format!("c{i}")).collect();
     let ids: Vec<i32> = (0..21).collect();
-    assert!(tin_svg(
-        &t,
-        0,
-        &opts(Fill::Classes {
-            triangles: &ids,
-            classes: &many
-        }),
-        &mut ok
-    )
-    .is_err());
+    assert!(
+        tin_svg(
+            &t,
+            0,
+            &opts(Fill::Classes {
+                triangles: &ids,
+                classes: &many
+            }),
+            &mut ok
+        )
+        .is_err()
+    );
     let wide = SvgOptions {
         width: 10,
         ..SvgOptions::default()

@@ -122,12 +122,12 @@ fn sliced_reads_answer_as_the_decoded_value() {
             }
             let (held, total) = s.blocks();
             eprintln!(
-            "{name}: {} points x {} levels read {held} of {total} groups ({} bytes held, {} fetched)",
-            pts.len(),
-            tin.levels.len(),
-            s.cached_bytes(),
-            fetched.get()
-        );
+                "{name}: {} points x {} levels read {held} of {total} groups ({} bytes held, {} fetched)",
+                pts.len(),
+                tin.levels.len(),
+                s.cached_bytes(),
+                fetched.get()
+            );
         }
     }
 }
@@ -185,7 +185,9 @@ fn a_damaged_block_is_an_error_never_an_answer() {
                 }
             }
         }
-        eprintln!("{fmt}: damaged groups or blocks: {errors} errors, {answers} right answers, no wrong one");
+        eprintln!(
+            "{fmt}: damaged groups or blocks: {errors} errors, {answers} right answers, no wrong one"
+        );
         assert!(errors > 0 && answers > 0);
     }
 }
@@ -207,7 +209,7 @@ fn format_1_is_not_read_in_slices() {
 
 #[test]
 fn lines_read_in_slices_cut_as_on_the_decoded_value() {
-    use tinmerge_core::merge::line::{pieces, pieces_in, walk_parts, Part, TriangleSink};
+    use tinmerge_core::merge::line::{Part, TriangleSink, pieces, pieces_in, walk_parts};
     let mut r = StdRng::seed_from_u64(0x11e5);
     for (tname, tin) in tins() {
         for (fmt, stored, unit) in formats(&tin) {
@@ -293,7 +295,7 @@ fn lines_read_in_slices_cut_as_on_the_decoded_value() {
 fn areas_read_in_slices_sweep_as_on_the_decoded_value() {
     use tinmerge_core::merge::area::polygon::Area;
     use tinmerge_core::merge::area::surface::{stats, volume};
-    use tinmerge_core::merge::area::{area_rows, sweep, Method};
+    use tinmerge_core::merge::area::{Method, area_rows, sweep};
     let mut r = StdRng::seed_from_u64(0xa4ea);
     for (tname, tin) in tins() {
         for (fmt, stored, unit) in formats(&tin) {
@@ -447,7 +449,7 @@ fn rasters(
 fn rasters_read_in_slices_merge_as_on_the_decoded_value() {
     use tinmerge_core::merge::raster::patch::{Patch, RasterLevel, TinLevel};
     use tinmerge_core::merge::raster::stats::{paint, weighted_stats, zonal_stats};
-    use tinmerge_core::merge::raster::{sweep, PixelGrid};
+    use tinmerge_core::merge::raster::{PixelGrid, sweep};
     let dems = [
         common::read_dem("jacksboro_fault_dem_utm16n.tif"),
         common::read_dem("jacksboro_fault_dem.tif"),

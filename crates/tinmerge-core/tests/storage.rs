@@ -5,7 +5,7 @@ use tinmerge_core::tin::build::build;
 use tinmerge_core::tin::layout::{
     self, body_offset, decode, encode, encode_v3, read_header, reseal,
 };
-use tinmerge_core::tin::{locate, Tin, TinError, NONE};
+use tinmerge_core::tin::{NONE, Tin, TinError, locate};
 
 fn sample_tin() -> Vec<u8> {
     encode(&sample())

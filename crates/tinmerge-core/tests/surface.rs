@@ -15,13 +15,13 @@ mod common;
 use common::Dem;
 use std::collections::HashSet;
 use tinmerge_core::merge::area::polygon::Area;
+use tinmerge_core::tin::Tin;
 use tinmerge_core::tin::build::{
-    build_domain_raster, build_lattice, default_tolerances, BuildOptions,
+    BuildOptions, build_domain_raster, build_lattice, default_tolerances,
 };
 use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
-use tinmerge_core::tin::Tin;
 
 /// A raster for the oracle: values (NaN without data), size, georeference.
 pub struct Raster {

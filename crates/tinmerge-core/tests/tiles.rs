@@ -15,8 +15,8 @@
 mod common;
 
 use tinmerge_core::merge::point::height;
-use tinmerge_core::tin::build::{build_with, default_tolerances, BuildOptions};
 use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::build::{BuildOptions, build_with, default_tolerances};
 
 /// Samples of the columns `c0..=c1` of the DEM.
 fn tile(d: &common::Dem, c0: usize, c1: usize) -> Vec<[f64; 3]> {
@@ -92,7 +92,9 @@ fn shared_border_column_gives_a_continuous_surface() {
     left.sanity_check().unwrap();
     right.sanity_check().unwrap();
     let (worst, points, off) = seam(&d, col, &left, &right);
-    eprintln!("keep_border: {points} seam points, worst |left - right| per level {worst:?}, worst |height - sample| {off:?}");
+    eprintln!(
+        "keep_border: {points} seam points, worst |left - right| per level {worst:?}, worst |height - sample| {off:?}"
+    );
     assert!(points > 500, "{points} seam points");
     let (x, _) = d.centre(col, 0);
     for (l, w) in worst.iter().enumerate() {
@@ -292,7 +294,9 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
                     for (l, &tol) in tols.iter().enumerate() {
                         let (ha, hb) = (height(a, l, p[0], p[1]), height(b, l, p[0], p[1]));
                         let (Some(ha), Some(hb)) = (ha, hb) else {
-                            panic!("{name}: seam sample ({c}, {r}) level {l} outside a tile: {ha:?} {hb:?}");
+                            panic!(
+                                "{name}: seam sample ({c}, {r}) level {l} outside a tile: {ha:?} {hb:?}"
+                            );
                         };
                         assert!(
                             (ha - hb).abs() <= 1e-9 && (ha - v).abs() <= tol + 1e-9,
@@ -359,10 +363,10 @@ fn shape(t: &Tin, l: usize, px: f64) -> Vec<([(i64, i64, u64); 3], Option<[(i64,
 /// without that border; misaligned tables are refused.
 #[test]
 fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
-    use rand::{seq::SliceRandom, SeedableRng};
+    use rand::{SeedableRng, seq::SliceRandom};
     use tinmerge_core::tin::lattice::Lattice;
     use tinmerge_core::tin::tiles::{
-        build_tile_kept, keep_border_samples, place_tiles, Block, Seams, SEAM_ROUNDS,
+        Block, SEAM_ROUNDS, Seams, build_tile_kept, keep_border_samples, place_tiles,
     };
     let n = 97;
     for (name, file, tol, srid) in [

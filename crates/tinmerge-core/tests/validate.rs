@@ -11,7 +11,7 @@ mod common;
 
 use tinmerge_core::tin::build::from_triangles;
 use tinmerge_core::tin::check::problems;
-use tinmerge_core::tin::{layout, Tin};
+use tinmerge_core::tin::{Tin, layout};
 
 /// A 2 x 2 square fanned around vertex 4 in the middle of its south side
 /// (1e-20 inside it: a stored triangle has a positive area, exactly), with

@@ -23,8 +23,8 @@
 //! the outer rings of polygons): tests/pg_regress/sql/line.sql compares its
 //! bytes with PostGIS's own through pageinspect.
 
-use super::ewkb::{Coord3, Ewkb, Geom};
 use super::IoError;
+use super::ewkb::{Coord3, Ewkb, Geom};
 
 /// What [`peek`] found.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -274,7 +274,7 @@ impl Cursor<'_> {
                 return Err(IoError::Unsupported(format!(
                     "unsupported geometry type {}",
                     type_name(t)
-                )))
+                )));
             }
             _ => return Err(bad(&format!("unknown geometry type number {t}"))),
         })
@@ -354,11 +354,7 @@ fn float_down(d: f64) -> f32 {
         return -f32::MAX;
     }
     let r = d as f32;
-    if r as f64 <= d {
-        r
-    } else {
-        r.next_down()
-    }
+    if r as f64 <= d { r } else { r.next_down() }
 }
 
 /// liblwgeom's `next_float_up`: the smallest float4 >= d.
@@ -370,11 +366,7 @@ fn float_up(d: f64) -> f32 {
         return -f32::MAX;
     }
     let r = d as f32;
-    if r as f64 >= d {
-        r
-    } else {
-        r.next_up()
-    }
+    if r as f64 >= d { r } else { r.next_up() }
 }
 
 /// Serialise `g` (with Z when `z`; a missing Z is written as NaN) as PostGIS

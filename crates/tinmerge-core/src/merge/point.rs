@@ -31,9 +31,9 @@
 use crate::geom::{co, segments_intersect};
 use crate::interrupt::Interrupt;
 use crate::tin::locate;
-use crate::tin::mesh::{infallible, Indexed};
-use crate::tin::{interpolate, Tin, TinError, NONE};
-use robust::{orient2d, Coord};
+use crate::tin::mesh::{Indexed, infallible};
+use crate::tin::{NONE, Tin, TinError, interpolate};
+use robust::{Coord, orient2d};
 use std::collections::HashSet;
 
 /// Triangle at `level` containing (x, y) (smallest id on shared edges and

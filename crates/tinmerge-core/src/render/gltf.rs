@@ -18,7 +18,7 @@
 //! assert_eq!(&glb[0..4], b"glTF");
 //! ```
 
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 use super::palette::Ramp;
 use crate::io::raster::{Band, Raster};

@@ -16,7 +16,7 @@ use crate::interrupt::{Interrupt, Ticker};
 use std::collections::HashMap;
 use std::fmt::Write;
 
-use super::palette::{hex, Ramp, Rgb, CLASSES};
+use super::palette::{CLASSES, Ramp, Rgb, hex};
 use crate::io::ewkb::{Coord3, Geom};
 use crate::tin::{Tin, TinError};
 

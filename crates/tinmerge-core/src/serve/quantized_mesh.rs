@@ -78,8 +78,8 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use super::tiling::TileBounds;
 use crate::interrupt::{Interrupt, Ticker};
 use crate::merge::area::polygon::Area;
-use crate::merge::area::{sweep, Method};
-use crate::tin::{Tin, TinError, NONE};
+use crate::merge::area::{Method, sweep};
+use crate::tin::{NONE, Tin, TinError};
 
 /// WGS 84 semi-major axis and flattening.
 const A: f64 = 6_378_137.0;

@@ -532,10 +532,10 @@ pub fn network(
         let before = segs.len();
         for p in &line.pts {
             let k = v.add(p[0], p[1], line.hard.then_some(p[2]))?;
-            if let Some(j) = prev {
-                if j != k {
-                    segs.push(([j, k], line.hard));
-                }
+            if let Some(j) = prev
+                && j != k
+            {
+                segs.push(([j, k], line.hard));
             }
             prev = Some(k);
         }

@@ -20,7 +20,7 @@
 //! a crack (its corner lies on the opposite edge, so the surface on the
 //! two sides of that edge disagrees).
 
-use super::{par, Tin, TinError, MAX_LEVELS, NONE};
+use super::{MAX_LEVELS, NONE, Tin, TinError, par};
 use crate::geom::vco;
 use crate::interrupt::Interrupt;
 use robust::{incircle, orient2d};
@@ -142,7 +142,7 @@ pub fn validate_structure_checked(
                     _ => {
                         return Err(bad(format!(
                             "level {l}: neighbour link {t} -> {nb} is not mirrored along the shared edge"
-                        )))
+                        )));
                     }
                 }
             }
@@ -325,7 +325,7 @@ impl Tin {
                         "level {l}: domain area {} differs from level 0's {}",
                         poly2 / 2.0,
                         d / 2.0
-                    )))
+                    )));
                 }
             }
             // children tile their parent
@@ -506,7 +506,7 @@ fn holes(tin: &Tin, l: usize, out: &mut Vec<Problem>) {
     let outer = cycles
         .iter()
         .enumerate()
-        .max_by(|x, y| x.1 .0.total_cmp(&y.1 .0))
+        .max_by(|x, y| x.1.0.total_cmp(&y.1.0))
         .map(|(i, _)| i);
     for (i, (area, tris)) in cycles.iter().enumerate() {
         if Some(i) != outer {

@@ -33,7 +33,7 @@
 //! ```
 
 use super::lattice::Lattice;
-use super::{TinError, NONE};
+use super::{NONE, TinError};
 use std::cell::RefCell;
 
 /// Triangles (and their neighbours and parents) per group.
@@ -492,11 +492,7 @@ pub fn encode_ids(ids: &[u32], plus_one: bool) -> Vec<u8> {
     let mut prev = 0i64;
     for &v in ids {
         let x = if plus_one {
-            if v == NONE {
-                0
-            } else {
-                v as i64 + 1
-            }
+            if v == NONE { 0 } else { v as i64 + 1 }
         } else {
             v as i64
         };
@@ -537,13 +533,13 @@ pub fn pack(coded: &[u8]) -> Vec<u8> {
             RefCell::new(zstd::bulk::Compressor::new(ZSTD_LEVEL).ok());
     }
     let z = Z.with(|z| z.borrow_mut().as_mut().map(|c| c.compress(coded)));
-    if let Some(Ok(z)) = z {
-        if z.len() < coded.len() {
-            let mut out = Vec::with_capacity(z.len() + 1);
-            out.push(1);
-            out.extend_from_slice(&z);
-            return out;
-        }
+    if let Some(Ok(z)) = z
+        && z.len() < coded.len()
+    {
+        let mut out = Vec::with_capacity(z.len() + 1);
+        out.push(1);
+        out.extend_from_slice(&z);
+        return out;
     }
     let mut out = Vec::with_capacity(coded.len() + 1);
     out.push(0);

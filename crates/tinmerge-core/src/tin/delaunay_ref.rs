@@ -26,8 +26,8 @@
 //! assert_eq!(seen, [[2.0, 0.0, 2.0]]);
 //! //! ```
 
-use super::surface::{Crossing, Reference};
 use super::TinError;
+use super::surface::{Crossing, Reference};
 use spade::{
     DelaunayTriangulation, FloatTriangulation, HasPosition, HierarchyHintGenerator, Intersection,
     LineIntersectionIterator, Point2, Triangulation,

@@ -5,7 +5,7 @@
 //! the domain, the hull triangle a walk towards it ended on), so point
 //! location starts next to the answer.
 
-use super::locate::{walk_raw, Walk};
+use super::locate::{Walk, walk_raw};
 use super::{Bbox, Grid, Level};
 
 /// Cells per level vertex aimed at.

@@ -17,7 +17,7 @@
 //! ```
 
 use super::mesh::Mesh;
-use super::{TinError, NONE};
+use super::{NONE, TinError};
 
 /// Neighbour links of a triangle list: `nbrs[t][j]` is the triangle across
 /// the edge of `t` opposite its corner `j`, or NONE. Edges are matched

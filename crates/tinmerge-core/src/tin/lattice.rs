@@ -20,7 +20,7 @@
 //! assert!(l.flips());            // rows run down: orientation flips
 //! ```
 
-use super::{grid, Bbox, Tin};
+use super::{Bbox, Tin, grid};
 
 /// Affine map of a raster: pixel (col, row)'s upper-left corner is
 /// `(ip_x + col*scale_x + row*skew_x, ip_y + col*skew_y + row*scale_y)`

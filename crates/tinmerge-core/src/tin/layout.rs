@@ -63,7 +63,7 @@ use super::compact::{self, Plan, Stream, VertexCoding};
 use super::hierarchy::child_starts;
 use super::lattice::Lattice;
 use super::par;
-use super::{Bbox, Grid, Level, Tin, TinError, MAX_LEVELS, NONE};
+use super::{Bbox, Grid, Level, MAX_LEVELS, NONE, Tin, TinError};
 use crate::interrupt::Interrupt;
 use xxhash_rust::xxh3::Xxh3;
 
@@ -217,7 +217,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         None => {
             return Err(corrupt(format!(
                 "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3}, {VERSION} and {VERSION_5})"
-            )))
+            )));
         }
     };
     let _flags = r.u16()?;

@@ -20,10 +20,10 @@
 //! wrapped by [`locate`], [`walk`], ...) and on a stored value read block by
 //! block ([`super::sliced`]).
 
-use super::mesh::{infallible, Indexed, LevelRef, Mesh};
-use super::{Level, Tin, NONE};
+use super::mesh::{Indexed, LevelRef, Mesh, infallible};
+use super::{Level, NONE, Tin};
 use crate::geom::vco;
-use robust::{orient2d, Coord};
+use robust::{Coord, orient2d};
 
 /// Outcome of a walk.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -6,7 +6,7 @@
 //! A decoded value never fails (`Err = Infallible`), and its accessors are
 //! the same array reads as before, so the decoded path costs nothing extra.
 
-use super::{Bbox, Level, Tin, NONE};
+use super::{Bbox, Level, NONE, Tin};
 use std::convert::Infallible;
 
 /// Triangles, neighbours and vertices of the levels of a triangulation.

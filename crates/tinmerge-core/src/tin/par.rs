@@ -74,10 +74,10 @@ static POOL: Mutex<Option<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
 /// cannot be started (the caller then runs serially).
 fn pool(n: usize) -> Option<Arc<rayon::ThreadPool>> {
     let mut slot = POOL.lock().ok()?;
-    if let Some((k, p)) = slot.as_ref() {
-        if *k == n {
-            return Some(p.clone());
-        }
+    if let Some((k, p)) = slot.as_ref()
+        && *k == n
+    {
+        return Some(p.clone());
     }
     let p = Arc::new(with_signals_blocked(|| {
         rayon::ThreadPoolBuilder::new()
@@ -119,10 +119,11 @@ fn with_signals_blocked<R>(f: impl FnOnce() -> R) -> R {
 /// one thread is set and there is more than one item, else in a loop.
 pub fn map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
     let n = threads();
-    if n > 1 && items.len() > 1 {
-        if let Some(p) = pool(n) {
-            return p.install(|| items.par_iter().map(&f).collect());
-        }
+    if n > 1
+        && items.len() > 1
+        && let Some(p) = pool(n)
+    {
+        return p.install(|| items.par_iter().map(&f).collect());
     }
     items.iter().map(f).collect()
 }

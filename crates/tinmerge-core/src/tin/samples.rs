@@ -1,7 +1,7 @@
 //! Source samples bucketed on a regular grid, so that the samples inside a
 //! triangle can be enumerated by scanning only the buckets it overlaps.
 
-use robust::{orient2d, Coord};
+use robust::{Coord, orient2d};
 
 /// Where a build's samples come from: the bucketed scattered samples
 /// ([`SampleGrid`]) or a window of a raster's pixel lattice

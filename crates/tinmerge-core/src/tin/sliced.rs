@@ -39,9 +39,9 @@
 //! ```
 
 use super::compact::{Group, Plan, Stream};
-use super::layout::{self, Header, LevelSections, BLOCK_PAYLOAD, HEADER_LEN_V4};
+use super::layout::{self, BLOCK_PAYLOAD, HEADER_LEN_V4, Header, LevelSections};
 use super::mesh::{Indexed, Mesh};
-use super::{Bbox, TinError, NONE};
+use super::{Bbox, NONE, TinError};
 use rustc_hash::FxHashMap as HashMap;
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
@@ -219,11 +219,11 @@ impl SlicedTin {
         for (i, piece) in bytes.chunks(unit as usize).enumerate() {
             let c = first + i as u64;
             let ends_value = c * unit + piece.len() as u64 == self.header.total_len;
-            if piece.len() as u64 == unit || ends_value {
-                if let std::collections::hash_map::Entry::Vacant(e) = units.entry(c) {
-                    self.cached.set(self.cached.get() + piece.len());
-                    e.insert(Rc::from(piece));
-                }
+            if (piece.len() as u64 == unit || ends_value)
+                && let std::collections::hash_map::Entry::Vacant(e) = units.entry(c)
+            {
+                self.cached.set(self.cached.get() + piece.len());
+                e.insert(Rc::from(piece));
             }
         }
     }

@@ -36,14 +36,14 @@
 //! assert_eq!(tiles.iter().map(|t| (t.0, t.1)).collect::<Vec<_>>(), [(0, 0), (1, 0), (0, 1), (1, 1)]);
 //! ```
 
+use super::NONE;
 #[cfg(doc)]
 use super::build::build_lattice_window;
-use super::build::{build_lattice_window_kept, Border, BuildOptions};
+use super::build::{Border, BuildOptions, build_lattice_window_kept};
 use super::dense::Dense;
 use super::lattice::Lattice;
 use super::par;
 use super::surface::{GridReference, Reference};
-use super::NONE;
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
 use std::ops::Range;
@@ -523,7 +523,14 @@ pub fn place_tiles(tiles: &[(Lattice, usize, usize)]) -> Result<TableGrid, TinEr
         {
             return bad(format!(
                 "tile {k} has pixel size ({}, {}) and skew ({}, {}), the first tile ({}, {}) and ({}, {}): the tiles must share one pixel grid (ST_SameAlignment)",
-                l.scale_x, l.scale_y, l.skew_x, l.skew_y, first.scale_x, first.scale_y, first.skew_x, first.skew_y
+                l.scale_x,
+                l.scale_y,
+                l.skew_x,
+                l.skew_y,
+                first.scale_x,
+                first.scale_y,
+                first.skew_x,
+                first.skew_y
             ));
         }
         // the tile's origin in pixels of the first tile's lattice
@@ -620,24 +627,24 @@ pub fn keep_border_samples(
     // the corner joins the border column to the border row: only with both
     let corner = corner.filter(|b| right.is_some() && below.is_some() && adjoins(b, w, h));
     let mut push = |b: &Block, c: usize, r: usize| {
-        if let Some(&v) = b.values.get(r * b.place.width + c) {
-            if (b.valid)(v) {
-                out.push([
-                    (b.place.col + c as i64) as f64,
-                    (b.place.row + r as i64) as f64,
-                    v,
-                ]);
-            }
+        if let Some(&v) = b.values.get(r * b.place.width + c)
+            && (b.valid)(v)
+        {
+            out.push([
+                (b.place.col + c as i64) as f64,
+                (b.place.row + r as i64) as f64,
+                v,
+            ]);
         }
     };
     for r in 0..p.height {
         for c in 0..p.width {
             push(own, c, r);
         }
-        if let Some(b) = right {
-            if r < b.place.height {
-                push(b, 0, r);
-            }
+        if let Some(b) = right
+            && r < b.place.height
+        {
+            push(b, 0, r);
         }
     }
     if let Some(b) = below {

@@ -4,8 +4,8 @@
 //! noise), seeded.
 #![allow(dead_code)]
 
-use rand::rngs::StdRng;
 use rand::Rng;
+use rand::rngs::StdRng;
 use tinmerge_core::tin::lattice::Lattice;
 
 /// A generated raster: lattice, size, values (NaN = nodata).

@@ -66,12 +66,12 @@ pub mod surface;
 use crate::geom::P2;
 use crate::geom::{co, tri_area};
 use crate::interrupt::{Interrupt, Ticker};
-use crate::merge::area::clip::{clipped_moments, Chain};
-use crate::merge::area::polygon::{segment_meets_open_triangle, Area, Where};
+use crate::merge::area::clip::{Chain, clipped_moments};
+use crate::merge::area::polygon::{Area, Where, segment_meets_open_triangle};
 use crate::merge::line::{Sink, Walker};
 use crate::tin::hierarchy::{children, descendants};
 use crate::tin::mesh::{Indexed, Mesh};
-use crate::tin::{TinError, NONE};
+use crate::tin::{NONE, TinError};
 use robust::orient2d;
 
 /// How the inside triangles are found (the last two are the baselines the
@@ -596,10 +596,10 @@ where
         }
         inside.sort_unstable();
         boundary.sort_unstable();
-        if l == level {
-            if let Some(pieces) = chains_at_level.take() {
-                out.chains = chains(pieces, &flags, area);
-            }
+        if l == level
+            && let Some(pieces) = chains_at_level.take()
+        {
+            out.chains = chains(pieces, &flags, area);
         }
         prev_boundary = boundary;
     }

@@ -27,8 +27,8 @@
 //! assert_eq!(a.locate([9.0, 2.0]), Where::Outside);
 //! ```
 
-use crate::geom::co;
 use crate::geom::P2;
+use crate::geom::co;
 use robust::orient2d;
 
 /// Where a point lies relative to the area (closed: the boundary belongs to
@@ -178,11 +178,7 @@ impl Area {
             return 0;
         }
         let k = ((y - self.strip_y0) / self.strip_h).floor();
-        if k <= 0.0 {
-            0
-        } else {
-            (k as usize).min(n - 1)
-        }
+        if k <= 0.0 { 0 } else { (k as usize).min(n - 1) }
     }
 
     fn each_segment_strips(&self, mut f: impl FnMut(usize, usize, usize, usize)) {

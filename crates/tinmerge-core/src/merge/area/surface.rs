@@ -31,12 +31,12 @@
 
 use crate::geom::P2;
 use crate::interrupt::{Interrupt, Ticker};
-use crate::merge::area::clip::{clip_chains, clip_convex, clipped_moments, Chain, Moments};
-use crate::merge::area::polygon::{Area, Where};
 use crate::merge::area::Sweep;
+use crate::merge::area::clip::{Chain, Moments, clip_chains, clip_convex, clipped_moments};
+use crate::merge::area::polygon::{Area, Where};
+use crate::tin::TinError;
 use crate::tin::hierarchy::descendants;
 use crate::tin::mesh::Mesh;
-use crate::tin::TinError;
 
 /// Statistics of the clipped surface.
 #[derive(Clone, Copy, Debug, PartialEq)]

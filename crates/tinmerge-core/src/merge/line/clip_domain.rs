@@ -22,7 +22,7 @@
 use geo::{BooleanOps, Contains, Coord, LineString, MultiPolygon, Point, Polygon};
 use rustc_hash::FxHashMap;
 
-use super::{pieces, runs, Part};
+use super::{Part, pieces, runs};
 use crate::geom::point_segment_nearest;
 use crate::merge::point;
 use crate::tin::{Tin, TinError};

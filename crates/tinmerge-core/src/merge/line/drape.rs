@@ -14,7 +14,7 @@
 //!   dropped, and `None` means nothing at all is left.
 
 use super::clip_domain::{drape_clipped, encloses_void};
-use super::{pieces, runs, Part};
+use super::{Part, pieces, runs};
 use crate::io::ewkb::Geom;
 use crate::merge::point;
 use crate::tin::{Tin, TinError};

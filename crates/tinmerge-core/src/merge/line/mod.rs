@@ -54,12 +54,12 @@ pub mod drape;
 pub mod tree;
 pub mod widened;
 
-use crate::geom::{co, dist, vco, P2};
+use crate::geom::{P2, co, dist, vco};
 use crate::interrupt::Interrupt;
 use crate::tin::locate;
 use crate::tin::mesh::{Indexed, Mesh};
-use crate::tin::{interpolate, Tin, TinError, NONE};
-use robust::{orient2d, Coord};
+use crate::tin::{NONE, Tin, TinError, interpolate};
+use robust::{Coord, orient2d};
 
 /// A polyline as the walker reads it: vertices and the planar distance of
 /// each from the first. Reads may fail (a stored line tree is checked as it
@@ -258,10 +258,11 @@ where
     /// End a part: a part that never moved but lies in the domain is
     /// reported as a single point in its triangle.
     pub fn end_part(&mut self, p0: P2, moved: bool) {
-        if !moved && !self.open {
-            if let Some(t) = self.cur {
-                self.emit(t, p0, 0.0);
-            }
+        if !moved
+            && !self.open
+            && let Some(t) = self.cur
+        {
+            self.emit(t, p0, 0.0);
         }
         self.sink.brk();
         self.cur = None;
@@ -707,19 +708,19 @@ where
                 f64::NAN
             }
         };
-        if self.open {
-            if let Some(last) = self.pieces.last_mut() {
-                if last.triangle == tri {
-                    if let Some(lp) = last.points.last() {
-                        if lp[0] == p[0] && lp[1] == p[1] {
-                            return;
-                        }
-                    }
-                    last.points.push([p[0], p[1], z]);
-                    last.along.push(along);
-                    return;
-                }
+        if self.open
+            && let Some(last) = self.pieces.last_mut()
+            && last.triangle == tri
+        {
+            if let Some(lp) = last.points.last()
+                && lp[0] == p[0]
+                && lp[1] == p[1]
+            {
+                return;
             }
+            last.points.push([p[0], p[1], z]);
+            last.along.push(along);
+            return;
         }
         self.pieces.push(Piece {
             part: self.part,

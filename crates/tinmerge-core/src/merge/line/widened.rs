@@ -10,12 +10,12 @@
 //! tolerance, not a topological decision); a triangle touched exactly at
 //! the distance counts.
 
-use super::{hull_edges_in, Polyline, Sink, Walker};
+use super::{Polyline, Sink, Walker, hull_edges_in};
 use crate::geom::P2;
 use crate::geom::{co, point_segment_distance};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::mesh::infallible;
-use crate::tin::{Tin, TinError, NONE};
+use crate::tin::{NONE, Tin, TinError};
 use robust::orient2d;
 use std::collections::HashMap;
 
@@ -254,7 +254,7 @@ impl<'a> Near<'a> {
         let mut v: Vec<(u64, f64, u32)> = self
             .found
             .iter()
-            .filter(|(&t, _)| !lv.is_void(t))
+            .filter(|(t, _)| !lv.is_void(**t))
             .map(|(&t, &(s, a))| (s, a, t))
             .collect();
         v.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));

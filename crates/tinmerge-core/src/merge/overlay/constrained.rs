@@ -9,7 +9,7 @@
 use super::output::Overlay;
 use crate::geom::{co, crossing, xy};
 use crate::interrupt::{Interrupt, Ticker};
-use crate::tin::{interpolate, locate, Tin, TinError, NONE};
+use crate::tin::{NONE, Tin, TinError, interpolate, locate};
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
 use spade::{

@@ -41,7 +41,7 @@ use super::output::Overlay;
 use crate::geom::{co, crossing, xy};
 
 use crate::interrupt::{Interrupt, Ticker};
-use crate::tin::{interpolate, locate, Level, Tin, TinError, NONE};
+use crate::tin::{Level, NONE, Tin, TinError, interpolate, locate};
 use robust::orient2d;
 use rustc_hash::FxHashMap;
 
@@ -792,9 +792,11 @@ mod tests {
             v[0] += 10.0;
         }
         b.bbox = crate::tin::Bbox::of(&b.verts);
-        assert!(overlay_faces(&a, 0, &b, 0, &mut || Ok(()))
-            .unwrap()
-            .tris
-            .is_empty());
+        assert!(
+            overlay_faces(&a, 0, &b, 0, &mut || Ok(()))
+                .unwrap()
+                .tris
+                .is_empty()
+        );
     }
 }

@@ -52,7 +52,7 @@ pub mod constrained;
 pub mod faces;
 mod output;
 
-pub use output::{difference, Overlay};
+pub use output::{Overlay, difference};
 
 use crate::interrupt::Interrupt;
 use crate::tin::{Tin, TinError};

@@ -27,9 +27,9 @@
 use crate::geom::xy;
 use crate::interrupt::Interrupt;
 use crate::merge::area::polygon::Area;
-use crate::merge::area::{sweep, Method};
+use crate::merge::area::{Method, sweep};
 use crate::tin::mesh::Indexed;
-use crate::tin::{Tin, TinError, NONE};
+use crate::tin::{NONE, Tin, TinError};
 
 /// A hull edge of the domain among the triangles of a [`RasterLevel`]:
 /// the triangle's position, the edge's vertex ids and positions, the

@@ -5,7 +5,7 @@
 
 use super::coverage::{check_grid, coverage_of};
 use super::patch::RasterLevel;
-use super::{sweep, sweep_par, PixelGrid};
+use super::{PixelGrid, sweep, sweep_par};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
 use crate::tin::TinError;

@@ -5,7 +5,7 @@ use super::common::*;
 use crate::interrupt::Interrupt;
 use crate::tin::hierarchy::{child_starts, compute_neighbours};
 
-use crate::tin::{grid, Bbox, Level, Tin, TinError, NONE};
+use crate::tin::{Bbox, Level, NONE, Tin, TinError, grid};
 
 /// Morton code of a point normalised to the bbox (16 bits per axis).
 pub(super) fn morton(b: &Bbox, x: f64, y: f64) -> u32 {
@@ -116,7 +116,7 @@ pub(super) fn assemble(
                     None => {
                         return Err(TinError::Degenerate(format!(
                             "internal: parent {p} of a triangle of level {l} does not exist"
-                        )))
+                        )));
                     }
                 }
             } else {

@@ -4,17 +4,17 @@
 use super::common::*;
 use crate::interrupt::Interrupt;
 use crate::tin::samples::Samples;
-use crate::tin::sides::{sample_key, seg_key, side_key, Pt, SegKey, SideKey, SidePlan};
+use crate::tin::sides::{Pt, SegKey, SideKey, SidePlan, sample_key, seg_key, side_key};
 use crate::tin::surface::Reference;
-use crate::tin::{interpolate, TinError, NONE};
-use spade::handles::FixedVertexHandle;
+use crate::tin::{NONE, TinError, interpolate};
 use spade::Point2;
+use spade::handles::FixedVertexHandle;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 #[derive(Clone, Copy)]
 pub(super) struct FaceState {
-    pub(super) gen: u32,
+    pub(super) generation: u32,
     /// the face's worst error (samples and free edges' crossings)
     pub(super) err: f64,
     pub(super) cand: u32,
@@ -46,7 +46,7 @@ pub(super) struct Measure {
 pub(super) struct Entry {
     pub(super) err: f64,
     pub(super) face: u32,
-    pub(super) gen: u32,
+    pub(super) generation: u32,
 }
 impl Eq for Entry {}
 impl PartialOrd for Entry {
@@ -59,7 +59,7 @@ impl Ord for Entry {
         self.err
             .total_cmp(&o.err)
             .then(o.face.cmp(&self.face))
-            .then(self.gen.cmp(&o.gen))
+            .then(self.generation.cmp(&o.generation))
     }
 }
 
@@ -309,7 +309,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             self.faces.resize(
                 idx + 1,
                 FaceState {
-                    gen: 0,
+                    generation: 0,
                     err: 0.0,
                     cand: NONE,
                     corner: 0,
@@ -318,7 +318,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             );
         }
         let st = &mut self.faces[idx];
-        st.gen = st.gen.wrapping_add(1);
+        st.generation = st.generation.wrapping_add(1);
         st.err = m.worst;
         st.cand = m.cand;
         st.corner = m.corner;
@@ -327,7 +327,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             self.heap.push(Entry {
                 err: m.best,
                 face: idx as u32,
-                gen: st.gen,
+                generation: st.generation,
             });
         }
     }
@@ -446,10 +446,10 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         let mut n = 0usize;
         loop {
             let top = self.heap.pop();
-            if let Some(t) = &top {
-                if self.faces[t.face as usize].gen != t.gen {
-                    continue;
-                }
+            if let Some(t) = &top
+                && self.faces[t.face as usize].generation != t.generation
+            {
+                continue;
             }
             let full = self.dt.num_vertices() >= max_vertices;
             if full || top.as_ref().is_none_or(|t| t.err <= tol) {
@@ -500,10 +500,10 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             // distinct samples, but never loop on it) is marked inserted;
             // its old face must be re-measured without it.
             let idx = top.face as usize;
-            if self.faces[idx].gen == st.gen {
-                if let Some(f) = self.dt.fixed_inner_faces().find(|f| f.index() == idx) {
-                    self.scan_face(f);
-                }
+            if self.faces[idx].generation == st.generation
+                && let Some(f) = self.dt.fixed_inner_faces().find(|f| f.index() == idx)
+            {
+                self.scan_face(f);
             }
         }
         self.raster_at = false;

@@ -4,7 +4,7 @@
 use crate::interrupt::Interrupt;
 use crate::tin::samples::c2;
 
-use crate::tin::{TinError, MAX_LEVELS};
+use crate::tin::{MAX_LEVELS, TinError};
 use robust::orient2d;
 use spade::{ConstrainedDelaunayTriangulation, DelaunayTriangulation, Point2, Triangulation};
 

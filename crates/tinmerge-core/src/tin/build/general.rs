@@ -5,9 +5,9 @@
 use super::builder::*;
 use super::common::*;
 use crate::tin::samples::SampleGrid;
-use crate::tin::sides::{close_chains, plan_side, Forced, Pt, SegKey, SideKey, SidePlan};
+use crate::tin::sides::{Forced, Pt, SegKey, SideKey, SidePlan, close_chains, plan_side};
 use crate::tin::surface::Reference;
-use crate::tin::{TinError, NONE};
+use crate::tin::{NONE, TinError};
 use spade::handles::FixedVertexHandle;
 
 /// Calls `f(slot, sample)` for every sample in a closed box

@@ -5,11 +5,11 @@ use super::builder::*;
 use super::common::*;
 use crate::interrupt::Interrupt;
 use crate::merge::area::polygon::{Area, Where};
-use crate::tin::breaklines::{clip_to_hull, drops_sample, network, profile, Breakline, Network};
-use crate::tin::samples::{c2, SampleGrid, Samples};
+use crate::tin::TinError;
+use crate::tin::breaklines::{Breakline, Network, clip_to_hull, drops_sample, network, profile};
+use crate::tin::samples::{SampleGrid, Samples, c2};
 use crate::tin::sides::choose_border;
 use crate::tin::surface::Reference;
-use crate::tin::TinError;
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
 use spade::{FloatTriangulation, Point2, Triangulation};
@@ -29,10 +29,10 @@ pub(super) fn sample_height(grid: &SampleGrid, x: f64, y: f64) -> Option<f64> {
         let mut n = 0usize;
         grid.for_each_in_box(x - r, y - r, x + r, y + r, |_, p| {
             n += 1;
-            if let Ok(h) = dt.insert(Point2::new(p[0], p[1])) {
-                if h.index() == zs.len() {
-                    zs.push(p[2]);
-                }
+            if let Ok(h) = dt.insert(Point2::new(p[0], p[1]))
+                && h.index() == zs.len()
+            {
+                zs.push(p[2]);
             }
         });
         if dt.num_vertices() >= 3 {
@@ -206,7 +206,7 @@ pub(super) fn with_breaklines(
         .pts
         .iter()
         .zip(&dropped)
-        .filter(|(_, &d)| !d)
+        .filter(|(_, d)| !**d)
         .map(|(p, _)| *p)
         .collect();
     drop(grid);
@@ -303,7 +303,7 @@ pub(super) fn add_network<S: Samples>(
                 }
                 side.iter()
                     .zip(&chosen)
-                    .filter(|(_, &c)| c)
+                    .filter(|(_, c)| **c)
                     .map(|(&i, _)| i)
                     .collect()
             }

@@ -53,11 +53,11 @@ mod parents;
 use self::assemble::*;
 use self::common::*;
 pub use self::common::{
-    check_tolerances, default_tolerances, prepare_samples, Border, BuildOptions, MAX_SAMPLES,
+    Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
 };
 use self::levels::*;
 pub(crate) use self::levels::{dense_hull, dense_of};
-use super::breaklines::{clip_to_hull, Breakline};
+use super::breaklines::{Breakline, clip_to_hull};
 use super::delaunay_ref::DelaunayReference;
 use super::dense::Dense;
 use super::lattice::Lattice;

@@ -9,9 +9,9 @@ use crate::interrupt::Interrupt;
 use crate::tin::dense::Dense;
 use crate::tin::hierarchy::compute_neighbours;
 use crate::tin::samples::{SampleGrid, Samples};
-use crate::tin::sides::{plan_side, sample_key, side_key, Forced, Pt, SideKey, SidePlan};
+use crate::tin::sides::{Forced, Pt, SideKey, SidePlan, plan_side, sample_key, side_key};
 use crate::tin::surface::Reference;
-use crate::tin::{TinError, NONE};
+use crate::tin::{NONE, TinError};
 
 /// The samples with data on the segment between samples `a` and `b` of a
 /// lattice, both ends included, in the segment's canonical order (from its

@@ -30,8 +30,8 @@ mod walk;
 pub use view::{Header, PartView, View};
 pub use walk::{near_tree, walk_tree};
 
-use crate::geom::point_segment_distance as seg_dist;
 use crate::geom::P2;
+use crate::geom::point_segment_distance as seg_dist;
 use crate::tin::TinError;
 
 /// Longest stretch (in original segments) a node may have without children.

@@ -1,7 +1,7 @@
 //! A stored line tree read in place: [`View`] checks the header, the size
 //! and the hash once, then every accessor checks what it reads.
 
-use super::{bad, farthest, hash, Node, HEADER_LEN, MAGIC, NODE_LEN, PART_LEN, VERSION};
+use super::{HEADER_LEN, MAGIC, NODE_LEN, Node, PART_LEN, VERSION, bad, farthest, hash};
 use crate::geom::P2;
 use crate::merge::line::Polyline;
 use crate::tin::TinError;

@@ -2,14 +2,14 @@
 //! capsule is not strictly inside the triangle the walk is in.
 
 use super::view::{PartView, View};
-use super::{bad, Node};
-use crate::geom::co;
+use super::{Node, bad};
 use crate::geom::P2;
+use crate::geom::co;
 use crate::interrupt::Interrupt;
-use crate::merge::line::widened::{walk_near, Near, Visited};
+use crate::merge::line::widened::{Near, Visited, walk_near};
 use crate::merge::line::{Polyline, Sink, Walker};
 use crate::tin::{Tin, TinError};
-use robust::{orient2d, Coord};
+use robust::{Coord, orient2d};
 
 /// Whether the capsule of radius `r` around segment pq lies strictly
 /// inside triangle `t` (conservative: a margin covers rounding).
