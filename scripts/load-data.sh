@@ -20,6 +20,11 @@ gdal_translate -q -srcwin 10 10 324 343 tests/data/jacksboro_fault_dem_utm16n.ti
   raster2pgsql -s 32616 -N -9999 "$win/window.tif" public.dem_window
   raster2pgsql -s 32616 -N -9999 -t 100x100 "$win/window.tif" public.window_tiles
 } 2>/dev/null | psqlc -q -d "$db" >/dev/null
+# a third grid for metric measures: the geographic DEM warped to CONUS
+# Albers (EPSG:5070) by gdalwarp, bilinear, 97.3 x 88.9 m pixels from the
+# fractional origin gdalwarp picks, nodata on the rotated border
+gdalwarp -q -t_srs EPSG:5070 -tr 97.3 88.9 -r bilinear -dstnodata -9999 tests/data/jacksboro_fault_dem.tif "$win/albers.tif"
+raster2pgsql -s 5070 -N -9999 "$win/albers.tif" public.dem_albers 2>/dev/null | psqlc -q -d "$db" >/dev/null
 rm -rf "$win"
 # Contour lines every 50 m (gdal_contour), as tables contours (the UTM DEM)
 # and contours_geo (the geographic one).

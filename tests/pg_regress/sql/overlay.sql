@@ -100,27 +100,62 @@ FROM o_out o JOIN o_pairs p USING (pair),
 GROUP BY 1 ORDER BY 1;
 -- surface difference: with itself nothing; a + 1 m against a: the
 -- domain's area in cut (to 1e-8: the overlay's slivers between the two
--- tins' vertices at grid-line crossings, a rounding apart); b against a: cut and fill against PostGIS's areas
--- of the parts of the overlay where a is above or below (sampled at
--- triangle centroids), to 1%
+-- tins' vertices at grid-line crossings, a rounding apart)
 SELECT d.cut, d.fill, d.area_changed FROM o_tins a, tin_difference(a.t, a.t) d WHERE a.name = 'a';
 SELECT abs(d.cut - ST_Area(ST_ConvexHull(tin_as_geometry(a.t)))) <= 1e-8 * ST_Area(ST_ConvexHull(tin_as_geometry(a.t))) AS cut_is_area,
        d.fill = 0 AS no_fill,
        abs(d.area_changed - ST_Area(ST_ConvexHull(tin_as_geometry(a.t)))) <= 1e-9 * ST_Area(ST_ConvexHull(tin_as_geometry(a.t))) AS all_changed
 FROM o_tins r, o_tins a, tin_difference(r.t, a.t) d WHERE r.name = 'raised' AND a.name = 'a';
-SELECT abs(d.cut - s.cut) <= 0.01 * s.cut AS cut_close, abs(d.fill - s.fill) <= 0.01 * s.fill AS fill_close
-FROM o_pairs p, tin_difference(p.ta, p.tb, 1, 1) d,
-     LATERAL (SELECT sum(greatest(dz, 0) * ST_Area(geom_a)) AS cut, sum(greatest(-dz, 0) * ST_Area(geom_a)) AS fill
-              FROM (SELECT geom_a, tin_height(p.ta, ST_Centroid(geom_a), 1) - tin_height(p.tb, ST_Centroid(geom_a), 1) AS dz
-                    FROM tin_overlay(p.ta, p.tb, 1, 1)) x) s
-WHERE p.pair = 'a/b@1';
--- the overlay as a tin: one level, its triangles, heights from a
-SELECT tin_num_levels(o) AS levels,
-       (SELECT count(*) FROM tin_triangles(o)) = (SELECT count(*) FROM o_out WHERE pair = 'a/b@1') AS same_triangles,
-       (SELECT max(abs(tin_height(o, g) - tin_height(a.t, g))) < 1e-6
-        FROM (SELECT ST_Centroid(geom_a) AS g FROM o_out WHERE pair = 'a/b@1' LIMIT 500) x) AS heights_of_a
-FROM o_tins a, o_tins b, LATERAL (SELECT tin_overlay_tin(a.t, b.t, 1, 1) AS o) x
-WHERE a.name = 'a' AND b.name = 'b';
+-- b and c against a, exactly: PostGIS cuts every triangle of a by every
+-- triangle of b it meets (ST_Intersection: convex pieces), and cut_fill
+-- (00_setup.sql) integrates max(z_a - z_b, 0) and max(z_b - z_a, 0) over
+-- each piece in closed form
+CREATE TABLE o_exact AS
+  SELECT p.pair, sum(cf.cut) AS cut, sum(cf.fill) AS fill, count(*) AS pieces
+  FROM o_pairs p
+  JOIN o_tri ta ON ta.pair = p.pair AND ta.side = 'a'
+  JOIN o_tri tb ON tb.pair = p.pair AND tb.side = 'b' AND ST_Intersects(ta.geom, tb.geom),
+  LATERAL (SELECT (ST_Dump(ST_CollectionExtract(ST_Intersection(ST_Force2D(ta.geom), ST_Force2D(tb.geom)), 3))).geom AS piece) x,
+  cut_fill(x.piece, ta.geom, tb.geom) cf
+  WHERE p.pair IN ('a/b@1', 'a/c@0')
+  GROUP BY 1;
+SELECT e.pair, e.pieces > 1000 AS many_pieces, e.cut > 0 AND e.fill > 0 AS both_ways,
+       abs(d.cut - e.cut) <= 1e-9 * (e.cut + e.fill) AS cut_exact,
+       abs(d.fill - e.fill) <= 1e-9 * (e.cut + e.fill) AS fill_exact
+FROM o_exact e JOIN o_pairs p USING (pair), tin_difference(p.ta, p.tb, p.level, p.level) d
+ORDER BY 1;
+-- the overlay as a tin (tin_overlay_tin): one level whose triangles PostGIS
+-- finds tile the common domain (area and union), each inside a triangle of
+-- a and of b (ST_Covers), holding every vertex of both in the domain, with
+-- the heights of a's plane there (plane_z of a triangle of a covering the
+-- corner)
+CREATE TABLE o_ot AS
+  SELECT tr.id, tr.geom FROM o_tins a, o_tins b, tin_triangles(tin_overlay_tin(a.t, b.t, 1, 1)) tr
+  WHERE a.name = 'a' AND b.name = 'b';
+CREATE INDEX ON o_ot USING gist (geom);
+CREATE INDEX ON o_tri USING gist (geom);
+ANALYZE o_ot;
+ANALYZE o_tri;
+SELECT (SELECT tin_num_levels(tin_overlay_tin(a.t, b.t, 1, 1)) FROM o_tins a, o_tins b WHERE a.name = 'a' AND b.name = 'b') AS levels,
+       count(*) > 0 AS some,
+       abs(sum(ST_Area(o.geom)) - ST_Area(d.geom)) <= 1e-9 * ST_Area(d.geom) AS area_is_domain,
+       abs(ST_Area(ST_Union(o.geom)) - sum(ST_Area(o.geom))) <= 1e-9 * ST_Area(d.geom) AS no_overlap,
+       count(*) FILTER (WHERE NOT EXISTS (SELECT 1 FROM o_tri t WHERE t.pair = 'a/b@1' AND t.side = 'a' AND t.geom && o.geom
+                                          AND ST_Covers(ST_Buffer(t.geom, 1e-6), o.geom))) AS outside_a,
+       count(*) FILTER (WHERE NOT EXISTS (SELECT 1 FROM o_tri t WHERE t.pair = 'a/b@1' AND t.side = 'b' AND t.geom && o.geom
+                                          AND ST_Covers(ST_Buffer(t.geom, 1e-6), o.geom))) AS outside_b
+FROM o_ot o, o_dom d WHERE d.pair = 'a/b@1' GROUP BY d.geom;
+CREATE TABLE o_otpts AS
+  SELECT DISTINCT ST_AsBinary(ST_Force2D(g)) AS k, g FROM (SELECT (ST_DumpPoints(geom)).geom AS g FROM o_ot) x;
+ANALYZE o_otpts;
+SELECT count(*) AS vertices,
+       count(*) FILTER (WHERE abs(ST_Z(v.g) - h.z) > 1e-6) AS heights_not_a,
+       count(*) FILTER (WHERE h.z IS NULL) AS not_on_a,
+       (SELECT count(*) FROM o_inpts i JOIN o_dom d USING (pair) LEFT JOIN o_otpts w USING (k)
+        WHERE i.pair = 'a/b@1' AND ST_Covers(d.geom, i.g) AND w.k IS NULL) AS input_vertices_missing
+FROM o_otpts v
+LEFT JOIN LATERAL (SELECT plane_z(t.geom, v.g) AS z FROM o_tri t WHERE t.pair = 'a/b@1' AND t.side = 'a'
+                   AND t.geom && ST_Expand(v.g, 1e-6) AND ST_DWithin(t.geom, v.g, 1e-6) LIMIT 1) h ON true;
 -- disjoint domains, NULLs, SRIDs
 SELECT (SELECT count(*) FROM tin_overlay(a.t, f.t)) AS disjoint_rows,
        tin_overlay_tin(a.t, f.t) IS NULL AS disjoint_tin,

@@ -125,16 +125,27 @@ SELECT round((sum(s.sum) * 90 * 90 / ST_Area(d.geom))::numeric, 9) AS weight_ove
 FROM terrain, dem, r_domain d,
      tin_raster_stats(t, ST_AddBand(ST_MakeEmptyRaster(rast), '32BF'::text, 1, NULL), 2, weighted => true) s
 GROUP BY d.geom;
--- tin_paint: the mean of each band over the pixels tin_raster_pixels hands
--- to the triangle with all three bands valid (colour map of the DEM: bands
--- 1-3 of RGBA)
-CREATE TABLE r_rgb AS SELECT ST_ColorMap(rast, 'bluered') AS rast FROM dem;
-SELECT count(*) AS triangles,
-       count(*) FILTER (WHERE abs(p.r - m.r) > 1e-9 OR abs(p.g - m.g) > 1e-9 OR abs(p.b - m.b) > 1e-9) AS differ,
-       count(*) FILTER (WHERE m.triangle IS NULL) AS extra
-FROM terrain, r_rgb, tin_paint(t, rast, 2) p
-LEFT JOIN (SELECT b1.triangle, avg(b1.value) AS r, avg(b2.value) AS g, avg(b3.value) AS b
-           FROM terrain, r_rgb, tin_raster_pixels(t, rast, 2, 1) b1
-           JOIN tin_raster_pixels(t, rast, 2, 2) b2 USING (triangle, col, "row")
-           JOIN tin_raster_pixels(t, rast, 2, 3) b3 USING (triangle, col, "row")
-           GROUP BY 1) m USING (triangle);
+-- tin_paint against PostGIS: the mean of each band over the valid pixel
+-- centres (ST_PixelAsCentroids) that ST_Contains puts in the triangle.
+-- The colour map of the DEM (bands 1-3 of RGBA) shifted by (0.37, 0.61) of
+-- a pixel, so that no centre lies on an edge (counted: on_edges) and the
+-- owner of every centre is the one triangle containing it
+CREATE TABLE r_rgb AS
+  SELECT ST_ColorMap(ST_SetUpperLeft(rast, ST_UpperLeftX(rast) + 0.37 * ST_ScaleX(rast), ST_UpperLeftY(rast) + 0.61 * ST_ScaleY(rast)), 'bluered') AS rast
+  FROM dem;
+CREATE TABLE r_rgb_px AS
+  SELECT b1.geom, b1.val AS r, b2.val AS g, b3.val AS b
+  FROM r_rgb, ST_PixelAsCentroids(rast, 1, true) b1
+  JOIN ST_PixelAsCentroids(rast, 2, true) b2 USING (x, y)
+  JOIN ST_PixelAsCentroids(rast, 3, true) b3 USING (x, y);
+CREATE TABLE r_rgb_owner AS
+  SELECT t.triangle, avg(p.r) AS r, avg(p.g) AS g, avg(p.b) AS b, count(*) AS n
+  FROM r_rgb_px p JOIN r_tris t ON t.level = 2 AND ST_Contains(t.geom, p.geom) GROUP BY 1;
+SELECT (SELECT count(*) FROM r_rgb_px p
+        WHERE EXISTS (SELECT 1 FROM r_tris t WHERE t.level = 2 AND ST_Intersects(t.geom, p.geom))
+          AND NOT EXISTS (SELECT 1 FROM r_tris t WHERE t.level = 2 AND ST_Contains(t.geom, p.geom))) AS on_edges,
+       count(*) AS triangles,
+       count(*) FILTER (WHERE p.triangle IS NULL OR m.triangle IS NULL) AS not_in_both,
+       count(*) FILTER (WHERE abs(p.r - m.r) > 1e-9 OR abs(p.g - m.g) > 1e-9 OR abs(p.b - m.b) > 1e-9) AS differ
+FROM (SELECT p.* FROM terrain, r_rgb, tin_paint(t, rast, 2) p) p
+FULL JOIN r_rgb_owner m USING (triangle);
