@@ -145,18 +145,26 @@ fn clip_segment(poly: &[P], p: P, q: P) -> Option<(P, P)> {
 
 const TOL: f64 = 1e-6; // metres, for points computed by two codes
 
+/// A metre in the tin's horizontal unit, near enough for thresholds: 1 for
+/// the projected grids, 1e-5 degree (about 1.1 m at the DEM's latitude) for
+/// the geographic one. Every length threshold below is in metres times it.
+fn unit(t: &Tin) -> f64 {
+    if t.srid == 4326 { 1e-5 } else { 1.0 }
+}
+
 struct Index<'a> {
     o: &'a Overlay,
+    unit: f64,
     cells: HashMap<(i64, i64), Vec<u32>>,
     adj: Vec<Vec<u32>>,
 }
 
 impl<'a> Index<'a> {
-    fn new(o: &'a Overlay) -> Self {
+    fn new(o: &'a Overlay, unit: f64) -> Self {
         let mut cells: HashMap<(i64, i64), Vec<u32>> = HashMap::new();
         for (i, p) in o.pts.iter().enumerate() {
             cells
-                .entry(((p[0]).floor() as i64, (p[1]).floor() as i64))
+                .entry(((p[0] / unit).floor() as i64, (p[1] / unit).floor() as i64))
                 .or_default()
                 .push(i as u32);
         }
@@ -168,17 +176,25 @@ impl<'a> Index<'a> {
                 adj[v as usize].push(u);
             }
         }
-        Index { o, cells, adj }
+        Index {
+            o,
+            unit,
+            cells,
+            adj,
+        }
     }
     fn find(&self, p: P) -> Option<u32> {
-        let (cx, cy) = (p[0].floor() as i64, p[1].floor() as i64);
+        let (cx, cy) = (
+            (p[0] / self.unit).floor() as i64,
+            (p[1] / self.unit).floor() as i64,
+        );
         let mut best: Option<(f64, u32)> = None;
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for &i in self.cells.get(&(cx + dx, cy + dy)).into_iter().flatten() {
                     let q = self.o.pts[i as usize];
                     let d = (q[0] - p[0]).hypot(q[1] - p[1]);
-                    if d <= TOL && best.is_none_or(|b| d < b.0) {
+                    if d <= TOL * self.unit && best.is_none_or(|b| d < b.0) {
                         best = Some((d, i));
                     }
                 }
@@ -210,7 +226,10 @@ impl<'a> Index<'a> {
                 let (wx, wy) = (q[0] - c[0], q[1] - c[1]);
                 let forward = wx * dir[0] + wy * dir[1];
                 let off = (q[0] - s[0]) * dir[1] - (q[1] - s[1]) * dir[0];
-                if forward > 0.0 && off.abs() <= TOL && next.is_none_or(|n| forward < n.0) {
+                if forward > 0.0
+                    && off.abs() <= TOL * self.unit
+                    && next.is_none_or(|n| forward < n.0)
+                {
                     next = Some((forward, v));
                 }
             }
@@ -278,19 +297,20 @@ fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
     }
 
     // every input edge, clipped, is a chain of output edges
-    let idx = Index::new(o);
+    let m = unit(a);
+    let idx = Index::new(o, m);
     for (t, l) in [(a, la), (b, lb)] {
         for (p, q) in edges(t, l) {
             if let Some((s, e)) = clip_segment(&dom, p, q) {
                 let len = (e[0] - s[0]).hypot(e[1] - s[1]);
-                if len < 1e-3 {
+                if len < 1e-3 * m {
                     continue;
                 }
                 let covered = idx
                     .follow(s, e)
                     .unwrap_or_else(|m| panic!("edge {p:?}-{q:?}: {m}"));
                 assert!(
-                    (covered - len).abs() <= 1e-6 * len.max(1.0),
+                    (covered - len).abs() <= 1e-6 * len.max(m),
                     "edge {p:?}-{q:?}: {covered} of {len}"
                 );
             }
@@ -308,7 +328,7 @@ fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
                     let d = ((w[0] - u[0]) * (p[1] - u[1]) - (w[1] - u[1]) * (p[0] - u[0]))
                         / (w[0] - u[0]).hypot(w[1] - u[1]);
                     assert!(
-                        d >= -1e-7,
+                        d >= -1e-7 * m,
                         "output triangle {t} pokes out of its owner by {d}"
                     );
                 }
@@ -406,6 +426,45 @@ fn overlay_of_builds_between_samples_on_one_grid() {
                 check_one(x, la, y, lb, &o);
             }
         }
+    }
+}
+
+/// The topology checks of [`check_one`] on the geographic DEM (degrees:
+/// its thresholds scale by [`unit`]), both paths: other tolerances on the
+/// same samples, a copy shifted by a fraction of a pixel, and one shifted
+/// by 25 pixels (partial overlap). Unlike on the UTM DEM, the faces path
+/// refuses most of these pairs today ("face vertices not in strict angular
+/// order") and `overlay` answers by the constrained path, about 4x slower:
+/// the answer is checked, the refusal is not asserted (a known gap of the
+/// faces path, not of the answer).
+#[test]
+fn overlay_on_the_geographic_dem() {
+    let file = "jacksboro_fault_dem.tif";
+    let geo = |dx: f64, dy: f64, tols: &[f64]| {
+        build(
+            window_of(file, 120, 150, 60, dx, dy, 0.0),
+            tols,
+            4326,
+            &mut || Ok(()),
+        )
+        .unwrap()
+    };
+    let a = geo(0.0, 0.0, &[6.0, 2.0]);
+    let b = geo(0.0, 0.0, &[4.0, 1.5]);
+    let c = geo(0.37, 0.61, &[6.0, 2.0]);
+    let d = geo(25.0, 13.5, &[6.0, 2.0]);
+    for (x, la, y, lb) in [
+        (&a, 0, &b, 0),
+        (&a, 1, &b, 1),
+        (&a, 0, &b, 1),
+        (&a, 1, &c, 1),
+        (&a, 1, &d, 0),
+    ] {
+        let o = overlay_constrained(x, la, y, lb, &mut || Ok(())).unwrap();
+        check_one(x, la, y, lb, &o);
+        let o = overlay(x, la, y, lb, &mut || Ok(())).unwrap();
+        check_one(x, la, y, lb, &o);
+        assert!(o.crossings > 0);
     }
 }
 
