@@ -3,7 +3,7 @@
 //! either side of the height, a corner at the height counting as above),
 //! summed per height; the plane's gradient by Cramer's rule. Both bundled
 //! DEMs (UTM and geographic), every level.
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use tinmerge_core::analysis::contour::contours;

@@ -6,7 +6,7 @@
 //! bundled DEM (multipolygons with holes), seeded random star polygons with
 //! holes, and hand-made polygons along the triangle edges of a grid TIN.
 
-mod common;
+use crate::common;
 
 use common::dem_tin;
 use geo::orient::{Direction, Orient};

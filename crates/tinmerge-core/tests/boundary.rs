@@ -18,7 +18,7 @@
 //!   ∩ the other tin's hull;
 //! - the value survives encode/decode (format 5) and the hierarchy's
 //!   invariants hold (`sanity_check`, `check::problems`).
-mod common;
+use crate::common;
 
 use common::{Dem, edge_on, read_dem};
 use geo::{

@@ -18,7 +18,7 @@
 //! The lines are seeded random polylines (crossing each other, hard and
 //! soft), a soft line through a row of pixel centres, a soft line ending on
 //! a hard one (a T-junction within rounding) and two overlapping lines.
-mod common;
+use crate::common;
 
 use common::{Dem, along, edge_on, read_dem};
 use rand::rngs::StdRng;

@@ -8,8 +8,7 @@
 //! - the largest gap between two checks over a full run is printed (not
 //!   asserted: shared machines are noisy): that gap bounds how long a cancel
 //!   waits. docs/reliability.md quotes it.
-#[path = "common/mod.rs"]
-mod common;
+use crate::common;
 
 use std::time::Instant;
 use tinmerge_core::interrupt::Interrupt;

@@ -4,7 +4,7 @@
 //! lone pixels: the rings' area equals the blocks' (squares plus half
 //! triangles), and random points are inside the rings (crossing number)
 //! exactly when the block rule puts them in the domain.
-mod common;
+use crate::common;
 
 use rand::{Rng, SeedableRng};
 use tinmerge_core::tin::domain::{LatticePoint, ring_area2, valid_outline};

@@ -16,7 +16,7 @@
 //!   the triangles cover exactly the hull's area;
 //! - every triangle lies in its parent; every valid pixel is within the
 //!   level's tolerance of the surface.
-mod common;
+use crate::common;
 
 use common::grids::{Grid, generate};
 use rand::SeedableRng;

@@ -7,7 +7,7 @@
 //! the stored format must come with a new format version and keep reading
 //! these.
 
-mod common;
+use crate::common;
 
 use common::{data_path, read_dem};
 use tinmerge_core::merge::line::tree;
@@ -100,7 +100,7 @@ fn linetree_stored_by_format_1_still_reads() {
 
 /// Writes the format-1 fixtures where they are missing, by the format-1
 /// writers (`layout::encode_v1`; the linetree's format is still 1), never
-/// over the stored ones: `cargo test --release --test format -- --ignored`.
+/// over the stored ones: `cargo test --release --test core format:: -- --ignored`.
 /// (It wrote the current tin format into `format-v1/` before.)
 #[test]
 #[ignore]

@@ -6,9 +6,8 @@
 //!
 //! Seeded, so a failure reproduces. `TINMERGE_FUZZ_ITERS` (default 4000
 //! per target) sets the length of a run; `TINMERGE_FUZZ_SEED` the seed.
-//! A long run: `TINMERGE_FUZZ_ITERS=200000 cargo test --release --test fuzz`.
-#[path = "common/mod.rs"]
-mod common;
+//! A long run: `TINMERGE_FUZZ_ITERS=200000 cargo test --release --test core fuzz::`.
+use crate::common;
 
 use rand::rngs::StdRng;
 use rand::{Rng as _, SeedableRng};

@@ -2,7 +2,7 @@
 //! checked with oracles independent of the build: errors by a brute-force
 //! scan of every valid pixel against every triangle, plus the invariant
 //! checker and an encode/decode round trip.
-mod common;
+use crate::common;
 
 use std::time::Instant;
 use tinmerge_core::tin::build::{BuildOptions, build, build_lattice, default_tolerances};

@@ -4,7 +4,7 @@
 //! on small synthetic terrains for the edge cases (along an edge, through a
 //! vertex, ends on an edge, zero-length segments, repeated points, closed
 //! ring, partly outside).
-mod common;
+use crate::common;
 
 use geo::{BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, Polygon};
 use rand::rngs::StdRng;

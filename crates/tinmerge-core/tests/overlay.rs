@@ -3,7 +3,7 @@
 //! clipper of the test's own, exact orientation tests, and heights from
 //! point location in the inputs.
 
-mod common;
+use crate::common;
 
 use common::read_dem;
 use robust::{Coord, orient2d};

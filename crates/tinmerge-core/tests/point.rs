@@ -4,7 +4,7 @@
 //! (after an exact bounding-box bucket) with `geo`'s predicates; heights come
 //! from the plane through the oracle's triangle by a cross product; footprints
 //! are `geo::Intersects` between each triangle and the rectangle.
-mod common;
+use crate::common;
 
 use geo::{Coord, Intersects, Line, Point, Polygon, Triangle};
 use rand::rngs::StdRng;

@@ -9,7 +9,7 @@
 //! interpolation in each triangle); the bound between the samples is
 //! checked against an independent Delaunay triangulation (matplotlib's
 //! qhull) by `tests/properties/check_points_between.py`, in SQL.
-mod common;
+use crate::common;
 
 use std::time::Instant;
 use tinmerge_core::tin::Tin;

@@ -11,7 +11,7 @@
 //! there (brute-force point location) within the quantization; the edge
 //! vertices of neighbouring tiles coincide; the header's bounds and sphere
 //! hold every vertex; normals point up; fill covers the whole tile.
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use tinmerge_core::serve::quantized_mesh::{ecef, encode, needed, split_length};

@@ -6,7 +6,7 @@
 //! edges and vertices everywhere), a 4x finer grid, a shifted partial copy
 //! with nodata, and a south-up copy.
 
-mod common;
+use crate::common;
 
 use common::{dem_tin, read_dem};
 use robust::{Coord, orient2d};

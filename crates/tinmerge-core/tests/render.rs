@@ -1,7 +1,7 @@
 //! Pictures of the real DEM's tin, read back by independent readers: the
 //! `gltf` crate (with the `image` crate decoding the embedded PNG) for the
 //! glb meshes, `roxmltree` for the SVG documents.
-mod common;
+use crate::common;
 
 use tinmerge_core::io::ewkb::Geom;
 use tinmerge_core::io::raster::{Band, GeoTransform, Raster};

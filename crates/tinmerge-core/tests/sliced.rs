@@ -2,7 +2,7 @@
 //! reads a small part of it, and reports a damaged block instead of
 //! answering from it. Both bundled DEMs (UTM and geographic), every level,
 //! points inside, outside, on vertices and on edges.
-mod common;
+use crate::common;
 
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};

@@ -10,7 +10,7 @@
 //! between two valid pixel centres (and every vertex that lies on one),
 //! the edge's own heights against the two pixels' line. At every level the
 //! error there is within the level's tolerance.
-mod common;
+use crate::common;
 
 use common::Dem;
 use std::collections::HashSet;

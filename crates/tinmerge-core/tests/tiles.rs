@@ -12,7 +12,7 @@
 //! at the coarse levels persisted into the finest (3.6x the triangles of a
 //! free build on the 105-megapixel benchmark's tiles, draped lines 1.65x as
 //! long as on the raster); the test bounds the extra triangles.
-mod common;
+use crate::common;
 
 use tinmerge_core::merge::point::height;
 use tinmerge_core::tin::Tin;

@@ -7,7 +7,7 @@
 //! current format), which pg_regress `validate_problems.sql` reads through
 //! `tin_validate` and checks with PostGIS; this test fails when those files
 //! are not these values.
-mod common;
+use crate::common;
 
 use tinmerge_core::tin::build::from_triangles;
 use tinmerge_core::tin::check::problems;
@@ -118,7 +118,7 @@ fn each_problem_is_found_on_the_value_made_to_have_it() {
 }
 
 /// The fixtures pg_regress reads are these values (written when missing:
-/// `cargo test --release --test validate -- --ignored`).
+/// `cargo test --release --test core validate:: -- --ignored`).
 #[test]
 fn the_regress_fixtures_are_these_values() {
     for (name, tin, _) in cases() {
