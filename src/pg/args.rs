@@ -31,7 +31,7 @@ impl GeomArg {
     /// check; an ERROR naming the type for anything but a point.
     pub fn point_xy(&self, tin_srid: i32, func: &str) -> Option<[f64; 2]> {
         let p = gserialized::peek(self.bytes()).or_raise();
-        check_srid(p.srid, tin_srid, func, p.point.flatten());
+        check_srid(p.srid, tin_srid, func, "pt", p.point.flatten());
         if p.has_m {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -91,7 +91,7 @@ fn not_a_point(func: &str, type_name: &str) -> ! {
 /// longitude/latitude point on a UTM tin). `at`: a coordinate of the
 /// geometry, for the hint when it has none and looks like longitude and
 /// latitude.
-pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str, at: Option<[f64; 2]>) {
+pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str, arg: &str, at: Option<[f64; 2]>) {
     if geom_srid == tin_srid {
         return;
     }
@@ -100,25 +100,25 @@ pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str, at: Option<[f64; 2]
         let lonlat = at.is_some_and(|p| p[0].abs() <= 180.0 && p[1].abs() <= 90.0);
         raise_hint(
             code,
-            format!("{func}: the geometry has no SRID (0) but the tin has SRID {tin_srid}"),
+            format!("{func}: {arg} has no SRID (0) but the tin has SRID {tin_srid}"),
             if lonlat && tin_srid != 4326 {
-                format!("its coordinates look like longitude and latitude: ST_Transform(ST_SetSRID(geom, 4326), {tin_srid}); if they are in the tin's SRID already, ST_SetSRID(geom, {tin_srid})")
+                format!("its coordinates look like longitude and latitude: ST_Transform(ST_SetSRID({arg}, 4326), {tin_srid}); if they are in the tin's SRID already, ST_SetSRID({arg}, {tin_srid})")
             } else {
-                format!("give it the tin's SRID with ST_SetSRID(geom, {tin_srid}) if its coordinates are in it, or ST_Transform(ST_SetSRID(geom, srid), {tin_srid}) from the SRID they are in")
+                format!("give it the tin's SRID with ST_SetSRID({arg}, {tin_srid}) if its coordinates are in it, or ST_Transform(ST_SetSRID({arg}, srid), {tin_srid}) from the SRID they are in")
             },
         );
     }
     if tin_srid == 0 {
         raise_hint(
             code,
-            format!("{func}: the geometry has SRID {geom_srid} but the tin has none (0)"),
-            "build the tin from samples with an SRID, or query it with ST_SetSRID(geom, 0)",
+            format!("{func}: {arg} has SRID {geom_srid} but the tin has none (0)"),
+            format!("build the tin from samples with an SRID, or query it with ST_SetSRID({arg}, 0)"),
         );
     }
     raise(
         code,
         format!(
-            "{func}: geometry has SRID {geom_srid} but the tin has SRID {tin_srid}; transform it first, e.g. ST_Transform(geom, {tin_srid})"
+            "{func}: {arg} has SRID {geom_srid} but the tin has SRID {tin_srid}; transform it first, e.g. ST_Transform({arg}, {tin_srid})"
         ),
     );
 }

@@ -205,7 +205,7 @@ fn tin_level_tree<'a>(
     let tin = t.tin();
     let l = tin.level_index(level).or_raise();
     let v = lt.view();
-    check_srid(v.header.srid, tin.srid, func, None);
+    check_srid(v.header.srid, tin.srid, func, "line", None);
     (tin, l, v)
 }
 

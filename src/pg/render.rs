@@ -86,6 +86,7 @@ fn _tin_as_svg(
             g.srid,
             tin.srid,
             "tin_as_svg",
+            "features",
             super::args::first_xy(&g.geom),
         );
         g
