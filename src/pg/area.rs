@@ -31,7 +31,13 @@ use tinmerge_core::tin::Bbox;
 /// (PostGIS's verdict, unless the polygon is one strictly convex ring)
 /// checked, coordinates finite.
 fn area_arg(g: Ewkb, validity: &dyn Fn() -> Option<String>, tin_srid: i32, func: &str) -> Area {
-    check_srid(g.srid, tin_srid, func, "area", super::args::first_xy(&g.geom));
+    check_srid(
+        g.srid,
+        tin_srid,
+        func,
+        "area",
+        super::args::first_xy(&g.geom),
+    );
     let polys = match g.geom {
         Geom::Polygon(p) => vec![p],
         Geom::MultiPolygon(ps) => ps,

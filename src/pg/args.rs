@@ -112,7 +112,9 @@ pub fn check_srid(geom_srid: i32, tin_srid: i32, func: &str, arg: &str, at: Opti
         raise_hint(
             code,
             format!("{func}: {arg} has SRID {geom_srid} but the tin has none (0)"),
-            format!("build the tin from samples with an SRID, or query it with ST_SetSRID({arg}, 0)"),
+            format!(
+                "build the tin from samples with an SRID, or query it with ST_SetSRID({arg}, 0)"
+            ),
         );
     }
     raise(

@@ -27,7 +27,13 @@ use tinmerge_core::tin::{check_xy, Tin, TinError};
 /// coordinates finite); an ERROR naming the type for anything else.
 pub(crate) fn line_parts(bytes: &[u8], tin_srid: i32, func: &str) -> Vec<Part> {
     let g = ewkb::read(bytes).or_raise();
-    check_srid(g.srid, tin_srid, func, "line", super::args::first_xy(&g.geom));
+    check_srid(
+        g.srid,
+        tin_srid,
+        func,
+        "line",
+        super::args::first_xy(&g.geom),
+    );
     let lines: Vec<&Vec<[f64; 3]>> = match &g.geom {
         Geom::LineString(l) => vec![l],
         Geom::MultiLineString(ls) => ls.iter().collect(),
