@@ -1,0 +1,355 @@
+//! Reading a stored value's header, and where its sections and blocks lie.
+
+use crate::tin::compact::VertexCoding;
+use crate::tin::lattice::Lattice;
+use crate::tin::{Bbox, MAX_LEVELS, TinError};
+use xxhash_rust::xxh3::Xxh3;
+
+pub const MAGIC: &[u8; 4] = b"TINM";
+/// The format version [`encode`] writes.
+pub const VERSION: u16 = 4;
+/// Format 4 with void triangles (a domain that is not the convex hull):
+/// written when a level has any, so that a reader of format 4 refuses it.
+pub const VERSION_5: u16 = 5;
+/// Formats 4 and 5 (compact, in groups).
+pub fn is_compact(version: u16) -> bool {
+    version == VERSION || version == VERSION_5
+}
+/// Format 3: the body of format 1 in checksummed blocks.
+pub const VERSION_3: u16 = 3;
+/// The first format: the body unblocked, one hash for the whole value.
+pub const VERSION_1: u16 = 1;
+pub const LEVEL_RECORD: usize = 48;
+/// Length of the version-1 header (the fields common to every version).
+pub const FIXED_LEN: usize = 88 + MAX_LEVELS * LEVEL_RECORD;
+/// Length of a version-3 header (the fixed fields and the header hash).
+pub const HEADER_LEN_V3: usize = FIXED_LEN + 8;
+/// Length of a version-4 header (the fixed fields, the lattice, the
+/// vertex coding and the header hash).
+pub const HEADER_LEN_V4: usize = FIXED_LEN + 48 + 8 + 8;
+/// Bytes that hold the header of any version. Every value is longer than
+/// this.
+pub const HEADER_LEN: usize = HEADER_LEN_V4;
+/// Body bytes per version-3 block (two PostgreSQL TOAST chunks, about).
+pub const BLOCK_PAYLOAD: usize = 4080;
+/// A version-3 block as stored: payload and checksum.
+pub const BLOCK_LEN: usize = BLOCK_PAYLOAD + 8;
+
+/// Per-level summary stored in the header.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelInfo {
+    pub tolerance: f64,
+    pub max_error: f64,
+    pub num_triangles: u32,
+    pub num_vertices: u32,
+    pub grid_nx: u32,
+    pub grid_ny: u32,
+    pub grid_cell: f64,
+    /// Version 5: the level's last `num_void` triangles are void.
+    pub num_void: u32,
+}
+
+/// The fixed header, readable from the first [`HEADER_LEN`] bytes alone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Header {
+    /// Format version (1, 3 or 4).
+    pub version: u16,
+    pub srid: i32,
+    pub num_vertices: u32,
+    pub total_len: u64,
+    pub hash: u64,
+    pub bbox: Bbox,
+    pub levels: Vec<LevelInfo>,
+    /// Version 4: the raster lattice the vertices are coded on.
+    pub lattice: Option<Lattice>,
+    /// Version 4: how the vertices are coded (versions 1 and 3: raw).
+    pub vertex_coding: VertexCoding,
+}
+
+impl Header {
+    pub fn num_levels(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// Per level: triangles and grid cells.
+    pub fn level_counts(&self) -> Vec<(usize, usize)> {
+        self.levels
+            .iter()
+            .map(|l| {
+                (
+                    l.num_triangles as usize,
+                    l.grid_nx as usize * l.grid_ny as usize,
+                )
+            })
+            .collect()
+    }
+}
+
+pub(super) fn corrupt(s: impl Into<String>) -> TinError {
+    TinError::Corrupt(s.into())
+}
+
+pub(super) struct Rd<'a> {
+    pub(super) b: &'a [u8],
+    pub(super) pos: usize,
+}
+
+impl<'a> Rd<'a> {
+    pub(super) fn take(&mut self, n: usize) -> Result<&'a [u8], TinError> {
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.b.len());
+        match end {
+            Some(e) => {
+                let s = &self.b[self.pos..e];
+                self.pos = e;
+                Ok(s)
+            }
+            None => Err(corrupt(format!(
+                "truncated: needs {} bytes at offset {}, value has {}",
+                n,
+                self.pos,
+                self.b.len()
+            ))),
+        }
+    }
+    pub(super) fn u16(&mut self) -> Result<u16, TinError> {
+        let s = self.take(2)?;
+        Ok(u16::from_le_bytes([s[0], s[1]]))
+    }
+    pub(super) fn u32(&mut self) -> Result<u32, TinError> {
+        let s = self.take(4)?;
+        Ok(u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+    }
+    pub(super) fn u64(&mut self) -> Result<u64, TinError> {
+        let s = self.take(8)?;
+        let mut a = [0u8; 8];
+        a.copy_from_slice(s);
+        Ok(u64::from_le_bytes(a))
+    }
+    pub(super) fn f64(&mut self) -> Result<f64, TinError> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+    pub(super) fn align8(&mut self) -> Result<(), TinError> {
+        let pad = (8 - self.pos % 8) % 8;
+        self.take(pad).map(|_| ())
+    }
+}
+
+/// Parse and check the header (needs at least its own length:
+/// [`FIXED_LEN`] for version 1, [`HEADER_LEN_V3`], [`HEADER_LEN_V4`]). A
+/// version-3 or -4 header is checked against its own hash, so a damaged
+/// header is an error even when nothing else of the value is read.
+pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
+    if b.len() < FIXED_LEN {
+        return Err(corrupt(format!(
+            "truncated: {} bytes, the header alone is {FIXED_LEN}",
+            b.len()
+        )));
+    }
+    let mut r = Rd { b, pos: 0 };
+    if r.take(4)? != MAGIC {
+        return Err(corrupt("bad magic number (not a tin value)"));
+    }
+    let version = r.u16()?;
+    let want_len = match header_len(version) {
+        Some(l) => l,
+        None => {
+            return Err(corrupt(format!(
+                "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3}, {VERSION} and {VERSION_5})"
+            )));
+        }
+    };
+    let _flags = r.u16()?;
+    let hl = r.u32()?;
+    if hl as usize != want_len {
+        return Err(corrupt(format!(
+            "header length {hl}, expected {want_len} for format version {version}"
+        )));
+    }
+    if version != VERSION_1 {
+        if b.len() < want_len {
+            return Err(corrupt(format!(
+                "truncated: {} bytes, the header alone is {want_len}",
+                b.len()
+            )));
+        }
+        if header_hash(b) != stored_header_hash(b) {
+            return Err(corrupt("header hash mismatch (the header is corrupted)"));
+        }
+    }
+    let srid = r.u32()? as i32;
+    let nl = r.u32()?;
+    if nl == 0 || nl as usize > MAX_LEVELS {
+        return Err(corrupt(format!(
+            "number of levels {nl} is not in 1..{MAX_LEVELS}"
+        )));
+    }
+    let num_vertices = r.u32()?;
+    let total_len = r.u64()?;
+    let hash = r.u64()?;
+    let bbox = Bbox {
+        min_x: r.f64()?,
+        min_y: r.f64()?,
+        max_x: r.f64()?,
+        max_y: r.f64()?,
+        min_z: r.f64()?,
+        max_z: r.f64()?,
+    };
+    let mut levels = Vec::with_capacity(nl as usize);
+    for l in 0..nl {
+        let li = LevelInfo {
+            tolerance: r.f64()?,
+            max_error: r.f64()?,
+            num_triangles: r.u32()?,
+            num_vertices: r.u32()?,
+            grid_nx: r.u32()?,
+            grid_ny: r.u32()?,
+            grid_cell: r.f64()?,
+            num_void: r.u32()?,
+        };
+        r.take(4)?;
+        if version != VERSION_5 && li.num_void != 0 {
+            return Err(corrupt(format!(
+                "level {l}: void triangles in a format-{version} value"
+            )));
+        }
+        if li.num_void > li.num_triangles {
+            return Err(corrupt(format!(
+                "level {l}: {} void triangles of {}",
+                li.num_void, li.num_triangles
+            )));
+        }
+        levels.push(li);
+    }
+    r.pos = FIXED_LEN;
+    let (lattice, vertex_coding) = if is_compact(version) {
+        let l = Lattice {
+            ip_x: r.f64()?,
+            ip_y: r.f64()?,
+            scale_x: r.f64()?,
+            scale_y: r.f64()?,
+            skew_x: r.f64()?,
+            skew_y: r.f64()?,
+        };
+        let code = r.u32()?;
+        let coding = VertexCoding::from_u32(code)
+            .ok_or_else(|| corrupt(format!("unknown vertex coding {code}")))?;
+        let lattice = l.is_valid().then_some(l);
+        if coding != VertexCoding::Raw && lattice.is_none() {
+            return Err(corrupt("lattice-coded vertices without a valid lattice"));
+        }
+        (lattice, coding)
+    } else {
+        (None, VertexCoding::Raw)
+    };
+    Ok(Header {
+        version,
+        srid,
+        num_vertices,
+        total_len,
+        hash,
+        bbox,
+        levels,
+        lattice,
+        vertex_coding,
+    })
+}
+
+/// Header length of a format version, None for an unknown one.
+pub fn header_len(version: u16) -> Option<usize> {
+    match version {
+        VERSION_1 => Some(FIXED_LEN),
+        VERSION_3 => Some(HEADER_LEN_V3),
+        VERSION | VERSION_5 => Some(HEADER_LEN_V4),
+        _ => None,
+    }
+}
+
+/// Header length of the value starting with `b` (by its version field).
+pub(super) fn header_len_of(b: &[u8]) -> usize {
+    let v = b.get(4..6).map_or(0, |s| u16::from_le_bytes([s[0], s[1]]));
+    header_len(v).unwrap_or(FIXED_LEN)
+}
+
+/// Logical offsets (within the body) of one level's sections.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelSections {
+    pub tris: u64,
+    pub nbrs: u64,
+    pub parents: u64,
+    pub cells: u64,
+}
+
+/// Length of the body with these counts and where each level's sections
+/// start (vertices start at 0), or None on overflow.
+pub fn sections(h: &Header) -> Option<(u64, Vec<LevelSections>)> {
+    let pad8 = |x: u64| x.checked_add(7).map(|v| v / 8 * 8);
+    let mut len = (h.num_vertices as u64).checked_mul(24)?;
+    let mut out = Vec::with_capacity(h.levels.len());
+    for lv in &h.levels {
+        let t = lv.num_triangles as u64;
+        let tris = len;
+        let nbrs = tris.checked_add(t.checked_mul(12)?)?;
+        let parents = nbrs.checked_add(t.checked_mul(12)?)?;
+        let cells = pad8(parents.checked_add(t.checked_mul(4)?)?)?;
+        len = pad8(
+            cells.checked_add(
+                (lv.grid_nx as u64)
+                    .checked_mul(lv.grid_ny as u64)?
+                    .checked_mul(4)?,
+            )?,
+        )?;
+        out.push(LevelSections {
+            tris,
+            nbrs,
+            parents,
+            cells,
+        });
+    }
+    Some((len, out))
+}
+
+/// Number of version-3 blocks of a body of `body` bytes.
+pub fn num_blocks(body: u64) -> u64 {
+    body.div_ceil(BLOCK_PAYLOAD as u64)
+}
+
+/// Length of a whole value with these counts, or None on overflow.
+pub(super) fn value_len(h: &Header) -> Option<u64> {
+    let (body, _) = sections(h)?;
+    if h.version == VERSION_1 {
+        body.checked_add(FIXED_LEN as u64)
+    } else {
+        body.checked_add(HEADER_LEN_V3 as u64)?
+            .checked_add(num_blocks(body).checked_mul(8)?)
+    }
+}
+
+/// Where version-3 block `k` of a body of `body` bytes starts in the value,
+/// and its payload length.
+pub fn block_at(body: u64, k: u64) -> (u64, usize) {
+    let start = HEADER_LEN_V3 as u64 + k * BLOCK_LEN as u64;
+    let payload = (body - k * BLOCK_PAYLOAD as u64).min(BLOCK_PAYLOAD as u64) as usize;
+    (start, payload)
+}
+
+/// The stored header hash of a version-3 or -4 header, computed: xxh3 of
+/// the header up to the hash itself, with the content hash (32..40)
+/// zeroed.
+pub(super) fn header_hash(b: &[u8]) -> u64 {
+    let end = (header_len_of(b) - 8).min(b.len());
+    let mut h = Xxh3::new();
+    h.update(&b[..32.min(end)]);
+    h.update(&[0u8; 8]);
+    h.update(b.get(40..end).unwrap_or(&[]));
+    h.digest()
+}
+
+/// The header hash of a version-3 or -4 header (checked by
+/// [`read_header`]).
+pub fn stored_header_hash(b: &[u8]) -> u64 {
+    let hl = header_len_of(b);
+    b.get(hl - 8..hl)
+        .and_then(|s| s.try_into().ok())
+        .map(u64::from_le_bytes)
+        .unwrap_or(0)
+}
