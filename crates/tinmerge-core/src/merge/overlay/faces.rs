@@ -792,11 +792,7 @@ mod tests {
             v[0] += 10.0;
         }
         b.bbox = crate::tin::Bbox::of(&b.verts);
-        assert!(
-            overlay_faces(&a, 0, &b, 0, &mut || Ok(()))
-                .unwrap()
-                .tris
-                .is_empty()
-        );
+        let o = overlay_faces(&a, 0, &b, 0, &mut || Ok(())).unwrap();
+        assert!(o.tris.is_empty());
     }
 }

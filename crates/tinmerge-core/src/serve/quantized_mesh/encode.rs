@@ -4,11 +4,14 @@
 use rustc_hash::FxHashMap;
 
 use super::clip::{Kind, Source, Tile};
-use super::mesh::{A, B, QMAX, TileMesh, cross, dot, ecef, norm, sub, tile_mesh, tiles_of};
+use super::mesh::{A, B, TileMesh, cross, dot, ecef, norm, sub, tile_mesh, tiles_of};
 use super::needed::Needed;
 use crate::interrupt::Interrupt;
 use crate::serve::tiling::TileBounds;
 use crate::tin::{Tin, TinError};
+
+/// The largest quantized coordinate.
+const QMAX: f64 = 32767.0;
 
 fn zigzag(v: i32) -> u16 {
     ((v << 1) ^ (v >> 31)) as u16

@@ -15,8 +15,6 @@ pub(super) const A: f64 = 6_378_137.0;
 pub(super) const F: f64 = 1.0 / 298.257_223_563;
 /// WGS 84 semi-minor axis.
 pub(super) const B: f64 = A * (1.0 - F);
-/// The largest quantized coordinate.
-pub(super) const QMAX: f64 = 32767.0;
 
 /// Earth-centred, earth-fixed position of (longitude, latitude) in degrees
 /// and height in metres on WGS 84.
