@@ -616,6 +616,36 @@ fn generated_grids_between_samples() {
     }
 }
 
+/// Both DEMs on finer grids (nearest neighbour: flat blocks with steps
+/// one sub-pixel wide), windows of them at 2 and 3 times the resolution.
+/// There coarse triangles are long and thin along the steps: two sides of
+/// a parent leave a corner at a narrow angle and are split where they
+/// cross the same grid row, a hundredth of a pixel apart, and the needle
+/// between them cannot take a pixel. The build must still hold every
+/// level's tolerance between samples (0.14.0 was up to 1.6x over at a
+/// few crossings of each of these, in needles and beside last-resort
+/// vertices; the whole UTM DEM at 4x had 15).
+#[test]
+fn upsampled_dems_between_samples() {
+    let geo = common::read_dem("jacksboro_fault_dem.tif");
+    let utm = common::read_dem("jacksboro_fault_dem_utm16n.tif");
+    let tols = default_tolerances(2.0, 5).unwrap();
+    for (name, d, win, f) in [
+        ("geographic DEM", &geo, (0, 0, 202, 172), 2),
+        ("geographic DEM", &geo, (0, 172, 202, 172), 2),
+        ("UTM DEM", &utm, (172, 0, 172, 182), 3),
+    ] {
+        let r = Raster::of_dem(&d.window_finer(win.0, win.1, win.2, win.3, f));
+        let what = format!("{name} window {win:?} at {f}x");
+        let tin = lattice_build(&r, &tols, false, true);
+        check_between(&format!("{what} (lattice)"), &tin, &r);
+        if r.z.iter().any(|z| z.is_nan()) {
+            let tin = data_build(&r, &tols);
+            check_between(&format!("{what} (over its data)"), &tin, &r);
+        }
+    }
+}
+
 /// A boundary with a concave shell reaching past the data, a hole and a
 /// second polygon (pg_regress boundary.sql's), on both DEMs: built over
 /// the valid pixels within it, measured between samples. (The first build

@@ -60,6 +60,29 @@ impl Dem {
         (gt, w, h, values)
     }
 
+    /// The window of `w x h` pixels from column `c0`, row `r0`, on an `f`
+    /// times finer grid (nearest neighbour: each pixel `f x f` sub-pixels
+    /// with its value, so flat blocks with one-sub-pixel steps between).
+    pub fn window_finer(&self, c0: usize, r0: usize, w: usize, h: usize, f: usize) -> Dem {
+        let (fw, fh) = (w * f, h * f);
+        let mut values = Vec::with_capacity(fw * fh);
+        for row in 0..fh {
+            for col in 0..fw {
+                values.push(self.values[(r0 + row / f) * self.width + c0 + col / f]);
+            }
+        }
+        Dem {
+            width: fw,
+            height: fh,
+            origin_x: self.origin_x + c0 as f64 * self.scale_x,
+            origin_y: self.origin_y - r0 as f64 * self.scale_y,
+            scale_x: self.scale_x / f as f64,
+            scale_y: self.scale_y / f as f64,
+            nodata: self.nodata,
+            values,
+        }
+    }
+
     /// The DEM's geotransform (north up).
     pub fn geotransform(&self) -> tinmerge_core::io::raster::GeoTransform {
         tinmerge_core::io::raster::GeoTransform {

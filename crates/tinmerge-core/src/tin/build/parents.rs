@@ -26,9 +26,14 @@ pub(super) fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
     side
 }
 
-/// Rounds of forcing crossings onto sides per level (a round refines
-/// again only the parents of the sides it split).
-pub(super) const FORCING_ROUNDS: usize = 8;
+/// Rounds of forcing crossings onto sides per level, at most (a round
+/// refines again only the parents of the sides it split; the rounds end
+/// when one splits none).
+pub(super) const FORCING_ROUNDS: usize = 32;
+
+/// Passes of forcing rounds, each followed by the last resort for the
+/// parents still over the tolerance that were not one yet.
+pub(super) const LAST_RESORT_PASSES: usize = 3;
 
 /// Refine the triangle of [`Dense`] samples `corners` (counter-clockwise;
 /// slots past the lattice are `extras`) to `tol`. When its corners are
@@ -278,7 +283,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
         let run = |ts: &[usize],
                    groups: &[std::ops::Range<usize>],
                    forced: &Forced,
-                   last_resort: bool,
+                   last_resort: &[bool],
                    interrupt: &mut Interrupt<'_>,
                    take: &mut dyn FnMut(ParentOut) -> Result<(), TinError>|
          -> Result<(), TinError> {
@@ -298,7 +303,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                                 free: free_of(t),
                                 void: void_of(t),
                                 tol,
-                                last_resort,
+                                last_resort: last_resort.get(t).copied().unwrap_or(false),
                             };
                             d.refine_parent(&job, &mut scratch)
                         })
@@ -355,7 +360,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                 &all,
                 &all_groups,
                 &Forced::default(),
-                false,
+                &[],
                 interrupt,
                 &mut merge,
             )?;
@@ -399,7 +404,9 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                 }
             }
             let mut outs: Vec<ParentOut> = Vec::with_capacity(prev.len());
-            run(&all, &all_groups, &forced, false, interrupt, &mut |o| {
+            // which parents are refined as a last resort (below)
+            let mut resort = vec![false; prev.len()];
+            run(&all, &all_groups, &forced, &resort, interrupt, &mut |o| {
                 outs.push(o);
                 Ok(())
             })?;
@@ -407,54 +414,69 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
             // strip between a free edge and a side whose grid segment
             // crosses the side: that side is split where the segment
             // crosses it, in both its parents, and they are refined again
-            for _ in 0..FORCING_ROUNDS {
-                let mut touched: rustc_hash::FxHashSet<SideKey> = Default::default();
-                for o in &outs {
-                    for (side, seg) in &o.unmended {
-                        if seams.contains(side) {
-                            continue;
-                        }
-                        let v = forced.entry(*side).or_default();
-                        if !v.contains(seg) {
-                            v.push(*seg);
-                            touched.insert(*side);
+            // (until no side is split: each round redoes only the parents
+            // of the sides it split). Parents still over the tolerance
+            // then (a crossing no pixel mends and no side's split
+            // reaches) are refined again with vertices at such crossings
+            // as a last resort (raster builds;
+            // [`Builder::refine`](super::builder::Builder::refine)), and
+            // what those leave unmended is forced in turn: a vertex at a
+            // crossing beside a side, or a parent that is a needle between
+            // two sides split at nearly the same place, leaves edges
+            // running beside a side's vertex that only a split of the
+            // other side mends. Not for tiles (keep_border): there the
+            // parents over are those of the strip along a seam, whose
+            // crossings it cannot mend, and vertices beside the seam moved
+            // the worst error onto it
+            let limit = tol * (1.0 + 1e-9);
+            for _ in 0..LAST_RESORT_PASSES {
+                for _ in 0..FORCING_ROUNDS {
+                    let mut touched: rustc_hash::FxHashSet<SideKey> = Default::default();
+                    for o in &outs {
+                        for (side, seg) in &o.unmended {
+                            if seams.contains(side) {
+                                continue;
+                            }
+                            let v = forced.entry(*side).or_default();
+                            if !v.contains(seg) {
+                                v.push(*seg);
+                                touched.insert(*side);
+                            }
                         }
                     }
+                    if touched.is_empty() {
+                        break;
+                    }
+                    let redo: Vec<usize> = (0..prev.len())
+                        .filter(|&t| {
+                            let c = prev[t].map(|v| corner_pos(corner_samples[v as usize]));
+                            (0..3).any(|k| touched.contains(&side_key(&c[k], &c[(k + 1) % 3])))
+                        })
+                        .collect();
+                    let redo_groups = groups_of(&redo);
+                    let mut k = 0;
+                    run(&redo, &redo_groups, &forced, &resort, interrupt, &mut |o| {
+                        outs[redo[k]] = o;
+                        k += 1;
+                        Ok(())
+                    })?;
                 }
-                if touched.is_empty() {
+                let over: Vec<usize> = if keep_border {
+                    Vec::new()
+                } else {
+                    (0..prev.len())
+                        .filter(|&t| outs[t].err > limit && !resort[t])
+                        .collect()
+                };
+                if over.is_empty() {
                     break;
                 }
-                let redo: Vec<usize> = (0..prev.len())
-                    .filter(|&t| {
-                        let c = prev[t].map(|v| corner_pos(corner_samples[v as usize]));
-                        (0..3).any(|k| touched.contains(&side_key(&c[k], &c[(k + 1) % 3])))
-                    })
-                    .collect();
-                let redo_groups = groups_of(&redo);
-                let mut k = 0;
-                run(&redo, &redo_groups, &forced, false, interrupt, &mut |o| {
-                    outs[redo[k]] = o;
-                    k += 1;
-                    Ok(())
-                })?;
-            }
-            // parents still over the tolerance (a crossing no pixel mends
-            // and no side's split reaches): refined again with vertices at
-            // such crossings as a last resort (raster builds;
-            // [`Builder::refine`](super::builder::Builder::refine)). Not
-            // for tiles (keep_border): there the parents over are those of
-            // the strip along a seam, whose crossings it cannot mend, and
-            // vertices beside the seam moved the worst error onto it
-            let limit = tol * (1.0 + 1e-9);
-            let over: Vec<usize> = if keep_border {
-                Vec::new()
-            } else {
-                (0..prev.len()).filter(|&t| outs[t].err > limit).collect()
-            };
-            if !over.is_empty() {
+                for &t in &over {
+                    resort[t] = true;
+                }
                 let over_groups = groups_of(&over);
                 let mut k = 0;
-                run(&over, &over_groups, &forced, true, interrupt, &mut |o| {
+                run(&over, &over_groups, &forced, &resort, interrupt, &mut |o| {
                     outs[over[k]] = o;
                     k += 1;
                     Ok(())
