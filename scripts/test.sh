@@ -28,7 +28,23 @@ if [ "$(id -u)" -eq 0 ]; then
   mkdir -p target/pgrx-test && chown postgres target/pgrx-test
   cargo pgrx test pg15 pg::tests:: --runas postgres --pgdata "$PWD/target/pgrx-test/data"
 else
-  cargo pgrx test pg15 pg::tests::
+  # pgrx's test framework installs the extension into the system PostgreSQL
+  # (/usr/share/postgresql, /usr/lib/postgresql) and has no --sudo, so as a
+  # user this step runs as root through sudo, with the user's toolchain and
+  # its test server as postgres (its data outside the home, which postgres
+  # may not enter); what root wrote is given back to the user afterwards
+  pgdata="/tmp/tinmerge-pgrx-test-$(id -u)"
+  sudo rm -rf "$pgdata"
+  sudo install -d -o postgres "$pgdata"
+  rc=0
+  sudo env PATH="$PATH" HOME="$HOME" \
+    CARGO_HOME="${CARGO_HOME:-$HOME/.cargo}" RUSTUP_HOME="${RUSTUP_HOME:-$HOME/.rustup}" \
+    PGRX_HOME="${PGRX_HOME:-$HOME/.pgrx}" ${CARGO_TARGET_DIR:+CARGO_TARGET_DIR="$CARGO_TARGET_DIR"} \
+    cargo pgrx test pg15 pg::tests:: --runas postgres --pgdata "$pgdata/data" || rc=$?
+  sudo find target "${CARGO_TARGET_DIR:-target}" "${CARGO_HOME:-$HOME/.cargo}" "${PGRX_HOME:-$HOME/.pgrx}" \
+    -user root -exec chown "$(id -u):$(id -g)" {} +
+  sudo rm -rf "$pgdata"
+  [ "$rc" -eq 0 ] || exit "$rc"
 fi
 
 step "install the extension"
