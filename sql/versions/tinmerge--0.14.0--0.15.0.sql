@@ -1,0 +1,6 @@
+-- tinmerge 0.14.0 -> 0.15.0. No catalog change; stored values read and
+-- answer as before. Raster builds hold every level's tolerance between the
+-- samples where 0.14.0 left a few crossings over it (rasters with long
+-- flat steps, e.g. nearest-neighbour upsampled: thin parents between two
+-- sides split at nearly the same place); docs/upgrading.md says how to
+-- find such values (tin_validate) and rebuild them.
