@@ -20,6 +20,11 @@ step "no module imports one that imports it back"
 scripts/python.sh scripts/check-cycles.py src crates/tinmerge-core/src
 step "cargo fmt --check"
 cargo fmt --check
+step "cargo clippy (every target of both crates, warnings denied; unsafe blocks need a SAFETY comment)"
+cargo clippy --workspace --all-targets -- -D warnings
+step "cargo doc (both crates, private items too; broken intra-doc links denied)"
+RUSTDOCFLAGS="-D warnings -A rustdoc::private_intra_doc_links" \
+  cargo doc --workspace --no-deps --document-private-items
 step "cargo test -p tinmerge-core (the pure core, real DEMs, no PostgreSQL)"
 cargo test --release -p tinmerge-core
 

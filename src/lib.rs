@@ -4,6 +4,8 @@
 //! pure core ([`tinmerge_core`]: the hierarchy, the merges, readers/writers,
 //! pictures; no pgrx, a separate crate of the workspace so the compiler keeps
 //! it that way) and maps its errors to SQLSTATEs.
+#![deny(clippy::undocumented_unsafe_blocks)]
+
 pub mod pg;
 
 /// Every Rust allocation is counted (`tinmerge_core::tin::memory`): the SQL

@@ -21,6 +21,9 @@ impl GeomArg {
     /// The value's bytes after the varlena header (detoasted if needed,
     /// short headers accepted).
     pub fn bytes(&self) -> &[u8] {
+        // SAFETY: self.0 is a non-NULL geometry Datum of this call (raw_datum_arg!),
+        // valid while the call runs; the detoasted copy is palloc'd in the current
+        // memory context, which outlives the returned borrow of self.
         unsafe {
             let v = pg_sys::pg_detoast_datum_packed(self.0.cast_mut_ptr());
             pgrx::varlena::varlena_to_byte_slice(v)
@@ -54,8 +57,11 @@ impl GeomArg {
 /// as [`gserialized::write`] gives it.
 pub struct GeomOut(pub Vec<u8>);
 
+// SAFETY: box_into returns the palloc'd varlena made by varlena_datum, a
+// valid Datum of the declared result type.
 unsafe impl BoxRet for GeomOut {
     unsafe fn box_into<'fcx>(self, fcinfo: &mut FcInfo<'fcx>) -> RetDatum<'fcx> {
+        // SAFETY: a freshly palloc'd, fully written varlena (varlena_datum).
         unsafe { fcinfo.return_raw_datum(varlena_datum(&self.0, "geometry")) }
     }
 }
@@ -147,6 +153,7 @@ thread_local! {
 /// The OID of PostGIS's `geometry` type on the search_path (an ERROR when
 /// PostGIS is not there).
 fn geometry_oid() -> pg_sys::Oid {
+    // SAFETY: a NUL-terminated 'static name; a catalog lookup in a transaction.
     let geometry = unsafe { pg_sys::TypenameGetTypid(c"geometry".as_ptr()) };
     if geometry == pg_sys::InvalidOid {
         raise(
@@ -165,6 +172,10 @@ fn postgis_proc(
     name: &std::ffi::CStr,
     args: impl FnOnce() -> Vec<pg_sys::Oid>,
 ) -> pg_sys::Oid {
+    // SAFETY: catalog lookups inside a transaction, with NUL-terminated names
+    // and an argument OID array that lives across the call (args); an error in
+    // them is a PostgreSQL ERROR, which pgrx turns into a Rust panic unwound
+    // safely.
     unsafe {
         let cached = cell.get().filter(|oid| {
             pg_sys::SearchSysCacheExists(
@@ -203,6 +214,9 @@ pub fn postgis_transform(pts: &[[f64; 2]], from: i32, to: i32) -> Vec<[f64; 2]> 
     let oid = postgis_proc(&TRANSFORM, c"st_transform", || {
         vec![geometry_oid(), pg_sys::INT4OID]
     });
+    // SAFETY: the argument is a complete palloc'd geometry varlena and the
+    // function is ST_Transform(geometry, int) by OID; its non-NULL result is a
+    // geometry varlena in the current memory context, read before it is freed.
     let out = unsafe {
         let d = varlena_datum(&bytes, "geometry");
         let r = pg_sys::OidFunctionCall2Coll(oid, pg_sys::InvalidOid, d, pg_sys::Datum::from(to));
@@ -232,6 +246,9 @@ impl GeomArg {
     /// through the calling function's search_path (pinned to PostGIS's
     /// schema by `SET search_path FROM CURRENT` in sql/tinmerge.sql).
     pub fn postgis_validity(&self) -> String {
+        // SAFETY: self.0 is this call's non-NULL geometry Datum; ST_IsValidReason
+        // returns a non-NULL text, turned into a palloc'd C string that is copied
+        // and then freed.
         unsafe {
             let oid = postgis_proc(&IS_VALID_REASON, c"st_isvalidreason", || {
                 vec![geometry_oid()]

@@ -29,6 +29,8 @@ raw_datum_arg!(
 
 impl LineTreeArg {
     fn bytes(&self) -> &[u8] {
+        // SAFETY: self.0 is a non-NULL linetree Datum of this call; the detoasted
+        // copy lives in the current memory context, beyond the borrow.
         unsafe {
             let v = pg_sys::pg_detoast_datum_packed(self.0.cast_mut_ptr());
             pgrx::varlena::varlena_to_byte_slice(v)
@@ -52,9 +54,12 @@ impl IntoDatum for LineTreeOut {
     }
 }
 
+// SAFETY: box_into returns the Datum of into_datum (a palloc'd linetree
+// varlena), or NULL.
 unsafe impl BoxRet for LineTreeOut {
     unsafe fn box_into<'fcx>(self, fcinfo: &mut FcInfo<'fcx>) -> RetDatum<'fcx> {
         match self.into_datum() {
+            // SAFETY: d is a complete palloc'd linetree varlena.
             Some(d) => unsafe { fcinfo.return_raw_datum(d) },
             None => fcinfo.return_null(),
         }

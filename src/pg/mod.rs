@@ -21,9 +21,13 @@ macro_rules! raw_datum_arg {
             }
         }
 
+// SAFETY: the argument is unboxed as its Datum through FromDatum above,
+// which only wraps it; a NULL is an ERROR, never a value.
         unsafe impl<'fcx> pgrx::callconv::ArgAbi<'fcx> for $name {
             unsafe fn unbox_arg_unchecked(arg: pgrx::callconv::Arg<'_, 'fcx>) -> Self {
                 let i = arg.index();
+// SAFETY: the function's declared argument type is $sql, the type this
+// wrapper stands for.
                 unsafe { arg.unbox_arg_using_from_datum() }.unwrap_or_else(|| {
                     $crate::pg::errors::raise(
                         pgrx::PgSqlErrorCode::ERRCODE_NULL_VALUE_NOT_ALLOWED,
@@ -35,12 +39,15 @@ macro_rules! raw_datum_arg {
 
         // as an element of an array argument (`tin[]`): the element's
         // Datum, which lives as long as the detoasted array
+// SAFETY: the element's Datum is kept as it is, valid as long as the
+// detoasted array it came from ('src).
         unsafe impl pgrx::datum::UnboxDatum for $name {
             type As<'src> = $name;
             unsafe fn unbox<'src>(datum: pgrx::datum::Datum<'src>) -> Self::As<'src>
             where
                 Self: 'src,
             {
+// SAFETY: an element Datum of an array of $sql.
                 $name(unsafe { <pgrx::pg_sys::Datum as pgrx::datum::UnboxDatum>::unbox(datum) })
             }
         }

@@ -14,6 +14,10 @@ use tinmerge_core::merge::point::{self, Rect};
 use tinmerge_core::tin::locate;
 use tinmerge_core::tin::TinError;
 
+// (with_mesh! expands the body for both mesh sources: the decoded value's
+// errors are Infallible, the sliced reader's TinError, so the conversion is
+// the identity in one of them)
+#[allow(clippy::useless_conversion)]
 #[pg_extern(immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
 fn tin_locate(
     t: Option<TinArg>,
@@ -59,6 +63,10 @@ COMMENT ON FUNCTION tin_height(tin, geometry, int) IS 'Height of the surface of 
 /// The height at a point argument (what `tin_height` returns), on the
 /// decoded value or the stored value read in slices
 /// ([`TinArg::mesh_source`]).
+// (with_mesh! expands the body for both mesh sources: the decoded value's
+// errors are Infallible, the sliced reader's TinError, so the conversion is
+// the identity in one of them)
+#[allow(clippy::useless_conversion)]
 pub(crate) fn height_at(t: &TinArg, level: Option<i32>, pt: &GeomArg, func: &str) -> Option<f64> {
     with_mesh!(t, level, |m, l, srid| {
         let [x, y] = pt.point_xy(srid, func)?;

@@ -66,6 +66,9 @@ impl TinArg {
     /// pointer (the usual case for a tin read from a table).
     fn toast_key(&self) -> Option<cache::ToastKey> {
         let p = self.ptr();
+        // SAFETY: p is this call's non-NULL tin Datum; its first byte tells the
+        // varlena kind, and only an external (1b_e) header of the on-disk tag is
+        // read as a varatt_external, unaligned as it is stored.
         unsafe {
             if pgrx::varatt_is_1b_e(p)
                 && pgrx::vartag_external(p) as u32 == pg_sys::vartag_external::VARTAG_ONDISK
@@ -92,6 +95,8 @@ impl TinArg {
         // The backend's local transaction id: unique per transaction in this
         // backend (read-only ones included), unlike the start timestamp,
         // which two quick transactions can share.
+        // SAFETY: MyProc is either NULL (checked) or this backend's PGPROC, valid
+        // for the backend's life; the timestamp call has no preconditions.
         let epoch = unsafe {
             let proc_ = pg_sys::MyProc;
             if proc_.is_null() {
@@ -160,6 +165,8 @@ impl TinArg {
 
     /// The whole value's bytes (detoasted into the current memory context).
     pub fn bytes(&self) -> &[u8] {
+        // SAFETY: self's Datum is a non-NULL tin of this call; the detoasted copy
+        // is palloc'd in the current memory context, which outlives the borrow.
         unsafe {
             let v = pg_sys::pg_detoast_datum(self.ptr());
             pgrx::varlena::varlena_to_byte_slice(v)
@@ -207,6 +214,8 @@ impl TinArg {
     /// header), fetching only the TOAST
     /// chunks that cover them (fewer when the value is shorter).
     fn slice(&self, at: u64, len: usize) -> &[u8] {
+        // SAFETY: as in bytes(); past the value's end PostgreSQL returns a
+        // shorter or empty slice.
         unsafe {
             let s = pg_sys::pg_detoast_datum_slice(self.ptr(), at as i32, len as i32);
             pgrx::varlena::varlena_to_byte_slice(s)
@@ -278,9 +287,12 @@ impl IntoDatum for TinOut {
     }
 }
 
+// SAFETY: box_into returns the Datum of into_datum (a palloc'd tin
+// varlena), or NULL.
 unsafe impl BoxRet for TinOut {
     unsafe fn box_into<'fcx>(self, fcinfo: &mut FcInfo<'fcx>) -> RetDatum<'fcx> {
         match self.into_datum() {
+            // SAFETY: d is a complete palloc'd tin varlena.
             Some(d) => unsafe { fcinfo.return_raw_datum(d) },
             None => fcinfo.return_null(),
         }

@@ -23,6 +23,9 @@ pub(crate) fn varlena_datum(bytes: &[u8], what: &str) -> pg_sys::Datum {
             ),
         );
     }
+    // SAFETY: total bytes are palloc'd (at most 1 GB plus the header, checked
+    // above) and written whole: the header by set_varsize_4b, the rest by the
+    // copy from a slice that cannot overlap the new allocation.
     unsafe {
         let total = bytes.len() + pg_sys::VARHDRSZ;
         let p = pg_sys::palloc(total) as *mut u8;
@@ -34,6 +37,8 @@ pub(crate) fn varlena_datum(bytes: &[u8], what: &str) -> pg_sys::Datum {
 
 /// The bytes of a binary-input buffer (`*_recv`), consumed.
 pub(crate) fn recv_bytes(buf: &mut pgrx::datum::Internal, what: &str) -> Vec<u8> {
+    // SAFETY: a *_recv function's internal argument is the StringInfo of the
+    // message being read (PostgreSQL's receive protocol).
     let si = unsafe { buf.get_mut::<pg_sys::StringInfoData>() }.unwrap_or_else(|| {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_BINARY_REPRESENTATION,
@@ -42,6 +47,7 @@ pub(crate) fn recv_bytes(buf: &mut pgrx::datum::Internal, what: &str) -> Vec<u8>
     });
     let (start, len) = (si.cursor.max(0) as usize, si.len.max(0) as usize);
     let bytes: Vec<u8> = if len > start {
+        // SAFETY: data holds len bytes and start < len (both clamped to >= 0).
         unsafe { std::slice::from_raw_parts((si.data as *const u8).add(start), len - start) }
             .to_vec()
     } else {

@@ -11,6 +11,7 @@
 //! - [`render`]: pictures (SVG, glTF); [`serve`]: Cesium quantized-mesh tiles;
 //! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
 //!   long work is cancelled.
+#![deny(clippy::undocumented_unsafe_blocks)]
 pub mod analysis;
 pub mod geom;
 pub mod interrupt;

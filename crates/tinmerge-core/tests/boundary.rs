@@ -205,7 +205,7 @@ fn check(name: &str, srid: i32) {
         world(&d, 0.6 * w, 0.9 * h),
         world(&d, 0.2 * w, 0.2 * h),
     ]];
-    let want_cover = geo_mp(&[cover.clone()])
+    let want_cover = geo_mp(std::slice::from_ref(&cover))
         .intersection(&region)
         .unsigned_area();
     let cover = Area::new(vec![cover]);
@@ -316,7 +316,8 @@ fn check(name: &str, srid: i32) {
     // at the finest level; then 40 seeded random triangles over and around
     // the raster at level 0 (its few triangles keep the brute force short)
     let px = 2.0 / h;
-    let mut cases: Vec<(String, usize, Vec<[f64; 3]>, Option<usize>)> = [
+    type Case = (String, usize, Vec<[f64; 3]>, Option<usize>);
+    let mut cases: Vec<Case> = [
         (0.22, 0.48, 0.40, 0.40 - px, 2),
         (0.22, 0.26, 0.40, 0.40 - px, 1),
         (0.9, 1.3, 0.55, 0.55 - px, 1),

@@ -484,7 +484,9 @@ fn rasters_read_in_slices_merge_as_on_the_decoded_value() {
                     );
                 }
                 // the pixels each triangle owns, in raster order
-                let spans = |lv: &dyn Fn(u32) -> u32, run: &mut dyn FnMut(&mut dyn FnMut(u32, usize, usize, usize))| {
+                // a run of pixels: (triangle, row, c0, c1)
+                type Span<'a> = &'a mut dyn FnMut(u32, usize, usize, usize);
+                let spans = |lv: &dyn Fn(u32) -> u32, run: &mut dyn FnMut(Span<'_>)| {
                     let mut out = Vec::new();
                     run(&mut |k, r, c0, c1| out.push((lv(k), r, c0, c1)));
                     out

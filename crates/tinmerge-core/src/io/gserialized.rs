@@ -2,7 +2,7 @@
 //! 2), read and written without a conversion to WKB:
 //! - [`peek`]: the SRID, the type, and for a POINT its coordinates (the
 //!   per-row point functions read their argument this way);
-//! - [`read`] and [`write`]: the whole geometry as [`Geom`], for the types
+//! - [`read`] and [`write()`]: the whole geometry as [`Geom`], for the types
 //!   [`super::ewkb`] reads (`tin_drape`, whose per-row form is common, reads
 //!   and returns geometries this way; the other merges take EWKB).
 //!
@@ -16,7 +16,7 @@
 //! the rings (polygons), or the members, each with its own type and count
 //! (multi types and collections).
 //!
-//! [`write`] produces what PostGIS 3 writes for the same geometry (version
+//! [`write()`] produces what PostGIS 3 writes for the same geometry (version
 //! 2; a bounding box unless PostGIS leaves it out: points, lines of at most
 //! two points, one-point multipoints, one-line multilines of at most two
 //! points, empty geometries; float4 bounds rounded outwards, computed from

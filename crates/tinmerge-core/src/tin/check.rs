@@ -405,7 +405,7 @@ pub struct Problem {
 }
 
 /// Every sliver of every level: a triangle with zero area up to rounding
-/// ([`super::is_sliver`]). Its corner opposite the longest edge lies on
+/// ([`crate::geom::is_sliver`]). Its corner opposite the longest edge lies on
 /// that edge, which the triangle on the other side has whole: a hidden
 /// T-junction. `kind` is `"crack"` when the corner's height differs from
 /// the edge's height there (the sliver is a wall), `"sliver"` otherwise;

@@ -4,7 +4,7 @@
 //! triangle of A and of B that contains it.
 //!
 //! The crossings are found by walking every edge of A through B (spade's
-//! [`LineIntersectionIterator`] over B's triangulation, loaded as a CDT whose
+//! [`LineIntersectionIterator`](spade::LineIntersectionIterator) over B's triangulation, loaded as a CDT whose
 //! constraints are B's own edges, so the walk sees exactly B). Every
 //! decision of the walk is an exact orientation test; a crossing point is
 //! computed once, from the pair of edges, and shared by both edges' lists.
@@ -20,7 +20,7 @@
 //!
 //! Cost: O(N + M + K) for the walks and the lists plus the CDT bulk load
 //! (O(V log V) for V = output vertices), against the naive method
-//! ([`constrained::naive`], with the `bench` feature): every edge of both inserted into one CDT with splitting.
+//! (`constrained::naive`, with the `bench` feature): every edge of both inserted into one CDT with splitting.
 //!
 //! Invariants of the output, for both paths (tests/overlay.rs against
 //! independent oracles, tests/pg_regress/sql/overlay.sql against PostGIS):

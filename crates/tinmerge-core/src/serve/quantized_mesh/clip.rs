@@ -43,7 +43,7 @@ pub(super) struct Tile<'a> {
     pub(super) src: u32,
 }
 
-/// One tin cut into a tile: its level, what [`needed()`] found, and the
+/// One tin cut into a tile: its level, what [`needed()`](super::needed::needed) found, and the
 /// geographic positions of [`Needed::points`]. A terrain stored as tiles
 /// (tins sharing their seams, `tin::tiles`) is one source per tin.
 #[derive(Clone, Copy)]

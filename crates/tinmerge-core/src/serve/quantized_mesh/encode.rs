@@ -158,7 +158,7 @@ fn normals(cxs: &[Tile], mesh: &TileMesh) -> Result<Vec<[f64; 3]>, TinError> {
 }
 
 /// The quantized-mesh tile `tile` of `level`: `None` when nothing of the
-/// terrain (and no fill) meets it. `need` from [`needed()`] (with the same
+/// terrain (and no fill) meets it. `need` from [`needed()`](super::needed::needed) (with the same
 /// `normals` and fill), `geo` the geographic position of each of
 /// [`Needed::points`].
 #[allow(clippy::too_many_arguments)]

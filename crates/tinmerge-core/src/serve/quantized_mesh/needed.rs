@@ -37,7 +37,7 @@ pub struct Split {
 }
 
 impl Needed {
-    /// The points whose geographic positions [`encode`] needs, in the
+    /// The points whose geographic positions [`encode`](super::encode::encode) needs, in the
     /// tin's coordinates: the vertices, then the split points.
     pub fn points(&self, tin: &Tin) -> Vec<[f64; 2]> {
         let mut p: Vec<[f64; 2]> = self
@@ -108,7 +108,7 @@ impl Needed {
 /// x, max y]` in the tin's coordinates (`None`: all; the caller widens it
 /// by what the geographic image of a triangle can differ from its own
 /// footprint), found by the area merge's flat sweep of that rectangle,
-/// with what [`encode`] needs about them.
+/// with what [`encode`](super::encode::encode) needs about them.
 ///
 /// `max_len` (the tin's units; `None`: never) splits every edge longer
 /// than it into equal pieces ([`split_length`] gives it): a straight edge

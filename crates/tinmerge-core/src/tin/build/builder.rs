@@ -643,7 +643,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
     /// The current triangles, without slivers (zero area up to rounding).
     /// Only scattered samples make them, and only along the triangulation's
     /// hull (the domain's, or a parent's sides in
-    /// [`refine_parent_general`](super::parents::refine_parent_general)): a sample within rounding of a hull
+    /// [`refine_parent_general`](super::general::refine_parent_general)): a sample within rounding of a hull
     /// edge leaves a sliver between itself and the edge (spade keeps the
     /// convex hull; the edge cannot flip), and later samples there split
     /// that sliver into more. Leaving them out makes the boundary run

@@ -267,5 +267,5 @@ pub(super) type Void = Option<[bool; 3]>;
 /// a sliver (their error is `f64::MAX`).
 pub(super) const VOID_TOL: f64 = f64::MAX / 4.0;
 
-/// [`ParentOut::verts`](super::parents::ParentOut::verts): the vertex is a point of [`ParentOut::at`](super::parents::ParentOut::at).
+/// [`ParentOut::verts`](super::general::ParentOut::verts): the vertex is a point of [`ParentOut::at`](super::general::ParentOut::at).
 pub(super) const AT_FLAG: u32 = 1 << 31;

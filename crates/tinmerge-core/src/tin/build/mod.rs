@@ -20,7 +20,7 @@
 //! the heights in place ([`super::dense`]), where the samples on an edge
 //! are exactly on it; scattered samples are bucketed ([`SampleGrid`](super::samples::SampleGrid)) and an
 //! edge's samples are those on it up to rounding
-//! ([`refine_parent_general`](parents::refine_parent_general)). On the DEM upsampled 4x (1.9 million
+//! ([`refine_parent_general`](general::refine_parent_general)). On the DEM upsampled 4x (1.9 million
 //! samples, 5 levels) the peak heap is about 100 bytes a sample against 220
 //! in one triangulation of every level (0.6.0's build), and the build over
 //! 2x faster on one core.

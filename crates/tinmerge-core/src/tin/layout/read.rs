@@ -6,7 +6,7 @@ use crate::tin::{Bbox, MAX_LEVELS, TinError};
 use xxhash_rust::xxh3::Xxh3;
 
 pub const MAGIC: &[u8; 4] = b"TINM";
-/// The format version [`encode`] writes.
+/// The format version [`encode`](super::encode::encode) writes.
 pub const VERSION: u16 = 4;
 /// Format 4 with void triangles (a domain that is not the convex hull):
 /// written when a level has any, so that a reader of format 4 refuses it.

@@ -136,7 +136,7 @@ impl PartView<'_, '_> {
 }
 
 /// The line merge through a stored tree: the same reports to `sink` as
-/// [`super::walk_parts`] on the same line.
+/// [`crate::merge::line::walk_parts`] on the same line.
 pub fn walk_tree<S: Sink>(
     tin: &Tin,
     level: usize,
@@ -166,7 +166,7 @@ fn moves(part: &PartView, root: Node) -> Result<bool, TinError> {
 }
 
 /// Widened line through a stored tree: the same triangles, in the same
-/// order, as [`super::widened::near_line`].
+/// order, as [`crate::merge::line::widened::near_line`].
 pub fn near_tree(
     tin: &Tin,
     level: usize,
