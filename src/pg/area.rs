@@ -7,8 +7,7 @@
 //! through which `ST_IsValidReason` and `spatial_ref_sys` are found. Not
 //! STRICT (a NULL level means finest): a NULL tin, polygon or base height
 //! gives no rows. The `_tin_*` entry points of 0.6.0 and earlier (EWKB and
-//! the verdict as arguments) remain as symbols only, for databases not yet
-//! updated.
+//! the verdict as arguments) are in [`super::compat`].
 
 use pgrx::prelude::*;
 use std::cell::RefCell;
@@ -95,7 +94,7 @@ fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Area {
 
 /// An EWKB argument of the `_tin_*` entry points of 0.6.0 and earlier, with
 /// the verdict their SQL wrapper computed.
-fn ewkb_area(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> Area {
+pub(super) fn ewkb_area(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> Area {
     area_arg(
         ewkb::read(bytes).or_raise(),
         &|| validity.map(str::to_string),
@@ -160,7 +159,7 @@ pub(super) fn refuse_geographic(geographic: Option<bool>, srid: i32, bbox: &Bbox
 type TriRow = (i32, i32, String, f64);
 
 /// The rows of `tin_area_triangles` for a polygon read by `area`.
-fn triangles_rows(
+pub(super) fn triangles_rows(
     t: &TinArg,
     level: Option<i32>,
     compact: bool,
@@ -219,35 +218,7 @@ COMMENT ON FUNCTION tin_area_triangles(tin, geometry, int, boolean) IS
     requires = [tin_area_triangles]
 );
 
-/// 0.6.0's entry point (symbol only; see the module documentation).
-#[pg_extern(sql = false)]
-fn _tin_area_triangles(
-    t: Option<TinArg>,
-    area: Option<&[u8]>,
-    level: Option<i32>,
-    compact: Option<bool>,
-    validity: Option<&str>,
-) -> TableIterator<
-    'static,
-    (
-        name!(triangle, i32),
-        name!(level, i32),
-        name!(relation, String),
-        name!(coverage, f64),
-    ),
-> {
-    let (Some(t), Some(area)) = (t, area) else {
-        return TableIterator::new(Vec::new());
-    };
-    TableIterator::new(triangles_rows(
-        &t,
-        level,
-        compact.unwrap_or(false),
-        &|srid| ewkb_area(area, validity, srid, "tin_area_triangles"),
-    ))
-}
-
-type StatsRow = (
+pub(super) type StatsRow = (
     f64,
     f64,
     Option<f64>,
@@ -258,7 +229,7 @@ type StatsRow = (
 );
 
 /// The row of `tin_area_stats` for a polygon read by `area`.
-fn stats_row(
+pub(super) fn stats_row(
     t: &TinArg,
     level: Option<i32>,
     geographic: Option<bool>,
@@ -318,37 +289,8 @@ COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
     requires = [tin_area_stats]
 );
 
-/// 0.6.0's entry point (symbol only; see the module documentation).
-#[allow(clippy::type_complexity)]
-#[pg_extern(sql = false)]
-fn _tin_area_stats(
-    t: Option<TinArg>,
-    area: Option<&[u8]>,
-    level: Option<i32>,
-    validity: Option<&str>,
-    geographic: Option<bool>,
-) -> TableIterator<
-    'static,
-    (
-        name!(area2d, f64),
-        name!(area3d, f64),
-        name!(min_z, Option<f64>),
-        name!(max_z, Option<f64>),
-        name!(mean_z, Option<f64>),
-        name!(mean_slope, Option<f64>),
-        name!(max_slope, Option<f64>),
-    ),
-> {
-    let (Some(t), Some(area)) = (t, area) else {
-        return TableIterator::new(Vec::<StatsRow>::new());
-    };
-    TableIterator::new(vec![stats_row(&t, level, geographic, &|srid| {
-        ewkb_area(area, validity, srid, "tin_area_stats")
-    })])
-}
-
 /// Cut and fill of a polygon read by `area` against `base`.
-fn volume_row(
+pub(super) fn volume_row(
     t: &TinArg,
     base: f64,
     level: Option<i32>,
@@ -394,23 +336,6 @@ COMMENT ON FUNCTION tin_volume(tin, geometry, float8, int) IS
     requires = [tin_volume]
 );
 
-/// 0.6.0's entry point (symbol only; see the module documentation).
-#[pg_extern(sql = false)]
-fn _tin_volume(
-    t: Option<TinArg>,
-    area: Option<&[u8]>,
-    base_z: Option<f64>,
-    level: Option<i32>,
-    validity: Option<&str>,
-    geographic: Option<bool>,
-) -> TableIterator<'static, (name!(cut, f64), name!(fill, f64))> {
-    let (Some(t), Some(area), Some(base)) = (t, area, base_z) else {
-        return TableIterator::new(Vec::new());
-    };
-    TableIterator::new(vec![volume_row(&t, base, level, geographic, &|srid| {
-        ewkb_area(area, validity, srid, "tin_volume")
-    })])
-}
 /// The sweep's work for the benchmark: triangles examined by a method
 /// ('hierarchy', 'flat' or 'scan') and the rows it gives. Only in builds
 /// with the `bench` feature (`make bench` installs one); never in an install.
@@ -448,18 +373,3 @@ COMMENT ON FUNCTION _tin_area_examined(tin, bytea, integer, text) IS 'Internal (
     name = "tin_area_examined_comment",
     requires = [_tin_area_examined]
 );
-
-/// Installs without the `bench` feature keep only the symbol of
-/// `_tin_area_examined`: the frozen install scripts of 0.1.0 to 0.3.0 declare
-/// the function (run by `CREATE EXTENSION tinmerge VERSION '0.x'` and by the
-/// upgrade chain), and PostgreSQL checks the symbol exists when they do.
-/// 0.4.0 drops the SQL function (`tinmerge--0.3.0--0.4.0.sql`); a database
-/// still on an older version gets this error if it calls it.
-#[cfg(not(feature = "bench"))]
-#[pg_extern(sql = false)]
-fn _tin_area_examined(_t: TinArg, _area: &[u8], _level: Option<i32>, _method: &str) -> i64 {
-    raise(
-        PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-        "_tin_area_examined is a benchmark entry point, only in builds with the bench feature (make bench); ALTER EXTENSION tinmerge UPDATE removes it",
-    )
-}

@@ -116,39 +116,13 @@ COMMENT ON FUNCTION _tin_from_raster(bytea, float8, int, int, boolean) IS 'Inter
     requires = [_tin_from_raster]
 );
 
-/// 0.8.0's build of `tin_from_raster` with breaklines (C symbol kept for
-/// its install script): [`_tin_from_raster_domain`] without a boundary.
-#[allow(clippy::too_many_arguments)]
-#[pg_extern(sql = false)]
-fn _tin_from_raster_breaklines(
-    rast: Option<&[u8]>,
-    tolerance: Option<f64>,
-    levels: Option<i32>,
-    band: Option<i32>,
-    keep_border: Option<bool>,
-    breaklines: Option<&[u8]>,
-    soft_breaklines: Option<&[u8]>,
-) -> Option<TinOut> {
-    _tin_from_raster_domain(
-        rast,
-        tolerance,
-        levels,
-        band,
-        keep_border,
-        breaklines,
-        soft_breaklines,
-        None,
-        Some(true),
-    )
-}
-
 /// The build of `tin_from_raster` with breaklines or a boundary (its
 /// wrapper calls `_tin_from_raster` without them). Not STRICT: the
 /// breaklines and the boundary may be NULL; any other NULL argument gives
 /// NULL.
 #[allow(clippy::too_many_arguments)]
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_from_raster_domain(
+pub(super) fn _tin_from_raster_domain(
     rast: Option<&[u8]>,
     tolerance: Option<f64>,
     levels: Option<i32>,
@@ -182,34 +156,11 @@ COMMENT ON FUNCTION _tin_from_raster_domain(bytea, float8, int, int, boolean, by
     requires = [_tin_from_raster_domain]
 );
 
-/// 0.8.0's `tin_from_raster(raster, float8[], ...)` with breaklines (C
-/// symbol kept): [`_tin_from_raster_tolerances_domain`] without a boundary.
-#[pg_extern(sql = false)]
-fn _tin_from_raster_tolerances_breaklines(
-    rast: Option<&[u8]>,
-    tolerances: Option<Vec<Option<f64>>>,
-    band: Option<i32>,
-    keep_border: Option<bool>,
-    breaklines: Option<&[u8]>,
-    soft_breaklines: Option<&[u8]>,
-) -> Option<TinOut> {
-    _tin_from_raster_tolerances_domain(
-        rast,
-        tolerances,
-        band,
-        keep_border,
-        breaklines,
-        soft_breaklines,
-        None,
-        Some(true),
-    )
-}
-
 /// `tin_from_raster(raster, float8[], ...)` with breaklines or a
 /// boundary; NULLs as for [`_tin_from_raster_domain`].
 #[allow(clippy::too_many_arguments)]
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_from_raster_tolerances_domain(
+pub(super) fn _tin_from_raster_tolerances_domain(
     rast: Option<&[u8]>,
     tolerances: Option<Vec<Option<f64>>>,
     band: Option<i32>,
@@ -602,23 +553,10 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
     TinOut::from_tin(&build_points(samples, &tols, srid, &mut interrupt).or_raise())
 }
 
-/// 0.8.0's `tin_from_points` with breaklines (C symbol kept):
-/// [`_tin_from_points_domain`] without a boundary.
-#[pg_extern(sql = false)]
-fn _tin_from_points_breaklines(
-    pts: Option<&[u8]>,
-    tolerance: Option<f64>,
-    levels: Option<i32>,
-    breaklines: Option<&[u8]>,
-    soft_breaklines: Option<&[u8]>,
-) -> Option<TinOut> {
-    _tin_from_points_domain(pts, tolerance, levels, breaklines, soft_breaklines, None)
-}
-
 /// `tin_from_points` with breaklines or a boundary; NULLs as for
 /// [`_tin_from_raster_domain`].
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_from_points_domain(
+pub(super) fn _tin_from_points_domain(
     pts: Option<&[u8]>,
     tolerance: Option<f64>,
     levels: Option<i32>,

@@ -310,7 +310,7 @@ fn tin_drape(
 }
 
 /// Drape a decoded geometry after the SRID and coordinate checks.
-fn drape_checked(tin: &Tin, l: usize, g: &ewkb::Ewkb) -> Option<Geom> {
+pub(super) fn drape_checked(tin: &Tin, l: usize, g: &ewkb::Ewkb) -> Option<Geom> {
     check_srid(
         g.srid,
         tin.srid,
@@ -328,22 +328,6 @@ fn drape_checked(tin: &Tin, l: usize, g: &ewkb::Ewkb) -> Option<Geom> {
         check_xy("tin_drape: the geometry", c[0], c[1]).or_raise();
     }
     drape(tin, l, &g.geom).or_raise()
-}
-
-/// The EWKB form that `tin_drape` was a SQL wrapper over until 0.4.0. The
-/// install scripts of 0.1.0 to 0.4.0 declare it, so the symbol stays (and
-/// works, for a database not yet updated); 0.5.0 drops the SQL function.
-#[pg_extern(sql = false)]
-fn _tin_drape(
-    t: Option<TinArg>,
-    geom: Option<&[u8]>,
-    level: default!(Option<i32>, "NULL"),
-) -> Option<Vec<u8>> {
-    let (t, geom) = (t?, geom?);
-    let (tin, l) = tin_level(&t, level);
-    let g = ewkb::read(geom).or_raise();
-    let out = drape_checked(&tin, l, &g)?;
-    Some(ewkb::Writer::write(g.srid, true, &out))
 }
 
 extension_sql!(

@@ -91,6 +91,7 @@ mod area;
 mod args;
 mod build;
 mod cache;
+mod compat;
 mod errors;
 mod header;
 mod interrupt;

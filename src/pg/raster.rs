@@ -127,7 +127,7 @@ type StatsRow = (i32, i64, f64, f64, f64, f64, Option<f64>);
 /// `tin_raster_stats`: zonal statistics per triangle (see its comment).
 #[allow(clippy::type_complexity)]
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_raster_zonal(
+pub(super) fn _tin_raster_zonal(
     t: Option<TinArg>,
     rast: Option<&[u8]>,
     level: Option<i32>,
@@ -196,36 +196,9 @@ COMMENT ON FUNCTION _tin_raster_zonal(tin, bytea, int, int, boolean, boolean) IS
     requires = [_tin_raster_zonal]
 );
 
-/// 0.1.0 to 0.6.0's `_tin_raster_stats` (without `half_open`), kept as a
-/// symbol only: their install scripts declare it, and a database still on
-/// one of them calls it. 0.7.0's `tin_raster_stats` calls
-/// `_tin_raster_zonal`.
-#[allow(clippy::type_complexity)]
-#[pg_extern(sql = false)]
-fn _tin_raster_stats(
-    t: Option<TinArg>,
-    rast: Option<&[u8]>,
-    level: Option<i32>,
-    band: Option<i32>,
-    weighted: Option<bool>,
-) -> TableIterator<
-    'static,
-    (
-        name!(triangle, i32),
-        name!(count, i64),
-        name!(sum, f64),
-        name!(mean, f64),
-        name!(min, f64),
-        name!(max, f64),
-        name!(mode, Option<f64>),
-    ),
-> {
-    _tin_raster_zonal(t, rast, level, band, weighted, Some(false))
-}
-
 /// `tin_raster_pixels`: every valid pixel with the triangle owning it.
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
-fn _tin_raster_owners(
+pub(super) fn _tin_raster_owners(
     t: Option<TinArg>,
     rast: Option<&[u8]>,
     level: Option<i32>,
@@ -274,26 +247,6 @@ COMMENT ON FUNCTION _tin_raster_owners(tin, bytea, int, int, boolean) IS 'Intern
     name = "tin_raster_owners_sql",
     requires = [_tin_raster_owners]
 );
-
-/// 0.1.0 to 0.6.0's `_tin_raster_pixels` (without `half_open`), kept as a
-/// symbol only (see `_tin_raster_stats`).
-#[pg_extern(sql = false)]
-fn _tin_raster_pixels(
-    t: Option<TinArg>,
-    rast: Option<&[u8]>,
-    level: Option<i32>,
-    band: Option<i32>,
-) -> TableIterator<
-    'static,
-    (
-        name!(triangle, i32),
-        name!(col, i32),
-        name!(row, i32),
-        name!(value, f64),
-    ),
-> {
-    _tin_raster_owners(t, rast, level, band, Some(false))
-}
 
 #[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_paint(

@@ -48,10 +48,6 @@ const ZSTD_LEVEL: i32 = 3;
 /// Move-to-front cache of the triangle coding.
 const CACHE: usize = 16;
 
-fn corrupt(s: impl Into<String>) -> TinError {
-    TinError::Corrupt(s.into())
-}
-
 /// How the vertices of a format-4 value are coded (stored in its header).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VertexCoding {
@@ -221,14 +217,14 @@ pub fn read_varint(b: &[u8], at: &mut usize) -> Result<u64, TinError> {
     for shift in (0..64).step_by(7) {
         let byte = *b
             .get(*at)
-            .ok_or_else(|| corrupt("group ends inside a number"))?;
+            .ok_or_else(|| TinError::corrupt("group ends inside a number"))?;
         *at += 1;
         v |= ((byte & 0x7f) as u64) << shift;
         if byte & 0x80 == 0 {
             return Ok(v);
         }
     }
-    Err(corrupt("number longer than 64 bits in a group"))
+    Err(TinError::corrupt("number longer than 64 bits in a group"))
 }
 
 pub fn zigzag(v: i64) -> u64 {
@@ -314,7 +310,7 @@ pub fn decode_verts(
         b.get(at..at + 8)
             .and_then(|s| s.try_into().ok())
             .map(f64::from_le_bytes)
-            .ok_or_else(|| corrupt("vertex group is truncated"))
+            .ok_or_else(|| TinError::corrupt("vertex group is truncated"))
     };
     let used = match (coding, lat) {
         (VertexCoding::Raw, _) => {
@@ -323,7 +319,11 @@ pub fn decode_verts(
             }
             24 * n
         }
-        (_, None) => return Err(corrupt("lattice-coded vertices without a lattice")),
+        (_, None) => {
+            return Err(TinError::corrupt(
+                "lattice-coded vertices without a lattice",
+            ));
+        }
         (_, Some(lat)) => {
             let mut at = 0usize;
             let (mut c, mut r) = (0i64, 0i64);
@@ -332,7 +332,7 @@ pub fn decode_verts(
                 c = c.wrapping_add(unzigzag(read_varint(b, &mut at)?));
                 r = r.wrapping_add(unzigzag(read_varint(b, &mut at)?));
                 if c.abs() > i32::MAX as i64 || r.abs() > i32::MAX as i64 {
-                    return Err(corrupt("lattice index out of range"));
+                    return Err(TinError::corrupt("lattice index out of range"));
                 }
                 cr.push((c as f64, r as f64));
             }
@@ -343,7 +343,7 @@ pub fn decode_verts(
                         .get(at + 4 * i..at + 4 * i + 4)
                         .and_then(|s| s.try_into().ok())
                         .map(f32::from_le_bytes)
-                        .ok_or_else(|| corrupt("vertex group is truncated"))?;
+                        .ok_or_else(|| TinError::corrupt("vertex group is truncated"))?;
                     s as f64
                 } else {
                     f64_at(at + 8 * i)?
@@ -358,7 +358,7 @@ pub fn decode_verts(
         }
     };
     if used != b.len() {
-        return Err(corrupt("vertex group has bytes left over"));
+        return Err(TinError::corrupt("vertex group has bytes left over"));
     }
     Ok(out)
 }
@@ -403,12 +403,14 @@ pub fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
         for v in t.iter_mut() {
             let code = *b
                 .get(at)
-                .ok_or_else(|| corrupt("triangle group is truncated"))?;
+                .ok_or_else(|| TinError::corrupt("triangle group is truncated"))?;
             at += 1;
             let id = if (code as usize) < CACHE {
                 let i = code as usize;
                 if i >= held {
-                    return Err(corrupt("triangle group refers to an empty cache slot"));
+                    return Err(TinError::corrupt(
+                        "triangle group refers to an empty cache slot",
+                    ));
                 }
                 let id = cache[i];
                 cache.copy_within(0..i, 1);
@@ -419,11 +421,15 @@ pub fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
                 } else if code < 127 {
                     (code as usize - CACHE) as u64
                 } else {
-                    return Err(corrupt(format!("bad code {code} in a triangle group")));
+                    return Err(TinError::corrupt(format!(
+                        "bad code {code} in a triangle group"
+                    )));
                 };
                 last = last.wrapping_add(unzigzag(d));
                 if !(0..NONE as i64).contains(&last) {
-                    return Err(corrupt("vertex id out of range in a triangle group"));
+                    return Err(TinError::corrupt(
+                        "vertex id out of range in a triangle group",
+                    ));
                 }
                 cache.copy_within(0..CACHE - 1, 1);
                 held = (held + 1).min(CACHE);
@@ -435,7 +441,7 @@ pub fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
         out.push(t);
     }
     if at != b.len() {
-        return Err(corrupt("triangle group has bytes left over"));
+        return Err(TinError::corrupt("triangle group has bytes left over"));
     }
     Ok(out)
 }
@@ -472,7 +478,7 @@ pub fn decode_nbrs(b: &[u8], n: usize, first: usize) -> Result<Vec<[u32; 3]>, Ti
             if c != 0 {
                 let id = t.wrapping_add(unzigzag(c - 1));
                 if !(0..NONE as i64).contains(&id) {
-                    return Err(corrupt("neighbour id out of range in a group"));
+                    return Err(TinError::corrupt("neighbour id out of range in a group"));
                 }
                 *v = id as u32;
             }
@@ -480,7 +486,7 @@ pub fn decode_nbrs(b: &[u8], n: usize, first: usize) -> Result<Vec<[u32; 3]>, Ti
         out.push(x);
     }
     if at != b.len() {
-        return Err(corrupt("neighbour group has bytes left over"));
+        return Err(TinError::corrupt("neighbour group has bytes left over"));
     }
     Ok(out)
 }
@@ -513,12 +519,12 @@ pub fn decode_ids(b: &[u8], n: usize, plus_one: bool) -> Result<Vec<u32>, TinErr
             (true, 0) => NONE,
             (true, x) if (1..=NONE as i64).contains(&x) => (x - 1) as u32,
             (false, x) if (0..NONE as i64).contains(&x) => x as u32,
-            _ => return Err(corrupt("id out of range in a group")),
+            _ => return Err(TinError::corrupt("id out of range in a group")),
         };
         out.push(v);
     }
     if at != b.len() {
-        return Err(corrupt("id group has bytes left over"));
+        return Err(TinError::corrupt("id group has bytes left over"));
     }
     Ok(out)
 }
@@ -562,10 +568,10 @@ pub fn unpack(b: &[u8], max: usize) -> Result<Vec<u8>, TinError> {
                 Some(d) => d.decompress(rest, max),
                 None => zstd::bulk::decompress(rest, max),
             })
-            .map_err(|e| corrupt(format!("a group does not decompress: {e}")))
+            .map_err(|e| TinError::corrupt(format!("a group does not decompress: {e}")))
         }
-        Some((c, _)) if *c > 1 => Err(corrupt(format!("unknown group codec {c}"))),
-        _ => Err(corrupt("empty or oversized group")),
+        Some((c, _)) if *c > 1 => Err(TinError::corrupt(format!("unknown group codec {c}"))),
+        _ => Err(TinError::corrupt("empty or oversized group")),
     }
 }
 

@@ -274,6 +274,14 @@ pub enum TinError {
     Interrupted,
 }
 
+impl TinError {
+    /// A stored or transmitted value that is not valid (`Corrupt`), or an
+    /// internal invariant of a merge's walk that such a value broke.
+    pub fn corrupt(s: impl Into<String>) -> TinError {
+        TinError::Corrupt(s.into())
+    }
+}
+
 impl From<std::convert::Infallible> for TinError {
     fn from(e: std::convert::Infallible) -> TinError {
         match e {}

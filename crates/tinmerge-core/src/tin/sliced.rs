@@ -46,10 +46,6 @@ use rustc_hash::FxHashMap as HashMap;
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
-fn corrupt(s: impl Into<String>) -> TinError {
-    TinError::Corrupt(s.into())
-}
-
 /// The fetch of the current call: `(offset in the value, length) -> bytes`.
 pub type Fetch<'a> = dyn FnMut(u64, usize) -> Result<Vec<u8>, TinError> + 'a;
 
@@ -103,7 +99,7 @@ impl SlicedTin {
                 let least =
                     (HEADER_LEN_V4 as u64).saturating_add(plan.num_groups().saturating_mul(13));
                 if header.total_len < least {
-                    return Err(corrupt(format!(
+                    return Err(TinError::corrupt(format!(
                         "length mismatch: header says {} bytes, its groups need at least {least}",
                         header.total_len
                     )));
@@ -116,11 +112,11 @@ impl SlicedTin {
                 )
             }
             layout::VERSION_3 => {
-                let (body, sections) =
-                    layout::sections(&header).ok_or_else(|| corrupt("counts overflow"))?;
+                let (body, sections) = layout::sections(&header)
+                    .ok_or_else(|| TinError::corrupt("counts overflow"))?;
                 let want = layout::HEADER_LEN_V3 as u64 + body + layout::num_blocks(body) * 8;
                 if header.total_len != want {
-                    return Err(corrupt(format!(
+                    return Err(TinError::corrupt(format!(
                         "length mismatch: header says {} bytes, its counts need {want}",
                         header.total_len
                     )));
@@ -268,7 +264,9 @@ impl Reader<'_> {
         let end = at
             .checked_add(len as u64)
             .filter(|&e| e <= total)
-            .ok_or_else(|| corrupt(format!("read of {len} bytes at {at} past the value's end")))?;
+            .ok_or_else(|| {
+                TinError::corrupt(format!("read of {len} bytes at {at} past the value's end"))
+            })?;
         let (c0, c1) = (at / unit, (end - 1) / unit);
         let missing: Vec<u64> = {
             let units = self.s.units.borrow();
@@ -297,12 +295,12 @@ impl Reader<'_> {
         for c in c0..=c1 {
             let u = units
                 .get(&c)
-                .ok_or_else(|| corrupt(format!("unit {c} of the value was not read")))?;
+                .ok_or_else(|| TinError::corrupt(format!("unit {c} of the value was not read")))?;
             let lo = at.max(c * unit) - c * unit;
             let hi = end.min((c + 1) * unit) - c * unit;
             out.extend_from_slice(
                 u.get(lo as usize..hi as usize)
-                    .ok_or_else(|| corrupt(format!("unit {c} of the value is short")))?,
+                    .ok_or_else(|| TinError::corrupt(format!("unit {c} of the value is short")))?,
             );
         }
         Ok(out)
@@ -311,7 +309,7 @@ impl Reader<'_> {
     fn fetch_exact(&self, at: u64, len: usize) -> Result<Vec<u8>, TinError> {
         let raw = (self.fetch.borrow_mut())(at, len)?;
         if raw.len() != len {
-            return Err(corrupt(format!(
+            return Err(TinError::corrupt(format!(
                 "read {} bytes at {at}, expected {len}",
                 raw.len()
             )));
@@ -331,7 +329,7 @@ impl Reader<'_> {
             .s
             .plan
             .group_of(s, i)
-            .ok_or_else(|| corrupt(format!("element {i} of {s:?} out of range")))?;
+            .ok_or_else(|| TinError::corrupt(format!("element {i} of {s:?} out of range")))?;
         let found = {
             let groups = self.s.groups.borrow();
             groups.get(&k).map(|g| f(g, i - first))
@@ -345,7 +343,7 @@ impl Reader<'_> {
                 f(&g, i - first)
             }
         };
-        v.ok_or_else(|| corrupt(format!("group {k} does not hold {s:?} {i}")))
+        v.ok_or_else(|| TinError::corrupt(format!("group {k} does not hold {s:?} {i}")))
     }
 
     /// Read, check and decode group `k` (elements `first..first + n` of
@@ -431,7 +429,7 @@ impl Reader<'_> {
     /// (each checked).
     fn v3_bytes(&self, body: u64, at: u64, len: usize) -> Result<Vec<u8>, TinError> {
         if at + len as u64 > body {
-            return Err(corrupt("read past the end of the value"));
+            return Err(TinError::corrupt("read past the end of the value"));
         }
         let mut out = Vec::with_capacity(len);
         let (first, last) = (
@@ -447,7 +445,7 @@ impl Reader<'_> {
             let hi = (at + len as u64).min(b0 + payload as u64) - b0;
             let piece = data
                 .get(lo as usize..hi as usize)
-                .ok_or_else(|| corrupt(format!("block {k} is shorter than its place")))?;
+                .ok_or_else(|| TinError::corrupt(format!("block {k} is shorter than its place")))?;
             out.extend_from_slice(piece);
         }
         Ok(out)
@@ -457,7 +455,7 @@ impl Reader<'_> {
         if (t as usize) < self.num_triangles(level) {
             Ok(())
         } else {
-            Err(corrupt(format!(
+            Err(TinError::corrupt(format!(
                 "triangle {t} out of range at level {level}"
             )))
         }
@@ -481,7 +479,7 @@ impl Reader<'_> {
 fn sec(sections: &[LevelSections], l: usize) -> Result<&LevelSections, TinError> {
     sections
         .get(l)
-        .ok_or_else(|| corrupt(format!("level {l} out of range")))
+        .ok_or_else(|| TinError::corrupt(format!("level {l} out of range")))
 }
 
 impl Mesh for Reader<'_> {
@@ -508,7 +506,9 @@ impl Mesh for Reader<'_> {
         self.check_tri(level, t)?;
         let v = self.triple(Stream::Tris(level), t)?;
         if v.iter().any(|&i| i >= self.s.header.num_vertices) {
-            return Err(corrupt(format!("vertex id out of range in triangle {t}")));
+            return Err(TinError::corrupt(format!(
+                "vertex id out of range in triangle {t}"
+            )));
         }
         Ok(v)
     }
@@ -518,7 +518,7 @@ impl Mesh for Reader<'_> {
         let n = self.triple(Stream::Nbrs(level), t)?;
         let nt = self.num_triangles(level) as u32;
         if n.iter().any(|&i| i != NONE && i >= nt) {
-            return Err(corrupt(format!(
+            return Err(TinError::corrupt(format!(
                 "neighbour id out of range in triangle {t}"
             )));
         }
@@ -537,7 +537,9 @@ impl Mesh for Reader<'_> {
             Some(up) => (p as usize) < self.num_triangles(up),
         };
         if !ok {
-            return Err(corrupt(format!("parent of triangle {t} out of range")));
+            return Err(TinError::corrupt(format!(
+                "parent of triangle {t} out of range"
+            )));
         }
         Ok(p)
     }
@@ -611,7 +613,7 @@ impl Mesh for Reader<'_> {
 
     fn vert(&self, v: u32) -> Result<[f64; 3], TinError> {
         if v >= self.s.header.num_vertices {
-            return Err(corrupt(format!("vertex {v} out of range")));
+            return Err(TinError::corrupt(format!("vertex {v} out of range")));
         }
         self.with(Stream::Verts, v as usize, |g, j| match g {
             Group::Verts(x) => x.get(j).copied(),
@@ -635,7 +637,7 @@ impl Indexed for Reader<'_> {
     fn cell(&self, level: usize, i: u32) -> Result<u32, TinError> {
         let (_, nx, ny) = self.grid(level);
         if i as u64 >= nx as u64 * ny as u64 {
-            return Err(corrupt(format!("grid cell {i} out of range")));
+            return Err(TinError::corrupt(format!("grid cell {i} out of range")));
         }
         let t = self.id(Stream::Cells(level), i)?;
         self.check_tri(level, t)?;

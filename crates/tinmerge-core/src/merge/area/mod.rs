@@ -367,10 +367,6 @@ impl std::ops::IndexMut<usize> for Flags {
     }
 }
 
-fn corrupt(what: &str) -> TinError {
-    TinError::Corrupt(format!("area sweep: {what}"))
-}
-
 /// Find the boundary and the inside triangles down to `level` (see the
 /// module documentation).
 pub fn sweep<M: Indexed>(
@@ -418,7 +414,7 @@ where
         tk.tick()?;
         let f = flags[level]
             .get_mut(t as usize)
-            .ok_or_else(|| corrupt("triangle id"))?;
+            .ok_or_else(|| TinError::corrupt("area sweep: triangle id"))?;
         if *f & WALKED == 0 {
             *f |= WALKED;
             walked_at[level].push(t);
@@ -445,13 +441,13 @@ where
         let nl = tin.num_triangles(l);
         let up = |c: u32| -> Result<u32, TinError> {
             if c as usize >= tin.num_triangles(l + 1) {
-                return Err(corrupt("parent"));
+                return Err(TinError::corrupt("area sweep: parent"));
             }
             let p = tin.parent(l + 1, c)?;
             if (p as usize) < nl {
                 Ok(p)
             } else {
-                Err(corrupt("parent id"))
+                Err(TinError::corrupt("area sweep: parent id"))
             }
         };
         for (lists, bit) in [(&mut walked_at, WALKED), (&mut boundary_at, BOUNDARY)] {
@@ -520,7 +516,7 @@ where
             let mut mark = |t: u32, flags: &mut Flags| -> Result<(), TinError> {
                 let f = flags
                     .get_mut(t as usize)
-                    .ok_or_else(|| corrupt("triangle id"))?;
+                    .ok_or_else(|| TinError::corrupt("area sweep: triangle id"))?;
                 if *f & (BOUNDARY | SEED) == 0 {
                     *f |= SEED;
                     seeds.push(t);
@@ -570,7 +566,7 @@ where
                         }
                         let fnb = flags
                             .get_mut(nb as usize)
-                            .ok_or_else(|| corrupt("neighbour"))?;
+                            .ok_or_else(|| TinError::corrupt("area sweep: neighbour"))?;
                         if *fnb & (BOUNDARY | SEEN) != 0 {
                             continue;
                         }

@@ -160,10 +160,6 @@ enum Exit {
     Corner(usize),
 }
 
-fn corrupt(what: &str) -> TinError {
-    TinError::Corrupt(format!("line walk: {what}"))
-}
-
 /// Follows lines through the triangles of one level of a mesh: a decoded
 /// [`Tin`] (the default) or a stored value read in slices
 /// ([`crate::tin::sliced`]), whose read errors end the walk.
@@ -303,7 +299,9 @@ where
         last: usize,
     ) -> Result<(), TinError> {
         let Some(t) = self.cur else {
-            return Err(corrupt("run inside with no current triangle"));
+            return Err(TinError::corrupt(
+                "line walk: run inside with no current triangle",
+            ));
         };
         if !self.open {
             self.emit(t, line.pt(first)?, line.cum(first)?);
@@ -356,7 +354,7 @@ where
         let mut budget = 2 * self.tin.num_triangles(self.level) + 64;
         loop {
             if budget == 0 {
-                return Err(corrupt("the walk did not end"));
+                return Err(TinError::corrupt("line walk: the walk did not end"));
             }
             budget -= 1;
             let tc = self.corners(t)?;
@@ -416,7 +414,9 @@ where
         let tc = self.corners(t)?;
         let (cp, cq) = (co(p), co(q));
         match spot(&tc, cp) {
-            None => Err(corrupt("current point is not in its triangle")),
+            None => Err(TinError::corrupt(
+                "line walk: current point is not in its triangle",
+            )),
             Some(Spot::Inside) => Ok(Some(t)),
             Some(Spot::Edge(j)) => {
                 let (a, b) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
@@ -457,7 +457,7 @@ where
                 let i = tri
                     .iter()
                     .position(|&x| x == vid)
-                    .ok_or_else(|| corrupt("vertex fan is inconsistent"))?;
+                    .ok_or_else(|| TinError::corrupt("line walk: vertex fan is inconsistent"))?;
                 let b = vco(&m.vert(tri[(i + 1) % 3])?);
                 let cc = vco(&m.vert(tri[(i + 2) % 3])?);
                 let ob = orient2d(v, b, q);
@@ -622,7 +622,9 @@ fn exit(tc: &[Coord<f64>; 3], p: Coord<f64>, q: Coord<f64>) -> Result<Exit, TinE
             };
             Ok(Exit::Corner(if key(*j) >= key(*k) { *j } else { *k }))
         }
-        _ => Err(corrupt("the line does not cross the triangle it is in")),
+        _ => Err(TinError::corrupt(
+            "line walk: the line does not cross the triangle it is in",
+        )),
     }
 }
 

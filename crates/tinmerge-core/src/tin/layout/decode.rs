@@ -2,7 +2,7 @@
 //! the heap that takes.
 
 use super::read::{
-    BLOCK_LEN, FIXED_LEN, HEADER_LEN_V3, HEADER_LEN_V4, Header, LevelInfo, Rd, VERSION_1, corrupt,
+    BLOCK_LEN, FIXED_LEN, HEADER_LEN_V3, HEADER_LEN_V4, Header, LevelInfo, Rd, VERSION_1,
     is_compact, read_header, stored_header_hash, value_len,
 };
 use super::seal::{check_block, check_group, content_hash, plan};
@@ -25,22 +25,24 @@ pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, Ti
     let h = read_header(b)?;
     if is_compact(h.version) {
         if h.total_len != b.len() as u64 {
-            return Err(corrupt(format!(
+            return Err(TinError::corrupt(format!(
                 "length mismatch: value has {} bytes, header says {}",
                 b.len(),
                 h.total_len
             )));
         }
         if content_hash(b) != h.hash {
-            return Err(corrupt("content hash mismatch (value is corrupted)"));
+            return Err(TinError::corrupt(
+                "content hash mismatch (value is corrupted)",
+            ));
         }
         interrupt()?;
         let (verts, levels) = decode_v4(b, &h, interrupt)?;
         return finish(&h, verts, levels, interrupt);
     }
-    let expect = value_len(&h).ok_or_else(|| corrupt("counts overflow"))?;
+    let expect = value_len(&h).ok_or_else(|| TinError::corrupt("counts overflow"))?;
     if h.total_len != b.len() as u64 || expect != b.len() as u64 {
-        return Err(corrupt(format!(
+        return Err(TinError::corrupt(format!(
             "length mismatch: value has {} bytes, header says {} and its counts need {}",
             b.len(),
             h.total_len,
@@ -48,7 +50,9 @@ pub fn decode_checked(b: &[u8], interrupt: &mut Interrupt<'_>) -> Result<Tin, Ti
         )));
     }
     if content_hash(b) != h.hash {
-        return Err(corrupt("content hash mismatch (value is corrupted)"));
+        return Err(TinError::corrupt(
+            "content hash mismatch (value is corrupted)",
+        ));
     }
     interrupt()?;
     let unblocked;
@@ -131,7 +135,9 @@ pub fn group_ranges(b: &[u8], plan: &Plan) -> Result<Vec<std::ops::Range<usize>>
         .checked_mul(4)
         .and_then(|d| d.checked_add(HEADER_LEN_V4))
         .filter(|&d| d <= b.len())
-        .ok_or_else(|| corrupt("the directory of groups runs past the end of the value"))?;
+        .ok_or_else(|| {
+            TinError::corrupt("the directory of groups runs past the end of the value")
+        })?;
     let mut out = Vec::with_capacity(ng);
     let mut start = 0u64;
     for (k, e) in b[HEADER_LEN_V4..data].chunks_exact(4).enumerate() {
@@ -142,7 +148,7 @@ pub fn group_ranges(b: &[u8], plan: &Plan) -> Result<Vec<std::ops::Range<usize>>
     }
     let start = start as usize;
     if data + start != b.len() {
-        return Err(corrupt("bytes after the last group"));
+        return Err(TinError::corrupt("bytes after the last group"));
     }
     Ok(out)
 }
@@ -179,7 +185,7 @@ pub fn group_place(
     total: u64,
 ) -> Result<(u64, u64), TinError> {
     if end < start + 9 || data + end > total {
-        return Err(corrupt(format!(
+        return Err(TinError::corrupt(format!(
             "group {k} has a bad place in the directory"
         )));
     }
@@ -236,7 +242,7 @@ fn decode_v4(
                 (Stream::Nbrs(l), compact::Group::Triples(v)) if l < nl => arrays[l].1.extend(v),
                 (Stream::Parents(l), compact::Group::Ids(v)) if l < nl => arrays[l].2.extend(v),
                 (Stream::Cells(l), compact::Group::Ids(v)) if l < nl => arrays[l].3.extend(v),
-                _ => return Err(corrupt("a group decoded to the wrong kind")),
+                _ => return Err(TinError::corrupt("a group decoded to the wrong kind")),
             }
         }
         Ok(())

@@ -1,6 +1,5 @@
 //! The text form of a value: upper-case hex, as PostGIS prints geometry.
 
-use super::read::corrupt;
 use crate::tin::TinError;
 
 /// Upper-case hex of the storage bytes (text output, as PostGIS prints geometry).
@@ -18,14 +17,17 @@ pub fn to_hex(b: &[u8]) -> String {
 pub fn from_hex(s: &str) -> Result<Vec<u8>, TinError> {
     let s = s.trim();
     if !s.len().is_multiple_of(2) {
-        return Err(corrupt("hex text has an odd number of digits"));
+        return Err(TinError::corrupt("hex text has an odd number of digits"));
     }
     let val = |c: u8| -> Result<u8, TinError> {
         match c {
             b'0'..=b'9' => Ok(c - b'0'),
             b'a'..=b'f' => Ok(c - b'a' + 10),
             b'A'..=b'F' => Ok(c - b'A' + 10),
-            _ => Err(corrupt(format!("'{}' is not a hex digit", c as char))),
+            _ => Err(TinError::corrupt(format!(
+                "'{}' is not a hex digit",
+                c as char
+            ))),
         }
     };
     s.as_bytes()

@@ -85,10 +85,6 @@ impl Header {
     }
 }
 
-pub(super) fn corrupt(s: impl Into<String>) -> TinError {
-    TinError::Corrupt(s.into())
-}
-
 pub(super) struct Rd<'a> {
     pub(super) b: &'a [u8],
     pub(super) pos: usize,
@@ -103,7 +99,7 @@ impl<'a> Rd<'a> {
                 self.pos = e;
                 Ok(s)
             }
-            None => Err(corrupt(format!(
+            None => Err(TinError::corrupt(format!(
                 "truncated: needs {} bytes at offset {}, value has {}",
                 n,
                 self.pos,
@@ -140,20 +136,20 @@ impl<'a> Rd<'a> {
 /// header is an error even when nothing else of the value is read.
 pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
     if b.len() < FIXED_LEN {
-        return Err(corrupt(format!(
+        return Err(TinError::corrupt(format!(
             "truncated: {} bytes, the header alone is {FIXED_LEN}",
             b.len()
         )));
     }
     let mut r = Rd { b, pos: 0 };
     if r.take(4)? != MAGIC {
-        return Err(corrupt("bad magic number (not a tin value)"));
+        return Err(TinError::corrupt("bad magic number (not a tin value)"));
     }
     let version = r.u16()?;
     let want_len = match header_len(version) {
         Some(l) => l,
         None => {
-            return Err(corrupt(format!(
+            return Err(TinError::corrupt(format!(
                 "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3}, {VERSION} and {VERSION_5})"
             )));
         }
@@ -161,25 +157,27 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
     let _flags = r.u16()?;
     let hl = r.u32()?;
     if hl as usize != want_len {
-        return Err(corrupt(format!(
+        return Err(TinError::corrupt(format!(
             "header length {hl}, expected {want_len} for format version {version}"
         )));
     }
     if version != VERSION_1 {
         if b.len() < want_len {
-            return Err(corrupt(format!(
+            return Err(TinError::corrupt(format!(
                 "truncated: {} bytes, the header alone is {want_len}",
                 b.len()
             )));
         }
         if header_hash(b) != stored_header_hash(b) {
-            return Err(corrupt("header hash mismatch (the header is corrupted)"));
+            return Err(TinError::corrupt(
+                "header hash mismatch (the header is corrupted)",
+            ));
         }
     }
     let srid = r.u32()? as i32;
     let nl = r.u32()?;
     if nl == 0 || nl as usize > MAX_LEVELS {
-        return Err(corrupt(format!(
+        return Err(TinError::corrupt(format!(
             "number of levels {nl} is not in 1..{MAX_LEVELS}"
         )));
     }
@@ -208,12 +206,12 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         };
         r.take(4)?;
         if version != VERSION_5 && li.num_void != 0 {
-            return Err(corrupt(format!(
+            return Err(TinError::corrupt(format!(
                 "level {l}: void triangles in a format-{version} value"
             )));
         }
         if li.num_void > li.num_triangles {
-            return Err(corrupt(format!(
+            return Err(TinError::corrupt(format!(
                 "level {l}: {} void triangles of {}",
                 li.num_void, li.num_triangles
             )));
@@ -232,10 +230,12 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         };
         let code = r.u32()?;
         let coding = VertexCoding::from_u32(code)
-            .ok_or_else(|| corrupt(format!("unknown vertex coding {code}")))?;
+            .ok_or_else(|| TinError::corrupt(format!("unknown vertex coding {code}")))?;
         let lattice = l.is_valid().then_some(l);
         if coding != VertexCoding::Raw && lattice.is_none() {
-            return Err(corrupt("lattice-coded vertices without a valid lattice"));
+            return Err(TinError::corrupt(
+                "lattice-coded vertices without a valid lattice",
+            ));
         }
         (lattice, coding)
     } else {

@@ -1,6 +1,6 @@
 //! Block checksums, header and content hashes, and resealing a value.
 
-use super::read::{BLOCK_LEN, BLOCK_PAYLOAD, FIXED_LEN, HEADER_LEN_V3, Header, VERSION_1, corrupt};
+use super::read::{BLOCK_LEN, BLOCK_PAYLOAD, FIXED_LEN, HEADER_LEN_V3, Header, VERSION_1};
 use crate::tin::TinError;
 use crate::tin::compact::Plan;
 use xxhash_rust::xxh3::Xxh3;
@@ -16,12 +16,12 @@ pub fn check_block(hh: u64, k: u64, b: &[u8]) -> Result<&[u8], TinError> {
 /// checksum (the last 8 bytes of `b`).
 fn checked<'a>(hh: u64, k: u64, b: &'a [u8], what: &str) -> Result<&'a [u8], TinError> {
     if b.len() < 8 {
-        return Err(corrupt(format!("{what} {k} truncated")));
+        return Err(TinError::corrupt(format!("{what} {k} truncated")));
     }
     let (payload, sum) = b.split_at(b.len() - 8);
     let stored = u64::from_le_bytes(sum.try_into().unwrap_or([0; 8]));
     if block_checksum(hh, k, payload) != stored {
-        return Err(corrupt(format!(
+        return Err(TinError::corrupt(format!(
             "checksum mismatch in {what} {k} (the value is corrupted)"
         )));
     }
