@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Fails if a Rust module uses another module that uses it back (directly or
-through others). Reads `use crate::...`, `use super::...` and inline
+through others), or if a module of the core uses one of a higher layer
+(`LAYERS`: docs/architecture.md's order, lowest first). Reads `use crate::...`, `use super::...` and inline
 `crate::a::b` paths of every .rs file under the given crate roots; a module is
 a file (`a/b.rs` is `a::b`, `a/mod.rs` is `a`). Declaring a child (`mod x;`)
 is not a use; `#[cfg(test)] mod tests` blocks are skipped.
@@ -10,6 +11,26 @@ is not a use; `#[cfg(test)] mod tests` blocks are skipped.
 import re
 import sys
 from pathlib import Path
+
+
+# The core's layers, lowest first: a module may use its own layer's and the
+# layers below, never above (the crate root, which declares them all, aside).
+LAYERS = [
+    {"error", "geom", "interrupt", "memory", "par", "polygon"},
+    {"io"},
+    {"tin"},
+    {"merge", "analysis"},
+    {"serve", "render"},
+]
+CORE = "crates/tinmerge-core/src"
+
+
+def layer_of(module: str):
+    top = module.split("::")[0] if module else ""
+    for k, names in enumerate(LAYERS):
+        if top in names:
+            return k
+    return None
 
 
 def module_of(root: Path, f: Path) -> str:
@@ -52,6 +73,7 @@ def strip(src: str) -> str:
 
 def main(roots):
     graph = {}
+    upward = []
     for root in map(Path, roots):
         mods = {module_of(root, f): f for f in root.rglob("*.rs")}
         for name, f in mods.items():
@@ -84,6 +106,14 @@ def main(roots):
                     if re.search(r"(?<![:\w])(?:self::)?" + child + r"::\w", src):
                         deps.add(m)
             graph[(str(root), name)] = {(str(root), d) for d in deps}
+            if Path(root) == Path(CORE) and name:
+                here_layer = layer_of(name)
+                if here_layer is None:
+                    upward.append(f"{name}: not in any layer of LAYERS")
+                for d in sorted(deps):
+                    there = layer_of(d)
+                    if here_layer is not None and there is not None and there > here_layer:
+                        upward.append(f"{name} (layer {here_layer}) uses {d} (layer {there})")
     # cycles: strongly connected components with more than one module
     index, low, stack, on, sccs, counter = {}, {}, [], set(), [], [0]
 
@@ -121,7 +151,12 @@ def main(roots):
                 back = sorted(d for _, d in graph[(comp[0][0], n)] if (comp[0][0], d) in comp)
                 print(f"    {n or '<root>'} uses {', '.join(back)}")
         sys.exit(1)
-    print(f"no import cycles among {len(graph)} modules")
+    if upward:
+        print("upward imports in the core (layers: " + " < ".join("/".join(sorted(l)) for l in LAYERS) + "):")
+        for u in upward:
+            print("    " + u)
+        sys.exit(1)
+    print(f"no import cycles among {len(graph)} modules, and no upward import among the core's layers")
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@
 //!
 //! ```
 //! use tinmerge_core::interrupt::{Interrupt, Ticker};
-//! use tinmerge_core::tin::TinError;
+//! use tinmerge_core::error::TinError;
 //!
 //! fn count(n: u32, interrupt: &mut Interrupt<'_>) -> Result<u32, TinError> {
 //!     let mut ticker = Ticker::new(interrupt);
@@ -24,7 +24,7 @@
 //! assert!(count(5_000, &mut || Err(TinError::Interrupted)).is_err());
 //! ```
 
-use crate::tin::TinError;
+use crate::error::TinError;
 
 /// The interrupt callback every long-running function takes as
 /// `&mut Interrupt<'_>`.

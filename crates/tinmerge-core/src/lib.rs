@@ -1,6 +1,6 @@
 //! The pure core of tinmerge: adaptive hierarchical triangulations and their
-//! merges with points, lines, polygons, rasters and other TINs (the seed
-//! method). No PostgreSQL: `cargo test -p tinmerge-core` runs without it, and
+//! merges with points, lines, polygons, rasters and other TINs (Scarlatos's
+//! method, docs/architecture.md). No PostgreSQL: `cargo test -p tinmerge-core` runs without it, and
 //! the extension crate (`src/pg/`) is the only one that depends on pgrx.
 //!
 //! - [`tin`]: the hierarchy (data model, build, storage layout, grid index,
@@ -10,13 +10,24 @@
 //! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
 //! - [`render`]: pictures (SVG, glTF); [`serve`]: Cesium quantized-mesh tiles;
 //! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
-//!   long work is cancelled.
+//!   long work is cancelled; [`error`]: [`TinError`](error::TinError);
+//!   [`polygon`]: polygonal areas; [`par`] and [`memory`]: threads and the
+//!   counting allocator.
+//!
+//! They stand in layers, each using only its own and those below:
+//! `error`, `geom`, `interrupt`, `par`, `memory`, `polygon`; then `io`;
+//! `tin`; `merge` and `analysis`; `serve` and `render`
+//! (`scripts/check-cycles.py` enforces it; docs/architecture.md).
 #![deny(clippy::undocumented_unsafe_blocks)]
 pub mod analysis;
+pub mod error;
 pub mod geom;
 pub mod interrupt;
 pub mod io;
+pub mod memory;
 pub mod merge;
+pub mod par;
+pub mod polygon;
 pub mod render;
 pub mod serve;
 pub mod tin;

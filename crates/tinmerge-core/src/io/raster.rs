@@ -6,7 +6,6 @@
 //! pixels row-major (out-db bands carry a band number and a path instead).
 
 use super::IoError;
-use crate::tin::lattice::Lattice;
 
 /// Georeferencing of a raster: pixel (col, row) corner is
 /// `(ip_x + col*scale_x + row*skew_x, ip_y + col*skew_y + row*scale_y)`.
@@ -18,25 +17,6 @@ pub struct GeoTransform {
     pub ip_y: f64,
     pub skew_x: f64,
     pub skew_y: f64,
-}
-
-impl GeoTransform {
-    /// Centre of pixel (col, row) ([`Lattice::centre`], the one formula).
-    pub fn centre(&self, col: usize, row: usize) -> (f64, f64) {
-        self.lattice().centre(col as f64, row as f64)
-    }
-
-    /// The pixel lattice this geotransform maps to the world.
-    pub fn lattice(&self) -> Lattice {
-        Lattice {
-            ip_x: self.ip_x,
-            ip_y: self.ip_y,
-            scale_x: self.scale_x,
-            scale_y: self.scale_y,
-            skew_x: self.skew_x,
-            skew_y: self.skew_y,
-        }
-    }
 }
 
 /// One band, converted to f64, with its nodata value.

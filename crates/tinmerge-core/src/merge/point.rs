@@ -1,4 +1,4 @@
-//! Point merge (seed 6.3): the triangle containing a point, the height of
+//! Point merge (Scarlatos §6.3): the triangle containing a point, the height of
 //! the surface there, and the triangles under a rectangular footprint.
 //!
 //! Location is the grid index plus an exact walk ([`crate::tin::locate`]);

@@ -1,5 +1,5 @@
 //! One level of a tin as a binary glTF 2.0 (`.glb`) mesh, optionally with
-//! an image painted on the surface as a texture (the seed's "painting an
+//! an image painted on the surface as a texture (Scarlatos's "painting an
 //! image on the surface": every vertex gets the image coordinates of its
 //! x, y, and the viewer interpolates the image across each triangle).
 //!

@@ -31,7 +31,7 @@
 //! assert_eq!(ring_area2(&rings[0]), 11);
 //! ```
 
-use crate::merge::area::polygon::Area;
+use crate::polygon::Area;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// A point of the lattice: `(col, row)` of a pixel centre.

@@ -1,4 +1,4 @@
-//! Per-level grid index (seed 6.3): a regular grid over the bounding box with
+//! Per-level grid index (Scarlatos §6.3): a regular grid over the bounding box with
 //! about four cells per level vertex (so a cell holds at most about one
 //! vertex and a walk from the cell's triangle takes one or two steps). Each
 //! cell keeps the triangle containing its centre (or, for a centre outside

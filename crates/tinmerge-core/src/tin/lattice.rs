@@ -21,6 +21,7 @@
 //! ```
 
 use super::{Bbox, Tin, grid};
+use crate::io::raster::GeoTransform;
 
 /// Affine map of a raster: pixel (col, row)'s upper-left corner is
 /// `(ip_x + col*scale_x + row*skew_x, ip_y + col*skew_y + row*scale_y)`
@@ -107,5 +108,26 @@ impl Lattice {
             tin.levels[l].grid = g;
         }
         tin
+    }
+}
+
+/// A raster's georeference as its pixel lattice (an inherent impl kept
+/// here, with [`Lattice`], so `io` needs nothing of `tin`).
+impl GeoTransform {
+    /// Centre of pixel (col, row) ([`Lattice::centre`], the one formula).
+    pub fn centre(&self, col: usize, row: usize) -> (f64, f64) {
+        self.lattice().centre(col as f64, row as f64)
+    }
+
+    /// The pixel lattice this geotransform maps to the world.
+    pub fn lattice(&self) -> Lattice {
+        Lattice {
+            ip_x: self.ip_x,
+            ip_y: self.ip_y,
+            scale_x: self.scale_x,
+            scale_y: self.scale_y,
+            skew_x: self.skew_x,
+            skew_y: self.skew_y,
+        }
     }
 }

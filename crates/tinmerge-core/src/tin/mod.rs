@@ -12,6 +12,9 @@
 //!   are a contiguous range (`Level::child_start`);
 //! - every edge of level `i` is a union of edges of level `i+1`.
 
+pub use crate::error::TinError;
+pub use crate::{memory, par};
+
 pub mod breaklines;
 pub mod build;
 pub mod check;
@@ -24,16 +27,12 @@ pub mod hierarchy;
 pub mod lattice;
 pub mod layout;
 pub mod locate;
-pub mod memory;
 pub mod mesh;
-pub mod par;
 pub mod samples;
 pub mod sides;
 pub mod sliced;
 pub mod surface;
 pub mod tiles;
-
-use thiserror::Error;
 
 /// Marks "no triangle" in neighbour and parent arrays.
 pub const NONE: u32 = u32::MAX;
@@ -241,49 +240,4 @@ pub fn interpolate(c: &[[f64; 3]; 3], x: f64, y: f64) -> f64 {
     let wb = ((x - a[0]) * (cc[1] - a[1]) - (cc[0] - a[0]) * (y - a[1])) / d;
     let wc = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / d;
     a[2] + wb * (b[2] - a[2]) + wc * (cc[2] - a[2])
-}
-
-/// Errors of the core; the SQL layer maps each kind to an SQLSTATE.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum TinError {
-    /// Bad argument value (SQLSTATE 22023).
-    #[error("{0}")]
-    InvalidParameter(String),
-    /// Level outside 0..num_levels (SQLSTATE 22023).
-    #[error("level {level} is out of range: this tin has levels 0..{} (0 = coarsest, NULL = finest)", .num_levels.saturating_sub(1))]
-    LevelOutOfRange { level: i64, num_levels: usize },
-    /// Too few or degenerate samples (SQLSTATE 22023).
-    #[error("{0}")]
-    Degenerate(String),
-    /// Stored or transmitted bytes that are not a valid value (SQLSTATE 22P03 / XX001).
-    #[error("invalid tin value: {0}")]
-    Corrupt(String),
-    /// Stored or transmitted bytes that are not a valid `linetree`
-    /// (SQLSTATE 22P03 / XX001).
-    #[error("invalid linetree value: {0}")]
-    CorruptLineTree(String),
-    /// Would exceed a size limit (SQLSTATE 54000).
-    #[error("{0}")]
-    TooLarge(String),
-    /// Would use more memory than the caller allows (`tinmerge.max_memory`,
-    /// SQLSTATE 53400).
-    #[error("{0}")]
-    MemoryLimit(String),
-    /// Build was interrupted by the caller's interrupt check.
-    #[error("interrupted")]
-    Interrupted,
-}
-
-impl TinError {
-    /// A stored or transmitted value that is not valid (`Corrupt`), or an
-    /// internal invariant of a merge's walk that such a value broke.
-    pub fn corrupt(s: impl Into<String>) -> TinError {
-        TinError::Corrupt(s.into())
-    }
-}
-
-impl From<std::convert::Infallible> for TinError {
-    fn from(e: std::convert::Infallible) -> TinError {
-        match e {}
-    }
 }

@@ -42,10 +42,10 @@ use super::build::build_lattice_window;
 use super::build::{Border, BuildOptions, build_lattice_window_kept};
 use super::dense::Dense;
 use super::lattice::Lattice;
-use super::par;
 use super::surface::{GridReference, Reference};
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
+use crate::par;
 use std::ops::Range;
 
 /// Number of tiles across and down for `width x height` pixels in tiles of

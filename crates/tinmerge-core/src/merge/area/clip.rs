@@ -26,7 +26,7 @@
 //! ```
 
 use crate::geom::P2;
-use crate::merge::area::polygon::Where;
+use crate::polygon::Where;
 
 /// A piece of the area's boundary inside the convex polygon, in ring
 /// order (interior on its left). `enters`: its first point is where it comes
@@ -389,7 +389,7 @@ pub fn clip_chains(chains: &[Chain], h: &dyn Fn(P2) -> f64) -> Vec<Chain> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::merge::area::polygon::Area;
+    use crate::polygon::Area;
 
     fn tri() -> [P2; 3] {
         [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]

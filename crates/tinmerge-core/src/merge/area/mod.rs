@@ -1,4 +1,4 @@
-//! Area merge (seed 6.5): the triangles of a level on and inside a polygon,
+//! Area merge (Scarlatos §6.5): the triangles of a level on and inside a polygon,
 //! found by the hierarchical polygonal sweep.
 //!
 //! 1. The boundary: the rings are walked once, at the target level, with
@@ -60,15 +60,15 @@
 //! ```
 
 pub mod clip;
-pub mod polygon;
+pub use crate::polygon;
 pub mod surface;
 
 use crate::geom::P2;
 use crate::geom::{co, tri_area};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::merge::area::clip::{Chain, clipped_moments};
-use crate::merge::area::polygon::{Area, Where, segment_meets_open_triangle};
 use crate::merge::line::{Sink, Walker};
+use crate::polygon::{Area, Where, segment_meets_open_triangle};
 use crate::tin::hierarchy::{children, descendants};
 use crate::tin::mesh::{Indexed, Mesh};
 use crate::tin::{NONE, TinError};
@@ -78,7 +78,7 @@ use robust::orient2d;
 /// benchmark compares with).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
-    /// The seed's hierarchical sweep: coarsest level first, then only the
+    /// Scarlatos's hierarchical sweep (§6.5): coarsest level first, then only the
     /// children of boundary triangles.
     Hierarchy,
     /// The same sweep at the target level only.
@@ -402,7 +402,7 @@ where
     let mut status = Status::new(tin, area);
     // The boundary, found once at the target level with the line walk; at
     // coarser levels it is the ancestors' (a triangle's inside holds its
-    // children's), found by following parent links (seed 6.5).
+    // children's), found by following parent links (Scarlatos §6.5).
     let walk = walk_rings(tin, level, area, true, interrupt)?;
     let mut tk = Ticker::new(interrupt);
     let mut flags: Vec<Flags> = (0..=level)

@@ -33,7 +33,7 @@ use crate::geom::P2;
 use crate::interrupt::{Interrupt, Ticker};
 use crate::merge::area::Sweep;
 use crate::merge::area::clip::{Chain, Moments, clip_chains, clip_convex, clipped_moments};
-use crate::merge::area::polygon::{Area, Where};
+use crate::polygon::{Area, Where};
 use crate::tin::TinError;
 use crate::tin::hierarchy::descendants;
 use crate::tin::mesh::Mesh;

@@ -1,4 +1,4 @@
-//! Line merge (seed 6.4), the plain walk: follow a polyline through the
+//! Line merge (Scarlatos §6.4), the plain walk: follow a polyline through the
 //! triangles of one level, cutting it wherever it crosses a triangle edge.
 //!
 //! Every decision is an exact orientation test (`robust::orient2d`) on the
@@ -628,7 +628,7 @@ fn exit(tc: &[Coord<f64>; 3], p: Coord<f64>, q: Coord<f64>) -> Result<Exit, TinE
     }
 }
 
-/// Walk every segment of every part (the plain walk of the seed: O(N + M)).
+/// Walk every segment of every part (Scarlatos's plain walk: O(N + M)).
 pub fn walk_parts<S: Sink, L: Polyline, M: Indexed>(
     tin: &M,
     level: usize,

@@ -1,4 +1,4 @@
-//! Widened lines (seed 6.4: "if line width is a consideration, add the width
+//! Widened lines (Scarlatos §6.4: "if line width is a consideration, add the width
 //! to the error"): every triangle within `width / 2` of a line, each once,
 //! ordered by where the line first comes within that distance of it.
 //!

@@ -1,4 +1,4 @@
-//! TIN/TIN overlay (seed 6.2, second problem): one triangulation of the
+//! TIN/TIN overlay (Scarlatos §6.2, second problem): one triangulation of the
 //! common domain of two TINs that holds every vertex and every edge of both,
 //! edges cut where they cross, each output triangle labelled with the
 //! triangle of A and of B that contains it.

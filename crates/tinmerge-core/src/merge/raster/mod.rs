@@ -1,4 +1,4 @@
-//! Raster merge (seed 6.2, first problem): the pixels of a raster handed to
+//! Raster merge (Scarlatos §6.2, first problem): the pixels of a raster handed to
 //! the triangles of one level by a scanline sweep.
 //!
 //! A horizontal line steps down the raster one row of pixel centres at a
@@ -329,7 +329,7 @@ pub fn sweep_par<S: Send, L: RasterLevel>(
 ) -> Result<(), TinError> {
     let mut tk = Ticker::new(interrupt);
     let ev = Events::new(lv, g, &mut tk)?;
-    if crate::tin::par::threads() <= 1 {
+    if crate::par::threads() <= 1 {
         return ev.run(0..g.height, false, &mut tk, &mut |t, r, c0, c1| {
             consume(span(t, r, c0, c1))
         });
@@ -339,7 +339,7 @@ pub fn sweep_par<S: Send, L: RasterLevel>(
         .step_by(rows)
         .map(|r| r..(r + rows).min(g.height))
         .collect();
-    crate::tin::par::map_batched(
+    crate::par::map_batched(
         &bands,
         |b| {
             let mut out = Vec::new();

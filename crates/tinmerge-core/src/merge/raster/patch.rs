@@ -26,8 +26,8 @@
 
 use crate::geom::xy;
 use crate::interrupt::Interrupt;
-use crate::merge::area::polygon::Area;
 use crate::merge::area::{Method, sweep};
+use crate::polygon::Area;
 use crate::tin::mesh::Indexed;
 use crate::tin::{NONE, Tin, TinError};
 

@@ -161,7 +161,7 @@ pub fn zonal_stats<L: RasterLevel>(
             }
             (ta, out)
         };
-        crate::tin::par::map_batched(&items, modes, interrupt, &mut |(ta, out)| {
+        crate::par::map_batched(&items, modes, interrupt, &mut |(ta, out)| {
             for (k, m) in out.into_iter().enumerate() {
                 st[ta + k].mode = m;
             }
@@ -237,7 +237,7 @@ pub fn weighted_stats<L: RasterLevel>(
         Ok(out)
     };
     let n = lv.count() as u32;
-    if crate::tin::par::threads() <= 1 {
+    if crate::par::threads() <= 1 {
         return run(0..n, &mut Ticker::new(interrupt));
     }
     check_grid(gt)?;
@@ -260,7 +260,7 @@ pub fn weighted_stats<L: RasterLevel>(
         }
     }
     let mut out: Vec<ZoneStats> = Vec::new();
-    crate::tin::par::map_batched(
+    crate::par::map_batched(
         &items,
         |r| {
             let mut none = || Ok(());

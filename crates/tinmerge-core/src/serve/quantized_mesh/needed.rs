@@ -4,8 +4,8 @@
 use rustc_hash::FxHashMap;
 
 use crate::interrupt::Interrupt;
-use crate::merge::area::polygon::Area;
 use crate::merge::area::{Method, sweep};
+use crate::polygon::Area;
 use crate::tin::{NONE, Tin, TinError};
 
 /// What a tile needs from the level: the triangles that may meet it, the

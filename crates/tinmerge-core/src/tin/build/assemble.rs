@@ -139,7 +139,7 @@ pub(super) fn assemble(
             .map(|s| s..(s + 4096).min(tris.len()))
             .collect();
         let mut keyed: Vec<(u32, u32, [u32; 3], u32)> = Vec::with_capacity(tris.len());
-        crate::tin::par::map_batched(
+        crate::par::map_batched(
             &chunks,
             |c| c.clone().map(key).collect::<Result<Vec<_>, TinError>>(),
             interrupt,

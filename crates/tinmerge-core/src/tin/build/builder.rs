@@ -403,10 +403,10 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             .out_edges()
             .filter_map(|e| e.face().as_inner().map(|f| f.fix()))
             .collect();
-        if crate::tin::par::threads() > 1
+        if crate::par::threads() > 1
             && faces.iter().map(|&f| self.face_samples(f)).sum::<f64>() > PAR_SAMPLES
         {
-            let ms = crate::tin::par::map(&faces, |&f| self.measure(f));
+            let ms = crate::par::map(&faces, |&f| self.measure(f));
             for (f, m) in faces.iter().zip(ms) {
                 self.record(f.index(), m);
             }
@@ -431,7 +431,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         let all: Vec<_> = self.dt.fixed_inner_faces().collect();
         let chunks: Vec<&[FaceHandle]> = all.chunks(4096).collect();
         let mut ms: Vec<Vec<Measure>> = Vec::with_capacity(chunks.len());
-        crate::tin::par::map_batched(
+        crate::par::map_batched(
             &chunks,
             |c| c.iter().map(|&f| self.measure(f)).collect(),
             interrupt,

@@ -7,7 +7,7 @@ use super::common::*;
 use super::lines::*;
 use super::parents::*;
 use crate::interrupt::Interrupt;
-use crate::merge::area::polygon::{Area, Where};
+use crate::polygon::{Area, Where};
 use crate::tin::breaklines::{Breakline, Network};
 use crate::tin::dense::Dense;
 use crate::tin::samples::{SampleGrid, Samples};

@@ -4,7 +4,7 @@
 use super::builder::*;
 use super::common::*;
 use crate::interrupt::Interrupt;
-use crate::merge::area::polygon::{Area, Where};
+use crate::polygon::{Area, Where};
 use crate::tin::TinError;
 use crate::tin::breaklines::{Breakline, Network, clip_to_hull, drops_sample, network, profile};
 use crate::tin::samples::{SampleGrid, Samples, c2};

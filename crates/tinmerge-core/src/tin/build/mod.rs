@@ -65,7 +65,7 @@ use super::lattice::Lattice;
 use super::surface::{GridReference, Reference};
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
-use crate::merge::area::polygon::{Area, Where};
+use crate::polygon::{Area, Where};
 
 /// Build a hierarchy from samples (x, y, z) with one tolerance per level
 /// (coarsest first, strictly decreasing). `interrupt` is called regularly and

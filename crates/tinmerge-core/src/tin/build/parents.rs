@@ -287,7 +287,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                    interrupt: &mut Interrupt<'_>,
                    take: &mut dyn FnMut(ParentOut) -> Result<(), TinError>|
          -> Result<(), TinError> {
-            crate::tin::par::map_batched(
+            crate::par::map_batched(
                 groups,
                 |g| {
                     let mut scratch = Scratch::default();

@@ -7,10 +7,10 @@ use super::read::{
 };
 use super::seal::{check_block, check_group, content_hash, plan};
 use crate::interrupt::Interrupt;
+use crate::par;
 use crate::tin::check::validate_structure_checked;
 use crate::tin::compact::{self, Plan, Stream};
 use crate::tin::hierarchy::child_starts;
-use crate::tin::par;
 use crate::tin::{Grid, Level, NONE, Tin, TinError};
 
 /// Parse and fully validate storage bytes. The length implied by the header's

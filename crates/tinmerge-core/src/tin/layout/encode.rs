@@ -6,9 +6,9 @@ use super::read::{
     VERSION, VERSION_1, VERSION_3, VERSION_5, header_hash, num_blocks,
 };
 use super::seal::{block_checksum, content_hash};
+use crate::par;
 use crate::tin::compact::{self, Plan, VertexCoding};
 use crate::tin::lattice::Lattice;
-use crate::tin::par;
 use crate::tin::{MAX_LEVELS, Tin};
 
 /// Serialise a tin (whose structure is valid) to its storage bytes, in the

@@ -1,4 +1,4 @@
-//! The multi-scale line tree (seed 6.4, after Jones & Abraham 1986) and the
+//! The multi-scale line tree (Scarlatos §6.4, after Jones & Abraham 1986) and the
 //! line merge through it.
 //!
 //! Each part (LINESTRING) of a line gets a tree of generalisations: the root

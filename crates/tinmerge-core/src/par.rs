@@ -26,7 +26,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::sync::{Arc, Mutex};
 
-use super::TinError;
+use crate::error::TinError;
 
 static THREADS: AtomicUsize = AtomicUsize::new(1);
 

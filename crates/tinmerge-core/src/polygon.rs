@@ -15,7 +15,7 @@
 //! crash.
 //!
 //! ```
-//! use tinmerge_core::merge::area::polygon::{Area, Where};
+//! use tinmerge_core::polygon::{Area, Where};
 //! let square = vec![vec![[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [0.0, 0.0]]];
 //! let hole = vec![[1.0, 1.0], [1.0, 2.0], [2.0, 2.0], [2.0, 1.0], [1.0, 1.0]];
 //! let mut poly = square;
