@@ -40,7 +40,9 @@ const CHECK_RUN: usize = 4096;
 
 /// [`validate_structure`] calling `interrupt` between levels and every
 /// 16384 triangles per thread (a stored value of 15 MB takes about 20 ms),
-/// checking triangles on `tinmerge.threads` ([`par`]).
+/// checking triangles on `tinmerge.threads` ([`par`]). Its phases, per
+/// level after the vertices: the level's counts and bounds, its triangles
+/// and neighbour links, its parents and child offsets, its grid index.
 pub fn validate_structure_checked(
     tin: &Tin,
     interrupt: &mut Interrupt<'_>,
@@ -51,6 +53,42 @@ pub fn validate_structure_checked(
             "number of levels {nl} is not in 1..{MAX_LEVELS}"
         )));
     }
+    check_vertices(tin)?;
+    interrupt()?;
+    let mut prev_nv = 0u32;
+    let mut prev_tol = f64::INFINITY;
+    for l in 0..nl {
+        check_level_counts(tin, l, prev_nv, prev_tol)?;
+        let lv = &tin.levels[l];
+        (prev_nv, prev_tol) = (lv.num_vertices, lv.tolerance);
+        // triangles, then parents, in runs checked on `tinmerge.threads`
+        // (the first error in triangle order is the one reported)
+        let nt = lv.tris.len();
+        let runs: Vec<std::ops::Range<usize>> = (0..nt)
+            .step_by(CHECK_RUN)
+            .map(|a| a..(a + CHECK_RUN).min(nt))
+            .collect();
+        par::map_batched(
+            &runs,
+            |r| r.clone().try_for_each(|t| check_triangle(tin, l, t)),
+            interrupt,
+            &mut |r| r,
+        )?;
+        check_parents(tin, l, &runs, interrupt)?;
+        if l + 1 == nl && !lv.child_start.is_empty() {
+            return Err(bad("finest level must have no children".into()));
+        }
+        check_grid(tin, l)?;
+    }
+    if prev_nv as usize != tin.verts.len() {
+        return Err(bad("the finest level must use every vertex".into()));
+    }
+    Ok(())
+}
+
+/// At least three vertices, every coordinate finite and in range, and the
+/// bounding box theirs.
+fn check_vertices(tin: &Tin) -> Result<(), TinError> {
     let nv = tin.verts.len();
     if nv < 3 {
         return Err(bad(format!("{nv} vertices, at least 3 needed")));
@@ -62,165 +100,173 @@ pub fn validate_structure_checked(
             )));
         }
     }
-    interrupt()?;
-    let b = super::Bbox::of(&tin.verts);
-    if b != tin.bbox {
+    if super::Bbox::of(&tin.verts) != tin.bbox {
         return Err(bad("bounding box does not match the vertices".into()));
     }
-    let mut prev_nv = 0u32;
-    let mut prev_tol = f64::INFINITY;
-    for (l, lv) in tin.levels.iter().enumerate() {
-        if !(lv.tolerance.is_finite() && lv.tolerance >= 0.0 && lv.tolerance < prev_tol) {
+    Ok(())
+}
+
+/// Level `l`'s tolerance (below the previous level's `prev_tol`), its
+/// max error, its vertex count (at least the previous level's `prev_nv`)
+/// and its arrays' lengths.
+fn check_level_counts(tin: &Tin, l: usize, prev_nv: u32, prev_tol: f64) -> Result<(), TinError> {
+    let lv = &tin.levels[l];
+    let nv = tin.verts.len();
+    if !(lv.tolerance.is_finite() && lv.tolerance >= 0.0 && lv.tolerance < prev_tol) {
+        return Err(bad(format!(
+            "level {l}: tolerance {} is not finite, >= 0 and below the previous level's",
+            lv.tolerance
+        )));
+    }
+    if !(lv.max_error.is_finite() && lv.max_error >= 0.0) {
+        return Err(bad(format!(
+            "level {l}: max error {} is invalid",
+            lv.max_error
+        )));
+    }
+    if lv.num_vertices < prev_nv.max(3) || lv.num_vertices as usize > nv {
+        return Err(bad(format!(
+            "level {l}: vertex count {} is not in {}..={nv}",
+            lv.num_vertices,
+            prev_nv.max(3)
+        )));
+    }
+    let nt = lv.tris.len();
+    if nt == 0 || lv.nbrs.len() != nt || lv.parent.len() != nt {
+        return Err(bad(format!("level {l}: inconsistent triangle arrays")));
+    }
+    if lv.num_void as usize > nt {
+        return Err(bad(format!(
+            "level {l}: {} void triangles of {nt}",
+            lv.num_void
+        )));
+    }
+    Ok(())
+}
+
+/// Triangle `t` of level `l`: its vertices in range, counter-clockwise
+/// with positive area (exactly), and each neighbour link mirrored along
+/// the shared edge.
+fn check_triangle(tin: &Tin, l: usize, t: usize) -> Result<(), TinError> {
+    let lv = &tin.levels[l];
+    let nt = lv.tris.len();
+    let tri = lv.tris[t];
+    if tri.iter().any(|&v| v >= lv.num_vertices) {
+        return Err(bad(format!(
+            "level {l}: triangle {t} has a vertex index out of range"
+        )));
+    }
+    let o = orient2d(
+        vco(&tin.verts[tri[0] as usize]),
+        vco(&tin.verts[tri[1] as usize]),
+        vco(&tin.verts[tri[2] as usize]),
+    );
+    if o <= 0.0 {
+        return Err(bad(format!(
+            "level {l}: triangle {t} is not counter-clockwise with positive area"
+        )));
+    }
+    for j in 0..3 {
+        let nb = lv.nbrs[t][j];
+        if nb == NONE {
+            continue;
+        }
+        if nb as usize >= nt || nb as usize == t {
             return Err(bad(format!(
-                "level {l}: tolerance {} is not finite, >= 0 and below the previous level's",
-                lv.tolerance
+                "level {l}: triangle {t} has an invalid neighbour {nb}"
             )));
         }
-        prev_tol = lv.tolerance;
-        if !(lv.max_error.is_finite() && lv.max_error >= 0.0) {
-            return Err(bad(format!(
-                "level {l}: max error {} is invalid",
-                lv.max_error
-            )));
-        }
-        if lv.num_vertices < prev_nv.max(3) || lv.num_vertices as usize > nv {
-            return Err(bad(format!(
-                "level {l}: vertex count {} is not in {}..={nv}",
-                lv.num_vertices,
-                prev_nv.max(3)
-            )));
-        }
-        prev_nv = lv.num_vertices;
-        let nt = lv.tris.len();
-        if nt == 0 || lv.nbrs.len() != nt || lv.parent.len() != nt {
-            return Err(bad(format!("level {l}: inconsistent triangle arrays")));
-        }
-        if lv.num_void as usize > nt {
-            return Err(bad(format!(
-                "level {l}: {} void triangles of {nt}",
-                lv.num_void
-            )));
-        }
-        // triangles, then parents, in runs checked on `tinmerge.threads`
-        // (the first error in triangle order is the one reported)
-        let runs: Vec<std::ops::Range<usize>> = (0..nt)
-            .step_by(CHECK_RUN)
-            .map(|a| a..(a + CHECK_RUN).min(nt))
-            .collect();
-        let check_tri = |t: usize| -> Result<(), TinError> {
-            let tri = lv.tris[t];
-            if tri.iter().any(|&v| v >= lv.num_vertices) {
+        let (a, bb) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+        let other = lv.tris[nb as usize];
+        let back = (0..3).find(|&k| lv.nbrs[nb as usize][k] == t as u32);
+        match back {
+            Some(k) if other[(k + 1) % 3] == bb && other[(k + 2) % 3] == a => {}
+            _ => {
                 return Err(bad(format!(
-                    "level {l}: triangle {t} has a vertex index out of range"
+                    "level {l}: neighbour link {t} -> {nb} is not mirrored along the shared edge"
                 )));
             }
-            let o = orient2d(
-                vco(&tin.verts[tri[0] as usize]),
-                vco(&tin.verts[tri[1] as usize]),
-                vco(&tin.verts[tri[2] as usize]),
-            );
-            if o <= 0.0 {
-                return Err(bad(format!(
-                    "level {l}: triangle {t} is not counter-clockwise with positive area"
-                )));
-            }
-            for j in 0..3 {
-                let nb = lv.nbrs[t][j];
-                if nb == NONE {
-                    continue;
-                }
-                if nb as usize >= nt || nb as usize == t {
-                    return Err(bad(format!(
-                        "level {l}: triangle {t} has an invalid neighbour {nb}"
-                    )));
-                }
-                let (a, bb) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
-                let other = lv.tris[nb as usize];
-                let back = (0..3).find(|&k| lv.nbrs[nb as usize][k] == t as u32);
-                match back {
-                    Some(k) if other[(k + 1) % 3] == bb && other[(k + 2) % 3] == a => {}
-                    _ => {
-                        return Err(bad(format!(
-                            "level {l}: neighbour link {t} -> {nb} is not mirrored along the shared edge"
-                        )));
-                    }
-                }
-            }
-            Ok(())
-        };
-        par::map_batched(
-            &runs,
-            |r| r.clone().try_for_each(check_tri),
-            interrupt,
-            &mut |r| r,
-        )?;
-        // parents
-        if l == 0 {
-            if lv.parent.iter().any(|&p| p != NONE) {
-                return Err(bad("level 0 triangles must have no parent".into()));
-            }
-        } else {
-            let pl = &tin.levels[l - 1];
-            let check_parent = |t: usize| -> Result<(), TinError> {
-                let p = lv.parent[t];
-                let last = if t == 0 { 0 } else { lv.parent[t - 1] };
-                if p as usize >= pl.tris.len() || p < last {
-                    return Err(bad(format!(
-                        "level {l}: triangle {t} has parent {p}, out of range or not sorted"
-                    )));
-                }
-                if pl.is_void(p) != lv.is_void(t as u32) {
-                    return Err(bad(format!(
-                        "level {l}: triangle {t} is void and its parent {p} is not, or the other way round"
-                    )));
-                }
-                let pt = pl.tris[p as usize].map(|v| tin.verts[v as usize]);
-                for &v in &lv.tris[t] {
-                    let q = &tin.verts[v as usize];
-                    for j in 0..3 {
-                        // up to rounding: a vertex on a parent's edge in the
-                        // frame the build decided topology in (the pixel
-                        // lattice) may lie a hair beside it in world
-                        // coordinates
-                        if !crate::geom::left_or_on_rounded(&pt[j], &pt[(j + 1) % 3], q) {
-                            return Err(bad(format!(
-                                "level {l}: triangle {t} is not inside its parent {p}"
-                            )));
-                        }
-                    }
-                }
-                Ok(())
-            };
-            par::map_batched(
-                &runs,
-                |r| r.clone().try_for_each(check_parent),
-                interrupt,
-                &mut |r| r,
-            )?;
-            if pl.child_start.len() != pl.tris.len() + 1
-                || pl.child_start != super::hierarchy::child_starts(&lv.parent, pl.tris.len())
-            {
-                return Err(bad(format!(
-                    "level {}: child offsets are inconsistent",
-                    l - 1
-                )));
-            }
-        }
-        if l + 1 == nl && !lv.child_start.is_empty() {
-            return Err(bad("finest level must have no children".into()));
-        }
-        let g = &lv.grid;
-        if !(g.cell.is_finite() && g.cell > 0.0)
-            || g.nx == 0
-            || g.ny == 0
-            || (g.nx as u64) * (g.ny as u64) != g.cells.len() as u64
-            || g.cells.iter().any(|&c| c as usize >= nt)
-        {
-            return Err(bad(format!("level {l}: invalid grid index")));
         }
     }
-    if prev_nv as usize != nv {
-        return Err(bad("the finest level must use every vertex".into()));
+    Ok(())
+}
+
+/// Level `l`'s parents: none at level 0; otherwise in range, sorted, void
+/// exactly when the parent is, each triangle inside its parent (up to
+/// rounding), and the coarser level's child offsets those of the parents.
+fn check_parents(
+    tin: &Tin,
+    l: usize,
+    runs: &[std::ops::Range<usize>],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(), TinError> {
+    let lv = &tin.levels[l];
+    if l == 0 {
+        if lv.parent.iter().any(|&p| p != NONE) {
+            return Err(bad("level 0 triangles must have no parent".into()));
+        }
+        return Ok(());
+    }
+    let pl = &tin.levels[l - 1];
+    let check_parent = |t: usize| -> Result<(), TinError> {
+        let p = lv.parent[t];
+        let last = if t == 0 { 0 } else { lv.parent[t - 1] };
+        if p as usize >= pl.tris.len() || p < last {
+            return Err(bad(format!(
+                "level {l}: triangle {t} has parent {p}, out of range or not sorted"
+            )));
+        }
+        if pl.is_void(p) != lv.is_void(t as u32) {
+            return Err(bad(format!(
+                "level {l}: triangle {t} is void and its parent {p} is not, or the other way round"
+            )));
+        }
+        let pt = pl.tris[p as usize].map(|v| tin.verts[v as usize]);
+        for &v in &lv.tris[t] {
+            let q = &tin.verts[v as usize];
+            for j in 0..3 {
+                // up to rounding: a vertex on a parent's edge in the
+                // frame the build decided topology in (the pixel
+                // lattice) may lie a hair beside it in world
+                // coordinates
+                if !crate::geom::left_or_on_rounded(&pt[j], &pt[(j + 1) % 3], q) {
+                    return Err(bad(format!(
+                        "level {l}: triangle {t} is not inside its parent {p}"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    };
+    par::map_batched(
+        runs,
+        |r| r.clone().try_for_each(check_parent),
+        interrupt,
+        &mut |r| r,
+    )?;
+    if pl.child_start.len() != pl.tris.len() + 1
+        || pl.child_start != super::hierarchy::child_starts(&lv.parent, pl.tris.len())
+    {
+        return Err(bad(format!(
+            "level {}: child offsets are inconsistent",
+            l - 1
+        )));
+    }
+    Ok(())
+}
+
+/// Level `l`'s grid index: a finite positive cell, its cells those of its
+/// size, each naming a triangle of the level.
+fn check_grid(tin: &Tin, l: usize) -> Result<(), TinError> {
+    let lv = &tin.levels[l];
+    let g = &lv.grid;
+    if !(g.cell.is_finite() && g.cell > 0.0)
+        || g.nx == 0
+        || g.ny == 0
+        || (g.nx as u64) * (g.ny as u64) != g.cells.len() as u64
+        || g.cells.iter().any(|&c| c as usize >= lv.tris.len())
+    {
+        return Err(bad(format!("level {l}: invalid grid index")));
     }
     Ok(())
 }
