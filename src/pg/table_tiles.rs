@@ -1,0 +1,432 @@
+//! `tin_tiles_from_table`: a table of raster tiles built tile by tile, rows
+//! of tiles read through SPI as they are needed.
+
+use pgrx::prelude::*;
+
+use super::errors::{raise, OrRaise};
+use super::memory;
+use super::tin_type::TinOut;
+use pgrx::pg_sys;
+
+use super::build::raster_band;
+use tinmerge_core::io::raster;
+use tinmerge_core::tin::build::default_tolerances;
+use tinmerge_core::tin::lattice::Lattice;
+
+/// A table of raster tiles (`raster2pgsql -t`, `ST_Tile`) being built
+/// tile by tile: `tin_tiles_from_table(tiles regclass, ...)`. Rows
+/// of tiles are read through SPI as they are needed (a tile row and the one
+/// below it held at once), tiles are built `tinmerge.threads` at a time,
+/// and each result is handed out before the next batch is built, so the
+/// call's memory is bounded by two rows of tiles and one batch of builds,
+/// whatever the table's size.
+struct TableTiles {
+    /// `FROM` item and column, quoted.
+    from: String,
+    column: String,
+    band: i32,
+    tols: Vec<f64>,
+    srid: i32,
+    grid: tinmerge_core::tin::tiles::TableGrid,
+    ctids: Vec<String>,
+    /// Tiles in (ty, tx) order, and the next to build.
+    order: Vec<usize>,
+    next: usize,
+    /// Tile index by (tx, ty).
+    at: std::collections::HashMap<(usize, usize), usize>,
+    /// Bands read, by tile index.
+    loaded: std::collections::HashMap<usize, raster::Band>,
+    ready: std::collections::VecDeque<(i32, i32, TinOut)>,
+    /// Seam samples kept so far (`tin::tiles::Seams`): rounds of planning
+    /// (`round`, while `planning`) build the tiles whose seams gained
+    /// samples and keep only what they ask for (`asked`), as `tin_tiles`
+    /// does; then every tile is built once more, with them, and returned.
+    seams: tinmerge_core::tin::tiles::Seams,
+    asked: Vec<tinmerge_core::tin::tiles::Wanted>,
+    round: usize,
+    planning: bool,
+}
+
+/// The table's name as a `FROM` item and the raster column quoted, after
+/// checking that the column exists and is a raster.
+fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String) {
+    let (from, quoted, is_raster) = Spi::connect(|c| {
+        let r = c
+            .select(
+                "SELECT $1::regclass::text, quote_ident($2), (SELECT a.atttypid = 'raster'::regtype FROM pg_attribute a WHERE a.attrelid = $1 AND a.attname = $2 AND a.attnum > 0 AND NOT a.attisdropped)",
+                None,
+                &[tab.into(), column.into()],
+            )?
+            .first();
+        Ok::<_, pgrx::spi::Error>((
+            r.get::<String>(1)?.unwrap_or_default(),
+            r.get::<String>(2)?.unwrap_or_default(),
+            r.get::<bool>(3)?,
+        ))
+    })
+    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_UNDEFINED_TABLE, format!("tin_tiles_from_table: {e}")));
+    match is_raster {
+        None => raise(
+            PgSqlErrorCode::ERRCODE_UNDEFINED_COLUMN,
+            format!("tin_tiles_from_table: column \"{column}\" of relation {from} does not exist"),
+        ),
+        Some(false) => raise(
+            PgSqlErrorCode::ERRCODE_DATATYPE_MISMATCH,
+            format!("tin_tiles_from_table: column \"{column}\" of relation {from} is not of type raster"),
+        ),
+        Some(true) => {}
+    }
+    (from, quoted)
+}
+
+/// Every tile's ctid, lattice and size (PostGIS reads the headers only)
+/// and SRID, refusing a tile without band `band`.
+fn tile_headers(
+    from: &str,
+    quoted: &str,
+    band: i32,
+) -> (Vec<String>, Vec<(Lattice, usize, usize)>, Vec<i32>) {
+    // every tile's geotransform and size (PostGIS reads the header only)
+    let q = format!(
+        "SELECT ctid::text, (m).upperleftx, (m).upperlefty, (m).width, (m).height, (m).scalex, (m).scaley, (m).skewx, (m).skewy, (m).srid, (m).numbands FROM (SELECT ctid, ST_MetaData({quoted}) AS m FROM {from} WHERE {quoted} IS NOT NULL) s"
+    );
+    let mut ctids = Vec::new();
+    let mut metas = Vec::new();
+    let mut srids = Vec::new();
+    Spi::connect(|c| {
+        for row in c.select(&q, None, &[])? {
+            let f = |i: usize| row.get::<f64>(i).map(|v| v.unwrap_or(f64::NAN));
+            let n = |i: usize| row.get::<i32>(i).map(|v| v.unwrap_or(0));
+            let ctid = row.get::<String>(1)?.unwrap_or_default();
+            let lattice = Lattice {
+                ip_x: f(2)?,
+                ip_y: f(3)?,
+                scale_x: f(6)?,
+                scale_y: f(7)?,
+                skew_x: f(8)?,
+                skew_y: f(9)?,
+            };
+            let (w, h, nb) = (n(4)?, n(5)?, n(11)?);
+            if nb < band {
+                raise(
+                    PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                    format!("tin_tiles_from_table: the tile at {ctid} of {from} has {nb} band(s), no band {band}"),
+                );
+            }
+            metas.push((lattice, w.max(0) as usize, h.max(0) as usize));
+            srids.push(n(10)?);
+            ctids.push(ctid);
+        }
+        Ok::<_, pgrx::spi::Error>(())
+    })
+    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: reading {from}: {e}")));
+    (ctids, metas, srids)
+}
+
+impl TableTiles {
+    fn open(tab: pg_sys::Oid, column: &str, tolerance: f64, levels: i32, band: i32) -> TableTiles {
+        use tinmerge_core::tin::tiles::place_tiles;
+        if band < 1 {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!("tin_tiles_from_table: band must be 1 or more (bands are numbered from 1), got {band}"),
+            );
+        }
+        let tols = default_tolerances(tolerance, levels).or_raise();
+        let (from, quoted) = raster_column(tab, column);
+        let (ctids, metas, srids) = tile_headers(&from, &quoted, band);
+        if let Some(k) = srids.iter().position(|&s| s != srids[0]) {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!(
+                    "tin_tiles_from_table: the tiles of {from} have different SRIDs ({} at {}, {} at {})",
+                    srids[0], ctids[0], srids[k], ctids[k]
+                ),
+            );
+        }
+        let grid = if metas.is_empty() {
+            tinmerge_core::tin::tiles::TableGrid {
+                lattice: Lattice {
+                    ip_x: 0.0,
+                    ip_y: 0.0,
+                    scale_x: 1.0,
+                    scale_y: -1.0,
+                    skew_x: 0.0,
+                    skew_y: 0.0,
+                },
+                tile_width: 1,
+                tile_height: 1,
+                tiles: Vec::new(),
+            }
+        } else {
+            place_tiles(&metas).unwrap_or_else(|e| {
+                raise(
+                    PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                    format!("tin_tiles_from_table: the tiles of {from}: {e}"),
+                )
+            })
+        };
+        let mut order: Vec<usize> = (0..grid.tiles.len()).collect();
+        order.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
+        let at = grid
+            .tiles
+            .iter()
+            .enumerate()
+            .map(|(k, p)| ((p.tx, p.ty), k))
+            .collect();
+        super::threads::apply();
+        TableTiles {
+            from,
+            column: quoted,
+            band,
+            tols,
+            srid: srids.first().copied().unwrap_or(0),
+            grid,
+            ctids,
+            order,
+            next: 0,
+            at,
+            loaded: Default::default(),
+            ready: Default::default(),
+            seams: Default::default(),
+            asked: Vec::new(),
+            round: 0,
+            planning: true,
+        }
+    }
+
+    /// The end of a round of planning: the seam samples asked for taken,
+    /// and the tiles that hold new ones to build in the next round; or,
+    /// when there are none (or after `SEAM_ROUNDS` rounds), every tile, to
+    /// return.
+    fn end_round(&mut self) {
+        use tinmerge_core::tin::tiles::SEAM_ROUNDS;
+        let mut again: Vec<usize> = Vec::new();
+        for w in std::mem::take(&mut self.asked) {
+            for (c, r) in self.seams.add(&w) {
+                again.extend(
+                    self.grid
+                        .tiles_holding(c, r)
+                        .into_iter()
+                        .filter_map(|t| self.at.get(&t).copied()),
+                );
+            }
+        }
+        self.round += 1;
+        let grid = &self.grid;
+        if again.is_empty() || self.round >= SEAM_ROUNDS {
+            self.planning = false;
+            again = (0..grid.tiles.len()).collect();
+        }
+        again.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
+        again.dedup();
+        self.order = again;
+        self.next = 0;
+        self.loaded.clear();
+    }
+
+    /// Read the bands of tile rows `rows` not read yet, and forget the
+    /// rows above the first.
+    fn load_rows(&mut self, rows: std::ops::RangeInclusive<usize>) {
+        let grid = &self.grid;
+        self.loaded
+            .retain(|&k, _| grid.tiles[k].ty >= *rows.start());
+        let want: Vec<usize> = (0..grid.tiles.len())
+            .filter(|&k| rows.contains(&grid.tiles[k].ty) && !self.loaded.contains_key(&k))
+            .collect();
+        if want.is_empty() {
+            return;
+        }
+        let px: usize = want
+            .iter()
+            .map(|&k| grid.tiles[k].width * grid.tiles[k].height)
+            .sum();
+        memory::reserve(px.saturating_mul(8), || {
+            format!(
+                "tin_tiles_from_table: reading {} tiles of {} ({px} pixels)",
+                want.len(),
+                self.from
+            )
+        });
+        let by_ctid: std::collections::HashMap<&str, usize> =
+            want.iter().map(|&k| (self.ctids[k].as_str(), k)).collect();
+        let ctids: Vec<String> = want.iter().map(|&k| self.ctids[k].clone()).collect();
+        let q = format!(
+            "SELECT ctid::text, {c}::bytea FROM {f} WHERE ctid = ANY($1::text[]::tid[])",
+            c = self.column,
+            f = self.from
+        );
+        let mut got = Vec::with_capacity(want.len());
+        Spi::connect(|c| {
+            let mut table = c.select(&q, None, &[ctids.into()])?;
+            while table.next().is_some() {
+                let ctid = table.get::<String>(1)?.unwrap_or_default();
+                // The raw datum, detoasted here in SPI's own memory context
+                // (freed by SPI_finish at the end of this batch): `get::<&[u8]>`
+                // would copy every tile's bytes into the parent context,
+                // which lives as long as the transaction (the whole raster
+                // held by the end of the call: 650 MB for 100 million pixels).
+                let Some(datum) = table.get_datum_by_ordinal(2)? else {
+                    continue;
+                };
+                // SAFETY: a non-NULL bytea of the SPI tuple table, valid
+                // until SPI_finish; the slice is only read inside this closure.
+                let bytes: &[u8] = unsafe {
+                    pgrx::varlena::varlena_to_byte_slice(pg_sys::pg_detoast_datum_packed(
+                        datum.cast_mut_ptr(),
+                    ))
+                };
+                let Some(&k) = by_ctid.get(ctid.as_str()) else { continue };
+                let (r, b) = raster_band(bytes, self.band);
+                let p = &self.grid.tiles[k];
+                if (r.width, r.height) != (p.width, p.height) {
+                    raise(
+                        PgSqlErrorCode::ERRCODE_OBJECT_NOT_IN_PREREQUISITE_STATE,
+                        format!("tin_tiles_from_table: the tile at {ctid} of {} changed during the build", self.from),
+                    );
+                }
+                got.push((k, b));
+            }
+            Ok::<_, pgrx::spi::Error>(())
+        })
+        .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: reading {}: {e}", self.from)));
+        if got.len() != want.len() {
+            raise(
+                PgSqlErrorCode::ERRCODE_OBJECT_NOT_IN_PREREQUISITE_STATE,
+                format!(
+                    "tin_tiles_from_table: tiles of {} changed during the build (read {} of {})",
+                    self.from,
+                    got.len(),
+                    want.len()
+                ),
+            );
+        }
+        self.loaded.extend(got);
+    }
+
+    /// Build the next batch of tiles (one per thread) into `ready`.
+    fn build_batch(&mut self) {
+        use tinmerge_core::tin::tiles::{build_tile_kept, keep_border_samples, Block};
+        let threads = tinmerge_core::tin::par::threads().max(1);
+        let batch: Vec<usize> =
+            self.order[self.next..(self.next + threads).min(self.order.len())].to_vec();
+        self.next += batch.len();
+        let (first, last) = (
+            self.grid.tiles[batch[0]].ty,
+            self.grid.tiles[batch[batch.len() - 1]].ty,
+        );
+        self.load_rows(first..=last + 1);
+        let per_tile = (self.grid.tile_width + 1) * (self.grid.tile_height + 1);
+        memory::reserve(
+            tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len(), true)
+                .saturating_mul(batch.len()),
+            || {
+                format!("tin_tiles_from_table: building {} tiles of {per_tile} samples at {} levels at once", batch.len(), self.tols.len())
+            },
+        );
+        let valids: std::collections::HashMap<usize, Box<dyn Fn(f64) -> bool + Sync + '_>> = self
+            .loaded
+            .iter()
+            .map(|(&k, b)| {
+                (
+                    k,
+                    Box::new(move |v: f64| b.is_valid(v)) as Box<dyn Fn(f64) -> bool + Sync>,
+                )
+            })
+            .collect();
+        let block = |tx: usize, ty: usize| -> Option<Block> {
+            let k = *self.at.get(&(tx, ty))?;
+            Some(Block {
+                place: self.grid.tiles[k],
+                values: &self.loaded.get(&k)?.values,
+                valid: valids.get(&k)?.as_ref(),
+            })
+        };
+        let (lattice, tols, srid) = (self.grid.lattice, &self.tols, self.srid);
+        let (seams, planning) = (&self.seams, self.planning);
+        let built = tinmerge_core::tin::par::map(&batch, |&k| {
+            let p = self.grid.tiles[k];
+            let own = block(p.tx, p.ty)?;
+            let s = keep_border_samples(
+                &own,
+                block(p.tx + 1, p.ty).as_ref(),
+                block(p.tx, p.ty + 1).as_ref(),
+                block(p.tx + 1, p.ty + 1).as_ref(),
+            );
+            let keep = seams.border(
+                p.col..p.col + p.width as i64 + 1,
+                p.row..p.row + p.height as i64 + 1,
+            );
+            Some(
+                build_tile_kept(s, &lattice, (p.col, p.row), tols, srid, &keep, &mut || {
+                    Ok(())
+                })
+                .map(|t| {
+                    t.map(|(t, wanted)| {
+                        if planning {
+                            (None, wanted)
+                        } else {
+                            let out = TinOut::from_tin_on(&t, &lattice);
+                            (Some((p.tx as i32, p.ty as i32, out)), Vec::new())
+                        }
+                    })
+                }),
+            )
+        });
+        for r in built {
+            let Some(r) = r else {
+                raise(
+                    PgSqlErrorCode::ERRCODE_INTERNAL_ERROR,
+                    "tin_tiles_from_table: a tile of the batch was not read",
+                );
+            };
+            if let Some((row, wanted)) = r.or_raise() {
+                self.ready.extend(row);
+                self.asked.push(wanted);
+            }
+        }
+    }
+}
+
+impl Iterator for TableTiles {
+    type Item = (i32, i32, TinOut);
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if let Some(r) = self.ready.pop_front() {
+                return Some(r);
+            }
+            if self.next >= self.order.len() {
+                if !self.planning {
+                    return None;
+                }
+                self.end_round();
+                continue;
+            }
+            pgrx::check_for_interrupts!();
+            self.build_batch();
+        }
+    }
+}
+
+/// `tin_tiles_from_table(tiles regclass, tolerance, levels, rast_column, band)`:
+/// every raster tile of a table built as a tin with its neighbours' border
+/// pixels (the SQL wrapper passes the table's OID and the column's name).
+#[pg_extern(stable, strict, parallel_restricted, cost = 100000, requires = ["tin_type"])]
+fn _tin_tiles_table(
+    tab: pg_sys::Oid,
+    column: &str,
+    tolerance: f64,
+    levels: i32,
+    band: i32,
+) -> TableIterator<'static, (name!(tx, i32), name!(ty, i32), name!(t, TinOut))> {
+    TableIterator::new(TableTiles::open(tab, column, tolerance, levels, band))
+}
+
+extension_sql!(
+    r#"
+ALTER FUNCTION _tin_tiles_table(oid, text, float8, int, int) ROWS 100;
+COMMENT ON FUNCTION _tin_tiles_table(oid, text, float8, int, int) IS 'Internal: use tin_tiles_from_table(regclass, float8, int, name, int).';
+"#,
+    name = "tin_tiles_table_sql",
+    requires = [_tin_tiles_table]
+);
