@@ -79,13 +79,12 @@ fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String) {
     (from, quoted)
 }
 
+/// A tile's pixel lattice, width and height.
+type TileSize = (Lattice, usize, usize);
+
 /// Every tile's ctid, lattice and size (PostGIS reads the headers only)
 /// and SRID, refusing a tile without band `band`.
-fn tile_headers(
-    from: &str,
-    quoted: &str,
-    band: i32,
-) -> (Vec<String>, Vec<(Lattice, usize, usize)>, Vec<i32>) {
+fn tile_headers(from: &str, quoted: &str, band: i32) -> (Vec<String>, Vec<TileSize>, Vec<i32>) {
     // every tile's geotransform and size (PostGIS reads the header only)
     let q = format!(
         "SELECT ctid::text, (m).upperleftx, (m).upperlefty, (m).width, (m).height, (m).scalex, (m).scaley, (m).skewx, (m).skewy, (m).srid, (m).numbands FROM (SELECT ctid, ST_MetaData({quoted}) AS m FROM {from} WHERE {quoted} IS NOT NULL) s"
