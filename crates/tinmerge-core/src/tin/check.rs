@@ -308,61 +308,8 @@ impl Tin {
     ) -> Result<(), TinError> {
         validate_structure(self)?;
         let mut domain_area = None;
-        for (l, lv) in self.levels.iter().enumerate() {
-            // boundary: one closed convex cycle
-            let mut next = std::collections::HashMap::new();
-            for (t, tri) in lv.tris.iter().enumerate() {
-                for j in 0..3 {
-                    if lv.nbrs[t][j] == NONE {
-                        let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
-                        if next.insert(a, b).is_some() {
-                            return Err(bad(format!(
-                                "level {l}: boundary touches itself at vertex {a}"
-                            )));
-                        }
-                    }
-                }
-            }
-            let Some((&start, _)) = next.iter().next() else {
-                return Err(bad(format!("level {l}: no boundary")));
-            };
-            let mut cycle = vec![start];
-            let mut cur = start;
-            while let Some(&n) = next.get(&cur) {
-                if n == start {
-                    break;
-                }
-                cycle.push(n);
-                cur = n;
-                if cycle.len() > next.len() {
-                    break;
-                }
-            }
-            if cycle.len() != next.len() {
-                return Err(bad(format!("level {l}: boundary is not a single cycle")));
-            }
-            let k = cycle.len();
-            let mut poly2 = 0.0;
-            for i in 0..k {
-                let a = self.verts[cycle[i] as usize];
-                let b = self.verts[cycle[(i + 1) % k] as usize];
-                let c = self.verts[cycle[(i + 2) % k] as usize];
-                if !crate::geom::left_or_on_rounded(&a, &b, &c) {
-                    return Err(bad(format!(
-                        "level {l}: domain is not convex at vertex {}",
-                        cycle[(i + 1) % k]
-                    )));
-                }
-                poly2 += a[0] * b[1] - b[0] * a[1];
-            }
-            let tri2: f64 = lv.tris.iter().map(|t| area2(self, t).0).sum();
-            if (tri2 - poly2).abs() > 1e-9 * poly2.abs() {
-                return Err(bad(format!(
-                    "level {l}: triangles cover area {} but the boundary encloses {} (overlap or gap)",
-                    tri2 / 2.0,
-                    poly2 / 2.0
-                )));
-            }
+        for l in 0..self.levels.len() {
+            let poly2 = self.boundary_area2(l)?;
             match domain_area {
                 None => domain_area = Some(poly2),
                 Some(d) if (d - poly2).abs() <= 1e-9 * d.abs() => {}
@@ -374,62 +321,144 @@ impl Tin {
                     )));
                 }
             }
-            // children tile their parent
             if l + 1 < self.levels.len() {
-                let cl = &self.levels[l + 1];
-                for (p, tri) in lv.tris.iter().enumerate() {
-                    let (s, e) = (lv.child_start[p] as usize, lv.child_start[p + 1] as usize);
-                    let (mut sum, mut err) = (0.0, 0.0);
-                    for t in &cl.tris[s..e] {
-                        let (a, e) = area2(self, t);
-                        let c = t.map(|v| self.verts[v as usize]);
-                        sum += a;
-                        // a child corner may be a hair outside (see
-                        // validate_structure)
-                        err += e + crate::geom::orient_slack(&c[0], &c[1], &c[2]);
-                    }
-                    let (pa, pe) = area2(self, tri);
-                    if e == s || (sum - pa).abs() > err + pe + 1e-12 * pa {
+                self.check_children_tile(l)?;
+            }
+            self.check_locally_delaunay(l, constraint)?;
+        }
+        Ok(())
+    }
+
+    /// Level `l`'s boundary: one closed cycle, convex (up to rounding),
+    /// enclosing what its triangles cover; twice that area.
+    fn boundary_area2(&self, l: usize) -> Result<f64, TinError> {
+        let lv = &self.levels[l];
+        // boundary: one closed convex cycle
+        let mut next = std::collections::HashMap::new();
+        for (t, tri) in lv.tris.iter().enumerate() {
+            for j in 0..3 {
+                if lv.nbrs[t][j] == NONE {
+                    let (a, b) = (tri[(j + 1) % 3], tri[(j + 2) % 3]);
+                    if next.insert(a, b).is_some() {
                         return Err(bad(format!(
-                            "level {l}: children of triangle {p} do not tile it (area {} vs {})",
-                            sum / 2.0,
-                            pa / 2.0
+                            "level {l}: boundary touches itself at vertex {a}"
                         )));
                     }
                 }
             }
-            // constrained Delaunay: an edge inside one parent is locally Delaunay
-            for (t, tri) in lv.tris.iter().enumerate() {
-                for j in 0..3 {
-                    let nb = lv.nbrs[t][j];
-                    if nb == NONE || (nb as usize) < t {
-                        continue;
-                    }
-                    if l > 0 && lv.parent[t] != lv.parent[nb as usize] {
-                        continue; // on a persisted coarser edge: a constraint
-                    }
-                    let (ea, eb) = (
-                        self.verts[tri[(j + 1) % 3] as usize],
-                        self.verts[tri[(j + 2) % 3] as usize],
-                    );
-                    if l == 0 && constraint(&ea, &eb) {
-                        continue; // a breakline
-                    }
-                    let ot = lv.tris[nb as usize];
-                    let k = (0..3)
-                        .find(|&k| lv.nbrs[nb as usize][k] == t as u32)
-                        .unwrap_or(0);
-                    let d = self.verts[ot[k] as usize];
-                    let [a, b, c] = [
-                        self.verts[tri[0] as usize],
-                        self.verts[tri[1] as usize],
-                        self.verts[tri[2] as usize],
-                    ];
-                    if incircle(vco(&a), vco(&b), vco(&c), vco(&d)) > 0.0 {
-                        return Err(bad(format!(
-                            "level {l}: edge between triangles {t} and {nb} is not locally Delaunay"
-                        )));
-                    }
+        }
+        let Some((&start, _)) = next.iter().next() else {
+            return Err(bad(format!("level {l}: no boundary")));
+        };
+        let mut cycle = vec![start];
+        let mut cur = start;
+        while let Some(&n) = next.get(&cur) {
+            if n == start {
+                break;
+            }
+            cycle.push(n);
+            cur = n;
+            if cycle.len() > next.len() {
+                break;
+            }
+        }
+        if cycle.len() != next.len() {
+            return Err(bad(format!("level {l}: boundary is not a single cycle")));
+        }
+        let k = cycle.len();
+        let mut poly2 = 0.0;
+        for i in 0..k {
+            let a = self.verts[cycle[i] as usize];
+            let b = self.verts[cycle[(i + 1) % k] as usize];
+            let c = self.verts[cycle[(i + 2) % k] as usize];
+            if !crate::geom::left_or_on_rounded(&a, &b, &c) {
+                return Err(bad(format!(
+                    "level {l}: domain is not convex at vertex {}",
+                    cycle[(i + 1) % k]
+                )));
+            }
+            poly2 += a[0] * b[1] - b[0] * a[1];
+        }
+        let tri2: f64 = lv.tris.iter().map(|t| area2(self, t).0).sum();
+        if (tri2 - poly2).abs() > 1e-9 * poly2.abs() {
+            return Err(bad(format!(
+                "level {l}: triangles cover area {} but the boundary encloses {} (overlap or gap)",
+                tri2 / 2.0,
+                poly2 / 2.0
+            )));
+        }
+        Ok(poly2)
+    }
+
+    /// The children of every triangle of level `l` tile it (their areas
+    /// sum to its own, up to rounding).
+    fn check_children_tile(&self, l: usize) -> Result<(), TinError> {
+        let lv = &self.levels[l];
+        // children tile their parent
+        let cl = &self.levels[l + 1];
+        for (p, tri) in lv.tris.iter().enumerate() {
+            let (s, e) = (lv.child_start[p] as usize, lv.child_start[p + 1] as usize);
+            let (mut sum, mut err) = (0.0, 0.0);
+            for t in &cl.tris[s..e] {
+                let (a, e) = area2(self, t);
+                let c = t.map(|v| self.verts[v as usize]);
+                sum += a;
+                // a child corner may be a hair outside (see
+                // validate_structure)
+                err += e + crate::geom::orient_slack(&c[0], &c[1], &c[2]);
+            }
+            let (pa, pe) = area2(self, tri);
+            if e == s || (sum - pa).abs() > err + pe + 1e-12 * pa {
+                return Err(bad(format!(
+                    "level {l}: children of triangle {p} do not tile it (area {} vs {})",
+                    sum / 2.0,
+                    pa / 2.0
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Constrained Delaunay: every edge of level `l` inside one parent (at
+    /// level 0, every edge but a breakline's, `constraint`) is locally
+    /// Delaunay.
+    fn check_locally_delaunay(
+        &self,
+        l: usize,
+        constraint: &dyn Fn(&[f64; 3], &[f64; 3]) -> bool,
+    ) -> Result<(), TinError> {
+        let lv = &self.levels[l];
+        // constrained Delaunay: an edge inside one parent is locally Delaunay
+        for (t, tri) in lv.tris.iter().enumerate() {
+            for j in 0..3 {
+                let nb = lv.nbrs[t][j];
+                if nb == NONE || (nb as usize) < t {
+                    continue;
+                }
+                if l > 0 && lv.parent[t] != lv.parent[nb as usize] {
+                    continue; // on a persisted coarser edge: a constraint
+                }
+                let (ea, eb) = (
+                    self.verts[tri[(j + 1) % 3] as usize],
+                    self.verts[tri[(j + 2) % 3] as usize],
+                );
+                if l == 0 && constraint(&ea, &eb) {
+                    continue; // a breakline
+                }
+                let ot = lv.tris[nb as usize];
+                let k = (0..3)
+                    .find(|&k| lv.nbrs[nb as usize][k] == t as u32)
+                    .unwrap_or(0);
+                let d = self.verts[ot[k] as usize];
+                let [a, b, c] = [
+                    self.verts[tri[0] as usize],
+                    self.verts[tri[1] as usize],
+                    self.verts[tri[2] as usize],
+                ];
+                if incircle(vco(&a), vco(&b), vco(&c), vco(&d)) > 0.0 {
+                    return Err(bad(format!(
+                        "level {l}: edge between triangles {t} and {nb} is not locally Delaunay"
+                    )));
                 }
             }
         }

@@ -211,15 +211,15 @@ fn split_triangle(cx: &Tile, tri: [u32; 3], out: &mut Vec<[u32; 3]>) -> Result<(
     Ok(())
 }
 
-/// Covers the tile outside the domain (see the module docs).
-fn fill_tile(
-    cxs: &[Tile],
-    b: TileBounds,
-    h: f64,
-    mesh: &mut TileMesh,
-    keys: &mut Keys,
-    tick: &mut Ticker,
-) -> Result<(), TinError> {
+/// A piece of the domain's hull, from one point to the next.
+type Piece = [Pt; 2];
+
+/// The domain's hull in the tile: its pieces cut to the tile, their ends
+/// computed as the triangles' were, without the seams between two tins of
+/// a tiled terrain (on the hull of both, once each way: the terrain goes
+/// on, so no wall there); and the whole hull ring, uncut, to tell the
+/// terrain from the fill.
+fn hull_pieces(cxs: &[Tile], tick: &mut Ticker) -> Result<(Vec<Piece>, Vec<Piece>), TinError> {
     // hull pieces inside the tile, their ends computed as the triangles' were
     let mut pieces: Vec<[Pt; 2]> = Vec::new();
     let mut ring: Vec<[Pt; 2]> = Vec::new();
@@ -251,6 +251,19 @@ fn fill_tile(
     let key = |p: &Pt| (p.x.to_bits(), p.y.to_bits());
     let directed: rustc_hash::FxHashSet<_> = pieces.iter().map(|[p, q]| (key(p), key(q))).collect();
     pieces.retain(|[p, q]| !directed.contains(&(key(q), key(p))));
+    Ok((pieces, ring))
+}
+
+/// Covers the tile outside the domain (see the module docs).
+fn fill_tile(
+    cxs: &[Tile],
+    b: TileBounds,
+    h: f64,
+    mesh: &mut TileMesh,
+    keys: &mut Keys,
+    tick: &mut Ticker,
+) -> Result<(), TinError> {
+    let (pieces, ring) = hull_pieces(cxs, tick)?;
     let corner = |x: f64, y: f64| Pt {
         x,
         y,

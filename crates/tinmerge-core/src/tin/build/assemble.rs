@@ -54,6 +54,79 @@ pub(super) fn reorder_vertices(verts: Vec<[f64; 3]>, raw: &mut [RawLevel]) -> Ve
     order.iter().map(|&v| verts[v as usize]).collect()
 }
 
+/// A triangle's sort key at its level: first its parent's final position
+/// (at level 0: 1 when void, else 0, so the void ones come last), then the
+/// Morton code of its centroid; then the triangle and its index in the
+/// level's raw `tris`.
+type Keyed = (u32, u32, [u32; 3], u32);
+
+/// Every triangle of level `l`'s keys ([`Keyed`]), found on threads chunk
+/// by chunk, in triangle order: `parents` are indexes into the previous
+/// level's raw `tris`, `position` their final positions.
+fn sort_keys(
+    tin: &Tin,
+    l: usize,
+    tris: &[[u32; 3]],
+    parents: &[u32],
+    void: &[bool],
+    position: &[u32],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<Keyed>, TinError> {
+    let centroid = |t: &[u32; 3]| {
+        let (a, b, c) = (
+            tin.verts[t[0] as usize],
+            tin.verts[t[1] as usize],
+            tin.verts[t[2] as usize],
+        );
+        ((a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0)
+    };
+    // parents found on threads, chunk by chunk, kept in triangle order
+    let key = |i: usize| -> Result<Keyed, TinError> {
+        let t = &tris[i];
+        let (x, y) = centroid(t);
+        let parent = if l == 0 {
+            NONE
+        } else if let Some(&p) = parents.get(i) {
+            match position.get(p as usize) {
+                Some(&q) => q,
+                None => {
+                    return Err(TinError::Degenerate(format!(
+                        "internal: parent {p} of a triangle of level {l} does not exist"
+                    )));
+                }
+            }
+        } else {
+            return Err(TinError::Degenerate(format!(
+                "internal: no parent at level {} for a triangle of level {l}",
+                l - 1
+            )));
+        };
+        // void triangles last: at level 0 by their mark, below by
+        // their parent (the void ones are the previous level's last)
+        let first = if l == 0 {
+            u32::from(void.get(i).copied().unwrap_or(false))
+        } else {
+            parent
+        };
+        Ok((first, morton(&tin.bbox, x, y), *t, i as u32))
+    };
+    let chunks: Vec<std::ops::Range<usize>> = (0..tris.len())
+        .step_by(4096)
+        .map(|s| s..(s + 4096).min(tris.len()))
+        .collect();
+    let mut keyed: Vec<Keyed> = Vec::with_capacity(tris.len());
+    crate::par::map_batched(
+        &chunks,
+        |c| c.clone().map(key).collect::<Result<Vec<_>, TinError>>(),
+        interrupt,
+        &mut |part| {
+            keyed.extend(part?);
+            Ok(())
+        },
+    )?;
+    Ok(keyed)
+}
+
 /// Order triangles, link neighbours, place parents and
 /// build grid indexes (when `grids`; else left empty for the caller).
 pub(super) fn assemble(
@@ -96,61 +169,9 @@ pub(super) fn assemble(
             )));
         }
         interrupt()?;
-        let centroid = |t: &[u32; 3]| {
-            let (a, b, c) = (
-                tin.verts[t[0] as usize],
-                tin.verts[t[1] as usize],
-                tin.verts[t[2] as usize],
-            );
-            ((a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0)
-        };
-        // parents found on threads, chunk by chunk, kept in triangle order
-        let key = |i: usize| -> Result<(u32, u32, [u32; 3], u32), TinError> {
-            let t = &tris[i];
-            let (x, y) = centroid(t);
-            let parent = if l == 0 {
-                NONE
-            } else if let Some(&p) = parents.get(i) {
-                match position.get(p as usize) {
-                    Some(&q) => q,
-                    None => {
-                        return Err(TinError::Degenerate(format!(
-                            "internal: parent {p} of a triangle of level {l} does not exist"
-                        )));
-                    }
-                }
-            } else {
-                return Err(TinError::Degenerate(format!(
-                    "internal: no parent at level {} for a triangle of level {l}",
-                    l - 1
-                )));
-            };
-            // void triangles last: at level 0 by their mark, below by
-            // their parent (the void ones are the previous level's last)
-            let first = if l == 0 {
-                u32::from(void.get(i).copied().unwrap_or(false))
-            } else {
-                parent
-            };
-            Ok((first, morton(&tin.bbox, x, y), *t, i as u32))
-        };
-        let chunks: Vec<std::ops::Range<usize>> = (0..tris.len())
-            .step_by(4096)
-            .map(|s| s..(s + 4096).min(tris.len()))
-            .collect();
-        let mut keyed: Vec<(u32, u32, [u32; 3], u32)> = Vec::with_capacity(tris.len());
-        crate::par::map_batched(
-            &chunks,
-            |c| c.clone().map(key).collect::<Result<Vec<_>, TinError>>(),
-            interrupt,
-            &mut |part| {
-                keyed.extend(part?);
-                Ok(())
-            },
-        )?;
+        let mut keyed = sort_keys(&tin, l, &tris, &parents, &void, &position, interrupt)?;
         // each copy gone as soon as the next is made: the last level's
         // arrays are the peak of a whole build
-        drop(chunks);
         drop(tris);
         drop(parents);
         interrupt()?;

@@ -138,59 +138,16 @@ pub(super) fn with_breaklines(
             )));
         }
     }
-    let mut dropped = vec![false; grid.len()];
-    // with a reference, a soft segment's samples (dropped: the profile
-    // stands for them) are points of its profile, their own heights
-    let mut on_segment: Vec<Vec<[f64; 3]>> = vec![Vec::new(); net.segs.len()];
-    for (k, s) in net.segs.iter().enumerate() {
-        if k % 256 == 0 {
-            interrupt()?;
-        }
-        let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
-        let keep_on = reference.is_some() && !net.hard[k];
-        let m = 1e-9 * (a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()) + 1.0);
-        grid.for_each_in_box(
-            a[0].min(b[0]) - m,
-            a[1].min(b[1]) - m,
-            a[0].max(b[0]) + m,
-            a[1].max(b[1]) + m,
-            |i, p| {
-                if drops_sample(&a, &b, p) {
-                    if keep_on && p[..2] != a[..2] && p[..2] != b[..2] {
-                        on_segment[k].push(*p);
-                    }
-                    dropped[i] = true;
-                }
-            },
-        );
-    }
-    // soft segments: their profiles, about one sample spacing apart
-    let step = grid.cell_area().sqrt();
-    let mut profiles = Vec::with_capacity(net.segs.len());
-    let mut total = 0usize;
-    for (k, s) in net.segs.iter().enumerate() {
-        interrupt()?;
-        let prof = if net.hard[k] {
-            Vec::new()
-        } else {
-            let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
-            let even = profile(&a, &b, step, &height, interrupt)?;
-            match reference {
-                Some(r) => {
-                    with_crossings(&a, &b, even, r, step, std::mem::take(&mut on_segment[k]))
-                }
-                None => even,
-            }
-        };
-        total += prof.len();
-        if total > crate::tin::breaklines::MAX_PROFILE_POINTS {
-            return Err(TinError::TooLarge(format!(
-                "soft breaklines hold more than {} sample spacings",
-                crate::tin::breaklines::MAX_PROFILE_POINTS
-            )));
-        }
-        profiles.push(prof);
-    }
+    let (mut dropped, on_segment) =
+        samples_on_segments(&grid, &net, reference.is_some(), interrupt)?;
+    let profiles = soft_profiles(
+        &net,
+        grid.cell_area().sqrt(),
+        &height,
+        reference,
+        on_segment,
+        interrupt,
+    )?;
     // the samples outside the boundary: no vertex of the domain
     for area in boundaries {
         for (k, p) in grid.pts.iter().enumerate() {
@@ -213,6 +170,88 @@ pub(super) fn with_breaklines(
     kept.extend_from_slice(&net.verts);
     kept.extend(profiles.iter().flatten());
     Ok((prepare_samples(kept)?, net, profiles))
+}
+
+/// Points along one segment of the network, in order.
+type Profile = Vec<[f64; 3]>;
+
+/// The samples of `grid` on a segment of the network up to rounding
+/// ([`drops_sample`]): flagged as dropped (the line stands for them), and,
+/// for a soft segment when `keep_on_soft` (a build with a reference), kept
+/// per segment as points of its profile with their own heights.
+fn samples_on_segments(
+    grid: &SampleGrid,
+    net: &Network,
+    keep_on_soft: bool,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<bool>, Vec<Profile>), TinError> {
+    let mut dropped = vec![false; grid.len()];
+    // with a reference, a soft segment's samples (dropped: the profile
+    // stands for them) are points of its profile, their own heights
+    let mut on_segment: Vec<Vec<[f64; 3]>> = vec![Vec::new(); net.segs.len()];
+    for (k, s) in net.segs.iter().enumerate() {
+        if k % 256 == 0 {
+            interrupt()?;
+        }
+        let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
+        let keep_on = keep_on_soft && !net.hard[k];
+        let m = 1e-9 * (a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()) + 1.0);
+        grid.for_each_in_box(
+            a[0].min(b[0]) - m,
+            a[1].min(b[1]) - m,
+            a[0].max(b[0]) + m,
+            a[1].max(b[1]) + m,
+            |i, p| {
+                if drops_sample(&a, &b, p) {
+                    if keep_on && p[..2] != a[..2] && p[..2] != b[..2] {
+                        on_segment[k].push(*p);
+                    }
+                    dropped[i] = true;
+                }
+            },
+        );
+    }
+    Ok((dropped, on_segment))
+}
+
+/// Each segment's profile: empty for a hard one; for a soft one points
+/// about `step` apart with `height`'s heights ([`profile`]), with the
+/// `reference`'s grid-line crossings and the samples `on_segment` it
+/// dropped ([`with_crossings`]) when there is a reference.
+fn soft_profiles(
+    net: &Network,
+    step: f64,
+    height: &dyn Fn(f64, f64) -> Option<f64>,
+    reference: Option<&dyn Reference>,
+    mut on_segment: Vec<Vec<[f64; 3]>>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<Vec<[f64; 3]>>, TinError> {
+    let mut profiles = Vec::with_capacity(net.segs.len());
+    let mut total = 0usize;
+    for (k, s) in net.segs.iter().enumerate() {
+        interrupt()?;
+        let prof = if net.hard[k] {
+            Vec::new()
+        } else {
+            let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
+            let even = profile(&a, &b, step, height, interrupt)?;
+            match reference {
+                Some(r) => {
+                    with_crossings(&a, &b, even, r, step, std::mem::take(&mut on_segment[k]))
+                }
+                None => even,
+            }
+        };
+        total += prof.len();
+        if total > crate::tin::breaklines::MAX_PROFILE_POINTS {
+            return Err(TinError::TooLarge(format!(
+                "soft breaklines hold more than {} sample spacings",
+                crate::tin::breaklines::MAX_PROFILE_POINTS
+            )));
+        }
+        profiles.push(prof);
+    }
+    Ok(profiles)
 }
 
 /// A soft segment's profile `even` (points about `step` apart from `a` to

@@ -74,26 +74,7 @@ pub(super) fn refine_parent(
     // (a last resort is refined as scattered samples are: its vertices at
     // crossings are no pixels)
     if void.is_none() && !last_resort && corners.iter().all(|&s| (s as usize) < n) {
-        let plans: Vec<SidePlan> = (0..3)
-            .filter(|&k| !free[k])
-            .map(|k| {
-                let side = lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize);
-                let on: Vec<(usize, [f64; 3])> = side[1..side.len() - 1]
-                    .iter()
-                    .map(|&g| (g, d.point(g)))
-                    .collect();
-                let (a, b) = (side[0], side[side.len() - 1]);
-                plan_side(
-                    [Pt::Sample(a), Pt::Sample(b)],
-                    &d.point(a),
-                    &d.point(b),
-                    &on,
-                    reference,
-                    forced,
-                    tol,
-                )
-            })
-            .collect();
+        let plans = lattice_plans(d, corners, free, reference, forced, tol);
         if plans
             .iter()
             .all(|p| p.chosen.iter().all(|q| matches!(q, Pt::Sample(_))))
@@ -166,6 +147,39 @@ pub(super) fn refine_parent(
     };
     let is_sample = corners.map(|s| (s as usize) < n);
     refine_parent_general(&gather, job, scratch, c, is_sample)
+}
+
+/// The plans of a lattice parent's fixed sides (`free[k]` false): each
+/// side's samples found by gcd steps ([`lattice_side`]) and its crossings,
+/// split by [`plan_side`].
+fn lattice_plans(
+    d: &Dense,
+    corners: [u32; 3],
+    free: [bool; 3],
+    reference: Option<&dyn Reference>,
+    forced: &Forced,
+    tol: f64,
+) -> Vec<SidePlan> {
+    (0..3)
+        .filter(|&k| !free[k])
+        .map(|k| {
+            let side = lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize);
+            let on: Vec<(usize, [f64; 3])> = side[1..side.len() - 1]
+                .iter()
+                .map(|&g| (g, d.point(g)))
+                .collect();
+            let (a, b) = (side[0], side[side.len() - 1]);
+            plan_side(
+                [Pt::Sample(a), Pt::Sample(b)],
+                &d.point(a),
+                &d.point(b),
+                &on,
+                reference,
+                forced,
+                tol,
+            )
+        })
+        .collect()
 }
 
 /// Samples' worth of parents handed to a thread at once.
