@@ -243,6 +243,62 @@ fn pad4(b: &mut Vec<u8>, byte: u8) {
     b.resize(b.len().next_multiple_of(4), byte);
 }
 
+/// Area-weighted vertex normals of the triangles `tris` over the vertex
+/// positions `pos`, of unit length (straight up where no triangle has area).
+fn vertex_normals(pos: &[[f32; 3]], tris: &[[u32; 3]]) -> Vec<[f32; 3]> {
+    // area-weighted vertex normals
+    let mut nrm = vec![[0.0f64; 3]; pos.len()];
+    for t in tris {
+        let p = t.map(|i| pos[i as usize].map(f64::from));
+        let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
+        let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
+        let n = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        for &i in t {
+            for k in 0..3 {
+                nrm[i as usize][k] += n[k];
+            }
+        }
+    }
+    nrm.iter()
+        .map(|n| {
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            if len > 0.0 {
+                n.map(|x| (x / len) as f32)
+            } else {
+                [0.0, 1.0, 0.0]
+            }
+        })
+        .collect()
+}
+
+/// The binary glTF container (glb 2.0): the header, the JSON chunk `doc`
+/// padded with spaces and the binary chunk `bin`.
+fn glb(doc: &serde_json::Value, bin: &[u8]) -> Result<Vec<u8>, TinError> {
+    let mut js = serde_json::to_vec(doc).map_err(|e| TinError::InvalidParameter(e.to_string()))?;
+    pad4(&mut js, b' ');
+    let total = 12 + 8 + js.len() + 8 + bin.len();
+    let total32 = u32::try_from(total).map_err(|_| {
+        TinError::TooLarge(format!(
+            "the glTF would be {total} bytes; glb files hold at most 4 GB"
+        ))
+    })?;
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&total32.to_le_bytes());
+    out.extend_from_slice(&(js.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&js);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(bin);
+    Ok(out)
+}
+
 /// The `.glb` bytes of one level.
 pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, TinError> {
     let lv = tin.levels.get(level).ok_or(TinError::LevelOutOfRange {
@@ -273,25 +329,8 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
             ]
         })
         .collect();
-    // area-weighted vertex normals
-    let mut nrm = vec![[0.0f64; 3]; nv];
     // the domain's triangles (the void ones are the last)
     let tris = &lv.tris[..lv.num_domain()];
-    for t in tris {
-        let p = t.map(|i| pos[i as usize].map(f64::from));
-        let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
-        let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
-        let n = [
-            e1[1] * e2[2] - e1[2] * e2[1],
-            e1[2] * e2[0] - e1[0] * e2[2],
-            e1[0] * e2[1] - e1[1] * e2[0],
-        ];
-        for &i in t {
-            for k in 0..3 {
-                nrm[i as usize][k] += n[k];
-            }
-        }
-    }
     let mut chunk = Chunk::default();
     let mut attributes = serde_json::Map::new();
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
@@ -303,17 +342,7 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
     }
     let a = chunk.floats(pos.as_flattened(), nv, "VEC3", Some((&lo, &hi)));
     attributes.insert("POSITION".into(), json!(a));
-    let unit: Vec<[f32; 3]> = nrm
-        .iter()
-        .map(|n| {
-            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            if len > 0.0 {
-                n.map(|x| (x / len) as f32)
-            } else {
-                [0.0, 1.0, 0.0]
-            }
-        })
-        .collect();
+    let unit = vertex_normals(&pos, tris);
     let a = chunk.floats(unit.as_flattened(), nv, "VEC3", None);
     attributes.insert("NORMAL".into(), json!(a));
     let mut material = json!({
@@ -372,25 +401,7 @@ pub fn tin_glb(tin: &Tin, level: usize, opts: &GlbOptions) -> Result<Vec<u8>, Ti
     doc["accessors"] = json!(accessors);
     doc["bufferViews"] = json!(views);
     doc["buffers"] = json!([{"byteLength": bin.len()}]);
-    let mut js = serde_json::to_vec(&doc).map_err(|e| TinError::InvalidParameter(e.to_string()))?;
-    pad4(&mut js, b' ');
-    let total = 12 + 8 + js.len() + 8 + bin.len();
-    let total32 = u32::try_from(total).map_err(|_| {
-        TinError::TooLarge(format!(
-            "the glTF would be {total} bytes; glb files hold at most 4 GB"
-        ))
-    })?;
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&total32.to_le_bytes());
-    out.extend_from_slice(&(js.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&js);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
-    Ok(out)
+    glb(&doc, &bin)
 }
 
 /// Working memory of a glTF mesh: per vertex the f32 attributes, the f64

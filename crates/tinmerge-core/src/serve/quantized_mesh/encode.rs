@@ -181,26 +181,14 @@ pub fn encode(
     encode_many(&[src], tile, with_normals, fill, interrupt)
 }
 
-/// [`encode`] of a terrain stored as several tins sharing their seams
-/// (`tin_tiles`, keep_border): one mesh of every source's triangles in the
-/// tile, their seam vertices one vertex (the same positions in each), the
-/// normals there summed over the tins, and no wall along a seam.
-pub fn encode_many(
-    sources: &[Source],
-    tile: &TileBounds,
-    with_normals: bool,
-    fill: Option<f64>,
-    interrupt: &mut Interrupt<'_>,
-) -> Result<Option<Vec<u8>>, TinError> {
-    let Some(mesh) = tile_mesh(sources, tile, fill, interrupt)? else {
-        return Ok(None);
-    };
-    let cxs = tiles_of(sources, tile);
-    // number vertices in order of first use (high-water-mark coding)
-    let mut order = vec![u32::MAX; mesh.points.len()];
-    let mut seq = Vec::with_capacity(mesh.points.len());
-    let mut idx = Vec::with_capacity(mesh.triangles.len() * 3);
-    for t in &mesh.triangles {
+/// The mesh's vertices numbered in order of first use (the high-water-mark
+/// coding of the indices): the mesh vertex of each new number, and the
+/// triangles' corners by new number.
+fn first_use_order(triangles: &[[u32; 3]], points: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut order = vec![u32::MAX; points];
+    let mut seq = Vec::with_capacity(points);
+    let mut idx = Vec::with_capacity(triangles.len() * 3);
+    for t in triangles {
         for &v in t {
             if order[v as usize] == u32::MAX {
                 order[v as usize] = seq.len() as u32;
@@ -209,11 +197,13 @@ pub fn encode_many(
             idx.push(order[v as usize]);
         }
     }
-    let n = seq.len();
-    let pts: Vec<[f64; 3]> = seq.iter().map(|&v| mesh.points[v as usize]).collect();
+    (seq, idx)
+}
+
+/// The heights' bounds as f32, rounded outwards.
+fn height_bounds(pts: &[[f64; 3]]) -> (f32, f32) {
     let hmin = pts.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
     let hmax = pts.iter().map(|p| p[2]).fold(f64::NEG_INFINITY, f64::max);
-    // f32 bounds rounded outwards
     let mut fmin = hmin as f32;
     if fmin as f64 > hmin {
         fmin = fmin.next_down();
@@ -222,25 +212,21 @@ pub fn encode_many(
     if (fmax as f64) < hmax {
         fmax = fmax.next_up();
     }
-    let q = |v: f64, lo: f64, hi: f64| -> i32 {
-        if hi > lo {
-            (((v - lo) / (hi - lo)) * QMAX).round().clamp(0.0, QMAX) as i32
-        } else {
-            0
-        }
-    };
-    let u: Vec<i32> = pts.iter().map(|p| q(p[0], tile.west, tile.east)).collect();
-    let v: Vec<i32> = pts
-        .iter()
-        .map(|p| q(p[1], tile.south, tile.north))
-        .collect();
-    let hq: Vec<i32> = pts
-        .iter()
-        .map(|p| q(p[2], fmin as f64, fmax as f64))
-        .collect();
-    // the bounding sphere and horizon point of the positions a reader
-    // decodes (at zoom 0 a quantization step is 600 m)
-    let (lo_h, hi_h) = (fmin as f64, fmax as f64);
+    (fmin, fmax)
+}
+
+/// The bounding sphere (centre, radius) and horizon occlusion point of the
+/// positions a reader decodes from the quantized `u`, `v` and `hq` (heights
+/// between `lo_h` and `hi_h`); at zoom 0 a quantization step is 600 m.
+fn bounding_sphere(
+    tile: &TileBounds,
+    u: &[i32],
+    v: &[i32],
+    hq: &[i32],
+    lo_h: f64,
+    hi_h: f64,
+) -> ([f64; 3], f64, [f64; 3]) {
+    let n = u.len();
     let ecefs: Vec<[f64; 3]> = (0..n)
         .map(|i| {
             ecef(
@@ -269,6 +255,45 @@ pub fn encode_many(
         .fold(0.0, f64::max)
         + 0.01;
     let horizon = horizon_point(centre, &ecefs);
+    (centre, radius, horizon)
+}
+
+/// [`encode`] of a terrain stored as several tins sharing their seams
+/// (`tin_tiles`, keep_border): one mesh of every source's triangles in the
+/// tile, their seam vertices one vertex (the same positions in each), the
+/// normals there summed over the tins, and no wall along a seam.
+pub fn encode_many(
+    sources: &[Source],
+    tile: &TileBounds,
+    with_normals: bool,
+    fill: Option<f64>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Option<Vec<u8>>, TinError> {
+    let Some(mesh) = tile_mesh(sources, tile, fill, interrupt)? else {
+        return Ok(None);
+    };
+    let cxs = tiles_of(sources, tile);
+    let (seq, idx) = first_use_order(&mesh.triangles, mesh.points.len());
+    let n = seq.len();
+    let pts: Vec<[f64; 3]> = seq.iter().map(|&v| mesh.points[v as usize]).collect();
+    let (fmin, fmax) = height_bounds(&pts);
+    let q = |v: f64, lo: f64, hi: f64| -> i32 {
+        if hi > lo {
+            (((v - lo) / (hi - lo)) * QMAX).round().clamp(0.0, QMAX) as i32
+        } else {
+            0
+        }
+    };
+    let u: Vec<i32> = pts.iter().map(|p| q(p[0], tile.west, tile.east)).collect();
+    let v: Vec<i32> = pts
+        .iter()
+        .map(|p| q(p[1], tile.south, tile.north))
+        .collect();
+    let hq: Vec<i32> = pts
+        .iter()
+        .map(|p| q(p[2], fmin as f64, fmax as f64))
+        .collect();
+    let (centre, radius, horizon) = bounding_sphere(tile, &u, &v, &hq, fmin as f64, fmax as f64);
 
     let mut out = Vec::with_capacity(88 + 4 + n * 6 + idx.len() * 4 + 64);
     for v in centre {
