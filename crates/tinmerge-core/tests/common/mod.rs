@@ -42,22 +42,8 @@ impl Dem {
         usize,
         Vec<f64>,
     ) {
-        let (w, h) = (self.width * f, self.height * f);
-        let mut values = vec![0.0; w * h];
-        for row in 0..h {
-            for col in 0..w {
-                values[row * w + col] = self.values[(row / f) * self.width + col / f];
-            }
-        }
-        let gt = tinmerge_core::io::raster::GeoTransform {
-            scale_x: self.scale_x / f as f64,
-            scale_y: -self.scale_y / f as f64,
-            ip_x: self.origin_x,
-            ip_y: self.origin_y,
-            skew_x: 0.0,
-            skew_y: 0.0,
-        };
-        (gt, w, h, values)
+        let d = self.window_finer(0, 0, self.width, self.height, f);
+        (d.geotransform(), d.width, d.height, d.values)
     }
 
     /// The window of `w x h` pixels from column `c0`, row `r0`, on an `f`
