@@ -4,6 +4,7 @@
 use super::assemble::*;
 use super::builder::*;
 use super::common::*;
+use super::finer::{ByParents, refine_by_parents};
 use super::lines::*;
 use super::parents::*;
 use crate::interrupt::Interrupt;
@@ -201,17 +202,14 @@ pub(super) fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
     // it stopped (the seed, then dropped)
     let seeded = level0.max_error > tolerances[0];
     let mut raw_levels = vec![level0];
-    refine_by_parents(
+    let spec = ByParents {
         src,
         reference,
-        &mut verts,
-        vsample,
-        &mut raw_levels,
-        &tolerances[usize::from(!seeded)..],
-        opts.keep_border,
-        border.levels.get(usize::from(!seeded)..).unwrap_or(&[]),
-        interrupt,
-    )?;
+        tolerances: &tolerances[usize::from(!seeded)..],
+        keep_border: opts.keep_border,
+        border: border.levels.get(usize::from(!seeded)..).unwrap_or(&[]),
+    };
+    refine_by_parents(&spec, &mut verts, vsample, &mut raw_levels, interrupt)?;
     if seeded {
         raw_levels.remove(0);
         raw_levels[0].parents = Vec::new();

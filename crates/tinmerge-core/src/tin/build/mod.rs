@@ -9,7 +9,7 @@
 //! A level 0 of more than 65,536 vertices is itself finished parent by
 //! parent, over the triangles the greedy insertion had at that count.
 //!
-//! Every finer level is refined parent by parent ([`refine_by_parents`](parents::refine_by_parents)): a
+//! Every finer level is refined parent by parent ([`refine_by_parents`](finer::refine_by_parents)): a
 //! triangle of level `i` holds exactly its children at level `i+1`, so it
 //! is refined alone, in a small triangulation of its own samples, after the
 //! vertices on its edges are chosen from each edge's own samples by a
@@ -45,6 +45,7 @@
 mod assemble;
 mod builder;
 mod common;
+mod finer;
 mod general;
 mod levels;
 mod lines;
