@@ -107,7 +107,11 @@ impl Points {
 }
 
 /// The overlay as one constrained Delaunay triangulation of all vertices
-/// and edge pieces (see the module comment).
+/// and edge pieces (see the module comment): the vertices of both located
+/// ([`locate_vertices`]), A's edges walked through B ([`walk_edges_of_a`]),
+/// B's edges cut at what was found on them ([`pieces_of_b`]), all
+/// triangulated at once ([`triangulate`]) and the faces labelled
+/// ([`label_faces`]).
 pub fn overlay_cdt(
     a: &Tin,
     level_a: usize,
@@ -120,67 +124,157 @@ pub fn overlay_cdt(
         return Ok(Overlay::default()); // disjoint domains
     }
     let cdt_b = load(b, level_b, "b")?;
-    let (la, lb) = (&a.levels[level_a], &b.levels[level_b]);
-    let (nva, nvb) = (la.num_vertices as usize, lb.num_vertices as usize);
-    let mut pts = Points {
-        pts: Vec::with_capacity(nva + nvb),
-        src_a: Vec::with_capacity(nva + nvb),
-        src_b: Vec::with_capacity(nva + nvb),
+    let (a, b) = (
+        Side {
+            tin: a,
+            level: level_a,
+        },
+        Side {
+            tin: b,
+            level: level_b,
+        },
+    );
+    let mut found = locate_vertices(a, b, &cdt_b, &mut tk)?;
+    let (mut pieces, crossings) = walk_edges_of_a(a, &cdt_b, &mut found, &mut tk)?;
+    pieces_of_b(&cdt_b, &found, &mut pieces, &mut tk)?;
+    for p in pieces.iter_mut() {
+        if p[0] > p[1] {
+            p.swap(0, 1);
+        }
+    }
+    pieces.sort_unstable();
+    pieces.dedup();
+    // a crossing rounded onto another point, or a few ulps from it (a
+    // breakline's vertex on B's edge up to rounding, two tins' vertices on one
+    // grid line), is that point
+    let (pts, pieces) = merge_coincident(found.pts, pieces);
+    let (cdt, resplit) = triangulate(&pts.pts, pieces, &mut tk)?;
+    let mut o = Overlay {
+        pts: cdt
+            .vertices()
+            .map(|v| [v.position().x, v.position().y])
+            .collect(),
+        crossings,
+        resplit,
+        ..Overlay::default()
     };
-    let mut out_a = vec![NONE; nva];
-    let mut out_b = vec![NONE; nvb];
-    // points on each undirected edge of B (besides its ends): output ids
-    let mut on_b: Vec<Vec<u32>> = vec![Vec::new(); cdt_b.num_undirected_edges()];
+    let nv = o.pts.len();
+    o.za = vec![f64::NAN; nv];
+    o.zb = vec![f64::NAN; nv];
+    for (id, (&sa, &sb)) in pts.src_a.iter().zip(&pts.src_b).enumerate() {
+        if sa != NONE {
+            o.za[id] = a.tin.verts[sa as usize][2];
+        }
+        if sb != NONE {
+            o.zb[id] = b.tin.verts[sb as usize][2];
+        }
+    }
+    label_faces(a, b, &cdt, &mut o, &mut tk)?;
+    Ok(o)
+}
 
-    // A's vertices located in B
-    for (i, v) in a.verts[..nva].iter().enumerate() {
+/// One input of the overlay: a tin at a level.
+#[derive(Clone, Copy)]
+struct Side<'a> {
+    tin: &'a Tin,
+    level: usize,
+}
+
+impl Side<'_> {
+    fn num_vertices(&self) -> usize {
+        self.tin.levels[self.level].num_vertices as usize
+    }
+}
+
+/// The output points found so far and where the inputs' vertices went.
+struct Found {
+    pts: Points,
+    /// each vertex of A's output point (NONE: outside B's domain)
+    out_a: Vec<u32>,
+    /// each vertex of B's output point (NONE: outside A's domain)
+    out_b: Vec<u32>,
+    /// the points on each undirected edge of B (besides its ends)
+    on_b: Vec<Vec<u32>>,
+}
+
+/// A's vertices located in B (on a vertex of B, on an edge, in a face),
+/// then B's vertices inside A's domain.
+fn locate_vertices(
+    a: Side<'_>,
+    b: Side<'_>,
+    cdt_b: &Cdt,
+    tk: &mut Ticker<'_, '_>,
+) -> Result<Found, TinError> {
+    let (nva, nvb) = (a.num_vertices(), b.num_vertices());
+    let mut f = Found {
+        pts: Points {
+            pts: Vec::with_capacity(nva + nvb),
+            src_a: Vec::with_capacity(nva + nvb),
+            src_b: Vec::with_capacity(nva + nvb),
+        },
+        out_a: vec![NONE; nva],
+        out_b: vec![NONE; nvb],
+        on_b: vec![Vec::new(); cdt_b.num_undirected_edges()],
+    };
+    let lb = &b.tin.levels[b.level];
+    for (i, v) in a.tin.verts[..nva].iter().enumerate() {
         tk.tick()?;
         let hint = {
-            let t = locate::start_triangle(b, level_b, v[0], v[1]);
+            let t = locate::start_triangle(b.tin, b.level, v[0], v[1]);
             FixedVertexHandle::from_index(lb.tris.get(t as usize).map_or(0, |tr| tr[0] as usize))
         };
         match cdt_b.locate_with_hint(Point2::new(v[0], v[1]), hint) {
             PositionInTriangulation::OnVertex(h) => {
-                let id = pts.push(xy(v), i as u32, h.index() as u32);
-                out_a[i] = id;
-                out_b[h.index()] = id;
+                let id = f.pts.push(xy(v), i as u32, h.index() as u32);
+                f.out_a[i] = id;
+                f.out_b[h.index()] = id;
             }
             PositionInTriangulation::OnEdge(e) => {
-                let id = pts.push(xy(v), i as u32, NONE);
-                out_a[i] = id;
-                on_b[e.as_undirected().index()].push(id);
+                let id = f.pts.push(xy(v), i as u32, NONE);
+                f.out_a[i] = id;
+                f.on_b[e.as_undirected().index()].push(id);
             }
             PositionInTriangulation::OnFace(_) => {
-                out_a[i] = pts.push(xy(v), i as u32, NONE);
+                f.out_a[i] = f.pts.push(xy(v), i as u32, NONE);
             }
             _ => {}
         }
     }
-    // B's vertices inside A's domain
-    for (j, v) in b.verts[..nvb].iter().enumerate() {
+    for (j, v) in b.tin.verts[..nvb].iter().enumerate() {
         tk.tick()?;
-        if out_b[j] == NONE && locate::locate_hull(a, level_a, v[0], v[1]).is_some() {
-            out_b[j] = pts.push(xy(v), NONE, j as u32);
+        if f.out_b[j] == NONE && locate::locate_hull(a.tin, a.level, v[0], v[1]).is_some() {
+            f.out_b[j] = f.pts.push(xy(v), NONE, j as u32);
         }
     }
+    Ok(f)
+}
 
-    // every edge of A walked through B
+/// Every edge of A walked through B: its pieces between the points on it
+/// (its ends inside B's domain, B's vertices on it, its proper crossings
+/// with B's edges, pushed as new points and noted on B's edges). The
+/// pieces, and the number of crossings.
+fn walk_edges_of_a(
+    a: Side<'_>,
+    cdt_b: &Cdt,
+    f: &mut Found,
+    tk: &mut Ticker<'_, '_>,
+) -> Result<(Vec<[usize; 2]>, usize), TinError> {
     let mut pieces: Vec<[usize; 2]> = Vec::new();
     let mut crossings = 0usize;
     let mut chain: Vec<u32> = Vec::new();
-    for [i, k] in level_edges(a, level_a) {
+    for [i, k] in level_edges(a.tin, a.level) {
         tk.tick()?;
-        let (p, q) = (xy(&a.verts[i as usize]), xy(&a.verts[k as usize]));
+        let (p, q) = (xy(&a.tin.verts[i as usize]), xy(&a.tin.verts[k as usize]));
         chain.clear();
-        if out_a[i as usize] != NONE {
-            chain.push(out_a[i as usize]);
+        if f.out_a[i as usize] != NONE {
+            chain.push(f.out_a[i as usize]);
         }
         let it =
-            LineIntersectionIterator::new(&cdt_b, Point2::new(p[0], p[1]), Point2::new(q[0], q[1]));
+            LineIntersectionIterator::new(cdt_b, Point2::new(p[0], p[1]), Point2::new(q[0], q[1]));
         for x in it {
             match x {
                 Intersection::VertexIntersection(h) => {
-                    let id = out_b[h.fix().index()];
+                    let id = f.out_b[h.fix().index()];
                     if id == NONE {
                         return Err(TinError::Corrupt(
                             "overlay: an edge of a meets a vertex of b outside a's domain".into(),
@@ -206,25 +300,33 @@ pub fn overlay_cdt(
                     } else {
                         (v, u)
                     };
-                    let id = pts.push(crossing(s, t, s2, t2), NONE, NONE);
+                    let id = f.pts.push(crossing(s, t, s2, t2), NONE, NONE);
                     crossings += 1;
-                    on_b[e.as_undirected().index()].push(id);
+                    f.on_b[e.as_undirected().index()].push(id);
                     chain.push(id);
                 }
                 Intersection::EdgeOverlap(_) => {}
             }
         }
-        if out_a[k as usize] != NONE {
-            chain.push(out_a[k as usize]);
+        if f.out_a[k as usize] != NONE {
+            chain.push(f.out_a[k as usize]);
         }
         chain.dedup();
         for w in chain.windows(2) {
             pieces.push([w[0] as usize, w[1] as usize]);
         }
     }
+    Ok((pieces, crossings))
+}
 
-    // every edge of B: its ends inside A's domain and the points found on it,
-    // in order along it
+/// Every edge of B: its ends inside A's domain and the points found on it,
+/// in order along it, as pieces.
+fn pieces_of_b(
+    cdt_b: &Cdt,
+    f: &Found,
+    pieces: &mut Vec<[usize; 2]>,
+    tk: &mut Ticker<'_, '_>,
+) -> Result<(), TinError> {
     let mut along: Vec<(f64, u32)> = Vec::new();
     for e in cdt_b.undirected_edges() {
         tk.tick()?;
@@ -233,16 +335,16 @@ pub fn overlay_cdt(
         let (u, v) = (hu.position(), hv.position());
         let d = [v.x - u.x, v.y - u.y];
         along.clear();
-        let pt = |id: u32| pts.pts[id as usize];
+        let pt = |id: u32| f.pts.pts[id as usize];
         let param = |p: Point2<f64>| (p.x - u.x) * d[0] + (p.y - u.y) * d[1];
-        if out_b[iu] != NONE {
-            along.push((f64::NEG_INFINITY, out_b[iu]));
+        if f.out_b[iu] != NONE {
+            along.push((f64::NEG_INFINITY, f.out_b[iu]));
         }
-        for &id in &on_b[e.index()] {
+        for &id in &f.on_b[e.index()] {
             along.push((param(pt(id)), id));
         }
-        if out_b[iv] != NONE {
-            along.push((f64::INFINITY, out_b[iv]));
+        if f.out_b[iv] != NONE {
+            along.push((f64::INFINITY, f.out_b[iv]));
         }
         along.sort_by(|x, y| x.0.total_cmp(&y.0));
         for w in along.windows(2) {
@@ -251,23 +353,20 @@ pub fn overlay_cdt(
             }
         }
     }
-    for p in pieces.iter_mut() {
-        if p[0] > p[1] {
-            p.swap(0, 1);
-        }
-    }
-    pieces.sort_unstable();
-    pieces.dedup();
+    Ok(())
+}
 
-    // a crossing rounded onto another point, or a few ulps from it (a
-    // breakline's vertex on B's edge up to rounding, two tins' vertices on one
-    // grid line), is that point
-    let (pts, pieces) = merge_coincident(pts, pieces);
-    // one constrained triangulation of all points and pieces
-    let Points { pts, src_a, src_b } = pts;
+/// One constrained triangulation of all points and pieces, the pieces
+/// that rounding made cross again inserted with splitting (their number is
+/// the second value).
+fn triangulate(
+    pts: &[Point2<f64>],
+    pieces: Vec<[usize; 2]>,
+    tk: &mut Ticker<'_, '_>,
+) -> Result<(Cdt, usize), TinError> {
     let n_in = pts.len();
     let mut conflicts: Vec<[usize; 2]> = Vec::new();
-    let mut cdt = Cdt::try_bulk_load_cdt(pts.clone(), pieces, |e| conflicts.push(e))
+    let mut cdt = Cdt::try_bulk_load_cdt(pts.to_vec(), pieces, |e| conflicts.push(e))
         .map_err(|e| TinError::Degenerate(format!("overlay: {e:?}")))?;
     if cdt.num_vertices() != n_in {
         return Err(TinError::Degenerate(
@@ -283,27 +382,19 @@ pub fn overlay_cdt(
             |p| p,
         );
     }
+    Ok((cdt, resplit))
+}
 
-    let mut o = Overlay {
-        pts: cdt
-            .vertices()
-            .map(|v| [v.position().x, v.position().y])
-            .collect(),
-        crossings,
-        resplit,
-        ..Overlay::default()
-    };
-    let nv = o.pts.len();
-    o.za = vec![f64::NAN; nv];
-    o.zb = vec![f64::NAN; nv];
-    for (id, (&sa, &sb)) in src_a.iter().zip(&src_b).enumerate() {
-        if sa != NONE {
-            o.za[id] = a.verts[sa as usize][2];
-        }
-        if sb != NONE {
-            o.zb[id] = b.verts[sb as usize][2];
-        }
-    }
+/// The CDT's faces as the overlay's triangles, each labelled with the
+/// triangles of A and B holding its centroid, the heights the inputs did
+/// not give interpolated in those.
+fn label_faces(
+    a: Side<'_>,
+    b: Side<'_>,
+    cdt: &Cdt,
+    o: &mut Overlay,
+    tk: &mut Ticker<'_, '_>,
+) -> Result<(), TinError> {
     o.tris.reserve(cdt.num_inner_faces());
     for f in cdt.inner_faces() {
         tk.tick()?;
@@ -313,9 +404,9 @@ pub fn overlay_cdt(
             (c[0][0] + c[1][0] + c[2][0]) / 3.0,
             (c[0][1] + c[1][1] + c[2][1]) / 3.0,
         );
-        let ta = owner(a, level_a, cx, cy, &c)?;
-        let tb = owner(b, level_b, cx, cy, &c)?;
-        let (ca, cb) = (a.corners(level_a, ta), b.corners(level_b, tb));
+        let ta = owner(a.tin, a.level, cx, cy, &c)?;
+        let tb = owner(b.tin, b.level, cx, cy, &c)?;
+        let (ca, cb) = (a.tin.corners(a.level, ta), b.tin.corners(b.level, tb));
         for (k, &v) in vs.iter().enumerate() {
             let v = v as usize;
             if o.za[v].is_nan() {
@@ -329,7 +420,7 @@ pub fn overlay_cdt(
         o.tri_a.push(ta);
         o.tri_b.push(tb);
     }
-    Ok(o)
+    Ok(())
 }
 
 /// Points at the same position, or a few units in the last place apart,

@@ -501,6 +501,10 @@ impl Builder<'_> {
 
 /// Overlay of A at `level_a` and B at `level_b` by faces `a ∩ b`. B's
 /// domain must be convex (checked by the caller with [`convex_domain`]).
+/// Each triangle of A finds the triangles of B it meets ([`Search`]), their
+/// faces emitted as it goes; then the faces are checked to agree on their
+/// common boundaries ([`check_conformity`]) and the points no face uses
+/// dropped ([`drop_unused`]).
 pub fn overlay_faces(
     a: &Tin,
     level_a: usize,
@@ -523,15 +527,16 @@ pub fn overlay_faces(
         o: Overlay::default(),
         bnd: Vec::with_capacity(4 * (la.tris.len() + lb.tris.len())),
     };
-    let hull = HullBuckets::new(b, lb);
-    // the triangle of B holding each vertex of A (NONE: outside; UNSET: not
-    // looked up yet)
-    const UNSET: u32 = NONE - 1;
-    let mut loc = vec![UNSET; la.num_vertices as usize];
+    let mut search = Search {
+        b,
+        level_b,
+        hull: HullBuckets::new(b, lb),
+        loc: vec![UNSET; la.num_vertices as usize],
+        fv: Vec::with_capacity(12),
+        seen: Vec::with_capacity(32),
+        queue: Vec::with_capacity(32),
+    };
     let bb = &b.bbox;
-    let mut fv: Vec<FaceVertex> = Vec::with_capacity(12);
-    let mut seen: Vec<u32> = Vec::with_capacity(32);
-    let mut queue: Vec<u32> = Vec::with_capacity(32);
     for ta in 0..la.tris.len() as u32 {
         tk.tick()?;
         let tra = la.tris[ta as usize];
@@ -540,15 +545,46 @@ pub fn overlay_faces(
         if hi[0] < bb.min_x || lo[0] > bb.max_x || hi[1] < bb.min_y || lo[1] > bb.max_y {
             continue;
         }
-        queue.clear();
-        seen.clear();
-        // the triangle of B holding a's centroid overlaps a with positive
-        // area; from it, the search crosses only edges of b passing through
-        // the interior of a (the faces of positive area are connected that
-        // way: a ∩ B is convex). A centroid that rounding put outside a, or
-        // that is outside B (a sticks out of B), falls back to the search
-        // over every triangle of B meeting the closed a, seeded from a
-        // corner or from B's hull.
+        let interior = search.start(tra, &c, (lo, hi));
+        search.faces(&mut bd, ta, interior)?;
+    }
+    let bnd = sorted_boundary(std::mem::take(&mut bd.bnd), bd.o.pts.len(), &mut tk)?;
+    check_conformity(&bnd, &mut tk)?;
+    let mut o = bd.o;
+    drop_unused(&mut o);
+    Ok(o)
+}
+
+/// [`Search::loc`]: not looked up yet.
+const UNSET: u32 = NONE - 1;
+
+/// The search, for each triangle `a` of A, of the triangles of B it meets.
+struct Search<'t> {
+    b: &'t Tin,
+    level_b: usize,
+    hull: HullBuckets,
+    /// the triangle of B holding each vertex of A (NONE: outside; UNSET:
+    /// not looked up yet)
+    loc: Vec<u32>,
+    fv: Vec<FaceVertex>,
+    seen: Vec<u32>,
+    queue: Vec<u32>,
+}
+
+impl Search<'_> {
+    /// The search's first triangles of B for the triangle of A with
+    /// vertices `tra` at `c` (bounding box `lo`, `hi`); whether the search
+    /// may stay in its interior. The triangle of B holding a's centroid
+    /// overlaps a with positive area; from it, the search crosses only
+    /// edges of b passing through the interior of a (the faces of positive
+    /// area are connected that way: a ∩ B is convex). A centroid that
+    /// rounding put outside a, or that is outside B (a sticks out of B),
+    /// falls back to the search over every triangle of B meeting the closed
+    /// a, seeded from a corner or from B's hull.
+    fn start(&mut self, tra: [u32; 3], c: &[[f64; 2]; 3], (lo, hi): ([f64; 2], [f64; 2])) -> bool {
+        let (b, level_b) = (self.b, self.level_b);
+        self.queue.clear();
+        self.seen.clear();
         let g = [
             (c[0][0] + c[1][0] + c[2][0]) / 3.0,
             (c[0][1] + c[1][1] + c[2][1]) / 3.0,
@@ -558,91 +594,109 @@ pub fn overlay_faces(
         if inside_a {
             let s = locate::start_triangle(b, level_b, g[0], g[1]);
             if let locate::Walk::Inside(t) = locate::walk(b, level_b, s, g[0], g[1]) {
-                queue.push(t);
+                self.queue.push(t);
                 interior = true;
             }
         }
         if !interior {
             for (k, &v) in tra.iter().enumerate() {
                 let v = v as usize;
-                if loc[v] == UNSET {
+                if self.loc[v] == UNSET {
                     let s = locate::start_triangle(b, level_b, c[k][0], c[k][1]);
-                    loc[v] = match locate::walk(b, level_b, s, c[k][0], c[k][1]) {
+                    self.loc[v] = match locate::walk(b, level_b, s, c[k][0], c[k][1]) {
                         locate::Walk::Inside(t) => t,
                         locate::Walk::Outside(_) => NONE,
                     };
                 }
-                if loc[v] != NONE {
-                    queue.push(loc[v]);
+                if self.loc[v] != NONE {
+                    self.queue.push(self.loc[v]);
                     break;
                 }
             }
         }
-        if queue.is_empty() {
-            let (x0, y0, x1, y1) = hull.range(lo, hi);
+        if self.queue.is_empty() {
+            let (x0, y0, x1, y1) = self.hull.range(lo, hi);
             for y in y0..=y1 {
                 for x in x0..=x1 {
-                    for &t in &hull.cells[y * hull.n + x] {
-                        if !queue.contains(&t) {
-                            queue.push(t);
+                    for &t in &self.hull.cells[y * self.hull.n + x] {
+                        if !self.queue.contains(&t) {
+                            self.queue.push(t);
                         }
                     }
                 }
             }
         }
-        seen.extend_from_slice(&queue);
+        self.seen.extend_from_slice(&self.queue);
+        interior
+    }
+
+    /// The faces of triangle `ta` of A with the triangles of B, from the
+    /// queue [`Search::start`] filled, over B's adjacency: through edges
+    /// of b crossing a's interior when `interior`, else through those
+    /// meeting the closed a.
+    fn faces(&mut self, bd: &mut Builder<'_>, ta: u32, interior: bool) -> Result<(), Refused> {
+        let lb = bd.lb;
         let mut qi = 0;
-        while qi < queue.len() {
-            let tb = queue[qi];
+        while qi < self.queue.len() {
+            let tb = self.queue[qi];
             qi += 1;
-            let meets = bd.face(ta, tb, &mut fv);
-            if fv.is_empty() {
+            let meets = bd.face(ta, tb, &mut self.fv);
+            if self.fv.is_empty() {
                 continue;
             }
             let next = if interior {
-                through_interior(&fv)
+                through_interior(&self.fv)
             } else {
                 meets
             };
-            bd.emit(ta, tb, &mut fv)?;
+            bd.emit(ta, tb, &mut self.fv)?;
             let nb = lb.nbrs[tb as usize];
             for j in 0..3 {
-                if (next >> j) & 1 == 1 && nb[j] != NONE && !seen.contains(&nb[j]) {
-                    seen.push(nb[j]);
-                    queue.push(nb[j]);
+                if (next >> j) & 1 == 1 && nb[j] != NONE && !self.seen.contains(&nb[j]) {
+                    self.seen.push(nb[j]);
+                    self.queue.push(nb[j]);
                 }
             }
         }
+        Ok(())
     }
-    // conformity: every face boundary edge twice in opposite directions, or
-    // once on the boundary of A or B
-    // sorted bucket by bucket (by the smaller vertex id, so equal keys
-    // share a bucket), with an interrupt check between buckets
-    let bnd = {
-        let src = std::mem::take(&mut bd.bnd);
-        let nb = 64usize;
-        let span = bd.o.pts.len() as u64 + 1;
-        let bucket = |k: u64| ((k >> 32) * nb as u64 / span) as usize;
-        let mut start = vec![0usize; nb + 1];
-        for e in &src {
-            start[bucket(e.0) + 1] += 1;
-        }
-        for i in 0..nb {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut out = vec![(0u64, false, false); src.len()];
-        for e in src {
-            let b = bucket(e.0);
-            out[fill[b]] = e;
-            fill[b] += 1;
-        }
-        for b in 0..nb {
-            tk.check()?;
-            out[start[b]..start[b + 1]].sort_unstable_by_key(|e| e.0);
-        }
-        out
-    };
+}
+
+/// The faces' boundary edges ([`Builder::bnd`]) sorted by key, bucket by
+/// bucket (by the smaller vertex id of `npts`, so equal keys share a
+/// bucket), with an interrupt check between buckets.
+fn sorted_boundary(
+    src: Vec<(u64, bool, bool)>,
+    npts: usize,
+    tk: &mut Ticker<'_, '_>,
+) -> Result<Vec<(u64, bool, bool)>, Refused> {
+    let nb = 64usize;
+    let span = npts as u64 + 1;
+    let bucket = |k: u64| ((k >> 32) * nb as u64 / span) as usize;
+    let mut start = vec![0usize; nb + 1];
+    for e in &src {
+        start[bucket(e.0) + 1] += 1;
+    }
+    for i in 0..nb {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut out = vec![(0u64, false, false); src.len()];
+    for e in src {
+        let b = bucket(e.0);
+        out[fill[b]] = e;
+        fill[b] += 1;
+    }
+    for b in 0..nb {
+        tk.check()?;
+        out[start[b]..start[b + 1]].sort_unstable_by_key(|e| e.0);
+    }
+    Ok(out)
+}
+
+/// Conformity: every face boundary edge twice in opposite directions, or
+/// once on the boundary of A or B (`bnd` sorted by key).
+fn check_conformity(bnd: &[(u64, bool, bool)], tk: &mut Ticker<'_, '_>) -> Result<(), Refused> {
     let mut i = 0;
     while i < bnd.len() {
         tk.tick()?;
@@ -662,35 +716,39 @@ pub fn overlay_faces(
         }
         i = k;
     }
-    // a vertex met only where two closed triangles touch (a point of the
-    // common domain's boundary with no face around it) is dropped
-    let mut o = bd.o;
+    Ok(())
+}
+
+/// A vertex met only where two closed triangles touch (a point of the
+/// common domain's boundary with no face around it) dropped, the triangles
+/// renumbered.
+fn drop_unused(o: &mut Overlay) {
     let mut used = vec![false; o.pts.len()];
     for t in &o.tris {
         for &v in t {
             used[v as usize] = true;
         }
     }
-    if used.iter().any(|u| !u) {
-        let mut map = vec![NONE; used.len()];
-        let mut k = 0usize;
-        for i in 0..used.len() {
-            if used[i] {
-                map[i] = k as u32;
-                o.pts[k] = o.pts[i];
-                o.za[k] = o.za[i];
-                o.zb[k] = o.zb[i];
-                k += 1;
-            }
-        }
-        o.pts.truncate(k);
-        o.za.truncate(k);
-        o.zb.truncate(k);
-        for t in &mut o.tris {
-            *t = t.map(|v| map[v as usize]);
+    if used.iter().all(|&u| u) {
+        return;
+    }
+    let mut map = vec![NONE; used.len()];
+    let mut k = 0usize;
+    for i in 0..used.len() {
+        if used[i] {
+            map[i] = k as u32;
+            o.pts[k] = o.pts[i];
+            o.za[k] = o.za[i];
+            o.zb[k] = o.zb[i];
+            k += 1;
         }
     }
-    Ok(o)
+    o.pts.truncate(k);
+    o.za.truncate(k);
+    o.zb.truncate(k);
+    for t in &mut o.tris {
+        *t = t.map(|v| map[v as usize]);
+    }
 }
 
 #[cfg(test)]

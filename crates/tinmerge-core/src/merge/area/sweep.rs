@@ -1,0 +1,637 @@
+//! The hierarchical polygonal sweep ([`sweep`]; the module above
+//! documents it): the rings walked at the target level, the boundary carried
+//! up the levels, each level swept from its seeds over triangle adjacency.
+
+use super::{Method, Sweep, clipped_fraction, corners2};
+use crate::geom::{P2, co};
+use crate::interrupt::{Interrupt, Ticker};
+use crate::merge::area::clip::Chain;
+use crate::merge::line::{Sink, Walker};
+use crate::polygon::{Area, Where, segment_meets_open_triangle};
+use crate::tin::hierarchy::children;
+use crate::tin::mesh::{Indexed, Mesh};
+use crate::tin::{NONE, TinError};
+use robust::orient2d;
+
+const WALKED: u8 = 1;
+const BOUNDARY: u8 = 2;
+const SEEN: u8 = 4;
+const SEED: u8 = 8;
+
+/// The walker's output for the rings: (triangle, ring, segment) pairs and,
+/// if wanted, the pieces of each ring per triangle.
+struct RingSink {
+    ring: u32,
+    seg: u32,
+    want_pieces: bool,
+    pairs: Vec<(u32, u32, u32)>,
+    /// (triangle, ring, points)
+    pieces: Vec<(u32, u32, Vec<P2>)>,
+    open: bool,
+}
+
+impl Sink for RingSink {
+    fn wants_points(&self) -> bool {
+        self.want_pieces
+    }
+    /// The sweep spreads over void triangles like any other (the polygon
+    /// may reach the domain on both sides of a hole); [`sweep`] leaves
+    /// them out of its answer.
+    fn wants_void(&self) -> bool {
+        true
+    }
+    fn point(&mut self, tri: u32, p: P2, _along: f64) {
+        let pair = (tri, self.ring, self.seg);
+        if self.pairs.last() != Some(&pair) {
+            self.pairs.push(pair);
+        }
+        if self.want_pieces {
+            match self.pieces.last_mut() {
+                Some(last) if self.open && last.0 == tri && last.1 == self.ring => {
+                    if last.2.last() != Some(&p) {
+                        last.2.push(p);
+                    }
+                }
+                _ => self.pieces.push((tri, self.ring, vec![p])),
+            }
+        }
+        self.open = true;
+    }
+    fn brk(&mut self) {
+        self.open = false;
+    }
+}
+
+fn walk_rings<M: Indexed>(
+    tin: &M,
+    level: usize,
+    area: &Area,
+    want_pieces: bool,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<RingSink, TinError>
+where
+    TinError: From<M::Err>,
+{
+    let mut sink = RingSink {
+        ring: 0,
+        seg: 0,
+        want_pieces,
+        pairs: Vec::new(),
+        pieces: Vec::new(),
+        open: false,
+    };
+    // one walker for all rings: the hull (for rings entering from outside
+    // the domain) is found once per level
+    let mut w = Walker::new(tin, level, &mut sink, interrupt);
+    for (ri, ring) in area.rings.iter().enumerate() {
+        w.sink.ring = ri as u32;
+        w.start_part(ring[0])?;
+        for k in 0..ring.len() - 1 {
+            w.sink.seg = k as u32;
+            w.walk_segment(ring[k], ring[k + 1], 0.0)?;
+        }
+        w.end_part(ring[0], true);
+    }
+    drop(w);
+    Ok(sink)
+}
+
+/// Whether a triangle that is not a boundary triangle lies inside (exact:
+/// a corner not on the polygon's boundary decides; else the centroid; else
+/// the clipped area).
+struct Status<'a, M: Mesh> {
+    tin: &'a M,
+    area: &'a Area,
+    /// per vertex: 0 unknown, else 1 + Where as u8
+    vert: Flags,
+}
+
+impl<'a, M: Mesh> Status<'a, M>
+where
+    TinError: From<M::Err>,
+{
+    fn new(tin: &'a M, area: &'a Area) -> Self {
+        Status {
+            tin,
+            area,
+            vert: Flags::new(tin.num_vertices()),
+        }
+    }
+
+    fn vertex(&mut self, v: u32) -> Result<Where, TinError> {
+        let i = v as usize;
+        Ok(match self.vert.get(i) {
+            Some(1) => Where::Inside,
+            Some(2) => Where::Outside,
+            Some(3) => Where::Boundary,
+            _ => {
+                let p = self.tin.vert(v)?;
+                let w = self.area.locate([p[0], p[1]]);
+                if let Some(s) = self.vert.get_mut(i) {
+                    *s = match w {
+                        Where::Inside => 1,
+                        Where::Outside => 2,
+                        Where::Boundary => 3,
+                    };
+                }
+                w
+            }
+        })
+    }
+
+    fn inside(&mut self, level: usize, t: u32) -> Result<bool, TinError> {
+        let tri = self.tin.tri(level, t)?;
+        for v in tri {
+            match self.vertex(v)? {
+                Where::Inside => return Ok(true),
+                Where::Outside => return Ok(false),
+                Where::Boundary => {}
+            }
+        }
+        let cs = corners2(self.tin, level, t)?;
+        let g = [
+            (cs[0][0] + cs[1][0] + cs[2][0]) / 3.0,
+            (cs[0][1] + cs[1][1] + cs[2][1]) / 3.0,
+        ];
+        if (0..3).all(|j| orient2d(co(cs[j]), co(cs[(j + 1) % 3]), co(g)) > 0.0) {
+            match self.area.locate(g) {
+                Where::Inside => return Ok(true),
+                Where::Outside => return Ok(false),
+                Where::Boundary => {}
+            }
+        }
+        Ok(clipped_fraction(self.area, &cs) > 0.5)
+    }
+}
+
+/// Flag bytes of the triangles of one level (or of the vertices), zero
+/// until set, kept in pages allocated when first written: a sweep of a
+/// small polygon over a large terrain costs what it touches, not a byte per
+/// triangle of every level it sweeps.
+#[derive(Default)]
+struct Flags {
+    n: usize,
+    pages: Vec<Option<Box<[u8; FLAG_PAGE]>>>,
+}
+
+const FLAG_PAGE: usize = 4096;
+
+impl Flags {
+    fn new(n: usize) -> Flags {
+        Flags {
+            n,
+            pages: (0..n.div_ceil(FLAG_PAGE)).map(|_| None).collect(),
+        }
+    }
+
+    /// The flags of triangle `t` (None out of range).
+    fn get(&self, t: usize) -> Option<u8> {
+        (t < self.n).then(|| self[t])
+    }
+
+    fn get_mut(&mut self, t: usize) -> Option<&mut u8> {
+        if t >= self.n {
+            return None;
+        }
+        let page = self.pages[t / FLAG_PAGE].get_or_insert_with(|| Box::new([0; FLAG_PAGE]));
+        Some(&mut page[t % FLAG_PAGE])
+    }
+}
+
+impl std::ops::Index<usize> for Flags {
+    type Output = u8;
+    fn index(&self, t: usize) -> &u8 {
+        assert!(t < self.n, "flag {t} of {}", self.n);
+        self.pages[t / FLAG_PAGE]
+            .as_ref()
+            .map_or(&0, |p| &p[t % FLAG_PAGE])
+    }
+}
+
+impl std::ops::IndexMut<usize> for Flags {
+    fn index_mut(&mut self, t: usize) -> &mut u8 {
+        let n = self.n;
+        self.get_mut(t).unwrap_or_else(|| panic!("flag {t} of {n}"))
+    }
+}
+
+/// Find the boundary and the inside triangles down to `level` (see the
+/// module documentation): the boundary marked at the target level
+/// ([`Sweeper::mark_target`]) and carried up ([`Sweeper::mark_upward`]),
+/// then each level swept from the first down ([`Sweeper::sweep_level`]),
+/// the void triangles dropped last ([`drop_void`]).
+pub fn sweep<M: Indexed>(
+    tin: &M,
+    level: usize,
+    area: &Area,
+    method: Method,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Sweep, TinError>
+where
+    TinError: From<M::Err>,
+{
+    let num_levels = tin.num_levels();
+    if level >= num_levels {
+        return Err(TinError::LevelOutOfRange {
+            level: level as i64,
+            num_levels,
+        });
+    }
+    let mut out = Sweep {
+        level,
+        inside: vec![Vec::new(); level + 1],
+        ..Sweep::default()
+    };
+    if area.is_empty() {
+        return Ok(out);
+    }
+    let first = if method == Method::Hierarchy {
+        0
+    } else {
+        level
+    };
+    // The boundary, found once at the target level with the line walk; at
+    // coarser levels it is the ancestors' (a triangle's inside holds its
+    // children's), found by following parent links (Scarlatos §6.5).
+    let walk = walk_rings(tin, level, area, true, interrupt)?;
+    let mut s = Sweeper {
+        tin,
+        area,
+        method,
+        first,
+        level,
+        status: Status::new(tin, area),
+        tk: Ticker::new(interrupt),
+    };
+    let (mut marks, pending) = s.mark_target(&walk.pairs)?;
+    s.mark_upward(&mut marks, pending)?;
+    let mut chains_at_level = Some(walk.pieces);
+    let mut prev_boundary: Vec<u32> = Vec::new();
+    for l in first..=level {
+        let walked = std::mem::take(&mut marks.walked_at[l]);
+        let mut boundary = std::mem::take(&mut marks.boundary_at[l]);
+        let mut flags = std::mem::take(&mut marks.flags[l]);
+        out.examined += walked.len();
+        s.sweep_level(l, &walked, &prev_boundary, &mut flags, &mut out)?;
+        out.inside[l].sort_unstable();
+        boundary.sort_unstable();
+        if l == level
+            && let Some(pieces) = chains_at_level.take()
+        {
+            out.chains = chains(pieces, &flags, area);
+        }
+        prev_boundary = boundary;
+    }
+    out.boundary = prev_boundary;
+    drop_void(tin, &mut out);
+    Ok(out)
+}
+
+/// Void triangles are off the domain: no part of the answer (a void
+/// triangle's descendants are void, a domain triangle's are not).
+fn drop_void<M: Indexed>(tin: &M, out: &mut Sweep) {
+    let level = out.level;
+    for (l, ins) in out.inside.iter_mut().enumerate() {
+        ins.retain(|&t| !tin.is_void(l, t));
+    }
+    out.boundary.retain(|&t| !tin.is_void(level, t));
+    out.chains.retain(|(t, _)| !tin.is_void(level, *t));
+}
+
+/// A ring segment met in a triangle: (triangle, ring, segment).
+type Pair = (u32, u32, u32);
+
+/// The boundary marks of the levels swept: the triangles the rings' walk
+/// met (`WALKED`) and those whose inside a ring crosses (`BOUNDARY`), as
+/// flags and as lists per level.
+struct Marks {
+    flags: Vec<Flags>,
+    walked_at: Vec<Vec<u32>>,
+    boundary_at: Vec<Vec<u32>>,
+}
+
+/// One sweep's context: the tin, the polygon, the levels swept (`first` to
+/// `level`), the inside test and the interrupt ticker.
+struct Sweeper<'a, 't, 'i, M: Indexed> {
+    tin: &'a M,
+    area: &'a Area,
+    method: Method,
+    /// 0 for the hierarchy, else the target level
+    first: usize,
+    level: usize,
+    status: Status<'a, M>,
+    tk: Ticker<'t, 'i>,
+}
+
+impl<M: Indexed> Sweeper<'_, '_, '_, M>
+where
+    TinError: From<M::Err>,
+{
+    /// Segment `s` of ring `r`.
+    fn segment(&self, r: u32, s: u32) -> (P2, P2) {
+        let ring = &self.area.rings[r as usize];
+        (ring[s as usize], ring[s as usize + 1])
+    }
+
+    /// The marks at the target level, from the walk's (triangle, ring,
+    /// segment) `pairs`; and the pairs whose segment touches its triangle
+    /// without crossing its inside (running along its edges): those may
+    /// still cross the inside of an ancestor, and are tested again going
+    /// up.
+    fn mark_target(&mut self, pairs: &[Pair]) -> Result<(Marks, Vec<Pair>), TinError> {
+        let (tin, level, first) = (self.tin, self.level, self.first);
+        let mut m = Marks {
+            flags: (0..=level)
+                .map(|l| Flags::new(if l >= first { tin.num_triangles(l) } else { 0 }))
+                .collect(),
+            walked_at: vec![Vec::new(); level + 1],
+            boundary_at: vec![Vec::new(); level + 1],
+        };
+        for &(t, r, s) in pairs {
+            self.tk.tick()?;
+            let f = m.flags[level]
+                .get_mut(t as usize)
+                .ok_or_else(|| TinError::corrupt("area sweep: triangle id"))?;
+            if *f & WALKED == 0 {
+                *f |= WALKED;
+                m.walked_at[level].push(t);
+            }
+            if *f & BOUNDARY == 0 {
+                let (a, b) = self.segment(r, s);
+                if segment_meets_open_triangle(&corners2(tin, level, t)?, a, b) {
+                    *f |= BOUNDARY;
+                    m.boundary_at[level].push(t);
+                }
+            }
+        }
+        let pending = pairs
+            .iter()
+            .filter(|&&(t, _, _)| m.flags[level][t as usize] & BOUNDARY == 0)
+            .copied()
+            .collect();
+        Ok((m, pending))
+    }
+
+    /// The marks of the coarser levels: a triangle's parent is walked or
+    /// boundary when it is, and the `pending` segments are tested against
+    /// the parents' insides.
+    fn mark_upward(&mut self, m: &mut Marks, mut pending: Vec<Pair>) -> Result<(), TinError> {
+        let tin = self.tin;
+        for l in (self.first..self.level).rev() {
+            let nl = tin.num_triangles(l);
+            let up = |c: u32| -> Result<u32, TinError> {
+                if c as usize >= tin.num_triangles(l + 1) {
+                    return Err(TinError::corrupt("area sweep: parent"));
+                }
+                let p = tin.parent(l + 1, c)?;
+                if (p as usize) < nl {
+                    Ok(p)
+                } else {
+                    Err(TinError::corrupt("area sweep: parent id"))
+                }
+            };
+            for (lists, bit) in [(&mut m.walked_at, WALKED), (&mut m.boundary_at, BOUNDARY)] {
+                let (coarse, fine) = lists.split_at_mut(l + 1);
+                for &c in &fine[0] {
+                    self.tk.tick()?;
+                    let p = up(c)?;
+                    if m.flags[l][p as usize] & bit == 0 {
+                        m.flags[l][p as usize] |= bit;
+                        coarse[l].push(p);
+                    }
+                }
+            }
+            let mut next = Vec::new();
+            for &(c, r, s) in &pending {
+                self.tk.tick()?;
+                let p = up(c)?;
+                if m.flags[l][p as usize] & BOUNDARY != 0 {
+                    continue;
+                }
+                let (a, b) = self.segment(r, s);
+                if segment_meets_open_triangle(&corners2(tin, l, p)?, a, b) {
+                    m.flags[l][p as usize] |= BOUNDARY;
+                    m.boundary_at[l].push(p);
+                } else {
+                    next.push((p, r, s));
+                }
+            }
+            next.sort_unstable();
+            next.dedup();
+            pending = next;
+        }
+        Ok(())
+    }
+
+    /// Level `l`'s inside triangles into `out`: every triangle tested
+    /// (the scan's first level), all or none (no ring enters the domain),
+    /// or the sweep from the seeds ([`seeds`], [`Sweeper::spread`]).
+    fn sweep_level(
+        &mut self,
+        l: usize,
+        walked: &[u32],
+        prev_boundary: &[u32],
+        flags: &mut Flags,
+        out: &mut Sweep,
+    ) -> Result<(), TinError> {
+        let n = self.tin.num_triangles(l);
+        let open_sweep = l == self.first;
+        if open_sweep && self.method == Method::Scan {
+            for t in 0..n as u32 {
+                self.tk.tick()?;
+                if flags[t as usize] & BOUNDARY == 0 {
+                    out.examined += 1;
+                    if self.status.inside(l, t)? {
+                        out.inside[l].push(t);
+                    }
+                }
+            }
+        } else if open_sweep && walked.is_empty() {
+            // no ring enters the domain: all in or all out
+            if n > 0 && self.status.inside(l, 0)? {
+                out.inside[l].extend(0..n as u32);
+                out.examined += n;
+            }
+        } else {
+            let seeds = seeds(self.tin, l, open_sweep, walked, prev_boundary, flags)?;
+            self.spread(l, open_sweep, &seeds, flags, out)?;
+        }
+        Ok(())
+    }
+
+    /// The sweep: a seed's status comes from an exact point-in-polygon
+    /// test, then spreads over triangle adjacency: two neighbours no ring
+    /// touches have the same status (a ring running along their shared
+    /// edge would touch one of them). Inside, the sweep runs on to the
+    /// whole inside at the first level (`open_sweep`); otherwise it stays
+    /// among the seeds.
+    fn spread(
+        &mut self,
+        l: usize,
+        open_sweep: bool,
+        seeds: &[u32],
+        flags: &mut Flags,
+        out: &mut Sweep,
+    ) -> Result<(), TinError> {
+        let Sweep {
+            inside, examined, ..
+        } = out;
+        let inside = &mut inside[l];
+        let mut stack: Vec<(u32, bool)> = Vec::new();
+        for &s0 in seeds {
+            if flags[s0 as usize] & SEEN != 0 {
+                continue;
+            }
+            flags[s0 as usize] |= SEEN;
+            *examined += 1;
+            self.tk.tick()?;
+            let st = self.status.inside(l, s0)?;
+            if st {
+                inside.push(s0);
+            }
+            stack.push((s0, st));
+            while let Some((u, su)) = stack.pop() {
+                let uw = flags[u as usize] & WALKED != 0;
+                for nb in self.tin.nbrs(l, u)? {
+                    if nb == NONE {
+                        continue;
+                    }
+                    let fnb = flags
+                        .get_mut(nb as usize)
+                        .ok_or_else(|| TinError::corrupt("area sweep: neighbour"))?;
+                    if *fnb & (BOUNDARY | SEEN) != 0 {
+                        continue;
+                    }
+                    if *fnb & SEED == 0 && !(open_sweep && su) {
+                        continue;
+                    }
+                    *fnb |= SEEN;
+                    let nw = *fnb & WALKED != 0;
+                    *examined += 1;
+                    self.tk.tick()?;
+                    let sn = if !uw && !nw {
+                        su
+                    } else {
+                        self.status.inside(l, nb)?
+                    };
+                    if sn {
+                        inside.push(nb);
+                    }
+                    stack.push((nb, sn));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The seeds of level `l`'s sweep: at the first level (`open_sweep`), the
+/// triangles the rings touch (`walked`) and their neighbours; below, the
+/// children of the level above's boundary triangles. Every one that is not
+/// a boundary triangle is wholly in or out.
+fn seeds<M: Indexed>(
+    tin: &M,
+    l: usize,
+    open_sweep: bool,
+    walked: &[u32],
+    prev_boundary: &[u32],
+    flags: &mut Flags,
+) -> Result<Vec<u32>, TinError>
+where
+    TinError: From<M::Err>,
+{
+    let mut seeds: Vec<u32> = Vec::new();
+    let mut mark = |t: u32, flags: &mut Flags| -> Result<(), TinError> {
+        let f = flags
+            .get_mut(t as usize)
+            .ok_or_else(|| TinError::corrupt("area sweep: triangle id"))?;
+        if *f & (BOUNDARY | SEED) == 0 {
+            *f |= SEED;
+            seeds.push(t);
+        }
+        Ok(())
+    };
+    if open_sweep {
+        for &t in walked {
+            mark(t, flags)?;
+            for nb in tin.nbrs(l, t)? {
+                if nb != NONE {
+                    mark(nb, flags)?;
+                }
+            }
+        }
+    } else {
+        for &p in prev_boundary {
+            for ch in children(tin, l - 1, p)? {
+                mark(ch, flags)?;
+            }
+        }
+    }
+    Ok(seeds)
+}
+
+/// The pieces of the boundary triangles as chains: a ring's last piece and
+/// its first join when they meet in one triangle at the ring's start.
+fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &Flags, area: &Area) -> Vec<(u32, Chain)> {
+    let mut out: Vec<(u32, Chain)> = Vec::new();
+    let mut i = 0;
+    while i < pieces.len() {
+        let r = pieces[i].1;
+        let mut j = i;
+        while j < pieces.len() && pieces[j].1 == r {
+            j += 1;
+        }
+        let ring = &pieces[i..j];
+        let start = area.rings[r as usize][0];
+        let mut used_first = false;
+        let mut used_last = false;
+        if ring.len() == 1 {
+            let (t, _, pts) = &ring[0];
+            let closed = pts.first() == Some(&start) && pts.last() == Some(&start);
+            out.push((
+                *t,
+                Chain {
+                    pts: pts.clone(),
+                    enters: !closed,
+                    exits: !closed,
+                },
+            ));
+            used_first = true;
+        } else {
+            let (f, l) = (&ring[0], &ring[ring.len() - 1]);
+            if f.0 == l.0 && f.2.first() == Some(&start) && l.2.last() == Some(&start) {
+                let mut pts = l.2.clone();
+                pts.extend_from_slice(&f.2[1..]);
+                out.push((
+                    f.0,
+                    Chain {
+                        pts,
+                        enters: true,
+                        exits: true,
+                    },
+                ));
+                used_first = true;
+                used_last = true;
+            }
+        }
+        for (k, (t, _, pts)) in ring.iter().enumerate() {
+            if (k == 0 && used_first) || (k == ring.len() - 1 && used_last) {
+                continue;
+            }
+            out.push((
+                *t,
+                Chain {
+                    pts: pts.clone(),
+                    enters: true,
+                    exits: true,
+                },
+            ));
+        }
+        i = j;
+    }
+    out.retain(|(t, ch)| {
+        ch.pts.len() >= 2 && flags.get(*t as usize).is_some_and(|f| f & BOUNDARY != 0)
+    });
+    out.sort_by_key(|(t, _)| *t);
+    out
+}
