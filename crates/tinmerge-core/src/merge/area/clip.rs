@@ -129,7 +129,10 @@ struct Event {
 
 /// Moments of `area ∩ conv` (conv convex, counter-clockwise) from the
 /// chains inside it; `locate` is the exact point-in-polygon test, used only
-/// where the events do not decide.
+/// where the events do not decide. The chains' own edges and the events
+/// where they enter and leave conv ([`chain_events`]); without events,
+/// conv is wholly in or out ([`all_or_nothing`]); else the arcs of conv's
+/// perimeter between events that are in the area are added ([`add_arcs`]).
 pub fn clipped_moments(
     conv: &[P2],
     o: P2,
@@ -137,16 +140,28 @@ pub fn clipped_moments(
     locate: &mut dyn FnMut(P2) -> Where,
 ) -> Moments {
     let mut m = Moments::default();
-    let n = conv.len();
-    if n < 3 {
+    if conv.len() < 3 {
         return m;
     }
-    // A piece of the boundary within rounding of one corner of conv (a ring
-    // passing an ulp from a vertex of the triangulation) cuts off nothing
-    // measurable, but where it enters and leaves cannot be told apart from
-    // the corner: ordered by position along the perimeter, its two events
-    // may swap and flip the status of every arc. It is left out; the
-    // other events (or the probes) decide the arcs.
+    let mut events = chain_events(conv, o, chains, &mut m);
+    if events.is_empty() {
+        m.add(&all_or_nothing(conv, o, locate));
+        return m;
+    }
+    events.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.entry.cmp(&b.entry)));
+    add_arcs(conv, o, &events, locate, &mut m);
+    m
+}
+
+/// The chains' edges added to `m` (a chain neither entering nor leaving
+/// closed on itself), and the events where they enter and leave conv.
+/// A piece of the boundary within rounding of one corner of conv (a ring
+/// passing an ulp from a vertex of the triangulation) cuts off nothing
+/// measurable, but where it enters and leaves cannot be told apart from
+/// the corner: ordered by position along the perimeter, its two events
+/// may swap and flip the status of every arc. It is left out; the other
+/// events (or the probes) decide the arcs.
+fn chain_events(conv: &[P2], o: P2, chains: &[Chain], m: &mut Moments) -> Vec<Event> {
     let scale = conv
         .iter()
         .fold(0.0_f64, |a, v| a.max(v[0].abs()).max(v[1].abs()));
@@ -163,54 +178,67 @@ pub fn clipped_moments(
         for w in ch.pts.windows(2) {
             m.edge(o, w[0], w[1]);
         }
-        match (ch.pts.first(), ch.pts.last()) {
-            (Some(&f), Some(&l)) => {
-                if !ch.enters && !ch.exits {
-                    m.edge(o, l, f);
-                }
-                if ch.enters {
-                    events.push(Event {
-                        pos: perimeter_pos(conv, f),
-                        entry: true,
-                        p: f,
-                    });
-                }
-                if ch.exits {
-                    events.push(Event {
-                        pos: perimeter_pos(conv, l),
-                        entry: false,
-                        p: l,
-                    });
-                }
-            }
-            _ => continue,
+        let (Some(&f), Some(&l)) = (ch.pts.first(), ch.pts.last()) else {
+            continue;
+        };
+        if !ch.enters && !ch.exits {
+            m.edge(o, l, f);
+        }
+        if ch.enters {
+            events.push(Event {
+                pos: perimeter_pos(conv, f),
+                entry: true,
+                p: f,
+            });
+        }
+        if ch.exits {
+            events.push(Event {
+                pos: perimeter_pos(conv, l),
+                entry: false,
+                p: l,
+            });
         }
     }
-    if events.is_empty() {
-        // The boundary of conv is wholly in or wholly out, up to pieces
-        // the walk could not resolve: a ring passing within an ulp of a
-        // corner crosses the corner's wedge where no crossing point is
-        // representable, so that corner alone may be on the wrong side.
-        // The corners and edge midpoints vote; points on the area's
-        // boundary abstain.
-        let (mut ins, mut outs) = (0, 0);
-        for p in (0..n)
-            .map(|k| conv[k])
-            .chain((0..n).map(|k| point_at(conv, k as f64 + 0.5)))
-        {
-            match locate(p) {
-                Where::Inside => ins += 1,
-                Where::Outside => outs += 1,
-                Where::Boundary => {}
-            }
+    events
+}
+
+/// Conv's moments when its boundary is wholly in the area, else none: up
+/// to pieces the walk could not resolve (a ring passing within an ulp of a
+/// corner crosses the corner's wedge where no crossing point is
+/// representable, so that corner alone may be on the wrong side), the
+/// corners and edge midpoints vote; points on the area's boundary abstain.
+fn all_or_nothing(conv: &[P2], o: P2, locate: &mut dyn FnMut(P2) -> Where) -> Moments {
+    let n = conv.len();
+    let (mut ins, mut outs) = (0, 0);
+    for p in (0..n)
+        .map(|k| conv[k])
+        .chain((0..n).map(|k| point_at(conv, k as f64 + 0.5)))
+    {
+        match locate(p) {
+            Where::Inside => ins += 1,
+            Where::Outside => outs += 1,
+            Where::Boundary => {}
         }
-        if ins > outs {
-            m.add(&Moments::of_polygon(o, conv));
-        }
-        return m;
     }
-    events.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.entry.cmp(&b.entry)));
-    // groups of events at the same position
+    if ins > outs {
+        Moments::of_polygon(o, conv)
+    } else {
+        Moments::default()
+    }
+}
+
+/// The arcs of conv's perimeter between the (sorted) `events` that lie in
+/// the area, added to `m`. Events at the same position form a group; an
+/// arc after exits is in, after entries out, and between mixed groups the
+/// probes decide.
+fn add_arcs(
+    conv: &[P2],
+    o: P2,
+    events: &[Event],
+    locate: &mut dyn FnMut(P2) -> Where,
+    m: &mut Moments,
+) {
+    let n = conv.len();
     let mut groups: Vec<(usize, usize)> = Vec::new();
     let mut s = 0;
     for i in 1..=events.len() {
@@ -219,6 +247,7 @@ pub fn clipped_moments(
             s = i;
         }
     }
+    // all entries (true), all exits (false), or mixed
     let kind = |g: (usize, usize)| -> Option<bool> {
         let es = &events[g.0..g.1];
         if es.iter().all(|e| !e.entry) {
@@ -242,20 +271,7 @@ pub fn clipped_moments(
             (Some(entries), _) => !entries,
             // before entries: in; before exits: out
             (None, Some(entries)) => entries,
-            (None, None) => {
-                let mut st = false;
-                for f in [0.5, 0.25, 0.75] {
-                    match locate(point_at(conv, a + f * (b - a))) {
-                        Where::Inside => {
-                            st = true;
-                            break;
-                        }
-                        Where::Outside => break,
-                        Where::Boundary => continue,
-                    }
-                }
-                st
-            }
+            (None, None) => probe_arc(conv, a, b, locate),
         };
         if !inside {
             continue;
@@ -278,7 +294,20 @@ pub fn clipped_moments(
         }
         m.edge(o, prev, end);
     }
-    m
+}
+
+/// Whether the arc of conv's perimeter from `a` to `b` is in the area:
+/// the first of its middle and quarter points not on the area's boundary
+/// decides (out when all are on it).
+fn probe_arc(conv: &[P2], a: f64, b: f64, locate: &mut dyn FnMut(P2) -> Where) -> bool {
+    for f in [0.5, 0.25, 0.75] {
+        match locate(point_at(conv, a + f * (b - a))) {
+            Where::Inside => return true,
+            Where::Outside => return false,
+            Where::Boundary => continue,
+        }
+    }
+    false
 }
 
 /// The polygon `conv` cut to where `h >= 0` (Sutherland-Hodgman against

@@ -353,7 +353,11 @@ pub fn validate(lines: &[Breakline]) -> Result<(), TinError> {
 /// The breaklines as one planar graph (see the module docs). `tol`: the
 /// finest level's tolerance, how far apart two hard heights may be where
 /// lines meet; `soft_z(x, y)`: the samples' height at a point (None where
-/// the samples say nothing, an ERROR then).
+/// the samples say nothing, an ERROR then). In phases: the lines' points
+/// and segments ([`segments`]), the cuts at crossings ([`cut_at_crossings`])
+/// and at vertices on segments ([`cut_at_vertices`]), the segments split
+/// at their cuts ([`split`]), a check that nothing left crosses
+/// ([`check_uncrossed`]), the heights ([`heights`]).
 pub fn network(
     lines: &[Breakline],
     tol: f64,
@@ -362,7 +366,35 @@ pub fn network(
 ) -> Result<Network, TinError> {
     validate(lines)?;
     let mut v = Verts::new(lines, tol);
-    let mut segs: Vec<([u32; 2], bool)> = Vec::new();
+    let segs = segments(lines, &mut v, interrupt)?;
+    if segs.is_empty() {
+        return Ok(Network::default());
+    }
+    let plain: Vec<[u32; 2]> = segs.iter().map(|s| s.0).collect();
+    let buckets = Buckets::new(&v.pts, &plain);
+    let mut cuts = cut_at_crossings(&segs, &buckets, &mut v, interrupt)?;
+    cut_at_vertices(&segs, &buckets, &v, &mut cuts, interrupt)?;
+    let out = split(&segs, &cuts, &mut v)?;
+    check_uncrossed(&out, &v)?;
+    let verts = heights(v, soft_z)?;
+    Ok(Network {
+        verts,
+        segs: out.iter().map(|s| s.0).collect(),
+        hard: out.iter().map(|s| s.1).collect(),
+    })
+}
+
+/// A segment of the network by vertex ids, and whether it is hard.
+type Seg = ([u32; 2], bool);
+
+/// Every line's points as vertices of `v` and its segments between
+/// distinct ones, in order.
+fn segments(
+    lines: &[Breakline],
+    v: &mut Verts,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<Seg>, TinError> {
+    let mut segs: Vec<Seg> = Vec::new();
     for (li, line) in lines.iter().enumerate() {
         interrupt()?;
         let mut prev: Option<u32> = None;
@@ -383,12 +415,16 @@ pub fn network(
             )));
         }
     }
-    if segs.is_empty() {
-        return Ok(Network::default());
-    }
-    // crossings: a new vertex on both segments
-    let plain: Vec<[u32; 2]> = segs.iter().map(|s| s.0).collect();
-    let buckets = Buckets::new(&v.pts, &plain);
+    Ok(segs)
+}
+
+/// Crossings: a new vertex on both segments (each segment's cuts).
+fn cut_at_crossings(
+    segs: &[Seg],
+    buckets: &Buckets,
+    v: &mut Verts,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<Vec<u32>>, TinError> {
     let mut near = Vec::new();
     let mut cuts: Vec<Vec<u32>> = vec![Vec::new(); segs.len()];
     for i in 0..segs.len() {
@@ -424,9 +460,20 @@ pub fn network(
             cuts[j].push(k);
         }
     }
-    // every vertex on a segment (up to rounding, strictly inside) splits it:
-    // each vertex against the segments bucketed near it (crossings lie on
-    // their segments, so inside the buckets' extent)
+    Ok(cuts)
+}
+
+/// Every vertex on a segment (up to rounding, strictly inside) splits it:
+/// each vertex against the segments bucketed near it (crossings lie on
+/// their segments, so inside the buckets' extent).
+fn cut_at_vertices(
+    segs: &[Seg],
+    buckets: &Buckets,
+    v: &Verts,
+    cuts: &mut [Vec<u32>],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(), TinError> {
+    let mut near = Vec::new();
     for (k, p) in v.pts.iter().enumerate() {
         if k % 1024 == 0 {
             interrupt()?;
@@ -440,7 +487,14 @@ pub fn network(
             }
         }
     }
-    let mut out: Vec<([u32; 2], bool)> = Vec::with_capacity(segs.len());
+    Ok(())
+}
+
+/// The segments split at their cuts (a hard segment's cut vertices get
+/// its heights), each piece once; a piece of a hard and of a soft line is
+/// hard.
+fn split(segs: &[Seg], cuts: &[Vec<u32>], v: &mut Verts) -> Result<Vec<Seg>, TinError> {
+    let mut out: Vec<Seg> = Vec::with_capacity(segs.len());
     for (i, (s, hard)) in segs.iter().enumerate() {
         let [a, b] = s.map(|k| v.pts[k as usize]);
         let mut on: Vec<(f64, u32)> = cuts[i]
@@ -469,7 +523,6 @@ pub fn network(
         }
     }
     out.sort_unstable();
-    // a segment of a hard and of a soft line is hard
     out.dedup_by(|later, first| {
         if later.0 == first.0 {
             first.1 |= later.1;
@@ -478,10 +531,15 @@ pub fn network(
             false
         }
     });
-    // what is left must not cross (it cannot, unless lines run within
-    // rounding of each other without touching)
+    Ok(out)
+}
+
+/// What is left must not cross (it cannot, unless lines run within
+/// rounding of each other without touching): an ERROR if it does.
+fn check_uncrossed(out: &[Seg], v: &Verts) -> Result<(), TinError> {
     let plain: Vec<[u32; 2]> = out.iter().map(|s| s.0).collect();
     let buckets = Buckets::new(&v.pts, &plain);
+    let mut near = Vec::new();
     for (i, s) in plain.iter().enumerate() {
         let [a, b] = s.map(|k| v.pts[k as usize]);
         buckets.near(&a, &b, &mut near);
@@ -507,7 +565,11 @@ pub fn network(
             }
         }
     }
-    // heights: hard where known, the samples' elsewhere
+    Ok(())
+}
+
+/// The vertices' heights: hard where known, the samples' elsewhere.
+fn heights(v: Verts, soft_z: &dyn Fn(f64, f64) -> Option<f64>) -> Result<Vec<[f64; 3]>, TinError> {
     let mut verts = v.pts;
     for (k, p) in verts.iter_mut().enumerate() {
         p[2] = match v.hard_z[k] {
@@ -520,11 +582,7 @@ pub fn network(
             })?,
         };
     }
-    Ok(Network {
-        verts,
-        segs: out.iter().map(|s| s.0).collect(),
-        hard: out.iter().map(|s| s.1).collect(),
-    })
+    Ok(verts)
 }
 
 #[cfg(test)]

@@ -5,10 +5,10 @@ use super::common::*;
 use crate::interrupt::Interrupt;
 use crate::tin::samples::Samples;
 use crate::tin::sides::{Pt, SegKey, SideKey, SidePlan, sample_key, seg_key, side_key};
-use crate::tin::surface::Reference;
+use crate::tin::surface::{Crossing, Reference};
 use crate::tin::{NONE, TinError, interpolate};
 use spade::Point2;
-use spade::handles::FixedVertexHandle;
+use spade::handles::{FixedDirectedEdgeHandle, FixedVertexHandle};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -129,26 +129,10 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             self.vert3(vs[1].fix()),
             self.vert3(vs[2].fix()),
         ];
-        let mut best = 0.0f64;
-        let mut cand = NONE;
-        let (inserted, reserved) = (&self.inserted, &self.reserved);
         // a sliver's plane says nothing about the samples in it (and
         // `snapshot` leaves slivers out): they must all become vertices
         let sliver = crate::geom::is_sliver(&c[0], &c[1], &c[2]);
-        self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
-            if inserted[i] || (!reserved.is_empty() && reserved[i]) {
-                return;
-            }
-            let e = if sliver {
-                f64::MAX
-            } else {
-                (interpolate(&c, p[0], p[1]) - p[2]).abs()
-            };
-            if e > best {
-                best = e;
-                cand = i as u32;
-            }
-        });
+        let (best, cand) = self.worst_sample(&c, sliver);
         let mut m = Measure {
             worst: best,
             best,
@@ -174,133 +158,172 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             if err <= m.best {
                 continue;
             }
-            // the pixel nearest the crossing that can be inserted (it is
-            // inside the triangulation: the domain or the parent): once the
-            // segment's two pixels are vertices the edge is no longer
-            // Delaunay unless the crossing is within about a quarter pixel
-            // of an end; the pixels beside them help where one is outside
-            let hint = e.from().fix();
-            let sample = x.pix.iter().find_map(|q| {
-                let i = self.grid.find(q[0], q[1])?;
-                if inserted[i] || (!reserved.is_empty() && reserved[i]) {
-                    return None;
-                }
-                let p = self.grid.point(i);
-                matches!(
-                    self.dt.locate_with_hint(Point2::new(p[0], p[1]), hint),
-                    spade::PositionInTriangulation::OnFace(_)
-                        | spade::PositionInTriangulation::OnEdge(_)
-                )
-                .then_some(i)
-            });
-            if let Some(i) = sample {
+            if let Some(i) = self.pixel_near(e.from().fix(), &x) {
                 (m.best, m.cand) = (err, i as u32);
-            } else if self.raster_at && self.at_budget > 0 && !r.mends_at_crossings() {
-                // a raster, where no pixel mends the crossing: the two
-                // pixels of the segment are vertices and the edge between
-                // two others crosses it all the same, or the segment runs
-                // from a pixel to a side's vertex where it crosses that side
-                // (a ring's crossing: its other pixel is outside), crossed
-                // in between. A vertex at the crossing, at least a
-                // hundredth of a pixel from the ends of that stretch and
-                // from the lines of the triangles it makes (a vertex
-                // anywhere made triangles under 1e-3 pixel high:
-                // pg_regress `exactness.sql`)
-                let [p0, p1] = x.seg;
-                let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
-                let along = |q: &[f64; 3]| {
-                    ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
-                        / (seg_len * seg_len)
-                };
-                let faces: Vec<_> = [e.face(), e.rev().face()]
-                    .iter()
-                    .filter_map(|f| f.as_inner())
-                    .collect();
-                // the side's vertex on the segment, and whether a fixed
-                // edge runs through the crossing or across the segment
-                let (mut stop, mut across, mut on_fixed) = (None::<f64>, false, false);
-                for f in &faces {
-                    for g in f.adjacent_edges() {
-                        if !self.fixed_edge(g.fix()) {
-                            continue;
-                        }
-                        let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
-                        for q in [a, b] {
-                            let t = along(&q);
-                            if crate::geom::is_sliver(&p0, &p1, &q) && t > 0.0 && t < 1.0 {
-                                stop = Some(t);
-                            }
-                        }
-                        // never on a fixed edge up to rounding (its other
-                        // parent would not have the vertex)
-                        on_fixed |= crate::geom::is_sliver(&a, &b, &x.p);
-                        across |= crosses_between(&a, &b, &p0, &p1);
-                    }
+            } else if self.at_budget > 0
+                && if r.mends_at_crossings() {
+                    self.free_crossing_ok(e.fix(), &x)
+                } else {
+                    self.raster_at && self.raster_crossing_ok(e.fix(), &u, &w, &x)
                 }
-                let (lo, hi) = match stop {
-                    _ if on_fixed => (1.0, 0.0),
-                    Some(t) if x.s < t => (0.0, t),
-                    Some(t) => (t, 1.0),
-                    None if across => (1.0, 0.0),
-                    None => (0.0, 1.0),
-                };
-                // the triangles the vertex makes: its distance to the
-                // lines from the crossed edge's ends to the faces' third
-                // corners
-                let min_h = 0.01 * seg_len;
-                let thin = faces.iter().any(|f| {
-                    let vs = f.vertices();
-                    let o = vs
-                        .iter()
-                        .map(|v| self.vert3(v.fix()))
-                        .find(|q| q[..2] != u[..2] && q[..2] != w[..2]);
-                    o.is_none_or(|o| {
-                        [u, w].iter().any(|q| {
-                            crate::geom::point_segment_distance(
-                                [x.p[0], x.p[1]],
-                                [q[0], q[1]],
-                                [o[0], o[1]],
-                            ) < min_h
-                        })
-                    })
-                });
-                if x.s > lo + 0.01 && x.s < hi - 0.01 && !thin {
-                    (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
-                }
-            } else if self.at_budget > 0 && r.mends_at_crossings() {
-                // no sample can: the crossing itself, on the reference (a
-                // rounding off this edge, the Delaunay triangulation flips
-                // the edge away rather than keep a sliver). A
-                // triangulation's edge between two samples need not be an
-                // edge of a triangulation of fewer of them (a vertex at a
-                // crossing can stand inside its circle), nor a grid segment
-                // between a pixel and a ring's crossing an edge at all, so
-                // inserting samples alone need not end it
-                // never on a fixed edge up to rounding (a parent's side:
-                // its neighbour would not have the vertex), nor where the
-                // crossed edge runs on across one (that side is split
-                // there, `unmended`; points here would creep towards it)
-                let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
-                    f.as_inner().is_some_and(|f| {
-                        f.adjacent_edges().iter().any(|g| {
-                            let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
-                            self.fixed_edge(g.fix())
-                                && (crate::geom::is_sliver(&a, &b, &x.p)
-                                    || crosses_between(&a, &b, &x.seg[0], &x.seg[1]))
-                        })
-                    })
-                });
-                // nor next to an end of the crossed segment (a pixel, a
-                // sample: a point beside it would make a sliver with it)
-                let [p0, p1] = x.seg;
-                let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
-                let near_end = x.s.min(1.0 - x.s) * seg_len <= 1e-6 * seg_len;
-                if !near_fixed && !near_end {
-                    (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
-                }
+            {
+                (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
             }
         }
         m
+    }
+
+    /// The worst sample not yet a vertex (nor reserved) inside the face at
+    /// `c`: its error and number (NONE: none); every one is worst in a
+    /// `sliver`.
+    fn worst_sample(&self, c: &[[f64; 3]; 3], sliver: bool) -> (f64, u32) {
+        let (inserted, reserved) = (&self.inserted, &self.reserved);
+        let (mut best, mut cand) = (0.0f64, NONE);
+        self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
+            if inserted[i] || (!reserved.is_empty() && reserved[i]) {
+                return;
+            }
+            let e = if sliver {
+                f64::MAX
+            } else {
+                (interpolate(c, p[0], p[1]) - p[2]).abs()
+            };
+            if e > best {
+                best = e;
+                cand = i as u32;
+            }
+        });
+        (best, cand)
+    }
+
+    /// The pixel nearest the crossing `x` that can be inserted (it is
+    /// inside the triangulation: the domain or the parent; `hint`: a
+    /// vertex near it): once the segment's two pixels are vertices the
+    /// edge is no longer Delaunay unless the crossing is within about a
+    /// quarter pixel of an end; the pixels beside them help where one is
+    /// outside.
+    fn pixel_near(&self, hint: FixedVertexHandle, x: &Crossing) -> Option<usize> {
+        let (inserted, reserved) = (&self.inserted, &self.reserved);
+        x.pix.iter().find_map(|q| {
+            let i = self.grid.find(q[0], q[1])?;
+            if inserted[i] || (!reserved.is_empty() && reserved[i]) {
+                return None;
+            }
+            let p = self.grid.point(i);
+            matches!(
+                self.dt.locate_with_hint(Point2::new(p[0], p[1]), hint),
+                spade::PositionInTriangulation::OnFace(_)
+                    | spade::PositionInTriangulation::OnEdge(_)
+            )
+            .then_some(i)
+        })
+    }
+
+    /// On a raster, where no pixel mends the crossing `x` of edge `e`
+    /// (`u` to `w`): the two pixels of the segment are vertices and the
+    /// edge between two others crosses it all the same, or the segment runs
+    /// from a pixel to a side's vertex where it crosses that side (a ring's
+    /// crossing: its other pixel is outside), crossed in between. Whether a
+    /// vertex at the crossing may be inserted: at least a hundredth of a
+    /// pixel from the ends of that stretch and from the lines of the
+    /// triangles it makes (a vertex anywhere made triangles under 1e-3
+    /// pixel high: pg_regress `exactness.sql`).
+    fn raster_crossing_ok(
+        &self,
+        e: FixedDirectedEdgeHandle,
+        u: &[f64; 3],
+        w: &[f64; 3],
+        x: &Crossing,
+    ) -> bool {
+        let (u, w) = (*u, *w);
+        let e = self.dt.directed_edge(e);
+        let [p0, p1] = x.seg;
+        let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
+        let along = |q: &[f64; 3]| {
+            ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
+                / (seg_len * seg_len)
+        };
+        let faces: Vec<_> = [e.face(), e.rev().face()]
+            .iter()
+            .filter_map(|f| f.as_inner())
+            .collect();
+        // the side's vertex on the segment, and whether a fixed
+        // edge runs through the crossing or across the segment
+        let (mut stop, mut across, mut on_fixed) = (None::<f64>, false, false);
+        for f in &faces {
+            for g in f.adjacent_edges() {
+                if !self.fixed_edge(g.fix()) {
+                    continue;
+                }
+                let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
+                for q in [a, b] {
+                    let t = along(&q);
+                    if crate::geom::is_sliver(&p0, &p1, &q) && t > 0.0 && t < 1.0 {
+                        stop = Some(t);
+                    }
+                }
+                // never on a fixed edge up to rounding (its other
+                // parent would not have the vertex)
+                on_fixed |= crate::geom::is_sliver(&a, &b, &x.p);
+                across |= crosses_between(&a, &b, &p0, &p1);
+            }
+        }
+        let (lo, hi) = match stop {
+            _ if on_fixed => (1.0, 0.0),
+            Some(t) if x.s < t => (0.0, t),
+            Some(t) => (t, 1.0),
+            None if across => (1.0, 0.0),
+            None => (0.0, 1.0),
+        };
+        // the triangles the vertex makes: its distance to the
+        // lines from the crossed edge's ends to the faces' third
+        // corners
+        let min_h = 0.01 * seg_len;
+        let thin = faces.iter().any(|f| {
+            let vs = f.vertices();
+            let o = vs
+                .iter()
+                .map(|v| self.vert3(v.fix()))
+                .find(|q| q[..2] != u[..2] && q[..2] != w[..2]);
+            o.is_none_or(|o| {
+                [u, w].iter().any(|q| {
+                    crate::geom::point_segment_distance(
+                        [x.p[0], x.p[1]],
+                        [q[0], q[1]],
+                        [o[0], o[1]],
+                    ) < min_h
+                })
+            })
+        });
+        x.s > lo + 0.01 && x.s < hi - 0.01 && !thin
+    }
+
+    /// Where samples are not all there is (no sample can mend the crossing
+    /// `x` of edge `e`): whether the crossing itself, on the reference, may
+    /// be inserted (a rounding off this edge, the Delaunay triangulation
+    /// flips the edge away rather than keep a sliver). A triangulation's
+    /// edge between two samples need not be an edge of a triangulation of
+    /// fewer of them (a vertex at a crossing can stand inside its circle),
+    /// nor a grid segment between a pixel and a ring's crossing an edge at
+    /// all, so inserting samples alone need not end it.
+    fn free_crossing_ok(&self, e: FixedDirectedEdgeHandle, x: &Crossing) -> bool {
+        let e = self.dt.directed_edge(e);
+        let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
+            f.as_inner().is_some_and(|f| {
+                f.adjacent_edges().iter().any(|g| {
+                    let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
+                    self.fixed_edge(g.fix())
+                        && (crate::geom::is_sliver(&a, &b, &x.p)
+                            || crosses_between(&a, &b, &x.seg[0], &x.seg[1]))
+                })
+            })
+        });
+        // nor next to an end of the crossed segment (a pixel, a
+        // sample: a point beside it would make a sliver with it)
+        let [p0, p1] = x.seg;
+        let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
+        let near_end = x.s.min(1.0 - x.s) * seg_len <= 1e-6 * seg_len;
+        !near_fixed && !near_end
     }
 
     /// Store a face's measure and queue the face if it has a candidate.
