@@ -24,7 +24,7 @@ pub fn co(p: P2) -> Coord<f64> {
 
 /// A vertex (x, y, z) as the `robust` crate's coordinate (z dropped).
 #[inline]
-pub fn vco(v: &[f64; 3]) -> Coord<f64> {
+pub(crate) fn vco(v: &[f64; 3]) -> Coord<f64> {
     Coord { x: v[0], y: v[1] }
 }
 
@@ -71,7 +71,7 @@ pub fn orient_slack(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
 /// Largest |x| or |y| of three points: the magnitude their rounding is
 /// relative to.
 #[inline]
-pub fn max_abs_xy(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+pub(crate) fn max_abs_xy(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
     a[0].abs()
         .max(a[1].abs())
         .max(b[0].abs())
@@ -95,18 +95,18 @@ pub fn is_sliver(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
 
 /// Whether c is left of or on the line a -> b, up to rounding.
 #[inline]
-pub fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+pub(crate) fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
     orient(a, b, c) >= -orient_slack(a, b, c)
 }
 
 /// Distance from p to the closed segment ab.
-pub fn point_segment_distance(p: P2, a: P2, b: P2) -> f64 {
+pub(crate) fn point_segment_distance(p: P2, a: P2, b: P2) -> f64 {
     point_segment_nearest(p, a, b).0
 }
 
 /// Distance from p to the closed segment ab, and where on it the nearest
 /// point is (0 at a, 1 at b).
-pub fn point_segment_nearest(p: P2, a: P2, b: P2) -> (f64, f64) {
+pub(crate) fn point_segment_nearest(p: P2, a: P2, b: P2) -> (f64, f64) {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
     let s = if l2 > 0.0 {
@@ -125,7 +125,12 @@ fn on_segment(a: Coord<f64>, b: Coord<f64>, p: Coord<f64>) -> bool {
 
 /// Exact test: do segments p1p2 and q1q2 cross properly (each has its ends
 /// strictly on both sides of the other's line)?
-pub fn segments_cross(p1: Coord<f64>, p2: Coord<f64>, q1: Coord<f64>, q2: Coord<f64>) -> bool {
+pub(crate) fn segments_cross(
+    p1: Coord<f64>,
+    p2: Coord<f64>,
+    q1: Coord<f64>,
+    q2: Coord<f64>,
+) -> bool {
     let (d1, d2) = (orient2d(q1, q2, p1), orient2d(q1, q2, p2));
     let (d3, d4) = (orient2d(p1, p2, q1), orient2d(p1, p2, q2));
     ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))

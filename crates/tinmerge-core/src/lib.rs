@@ -10,7 +10,7 @@
 //! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
 //! - [`render`]: pictures (SVG, glTF); [`serve`]: Cesium quantized-mesh tiles;
 //! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
-//!   long work is cancelled; [`error`]: [`TinError`](error::TinError);
+//!   long work is cancelled; [`error`]: [`TinError`];
 //!   [`polygon`]: polygonal areas; [`par`] and [`memory`]: threads and the
 //!   counting allocator.
 //!
@@ -18,6 +18,13 @@
 //! `error`, `geom`, `interrupt`, `par`, `memory`, `polygon`; then `io`;
 //! `tin`; `merge` and `analysis`; `serve` and `render`
 //! (`scripts/check-cycles.py` enforces it; docs/architecture.md).
+//!
+//! The entry points are re-exported here: [`Tin`], [`TinError`], the builds
+//! ([`build`], [`build_lattice`], [`build_points`] with [`BuildOptions`]),
+//! and a call per merge ([`height`], [`pieces`], [`area_sweep`] and
+//! [`area_rows`], [`raster_sweep`], [`overlay`]). Everything else a module
+//! exports is its own detail; a function used only inside the crate is
+//! `pub(crate)`, so `dead_code` finds what nothing uses.
 #![deny(clippy::undocumented_unsafe_blocks)]
 pub mod analysis;
 pub mod error;
@@ -31,3 +38,17 @@ pub mod polygon;
 pub mod render;
 pub mod serve;
 pub mod tin;
+
+// The entry points, as spade re-exports its triangulations: the value and
+// its error, the builds, one call per merge.
+pub use crate::error::TinError;
+pub use crate::interrupt::Interrupt;
+pub use crate::merge::area::{area_rows, sweep as area_sweep};
+pub use crate::merge::line::{pieces, triangles as line_triangles};
+pub use crate::merge::overlay::{Overlay, overlay};
+pub use crate::merge::point::{footprint, height};
+pub use crate::merge::raster::sweep as raster_sweep;
+pub use crate::polygon::Area;
+pub use crate::tin::Tin;
+pub use crate::tin::build::{BuildOptions, build, build_lattice, build_points};
+pub use crate::tin::sliced::SlicedTin;

@@ -167,11 +167,6 @@ impl Area {
         self.rings.is_empty()
     }
 
-    /// Number of segments of all rings.
-    pub fn num_segments(&self) -> usize {
-        self.rings.iter().map(|r| r.len() - 1).sum()
-    }
-
     fn strip_of(&self, y: f64) -> usize {
         let n = self.nstrips;
         if self.strip_h <= 0.0 {

@@ -152,7 +152,7 @@ fn triangle_contains(t: &[Coord<f64>; 3], p: Coord<f64>) -> bool {
 /// contains a corner of the other or their boundaries cross. A quadrilateral
 /// that is not strictly convex (a rectangle of zero width or length, a
 /// point) is handled as its boundary segments.
-pub fn triangle_meets_quad(t: &[Coord<f64>; 3], q: &[Coord<f64>; 4]) -> bool {
+pub(crate) fn triangle_meets_quad(t: &[Coord<f64>; 3], q: &[Coord<f64>; 4]) -> bool {
     if q.iter().any(|&c| triangle_contains(t, c)) {
         return true;
     }

@@ -53,7 +53,7 @@ impl TileBounds {
 }
 
 /// The edge length of a tile at zoom `z`, in degrees.
-pub fn tile_size(z: i32) -> f64 {
+pub(crate) fn tile_size(z: i32) -> f64 {
     180.0 / f64::powi(2.0, z)
 }
 

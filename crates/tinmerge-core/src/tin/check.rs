@@ -43,7 +43,7 @@ const CHECK_RUN: usize = 4096;
 /// checking triangles on `tinmerge.threads` ([`par`]). Its phases, per
 /// level after the vertices: the level's counts and bounds, its triangles
 /// and neighbour links, its parents and child offsets, its grid index.
-pub fn validate_structure_checked(
+pub(crate) fn validate_structure_checked(
     tin: &Tin,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {

@@ -60,7 +60,7 @@ pub enum VertexCoding {
 }
 
 impl VertexCoding {
-    pub fn from_u32(v: u32) -> Option<VertexCoding> {
+    pub(crate) fn from_u32(v: u32) -> Option<VertexCoding> {
         match v {
             0 => Some(VertexCoding::Raw),
             1 => Some(VertexCoding::LatticeF32),
@@ -138,7 +138,7 @@ impl Plan {
     }
 
     /// Elements per group of `s`.
-    pub fn per_group(&self, s: Stream) -> usize {
+    pub(crate) fn per_group(&self, s: Stream) -> usize {
         match s {
             Stream::Cells(_) => self.per_cell,
             Stream::Verts => self.per_vert,
@@ -160,7 +160,7 @@ impl Plan {
     }
 
     /// Number of groups of the value.
-    pub fn num_groups(&self) -> u64 {
+    pub(crate) fn num_groups(&self) -> u64 {
         self.total
     }
 
@@ -180,7 +180,7 @@ impl Plan {
     /// The group holding element `i` of `s`: (group number in the value,
     /// first element of the group, elements in the group), or None when
     /// `i` is out of range.
-    pub fn group_of(&self, s: Stream, i: usize) -> Option<(u64, usize, usize)> {
+    pub(crate) fn group_of(&self, s: Stream, i: usize) -> Option<(u64, usize, usize)> {
         let &(_, n, first) = self.find(s)?;
         if i >= n {
             return None;
@@ -189,12 +189,6 @@ impl Plan {
         let k = i / per;
         let start = k * per;
         Some((first + k as u64, start, per.min(n - start)))
-    }
-
-    /// Every stream with its element count and first group, in storage
-    /// order.
-    pub fn streams(&self) -> &[(Stream, usize, u64)] {
-        &self.streams
     }
 }
 
@@ -238,7 +232,7 @@ pub fn unzigzag(v: u64) -> i64 {
 /// The lattice column and row of every vertex, when every vertex is
 /// exactly the centre [`Lattice::centre`] gives for whole numbers (what a
 /// raster build makes); None otherwise.
-pub fn lattice_indices(lat: &Lattice, verts: &[[f64; 3]]) -> Option<Vec<[i32; 2]>> {
+pub(crate) fn lattice_indices(lat: &Lattice, verts: &[[f64; 3]]) -> Option<Vec<[i32; 2]>> {
     if !lat.is_valid() {
         return None;
     }
@@ -299,7 +293,7 @@ pub fn encode_verts(verts: &[[f64; 3]], idx: Option<&[[i32; 2]]>, coding: Vertex
 }
 
 /// Decode `n` vertices coded by [`encode_verts`].
-pub fn decode_verts(
+pub(crate) fn decode_verts(
     b: &[u8],
     n: usize,
     coding: VertexCoding,
@@ -391,7 +385,7 @@ pub fn encode_tris(tris: &[[u32; 3]]) -> Vec<u8> {
 }
 
 /// Decode `n` triangles coded by [`encode_tris`].
-pub fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
+pub(crate) fn decode_tris(b: &[u8], n: usize) -> Result<Vec<[u32; 3]>, TinError> {
     let mut out = Vec::with_capacity(n);
     // the move-to-front cache of the encoder, in a fixed array
     let mut cache = [0u32; CACHE];
@@ -467,7 +461,7 @@ pub fn encode_nbrs(nbrs: &[[u32; 3]], first: usize) -> Vec<u8> {
 }
 
 /// Decode `n` neighbour triples coded by [`encode_nbrs`].
-pub fn decode_nbrs(b: &[u8], n: usize, first: usize) -> Result<Vec<[u32; 3]>, TinError> {
+pub(crate) fn decode_nbrs(b: &[u8], n: usize, first: usize) -> Result<Vec<[u32; 3]>, TinError> {
     let mut out = Vec::with_capacity(n);
     let mut at = 0usize;
     for k in 0..n {
@@ -509,7 +503,7 @@ pub fn encode_ids(ids: &[u32], plus_one: bool) -> Vec<u8> {
 }
 
 /// Decode `n` ids coded by [`encode_ids`].
-pub fn decode_ids(b: &[u8], n: usize, plus_one: bool) -> Result<Vec<u32>, TinError> {
+pub(crate) fn decode_ids(b: &[u8], n: usize, plus_one: bool) -> Result<Vec<u32>, TinError> {
     let mut out = Vec::with_capacity(n);
     let mut at = 0usize;
     let mut prev = 0i64;
@@ -608,7 +602,7 @@ impl Group {
 
 /// Code elements `first..first + n` of stream `s` of a tin (before
 /// [`pack`]).
-pub fn encode_group(
+pub(crate) fn encode_group(
     tin: &super::Tin,
     s: Stream,
     first: usize,

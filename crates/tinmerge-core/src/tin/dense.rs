@@ -45,7 +45,7 @@ pub struct Dense {
 impl Dense {
     /// The column and row of sample `i`.
     #[inline]
-    pub fn col_row(&self, i: usize) -> (i64, i64) {
+    pub(crate) fn col_row(&self, i: usize) -> (i64, i64) {
         (
             self.c0 + (i % self.width) as i64,
             self.r0 + (i / self.width) as i64,

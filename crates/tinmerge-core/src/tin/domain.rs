@@ -2,39 +2,19 @@
 //! [`cell_outline`] is the union of the valid pixels' own squares, what
 //! `ST_Value` answers on; `tin_from_raster(..., fill_gaps => false)` builds
 //! over it ([`outline_area`] as the build's boundary), so the terrain
-//! stops where the data does, holes included. [`valid_outline`] is the
-//! other candidate, the blocks between valid pixel centres (not used by a
-//! build):
+//! stops where the data does, holes included.
 //!
-//! A tin's vertices are pixel centres, so the most it can cover is the
-//! union of the lattice's *blocks*: the square between four neighbouring
-//! pixel centres when all four are valid, the triangle of three when
-//! exactly three are (the one whose corners are valid). Two or fewer valid
-//! corners give nothing. That union lies inside the valid pixels' own
-//! squares, so a surface on it answers nowhere `ST_Value` is NULL. It has
-//! holes where the raster does (a lake, a void), and it may touch itself
-//! at a single corner.
-//!
-//! [`valid_outline`] returns its boundary as rings of lattice points
-//! `(col, row)`, exact integers. Outer rings have positive area and holes
-//! negative area (shoelace in the `(col, row)` frame). Where two rings
-//! touch at a corner they are kept apart. Collinear points are dropped:
-//! a ring keeps only the corners of the outline.
-//!
-//! ```
-//! use tinmerge_core::tin::domain::{ring_area2, valid_outline};
-//! // a 4 x 3 raster with one nodata pixel in a corner
-//! let valid = |c: usize, r: usize| !(c == 3 && r == 0);
-//! let rings = valid_outline(4, 3, &valid);
-//! assert_eq!(rings.len(), 1);
-//! // 6 blocks: 5 squares and 1 triangle (twice the area: 11)
-//! assert_eq!(ring_area2(&rings[0]), 11);
-//! ```
+//! The rings are corners `(col, row)` of the pixel grid, exact integers.
+//! Outer rings have positive area and holes negative area ([`ring_area2`],
+//! shoelace in that frame). Where two rings touch at a corner they are kept
+//! apart. Collinear corners are dropped: a ring keeps only the corners of
+//! the outline.
 
 use crate::polygon::Area;
 use rustc_hash::{FxHashMap, FxHashSet};
 
-/// A point of the lattice: `(col, row)` of a pixel centre.
+/// A corner of the pixel grid: `(col, row)`, the top-left corner of pixel
+/// `(col, row)`.
 pub type LatticePoint = [i64; 2];
 
 /// Twice the signed area of a ring (shoelace, exact).
@@ -45,39 +25,6 @@ pub fn ring_area2(r: &[LatticePoint]) -> i64 {
         s += a[0] * b[1] - b[0] * a[1];
     }
     s
-}
-
-/// The rings of the boundary of the blocks with valid corners of a
-/// `width x height` raster (see the module docs). `valid(col, row)` says
-/// whether a pixel has data.
-pub fn valid_outline(
-    width: usize,
-    height: usize,
-    valid: &dyn Fn(usize, usize) -> bool,
-) -> Vec<Vec<LatticePoint>> {
-    // every block piece's edges, CCW; an edge met both ways is inside
-    let mut edges: FxHashSet<(LatticePoint, LatticePoint)> = FxHashSet::default();
-    let mut add = |a: LatticePoint, b: LatticePoint| add_edge(&mut edges, a, b);
-    for r in 0..height.saturating_sub(1) {
-        for c in 0..width.saturating_sub(1) {
-            let (ci, ri) = (c as i64, r as i64);
-            let corners = [[ci, ri], [ci + 1, ri], [ci + 1, ri + 1], [ci, ri + 1]];
-            let ok = [
-                valid(c, r),
-                valid(c + 1, r),
-                valid(c + 1, r + 1),
-                valid(c, r + 1),
-            ];
-            let piece: Vec<LatticePoint> = (0..4).filter(|&k| ok[k]).map(|k| corners[k]).collect();
-            if piece.len() < 3 {
-                continue;
-            }
-            for k in 0..piece.len() {
-                add(piece[k], piece[(k + 1) % piece.len()]);
-            }
-        }
-    }
-    rings_of(&edges)
 }
 
 /// Add the directed edge a -> b of a piece, or cancel it against b -> a of

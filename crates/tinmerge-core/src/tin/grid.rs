@@ -14,7 +14,7 @@ pub const CELLS_PER_VERTEX: f64 = 4.0;
 pub const MAX_CELLS_PER_VERTEX: u64 = 8;
 
 /// Cell size and dimensions for `nv` vertices over `b`.
-pub fn grid_shape(b: &Bbox, nv: u32) -> (f64, u32, u32) {
+pub(crate) fn grid_shape(b: &Bbox, nv: u32) -> (f64, u32, u32) {
     let w = (b.max_x - b.min_x).max(0.0);
     let h = (b.max_y - b.min_y).max(0.0);
     let nv = nv.max(1) as f64;
@@ -33,7 +33,7 @@ pub fn grid_shape(b: &Bbox, nv: u32) -> (f64, u32, u32) {
 }
 
 /// Build the grid of `level` (whose triangles and neighbours are final).
-pub fn build_grid(verts: &[[f64; 3]], b: &Bbox, level: &Level) -> Grid {
+pub(crate) fn build_grid(verts: &[[f64; 3]], b: &Bbox, level: &Level) -> Grid {
     let (cell, nx, ny) = grid_shape(b, level.num_vertices);
     let mut cells = Vec::with_capacity((nx * ny) as usize);
     let mut row_start = 0u32;

@@ -63,7 +63,7 @@ pub fn walk(tin: &Tin, level: usize, start: u32, x: f64, y: f64) -> Walk {
 }
 
 /// [`walk`] on a level given with its vertex array (used while building).
-pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> Walk {
+pub(crate) fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> Walk {
     infallible(walk_in(&LevelRef { verts, level: lv }, 0, start, x, y))
 }
 
@@ -73,7 +73,13 @@ pub fn walk_raw(verts: &[[f64; 3]], lv: &Level, start: u32, x: f64, y: f64) -> W
 /// triangulation, where a deterministic walk may cycle) it continues as a
 /// remembering stochastic walk, which terminates; a final step limit falls
 /// back to an exhaustive scan.
-pub fn walk_in<M: Mesh>(m: &M, level: usize, start: u32, x: f64, y: f64) -> Result<Walk, M::Err> {
+pub(crate) fn walk_in<M: Mesh>(
+    m: &M,
+    level: usize,
+    start: u32,
+    x: f64,
+    y: f64,
+) -> Result<Walk, M::Err> {
     let n = m.num_triangles(level);
     let p = Coord { x, y };
     let mut t = start;
@@ -132,7 +138,13 @@ pub fn contains(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> bool {
 
 /// [`contains`] on any mesh.
 #[inline]
-pub fn contains_in<M: Mesh>(m: &M, level: usize, t: u32, x: f64, y: f64) -> Result<bool, M::Err> {
+pub(crate) fn contains_in<M: Mesh>(
+    m: &M,
+    level: usize,
+    t: u32,
+    x: f64,
+    y: f64,
+) -> Result<bool, M::Err> {
     let c = m.corners(level, t)?;
     let p = Coord { x, y };
     Ok((0..3).all(|j| orient2d(vco(&c[j]), vco(&c[(j + 1) % 3]), p) >= 0.0))
@@ -174,7 +186,13 @@ pub fn canonical(tin: &Tin, level: usize, t: u32, x: f64, y: f64) -> u32 {
 }
 
 /// [`canonical`] on any mesh.
-pub fn canonical_in<M: Mesh>(m: &M, level: usize, t: u32, x: f64, y: f64) -> Result<u32, M::Err> {
+pub(crate) fn canonical_in<M: Mesh>(
+    m: &M,
+    level: usize,
+    t: u32,
+    x: f64,
+    y: f64,
+) -> Result<u32, M::Err> {
     let p = Coord { x, y };
     let mut best = t;
     // fixed lists first (no allocation on the common path)
@@ -228,7 +246,7 @@ pub fn locate_in<M: Indexed>(m: &M, level: usize, x: f64, y: f64) -> Result<Opti
 }
 
 /// [`locate_hull_in`] on a decoded tin.
-pub fn locate_hull(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
+pub(crate) fn locate_hull(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
     infallible(locate_hull_in(tin, level, x, y))
 }
 

@@ -56,7 +56,7 @@ pub trait Indexed: Mesh {
 
 /// Unwrap a result that cannot be an error.
 #[inline]
-pub fn infallible<T>(r: Result<T, Infallible>) -> T {
+pub(crate) fn infallible<T>(r: Result<T, Infallible>) -> T {
     match r {
         Ok(v) => v,
         Err(e) => match e {},

@@ -80,7 +80,7 @@ pub struct Bbox {
 impl Bbox {
     /// Whether the two boxes share no point in the plane (x, y; touching
     /// boxes are not disjoint).
-    pub fn disjoint_xy(&self, o: &Bbox) -> bool {
+    pub(crate) fn disjoint_xy(&self, o: &Bbox) -> bool {
         self.max_x < o.min_x || o.max_x < self.min_x || self.max_y < o.min_y || o.max_y < self.min_y
     }
 

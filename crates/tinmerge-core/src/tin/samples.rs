@@ -151,7 +151,7 @@ impl SampleGrid {
 
     /// Calls `f(index, sample)` for every sample in the closed box
     /// `x0..=x1`, `y0..=y1`.
-    pub fn for_each_in_box(
+    pub(crate) fn for_each_in_box(
         &self,
         x0: f64,
         y0: f64,
@@ -200,7 +200,7 @@ impl SampleGrid {
     }
 
     /// Area of one bucket (about one sample each).
-    pub fn cell_area(&self) -> f64 {
+    pub(crate) fn cell_area(&self) -> f64 {
         self.cell * self.cell
     }
 

@@ -144,7 +144,7 @@ impl<'a> GridReference<'a> {
     /// The reference of a build on the pixel centres in world coordinates
     /// (`lat.centre(col, row)`, as `tin_from_raster`'s scattered builds
     /// take them).
-    pub fn in_world(d: &'a Dense, lat: Lattice) -> GridReference<'a> {
+    pub(crate) fn in_world(d: &'a Dense, lat: Lattice) -> GridReference<'a> {
         let det = lat.det();
         let m = [
             [lat.scale_y / det, -lat.skew_x / det],
@@ -232,7 +232,7 @@ impl<'a> GridReference<'a> {
     /// Whether pixel `(col, row)`'s centre lies on a line of
     /// [`GridReference::cut_by`] (within [`CUT_SLACK`] pixel): the
     /// surface there is the line's.
-    pub fn cuts_centre(&self, col: i64, row: i64) -> bool {
+    pub(crate) fn cuts_centre(&self, col: i64, row: i64) -> bool {
         self.cut_centres.contains(&(col, row))
     }
 

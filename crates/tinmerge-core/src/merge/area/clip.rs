@@ -60,7 +60,7 @@ impl Moments {
     }
 
     /// Moments of a polygon given by its vertices (closing edge implied).
-    pub fn of_polygon(o: P2, pts: &[P2]) -> Moments {
+    pub(crate) fn of_polygon(o: P2, pts: &[P2]) -> Moments {
         let mut m = Moments::default();
         for i in 0..pts.len() {
             m.edge(o, pts[i], pts[(i + 1) % pts.len()]);
@@ -313,7 +313,7 @@ fn probe_arc(conv: &[P2], a: f64, b: f64, locate: &mut dyn FnMut(P2) -> Where) -
 /// The polygon `conv` cut to where `h >= 0` (Sutherland-Hodgman against
 /// one half-plane; h linear). A non-convex polygon may come out with
 /// zero-width bridges along the line, which add no area.
-pub fn clip_convex(conv: &[P2], h: &dyn Fn(P2) -> f64) -> Vec<P2> {
+pub(crate) fn clip_convex(conv: &[P2], h: &dyn Fn(P2) -> f64) -> Vec<P2> {
     let n = conv.len();
     let mut out = Vec::with_capacity(n + 1);
     for i in 0..n {
@@ -341,7 +341,7 @@ fn crossing(p: P2, q: P2, hp: f64, hq: f64) -> P2 {
 
 /// The chains cut to where `h >= 0`: a chain leaving the half-plane exits
 /// there, one coming back enters.
-pub fn clip_chains(chains: &[Chain], h: &dyn Fn(P2) -> f64) -> Vec<Chain> {
+pub(crate) fn clip_chains(chains: &[Chain], h: &dyn Fn(P2) -> f64) -> Vec<Chain> {
     let mut out = Vec::new();
     for ch in chains {
         let mut pts = ch.pts.clone();

@@ -4,7 +4,7 @@
 //! 1. The boundary: the rings are walked once, at the target level, with
 //!    the line merge's walker ([`crate::merge::line::Walker`]). A walked
 //!    triangle is a *boundary* triangle when a ring segment meets its open
-//!    inside (exact separating-axis test, [`segment_meets_open_triangle`]):
+//!    inside (exact separating-axis test, [`segment_meets_open_triangle`](crate::polygon::segment_meets_open_triangle)):
 //!    then the polygon covers part of it, not all. The parent of a boundary
 //!    triangle is a boundary triangle, so the coarser levels' boundary comes
 //!    from parent links; a segment that only runs along the edges of the
@@ -64,9 +64,9 @@ pub use crate::polygon;
 pub mod surface;
 mod sweep;
 
-pub use self::sweep::sweep;
+pub(crate) use self::sweep::corners2;
+pub use self::sweep::{Method, Sweep, sweep};
 
-use crate::geom::P2;
 use crate::geom::tri_area;
 use crate::interrupt::{Interrupt, Ticker};
 use crate::merge::area::clip::{Chain, clipped_moments};
@@ -74,19 +74,6 @@ use crate::polygon::Area;
 use crate::tin::TinError;
 use crate::tin::hierarchy::descendants;
 use crate::tin::mesh::Mesh;
-
-/// How the inside triangles are found (the last two are the baselines the
-/// benchmark compares with).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// Scarlatos's hierarchical sweep (§6.5): coarsest level first, then only the
-    /// children of boundary triangles.
-    Hierarchy,
-    /// The same sweep at the target level only.
-    Flat,
-    /// Scan-fill: every triangle of the target level is tested.
-    Scan,
-}
 
 /// How a reported triangle relates to the polygon.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -116,58 +103,8 @@ pub struct AreaRow {
     pub coverage: f64,
 }
 
-/// Result of the sweep down to a target level.
-#[derive(Clone, Debug, Default)]
-pub struct Sweep {
-    /// The target level.
-    pub level: usize,
-    /// `inside[l]`: triangles of level l wholly inside whose parent is not
-    /// (the compact form; empty above the first level examined).
-    pub inside: Vec<Vec<u32>>,
-    /// Boundary triangles of the target level, sorted.
-    pub boundary: Vec<u32>,
-    /// Pieces of the polygon's boundary in each boundary triangle, as
-    /// (triangle, chain), sorted by triangle.
-    pub chains: Vec<(u32, Chain)>,
-    /// Triangles examined (walked, visited by the sweep, or tested).
-    pub examined: usize,
-}
-
-/// Corners of triangle t of a level in the plane.
-#[inline]
-pub fn corners2<M: Mesh>(tin: &M, level: usize, t: u32) -> Result<[P2; 3], TinError>
-where
-    TinError: From<M::Err>,
-{
-    Ok(tin.corners(level, t)?.map(|v| [v[0], v[1]]))
-}
-
-/// Fraction of a counter-clockwise triangle inside the area, by clipping
-/// every ring to it (Sutherland-Hodgman; O(polygon size), used only where
-/// nothing cheaper decides).
-pub fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
-    let o = t[0];
-    let mut sum = 0.0;
-    for r in &area.rings {
-        let mut poly: Vec<P2> = r[..r.len() - 1].to_vec();
-        for j in 0..3 {
-            let (a, b) = (t[j], t[(j + 1) % 3]);
-            let h = |p: P2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-            poly = crate::merge::area::clip::clip_convex(&poly, &h);
-            if poly.len() < 3 {
-                break;
-            }
-        }
-        if poly.len() < 3 {
-            continue;
-        }
-        sum += crate::merge::area::clip::Moments::of_polygon(o, &poly).a;
-    }
-    sum / tri_area(t)
-}
-
 /// Coverage of each boundary triangle of the sweep, in `boundary` order.
-pub fn coverages<M: Mesh>(tin: &M, area: &Area, s: &Sweep) -> Result<Vec<f64>, TinError>
+pub(crate) fn coverages<M: Mesh>(tin: &M, area: &Area, s: &Sweep) -> Result<Vec<f64>, TinError>
 where
     TinError: From<M::Err>,
 {

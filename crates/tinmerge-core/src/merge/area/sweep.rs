@@ -2,16 +2,78 @@
 //! documents it): the rings walked at the target level, the boundary carried
 //! up the levels, each level swept from its seeds over triangle adjacency.
 
-use super::{Method, Sweep, clipped_fraction, corners2};
-use crate::geom::{P2, co};
+use crate::geom::{P2, co, tri_area};
 use crate::interrupt::{Interrupt, Ticker};
-use crate::merge::area::clip::Chain;
+use crate::merge::area::clip::{Chain, Moments, clip_convex};
 use crate::merge::line::{Sink, Walker};
 use crate::polygon::{Area, Where, segment_meets_open_triangle};
 use crate::tin::hierarchy::children;
 use crate::tin::mesh::{Indexed, Mesh};
 use crate::tin::{NONE, TinError};
 use robust::orient2d;
+
+/// How the inside triangles are found (the last two are the baselines the
+/// benchmark compares with).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Scarlatos's hierarchical sweep (§6.5): coarsest level first, then only the
+    /// children of boundary triangles.
+    Hierarchy,
+    /// The same sweep at the target level only.
+    Flat,
+    /// Scan-fill: every triangle of the target level is tested.
+    Scan,
+}
+
+/// Result of the sweep down to a target level.
+#[derive(Clone, Debug, Default)]
+pub struct Sweep {
+    /// The target level.
+    pub level: usize,
+    /// `inside[l]`: triangles of level l wholly inside whose parent is not
+    /// (the compact form; empty above the first level examined).
+    pub inside: Vec<Vec<u32>>,
+    /// Boundary triangles of the target level, sorted.
+    pub boundary: Vec<u32>,
+    /// Pieces of the polygon's boundary in each boundary triangle, as
+    /// (triangle, chain), sorted by triangle.
+    pub chains: Vec<(u32, Chain)>,
+    /// Triangles examined (walked, visited by the sweep, or tested).
+    pub examined: usize,
+}
+
+/// Corners of triangle t of a level in the plane.
+#[inline]
+pub(crate) fn corners2<M: Mesh>(tin: &M, level: usize, t: u32) -> Result<[P2; 3], TinError>
+where
+    TinError: From<M::Err>,
+{
+    Ok(tin.corners(level, t)?.map(|v| [v[0], v[1]]))
+}
+
+/// Fraction of a counter-clockwise triangle inside the area, by clipping
+/// every ring to it (Sutherland-Hodgman; O(polygon size), used only where
+/// nothing cheaper decides).
+pub(crate) fn clipped_fraction(area: &Area, t: &[P2; 3]) -> f64 {
+    let o = t[0];
+    let mut sum = 0.0;
+    for r in &area.rings {
+        let mut poly: Vec<P2> = r[..r.len() - 1].to_vec();
+        for j in 0..3 {
+            let (a, b) = (t[j], t[(j + 1) % 3]);
+            let h = |p: P2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+            poly = clip_convex(&poly, &h);
+            if poly.len() < 3 {
+                break;
+            }
+        }
+        if poly.len() < 3 {
+            continue;
+        }
+        sum += Moments::of_polygon(o, &poly).a;
+    }
+    sum / tri_area(t)
+}
 
 const WALKED: u8 = 1;
 const BOUNDARY: u8 = 2;

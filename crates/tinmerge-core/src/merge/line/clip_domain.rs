@@ -136,7 +136,7 @@ impl Snap {
 /// around an island of it, wholly within the polygon): then it is not all
 /// terrain and must be cut too. Only a level with void triangles can;
 /// `boundary` is the level's [`crate::tin::Level::boundary_edges`].
-pub fn encloses_void(
+pub(crate) fn encloses_void(
     tin: &Tin,
     level: usize,
     boundary: &[[u32; 2]],
@@ -164,7 +164,7 @@ pub fn encloses_void(
 /// domain's rings near the polygon are gathered ([`Cut::new`]), the
 /// polygon intersected with them ([`Cut::intersection`]), and each ring of
 /// the result draped ([`Cut::drape_ring`]).
-pub fn drape_clipped(
+pub(crate) fn drape_clipped(
     tin: &Tin,
     level: usize,
     boundary: &[[u32; 2]],

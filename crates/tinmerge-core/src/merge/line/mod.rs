@@ -203,7 +203,7 @@ where
     }
 
     /// Call the interrupt check now.
-    pub fn interrupt_now(&mut self) -> Result<(), TinError> {
+    pub(crate) fn interrupt_now(&mut self) -> Result<(), TinError> {
         (self.interrupt)()
     }
 
@@ -248,7 +248,7 @@ where
     }
 
     /// Start a part at its first vertex.
-    pub fn start_part(&mut self, p: P2) -> Result<(), TinError> {
+    pub(crate) fn start_part(&mut self, p: P2) -> Result<(), TinError> {
         self.cur = locate::locate_hull_in(self.tin, self.level, p[0], p[1])?;
         self.open = false;
         Ok(())
@@ -256,7 +256,7 @@ where
 
     /// End a part: a part that never moved but lies in the domain is
     /// reported as a single point in its triangle.
-    pub fn end_part(&mut self, p0: P2, moved: bool) {
+    pub(crate) fn end_part(&mut self, p0: P2, moved: bool) {
         if !moved
             && !self.open
             && let Some(t) = self.cur
@@ -277,7 +277,7 @@ where
     /// Move to p without reporting anything (the widened-line merge skipping
     /// a stretch whose triangles are all known): the current triangle
     /// becomes one holding p, found by a walk from the current one.
-    pub fn jump_to(&mut self, p: P2) -> Result<(), TinError> {
+    pub(crate) fn jump_to(&mut self, p: P2) -> Result<(), TinError> {
         let start = match self.cur {
             Some(t) => t,
             None => locate::start_in(self.tin, self.level, p[0], p[1])?,
@@ -292,7 +292,7 @@ where
 
     /// Report original vertices known to lie strictly inside the current
     /// triangle (the line tree's skip): `first` is the current point.
-    pub fn run_inside<L: Polyline + ?Sized>(
+    pub(crate) fn run_inside<L: Polyline + ?Sized>(
         &mut self,
         line: &L,
         first: usize,
@@ -322,7 +322,7 @@ where
     }
 
     /// Follow the segment p -> q (`along` = distance of p from the start).
-    pub fn walk_segment(&mut self, p: P2, q: P2, along: f64) -> Result<(), TinError> {
+    pub(crate) fn walk_segment(&mut self, p: P2, q: P2, along: f64) -> Result<(), TinError> {
         if p == q {
             return Ok(());
         }
@@ -568,7 +568,7 @@ where
 
 /// The hull edges of a level, as (triangle, edge opposite corner j), by
 /// increasing triangle id (reads every triangle's neighbours).
-pub fn hull_edges_in<M: Mesh>(m: &M, level: usize) -> Result<Vec<(u32, usize)>, M::Err> {
+pub(crate) fn hull_edges_in<M: Mesh>(m: &M, level: usize) -> Result<Vec<(u32, usize)>, M::Err> {
     let mut h = Vec::new();
     for t in 0..m.num_triangles(level) as u32 {
         for (j, &x) in m.nbrs(level, t)?.iter().enumerate() {

@@ -26,7 +26,7 @@ fn seg_meet(a: P2, b: P2, c: P2, d: P2) -> bool {
 
 /// Distance in the plane between the closed triangle `t` (counter-clockwise)
 /// and the segment pq (0 when they meet).
-pub fn triangle_segment_distance(t: &[P2; 3], p: P2, q: P2) -> f64 {
+pub(crate) fn triangle_segment_distance(t: &[P2; 3], p: P2, q: P2) -> f64 {
     let inside = |x: P2| (0..3).all(|j| orient2d(co(t[j]), co(t[(j + 1) % 3]), co(x)) >= 0.0);
     if inside(p) || inside(q) || (0..3).any(|j| seg_meet(t[j], t[(j + 1) % 3], p, q)) {
         return 0.0;
@@ -210,7 +210,7 @@ impl<'a> Near<'a> {
     /// Whether every triangle within `r` of segment pq, searched from `t`
     /// (which must meet the segment), is already found; false also when
     /// more than `budget` triangles would have to be looked at.
-    pub fn all_found_near(&mut self, t: u32, p: P2, q: P2, r: f64, budget: usize) -> bool {
+    pub(crate) fn all_found_near(&mut self, t: u32, p: P2, q: P2, r: f64, budget: usize) -> bool {
         let lv = &self.tin.levels[self.level];
         self.queue.clear();
         self.seen.clear();
@@ -237,7 +237,7 @@ impl<'a> Near<'a> {
 
     /// A part that never moves, at p0 in triangle `start` (if inside):
     /// the triangles within r of the point.
-    pub fn still_part(
+    pub(crate) fn still_part(
         &mut self,
         key: u64,
         p0: P2,
@@ -264,7 +264,7 @@ impl<'a> Near<'a> {
 
 /// Walk segment `k` of `part` and add the triangles within r of it, keyed
 /// by `key` (a zero-length segment adds nothing).
-pub fn walk_near<L: Polyline + ?Sized>(
+pub(crate) fn walk_near<L: Polyline + ?Sized>(
     near: &mut Near,
     w: &mut Walker<'_, Visited>,
     part: &L,

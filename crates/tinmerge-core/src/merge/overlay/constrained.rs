@@ -112,7 +112,7 @@ impl Points {
 /// B's edges cut at what was found on them ([`pieces_of_b`]), all
 /// triangulated at once ([`triangulate`]) and the faces labelled
 /// ([`label_faces`]).
-pub fn overlay_cdt(
+pub(crate) fn overlay_cdt(
     a: &Tin,
     level_a: usize,
     b: &Tin,

@@ -505,7 +505,7 @@ impl Builder<'_> {
 /// faces emitted as it goes; then the faces are checked to agree on their
 /// common boundaries ([`check_conformity`]) and the points no face uses
 /// dropped ([`drop_unused`]).
-pub fn overlay_faces(
+pub(crate) fn overlay_faces(
     a: &Tin,
     level_a: usize,
     b: &Tin,

@@ -135,7 +135,7 @@ impl Poly {
 
 /// Refuses what the coverage cannot handle: skewed or rotated grids, zero
 /// or non-finite pixel sizes.
-pub fn check_grid(gt: &GeoTransform) -> Result<(), TinError> {
+pub(crate) fn check_grid(gt: &GeoTransform) -> Result<(), TinError> {
     if gt.skew_x != 0.0 || gt.skew_y != 0.0 {
         return Err(TinError::InvalidParameter(format!(
             "rotated or skewed rasters are not supported (skew {} {}); resample it north-up first, e.g. with gdalwarp or ST_Transform(rast, ST_SRID(rast), scale_x, scale_y)",

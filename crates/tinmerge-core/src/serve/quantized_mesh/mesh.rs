@@ -82,7 +82,7 @@ impl TileMesh {
 
 /// The clipped mesh of the tile (before quantization) from every source;
 /// `None` when nothing of the terrain, and no fill, meets the tile.
-pub fn tile_mesh(
+pub(crate) fn tile_mesh(
     sources: &[Source],
     tile: &TileBounds,
     fill: Option<f64>,

@@ -83,5 +83,5 @@ mod needed;
 
 pub use clip::Source;
 pub use encode::{encode, encode_many, tile_bytes};
-pub use mesh::{TileMesh, ecef, tile_mesh};
+pub use mesh::{TileMesh, ecef};
 pub use needed::{Needed, Split, hull, needed, split_length};

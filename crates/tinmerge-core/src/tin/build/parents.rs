@@ -13,7 +13,7 @@ use crate::tin::surface::Reference;
 
 /// The samples with data on the segment between samples `a` and `b` of a
 /// lattice, both ends included, in the segment's canonical order (from its
-/// end smaller in (x, y)), as [`hull_sides`] gives them.
+/// end smaller in (x, y)), as [`hull_sides`](super::common::hull_sides) gives them.
 pub(super) fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
     let mut side = vec![a];
     d.on_segment(a, b, &mut side);
@@ -196,7 +196,7 @@ pub(super) trait ParentSamples: Sync {
     /// `slots() + k` is `extras[k]`) to `tol`: its edges `k` (corner `k` to
     /// `k + 1`) not `free[k]` keep the vertices [`plan_side`] picks from the
     /// edge's own profile. `void`: the triangle is outside the domain
-    /// ([`Void`]).
+    /// ([`Void`](super::common::Void)).
     fn refine_parent(&self, job: &Job<'_>, scratch: &mut Scratch) -> Result<ParentOut, TinError>;
 }
 

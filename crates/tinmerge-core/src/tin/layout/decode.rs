@@ -156,7 +156,7 @@ pub fn group_ranges(b: &[u8], plan: &Plan) -> Result<Vec<std::ops::Range<usize>>
 /// Format-4 group `k` of a value with header `h` and header hash `hh`,
 /// read as `raw` (payload and checksum): checked, then decoded as the `n`
 /// elements of `s` from element `first`.
-pub fn open_group(
+pub(crate) fn open_group(
     h: &Header,
     hh: u64,
     k: u64,
@@ -177,7 +177,7 @@ const DECODE_RUN: usize = 32;
 /// group), both relative to `data`, the end of the directory: an error
 /// unless the group holds a codec byte and its checksum and ends within
 /// the value's `total` bytes.
-pub fn group_place(
+pub(crate) fn group_place(
     k: u64,
     data: u64,
     start: u64,

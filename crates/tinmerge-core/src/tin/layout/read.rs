@@ -12,7 +12,7 @@ pub const VERSION: u16 = 4;
 /// written when a level has any, so that a reader of format 4 refuses it.
 pub const VERSION_5: u16 = 5;
 /// Formats 4 and 5 (compact, in groups).
-pub fn is_compact(version: u16) -> bool {
+pub(crate) fn is_compact(version: u16) -> bool {
     version == VERSION || version == VERSION_5
 }
 /// Format 3: the body of format 1 in checksummed blocks.
@@ -72,7 +72,7 @@ impl Header {
     }
 
     /// Per level: triangles and grid cells.
-    pub fn level_counts(&self) -> Vec<(usize, usize)> {
+    pub(crate) fn level_counts(&self) -> Vec<(usize, usize)> {
         self.levels
             .iter()
             .map(|l| {
@@ -255,7 +255,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
 }
 
 /// Header length of a format version, None for an unknown one.
-pub fn header_len(version: u16) -> Option<usize> {
+pub(crate) fn header_len(version: u16) -> Option<usize> {
     match version {
         VERSION_1 => Some(FIXED_LEN),
         VERSION_3 => Some(HEADER_LEN_V3),
@@ -309,7 +309,7 @@ pub fn sections(h: &Header) -> Option<(u64, Vec<LevelSections>)> {
 }
 
 /// Number of version-3 blocks of a body of `body` bytes.
-pub fn num_blocks(body: u64) -> u64 {
+pub(crate) fn num_blocks(body: u64) -> u64 {
     body.div_ceil(BLOCK_PAYLOAD as u64)
 }
 
@@ -326,7 +326,7 @@ pub(super) fn value_len(h: &Header) -> Option<u64> {
 
 /// Where version-3 block `k` of a body of `body` bytes starts in the value,
 /// and its payload length.
-pub fn block_at(body: u64, k: u64) -> (u64, usize) {
+pub(crate) fn block_at(body: u64, k: u64) -> (u64, usize) {
     let start = HEADER_LEN_V3 as u64 + k * BLOCK_LEN as u64;
     let payload = (body - k * BLOCK_PAYLOAD as u64).min(BLOCK_PAYLOAD as u64) as usize;
     (start, payload)

@@ -8,7 +8,7 @@ use xxhash_rust::xxh3::Xxh3;
 /// The payload of version-3 block `k` of the value with header hash
 /// `hh`, from `b` = payload and checksum as stored; an error when the
 /// checksum does not match.
-pub fn check_block(hh: u64, k: u64, b: &[u8]) -> Result<&[u8], TinError> {
+pub(crate) fn check_block(hh: u64, k: u64, b: &[u8]) -> Result<&[u8], TinError> {
     checked(hh, k, b, "block")
 }
 
