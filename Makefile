@@ -22,6 +22,7 @@ psql:
 
 bench:
 	scripts/bench.sh
+	scripts/bench-joins.sh
 	scripts/bench-build.sh
 	scripts/bench-big.sh
 

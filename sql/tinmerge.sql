@@ -90,7 +90,7 @@ COMMENT ON FUNCTION tin_from_points(geometry, float8, int, geometry, geometry, g
 
 CREATE FUNCTION tin_envelope(t tin)
 RETURNS geometry AS $$ SELECT @extschema@._tin_envelope($1)::geometry $$
-LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_envelope(tin) IS
 'Bounding box of the tin as a POLYGON with its SRID (read from the header only).';
@@ -98,7 +98,7 @@ COMMENT ON FUNCTION tin_envelope(tin) IS
 CREATE FUNCTION tin_triangles(t tin, level int DEFAULT NULL)
 RETURNS TABLE(id int, parent int, geom geometry) AS
 $$ SELECT id, parent, geom::geometry FROM @extschema@._tin_triangles($1, $2) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_triangles(tin, int) IS
 'Triangles of one level (NULL = finest) as POLYGON Z with the tin''s SRID; parent is the containing triangle of the previous level (NULL at level 0).';
@@ -107,21 +107,21 @@ CREATE FUNCTION tin_as_svg(t tin, level int DEFAULT NULL, triangles int[] DEFAUL
                            vals float8[] DEFAULT NULL, classes text[] DEFAULT NULL,
                            features geometry DEFAULT NULL, legend text DEFAULT NULL, width int DEFAULT 800)
 RETURNS text AS $$ SELECT @extschema@._tin_as_svg($1, $2, $3, $4, $5, $6::bytea, $7, $8) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_as_svg(tin, int, int[], float8[], text[], geometry, text, int) IS
 'An SVG picture of one level (NULL = finest), width pixels wide, with a legend: triangles coloured by height; or, with triangles => ids and vals => values (e.g. array_agg of a merge''s output), by value (others grey); or with classes => labels, one colour per class (at most 20); triangles alone highlights them. features (a geometry in the tin''s SRID) is drawn on top. NULL when t is NULL.';
 
 CREATE FUNCTION tin_as_gltf(t tin, level int DEFAULT NULL, texture raster DEFAULT NULL, z_factor float8 DEFAULT 1.0)
 RETURNS bytea AS $$ SELECT @extschema@._tin_as_gltf($1, $2, $3::bytea, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_as_gltf(tin, int, raster, float8) IS
 'One level (NULL = finest) as a binary glTF 2.0 (.glb) mesh, y up, centred on the bounding box (the centre and SRID are in the node extras), heights times z_factor. With texture (a north-up raster in the tin''s SRID: 1 band grey, 3 RGB, 4 RGBA; at most 8192 pixels a side) the image is painted on the surface; without, vertices are coloured by height. NULL when t is NULL.';
 
 CREATE FUNCTION tin_as_geometry(t tin, level int DEFAULT NULL)
 RETURNS geometry AS $$ SELECT @extschema@._tin_as_geometry($1, $2)::geometry $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_as_geometry(tin, int) IS
 'One level (NULL = finest) as a PostGIS TIN Z geometry.';
@@ -134,7 +134,7 @@ COMMENT ON FUNCTION tin_as_geometry(tin, int) IS
 CREATE FUNCTION tin_line_triangles(t tin, line geometry, level int DEFAULT NULL, width float8 DEFAULT 0)
 RETURNS TABLE(seq int, triangle int) AS
 $$ SELECT * FROM @extschema@._tin_line_triangles($1, $2::bytea, $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_triangles(tin, geometry, int, float8) IS
 'Triangles of a level (NULL = finest) a LINESTRING or MULTILINESTRING passes through, in travel order (seq from 1; a triangle entered again appears again). With width > 0: every triangle within width/2 of the line, each once, ordered by where the line first comes that close. Stretches outside the domain are skipped; along a shared edge the smaller triangle id holds the stretch.';
@@ -142,7 +142,7 @@ COMMENT ON FUNCTION tin_line_triangles(tin, geometry, int, float8) IS
 CREATE FUNCTION tin_line_segments(t tin, line geometry, level int DEFAULT NULL)
 RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
 $$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM @extschema@._tin_line_segments($1, $2::bytea, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_segments(tin, geometry, int) IS
 'The line cut at every triangle edge of a level (NULL = finest): one LINESTRING Z on the surface per triangle crossed, in travel order, with its planar length, surface length and rise (end height minus start height). Stretches outside the domain are skipped.';
@@ -150,14 +150,14 @@ COMMENT ON FUNCTION tin_line_segments(tin, geometry, int) IS
 CREATE FUNCTION tin_line_profile(t tin, line geometry, level int DEFAULT NULL)
 RETURNS TABLE(distance float8, z float8) AS
 $$ SELECT * FROM @extschema@._tin_line_profile($1, $2::bytea, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_profile(tin, geometry, int) IS
 'Height profile along a line: every vertex of the draped line (the line''s vertices and its triangle-edge crossings) with its planar distance from the start (parts of a MULTILINESTRING follow each other). Stretches outside the domain give no points.';
 
 CREATE FUNCTION tin_line_climb(t tin, line geometry, level int DEFAULT NULL)
 RETURNS float8 AS $$ SELECT @extschema@._tin_line_climb($1, $2::bytea, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_climb(tin, geometry, int) IS
 'Total ascent along the direction of the line on the surface of a level (NULL = finest): the sum of the positive height differences along the draped line (0 for a line running only downhill; NULL when no part is in the domain).';
@@ -173,7 +173,7 @@ COMMENT ON FUNCTION tin_linetree(geometry) IS
 CREATE FUNCTION tin_line_segments(t tin, line linetree, level int DEFAULT NULL)
 RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
 $$ SELECT seq, triangle, geom::geometry, length2d, length3d, rise FROM @extschema@._tin_line_segments_tree($1, $2, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
 'tin_line_segments through a stored line tree: the same rows as for its geometry.';
@@ -186,27 +186,27 @@ COMMENT ON FUNCTION tin_line_segments(tin, linetree, int) IS
 CREATE FUNCTION tin_line_triangles(t tin, line text, level int DEFAULT NULL, width float8 DEFAULT 0)
 RETURNS TABLE(seq int, triangle int) AS
 $$ SELECT * FROM @extschema@.tin_line_triangles($1, $2::geometry, $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_triangles(tin, text, int, float8) IS
 'tin_line_triangles of a line given as text (WKT or EWKT, e.g. an untyped literal): the rows of line::geometry.';
 CREATE FUNCTION tin_line_segments(t tin, line text, level int DEFAULT NULL)
 RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS
 $$ SELECT * FROM @extschema@.tin_line_segments($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_segments(tin, text, int) IS
 'tin_line_segments of a line given as text (WKT or EWKT, e.g. an untyped literal): the rows of line::geometry.';
 CREATE FUNCTION tin_line_profile(t tin, line text, level int DEFAULT NULL)
 RETURNS TABLE(distance float8, z float8) AS
 $$ SELECT * FROM @extschema@.tin_line_profile($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_profile(tin, text, int) IS
 'tin_line_profile of a line given as text (WKT or EWKT, e.g. an untyped literal): the rows of line::geometry.';
 CREATE FUNCTION tin_line_climb(t tin, line text, level int DEFAULT NULL)
 RETURNS float8 AS $$ SELECT @extschema@.tin_line_climb($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
 'tin_line_climb of a line given as text (WKT or EWKT, e.g. an untyped literal): the value for line::geometry.';
@@ -234,7 +234,7 @@ ALTER FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) SET searc
 CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
 RETURNS float8 AS
 $$ SELECT s.area3d FROM @extschema@.tin_area_stats($1, $2, $3) s $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
 'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. Planar SRIDs only.';
@@ -243,7 +243,7 @@ COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
 CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false, half_open boolean DEFAULT false)
 RETURNS TABLE(triangle int, count bigint, sum float8, mean float8, min float8, max float8, mode float8) AS
 $$ SELECT * FROM @extschema@._tin_raster_zonal($1, $2::bytea, $3, $4, $5, $6) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_raster_stats(tin, raster, int, int, boolean, boolean) IS
 'Zonal statistics of a raster band per triangle of a level (NULL = finest). By default (scanline sweep) a pixel belongs to the triangle containing its centre (a centre on a shared edge goes to the triangle east of it, north of an east-west edge; on a vertex to the triangle just east-north-east of it; on the outer boundary to the triangle it lies on). With weighted => true every pixel a triangle overlaps counts by the exact fraction of its area inside the triangle, as exactextract does: count = pixels overlapped, sum = sum of value x fraction, mean = sum / sum of fractions, mode = value of greatest total coverage. With half_open => true a centre on the domain''s outer boundary counts only where the domain continues east of it (north of an east-west side), the rule of shared edges: over a table of tiles sharing their seams (tin_tiles) every seam centre is then counted by exactly one tile, the one a single tin of their union gives it to, and centres on the union''s west and south sides are not counted (weighted statistics need no such option: coverage fractions add up across seams). Nodata pixels are skipped; triangles receiving no pixel are not returned; mode ties go to the smallest value. The raster must be north-up, in-db, with the tin''s SRID.';
@@ -251,7 +251,7 @@ COMMENT ON FUNCTION tin_raster_stats(tin, raster, int, int, boolean, boolean) IS
 CREATE FUNCTION tin_raster_pixels(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, half_open boolean DEFAULT false)
 RETURNS TABLE(triangle int, col int, "row" int, value float8) AS
 $$ SELECT * FROM @extschema@._tin_raster_owners($1, $2::bytea, $3, $4, $5) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_raster_pixels(tin, raster, int, int, boolean) IS
 'Every valid pixel of a raster band with the triangle of a level (NULL = finest) containing its centre (the rule of tin_raster_stats, half_open included), in raster order; col and row numbered from 1 as in ST_Value. Nodata pixels and pixels outside the tin are left out.';
@@ -259,7 +259,7 @@ COMMENT ON FUNCTION tin_raster_pixels(tin, raster, int, int, boolean) IS
 CREATE FUNCTION tin_validate(t tin, rast raster, band int DEFAULT 1, breaklines geometry DEFAULT NULL)
 RETURNS TABLE(level int, problem text, triangle int, detail text) AS
 $$ SELECT * FROM @extschema@._tin_validate_raster($1, $2::bytea, $3, COALESCE($4::bytea, ''::bytea)) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 100000 ROWS 10
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 100000 ROWS 10 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_validate(tin, raster, int, geometry) IS
 'The rows of tin_validate(tin), and one row per level further from a raster band''s surface than its tolerance (problem ''over tolerance''): the surface is the band''s value at each valid pixel centre and, on every grid line between two valid pixel centres, the straight line between them (what gdal_contour and bilinear ST_Value use); a level is linear in each triangle, so its error there is largest at a pixel centre or where an edge crosses a grid line, and both are measured. triangle holds the worst place, detail its error, position and how many crossings and centres are over. Values built by 0.10.0 and earlier kept coarse heights along coarse edges into finer levels and show here; rebuild them (docs/upgrading.md). A tile (keep_border) can show for the one-pixel strip along its hull, whose vertices are its own samples so that neighbouring tiles agree. breaklines: the hard breaklines the tin was built with (tin_from_raster''s breaklines); the surface holds their own heights along them, so the grid segments they cut (within 1e-6 pixel) and the pixel centres on them are left out, as the build leaves them out. No rows for a sound value within its tolerances. The raster and the breaklines must have the tin''s SRID; nodata pixels are skipped. No rows for a NULL tin, raster or band.';
@@ -267,7 +267,7 @@ COMMENT ON FUNCTION tin_validate(tin, raster, int, geometry) IS
 CREATE FUNCTION tin_paint(t tin, rast raster, level int DEFAULT NULL)
 RETURNS TABLE(triangle int, r float8, g float8, b float8) AS
 $$ SELECT * FROM @extschema@._tin_paint($1, $2::bytea, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_paint(tin, raster, int) IS
 'An image painted on the surface: the mean colour (bands 1, 2, 3 as red, green, blue) of the pixels whose centres each triangle of a level (NULL = finest) contains (the rule of tin_raster_stats); a pixel counts when all three bands are valid. Triangles receiving no pixel are not returned.';
@@ -276,7 +276,7 @@ COMMENT ON FUNCTION tin_paint(tin, raster, int) IS
 CREATE FUNCTION tin_overlay(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
 RETURNS TABLE(id int, triangle_a int, triangle_b int, geom_a geometry, geom_b geometry) AS
 $$ SELECT id, triangle_a, triangle_b, geom_a::geometry, geom_b::geometry FROM @extschema@._tin_overlay($1, $2, $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_overlay(tin, tin, int, int) IS
 'Overlay of two tins at their levels (NULL = finest): a triangulation of the common domain holding every vertex and every edge of both (edges cut where they cross). Each output triangle with the triangle of a and of b containing it (ids as in tin_triangles) and twice as POLYGON Z: heights from surface a, then from surface b. Both tins must have the same SRID; disjoint domains give no rows.';
@@ -284,7 +284,7 @@ COMMENT ON FUNCTION tin_overlay(tin, tin, int, int) IS
 CREATE FUNCTION tin_overlay_tin(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
 RETURNS tin AS
 $$ SELECT @extschema@._tin_overlay_tin($1, $2, $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_overlay_tin(tin, tin, int, int) IS
 'The overlay of tin_overlay as a single-level tin with heights from a (tolerance 0), so every other merge works on it. NULL when the domains do not overlap.';
@@ -292,7 +292,7 @@ COMMENT ON FUNCTION tin_overlay_tin(tin, tin, int, int) IS
 CREATE FUNCTION tin_difference(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
 RETURNS TABLE(cut float8, fill float8, area_changed float8) AS
 $$ SELECT * FROM @extschema@._tin_difference($1, $2, $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_difference(tin, tin, int, int) IS
 'Surface difference of a against b over their common domain (as ArcGIS Surface Difference): cut = volume where a is above b, fill = volume where a is below b, area_changed = planar area where they differ. Exact for the linear surfaces: computed on the overlay, each triangle split at the line where a = b. No row when the domains do not overlap.';
@@ -323,49 +323,49 @@ CREATE OPERATOR CLASS tin_hash_ops DEFAULT FOR TYPE tin USING hash AS
 -- which PostgreSQL prefers for an untyped literal and reads as a geometry.
 CREATE FUNCTION tin_area_stats(t tin, area text, level int DEFAULT NULL)
 RETURNS TABLE(area2d float8, area3d float8, min_z float8, max_z float8, mean_z float8, mean_slope float8, max_slope float8) AS $$ SELECT * FROM @extschema@.tin_area_stats($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_area_stats(tin, text, int) IS
 'tin_area_stats of an area given as text (WKT or EWKT, e.g. an untyped literal): the answer for area::geometry.';
 CREATE FUNCTION tin_area_triangles(t tin, area text, level int DEFAULT NULL, compact boolean DEFAULT false)
 RETURNS TABLE(triangle int, level int, relation text, coverage float8) AS $$ SELECT * FROM @extschema@.tin_area_triangles($1, $2::geometry, $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_area_triangles(tin, text, int, boolean) IS
 'tin_area_triangles of an area given as text (WKT or EWKT, e.g. an untyped literal): the answer for area::geometry.';
 CREATE FUNCTION tin_drape(t tin, geom text, level int DEFAULT NULL)
 RETURNS geometry AS $$ SELECT @extschema@.tin_drape($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_drape(tin, text, int) IS
 'tin_drape of a geom given as text (WKT or EWKT, e.g. an untyped literal): the answer for geom::geometry.';
 CREATE FUNCTION tin_footprint(t tin, pt text, width float8, length float8, angle float8, level int DEFAULT NULL)
 RETURNS SETOF int AS $$ SELECT * FROM @extschema@.tin_footprint($1, $2::geometry, $3, $4, $5, $6) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 20
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 20 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_footprint(tin, text, float8, float8, float8, int) IS
 'tin_footprint of a pt given as text (WKT or EWKT, e.g. an untyped literal): the answer for pt::geometry.';
 CREATE FUNCTION tin_height(t tin, pt text, level int DEFAULT NULL)
 RETURNS float8 AS $$ SELECT @extschema@.tin_height($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_height(tin, text, int) IS
 'tin_height of a pt given as text (WKT or EWKT, e.g. an untyped literal): the answer for pt::geometry.';
 CREATE FUNCTION tin_locate(t tin, pt text, level int DEFAULT NULL)
 RETURNS int AS $$ SELECT @extschema@.tin_locate($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_locate(tin, text, int) IS
 'tin_locate of a pt given as text (WKT or EWKT, e.g. an untyped literal): the answer for pt::geometry.';
 CREATE FUNCTION tin_surface_area(t tin, area text, level int DEFAULT NULL)
 RETURNS float8 AS $$ SELECT @extschema@.tin_surface_area($1, $2::geometry, $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_surface_area(tin, text, int) IS
 'tin_surface_area of an area given as text (WKT or EWKT, e.g. an untyped literal): the answer for area::geometry.';
 CREATE FUNCTION tin_volume(t tin, area text, base_z float8, level int DEFAULT NULL)
 RETURNS TABLE(cut float8, fill float8) AS $$ SELECT * FROM @extschema@.tin_volume($1, $2::geometry, $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_volume(tin, text, float8, int) IS
 'tin_volume of an area given as text (WKT or EWKT, e.g. an untyped literal): the answer for area::geometry.';
@@ -385,73 +385,73 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION _tin_refuse_geography(text, text, tin) IS 'Internal: the error of the geography forms.';
 CREATE FUNCTION tin_area_stats(t tin, area geography, level int DEFAULT NULL)
 RETURNS TABLE(area2d float8, area3d float8, min_z float8, max_z float8, mean_z float8, mean_slope float8, max_slope float8) AS $$ SELECT * FROM @extschema@.tin_area_stats($1, @extschema@._tin_refuse_geography('tin_area_stats', 'area', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_area_stats(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(area::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_area_triangles(t tin, area geography, level int DEFAULT NULL, compact boolean DEFAULT false)
 RETURNS TABLE(triangle int, level int, relation text, coverage float8) AS $$ SELECT * FROM @extschema@.tin_area_triangles($1, @extschema@._tin_refuse_geography('tin_area_triangles', 'area', $1), $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_area_triangles(tin, geography, int, boolean) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(area::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_drape(t tin, geom geography, level int DEFAULT NULL)
 RETURNS geometry AS $$ SELECT @extschema@.tin_drape($1, @extschema@._tin_refuse_geography('tin_drape', 'geom', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_drape(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(geom::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_footprint(t tin, pt geography, width float8, length float8, angle float8, level int DEFAULT NULL)
 RETURNS SETOF int AS $$ SELECT * FROM @extschema@.tin_footprint($1, @extschema@._tin_refuse_geography('tin_footprint', 'pt', $1), $3, $4, $5, $6) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 20
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 20 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_footprint(tin, geography, float8, float8, float8, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(pt::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_height(t tin, pt geography, level int DEFAULT NULL)
 RETURNS float8 AS $$ SELECT @extschema@.tin_height($1, @extschema@._tin_refuse_geography('tin_height', 'pt', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_height(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(pt::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_line_climb(t tin, line geography, level int DEFAULT NULL)
 RETURNS float8 AS $$ SELECT @extschema@.tin_line_climb($1, @extschema@._tin_refuse_geography('tin_line_climb', 'line', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_climb(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(line::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_line_profile(t tin, line geography, level int DEFAULT NULL)
 RETURNS TABLE(distance float8, z float8) AS $$ SELECT * FROM @extschema@.tin_line_profile($1, @extschema@._tin_refuse_geography('tin_line_profile', 'line', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_profile(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(line::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_line_segments(t tin, line geography, level int DEFAULT NULL)
 RETURNS TABLE(seq int, triangle int, geom geometry, length2d float8, length3d float8, rise float8) AS $$ SELECT * FROM @extschema@.tin_line_segments($1, @extschema@._tin_refuse_geography('tin_line_segments', 'line', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_segments(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(line::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_line_triangles(t tin, line geography, level int DEFAULT NULL, width float8 DEFAULT 0)
 RETURNS TABLE(seq int, triangle int) AS $$ SELECT * FROM @extschema@.tin_line_triangles($1, @extschema@._tin_refuse_geography('tin_line_triangles', 'line', $1), $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_triangles(tin, geography, int, float8) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(line::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_locate(t tin, pt geography, level int DEFAULT NULL)
 RETURNS int AS $$ SELECT @extschema@.tin_locate($1, @extschema@._tin_refuse_geography('tin_locate', 'pt', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_locate(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(pt::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_surface_area(t tin, area geography, level int DEFAULT NULL)
 RETURNS float8 AS $$ SELECT @extschema@.tin_surface_area($1, @extschema@._tin_refuse_geography('tin_surface_area', 'area', $1), $3) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_surface_area(tin, geography, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(area::geometry, tin_srid(t)).';
 CREATE FUNCTION tin_volume(t tin, area geography, base_z float8, level int DEFAULT NULL)
 RETURNS TABLE(cut float8, fill float8) AS $$ SELECT * FROM @extschema@.tin_volume($1, @extschema@._tin_refuse_geography('tin_volume', 'area', $1), $3, $4) $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 ROWS 1 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_volume(tin, geography, float8, int) IS
 'Refuses a geography with a hint: tinmerge merges geometry in the tin''s SRID; pass ST_Transform(area::geometry, tin_srid(t)).';

@@ -3,7 +3,7 @@
 # install script in sql/versions/), store tin values with it, ALTER EXTENSION
 # tinmerge UPDATE, and check that (1) the stored values read the same and
 # answer the same, (2) what 0.2.0 added works on them, and (3) the upgraded
-# catalog (every function with its flags, source and comment, every
+# catalog (every function with its flags, source, support function and comment, every
 # operator, operator class, type and cast of the extension) is exactly what
 # a fresh CREATE EXTENSION of the new version makes. Needs the running test
 # cluster and the installed extension.
@@ -63,6 +63,7 @@ SELECT 'function ' || p.oid::regprocedure || ' returns ' || pg_get_function_resu
        || ' ' || p.provolatile::text || p.proisstrict::text || p.proparallel::text || ' cost ' || p.procost || ' rows ' || p.prorows
        || ' lang ' || l.lanname || ' src ' || md5(p.prosrc) || ' bin ' || coalesce(p.probin, '-')
        || ' config ' || coalesce(array_to_string(p.proconfig, ';'), '-')
+       || ' support ' || p.prosupport::regproc::text
        || ' comment ' || coalesce(md5(obj_description(p.oid, 'pg_proc')), 'NONE')
 FROM members m JOIN pg_proc p ON m.classid = 'pg_proc'::regclass AND p.oid = m.objid
 JOIN pg_language l ON l.oid = p.prolang

@@ -13,7 +13,7 @@ use tinmerge_core::analysis::slope::slope_aspect;
 use tinmerge_core::io::ewkb::Geom;
 use tinmerge_core::io::gserialized;
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_contours(
     t: Option<TinArg>,
     interval: Option<f64>,
@@ -45,7 +45,7 @@ COMMENT ON FUNCTION tin_contours(tin, float8, int, float8) IS
     requires = [tin_contours]
 );
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_slope_aspect(
     t: Option<TinArg>,
     level: default!(Option<i32>, "NULL"),

@@ -182,7 +182,7 @@ pub(super) fn triangles_rows(
         .collect()
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_area_triangles(
     t: Option<TinArg>,
     area: Option<GeomArg>,
@@ -254,7 +254,7 @@ pub(super) fn stats_row(
 }
 
 #[allow(clippy::type_complexity)]
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_area_stats(
     t: Option<TinArg>,
     area: Option<GeomArg>,
@@ -311,7 +311,7 @@ pub(super) fn volume_row(
     })
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_volume(
     t: Option<TinArg>,
     area: Option<GeomArg>,

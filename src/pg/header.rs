@@ -11,7 +11,7 @@ use super::tin_type::TinArg;
 use tinmerge_core::io::ewkb;
 use tinmerge_core::tin::resolve_level;
 
-#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn tin_srid(t: TinArg) -> i32 {
     t.header().srid
 }
@@ -24,7 +24,7 @@ COMMENT ON FUNCTION tin_srid(tin) IS 'SRID of the tin (header only).';
     requires = [tin_srid]
 );
 
-#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn tin_num_levels(t: TinArg) -> i32 {
     t.header().num_levels() as i32
 }
@@ -44,7 +44,7 @@ fn level_info(t: &TinArg, level: Option<i32>) -> tinmerge_core::tin::layout::Lev
     h.levels[l]
 }
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_num_triangles(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<i32> {
     t.map(|t| {
         let li = level_info(&t, level);
@@ -60,7 +60,7 @@ COMMENT ON FUNCTION tin_num_triangles(tin, int) IS 'Triangles at a level (NULL =
     requires = [tin_num_triangles]
 );
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_num_vertices(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<i32> {
     t.map(|t| level_info(&t, level).num_vertices as i32)
 }
@@ -73,7 +73,7 @@ COMMENT ON FUNCTION tin_num_vertices(tin, int) IS 'Vertices used by a level (NUL
     requires = [tin_num_vertices]
 );
 
-#[pg_extern(immutable, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, requires = ["tin_type"])]
 fn tin_tolerance(t: Option<TinArg>, level: default!(Option<i32>, "NULL")) -> Option<f64> {
     t.map(|t| level_info(&t, level).tolerance)
 }
@@ -86,7 +86,7 @@ COMMENT ON FUNCTION tin_tolerance(tin, int) IS 'Vertical error bound a level was
     requires = [tin_tolerance]
 );
 
-#[pg_extern(immutable, strict, parallel_safe, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, strict, parallel_safe, requires = ["tin_type"])]
 fn tin_info(t: TinArg) -> JsonB {
     let h = t.header();
     let b = h.bbox;

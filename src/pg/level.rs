@@ -50,7 +50,7 @@ fn small_level(t: &TinArg, level: Option<i32>) -> Option<LevelRows> {
 /// Every sliver, hidden crack and hole of a tin (see `tin::check::problems`):
 /// values built by tinmerge 0.2.0 from grids whose pixel centres round off
 /// their lattice lines have them; rebuild those (docs/upgrading.md).
-#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_validate(
     t: TinArg,
 ) -> TableIterator<

@@ -287,7 +287,7 @@ COMMENT ON FUNCTION _tin_line_climb(tin, bytea, int) IS 'Internal: use tin_line_
 /// `tin_drape`: the argument is read and the result written in PostGIS's own
 /// serialisation ([`gserialized`]), with no EWKB conversion either way; a
 /// POINT, the common per-row form, takes the point merge's path directly.
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_drape(
     t: Option<TinArg>,
     geom: Option<GeomArg>,

@@ -214,7 +214,7 @@ fn tin_level_tree<'a>(
     (tin, l, v)
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
 fn tin_line_triangles(
     t: Option<TinArg>,
     line: Option<LineTreeArg>,
@@ -313,7 +313,7 @@ fn tree_profile(
     )
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
 fn tin_line_profile(
     t: Option<TinArg>,
     line: Option<LineTreeArg>,
@@ -334,7 +334,7 @@ COMMENT ON FUNCTION tin_line_profile(tin, linetree, int) IS 'tin_line_profile th
     requires = [tin_line_profile]
 );
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["linetree_type", "tin_type"])]
 fn tin_line_climb(
     t: Option<TinArg>,
     line: Option<LineTreeArg>,

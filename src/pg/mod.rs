@@ -100,6 +100,7 @@ mod line;
 mod linetree;
 mod memory;
 mod overlay;
+mod planner;
 mod point;
 mod points_agg;
 mod raster;
@@ -121,6 +122,7 @@ pub extern "C-unwind" fn _PG_init() {
     cache::define_guc();
     memory::define_guc();
     threads::define_guc();
+    planner::init();
 }
 
 #[cfg(feature = "pg_test")]

@@ -18,7 +18,7 @@ use tinmerge_core::tin::TinError;
 // errors are Infallible, the sliced reader's TinError, so the conversion is
 // the identity in one of them)
 #[allow(clippy::useless_conversion)]
-#[pg_extern(immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
 fn tin_locate(
     t: Option<TinArg>,
     pt: Option<GeomArg>,
@@ -42,7 +42,7 @@ COMMENT ON FUNCTION tin_locate(tin, geometry, int) IS 'Id (as in tin_triangles) 
     requires = [tin_locate]
 );
 
-#[pg_extern(immutable, parallel_safe, cost = 50, requires = ["tin_type"])]
+#[pg_extern(immutable, parallel_safe, cost = 50, support = _tin_plan_support, requires = ["tin_type"])]
 fn tin_height(
     t: Option<TinArg>,
     pt: Option<GeomArg>,
@@ -76,7 +76,7 @@ pub(crate) fn height_at(t: &TinArg, level: Option<i32>, pt: &GeomArg, func: &str
     })
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 500, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 500, requires = ["tin_type"])]
 fn tin_footprint(
     t: Option<TinArg>,
     pt: Option<GeomArg>,

@@ -255,7 +255,7 @@ fn tins_of(ts: &Array<'_, TinArg>) -> Vec<Arc<Tin>> {
     ts.iter().flatten().map(|t| t.tin()).collect()
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh", requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh", requires = ["tin_type"])]
 fn tin_quantized_mesh_tiles(
     ts: Option<Array<'_, TinArg>>,
     z: Option<i32>,
@@ -268,7 +268,7 @@ fn tin_quantized_mesh_tiles(
     tile(&tins_of(&ts), None, z, x, y, normals.unwrap_or(false), fill)
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 5000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 5000, requires = ["tin_type"])]
 fn tin_quantized_mesh(
     t: Option<TinArg>,
     z: Option<i32>,
@@ -281,7 +281,7 @@ fn tin_quantized_mesh(
     tile(&[t.tin()], None, z, x, y, normals.unwrap_or(false), fill)
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 5000, name = "tin_quantized_mesh", requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 5000, name = "tin_quantized_mesh", requires = ["tin_type"])]
 fn tin_quantized_mesh_level(
     t: Option<TinArg>,
     level: Option<i32>,
@@ -320,7 +320,7 @@ COMMENT ON FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8) IS
     ]
 );
 
-#[pg_extern(immutable, parallel_safe, cost = 1000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 1000, requires = ["tin_type"])]
 fn tin_quantized_mesh_layer(
     t: Option<TinArg>,
     normals: default!(Option<bool>, "false"),
@@ -330,7 +330,7 @@ fn tin_quantized_mesh_layer(
     layer(&[t?.tin()], normals, fill, name)
 }
 
-#[pg_extern(immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh_layer", requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh_layer", requires = ["tin_type"])]
 fn tin_quantized_mesh_layer_tiles(
     ts: Option<Array<'_, TinArg>>,
     normals: default!(Option<bool>, "false"),

@@ -409,7 +409,7 @@ COMMENT ON TYPE tin IS 'A terrain surface as an adaptive hierarchical triangulat
 /// `tin_rewrite`: the same terrain in the current storage format (a value
 /// stored by an older version keeps reading as it is; rewriting it lets the
 /// per-row point functions read it in slices).
-#[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
+#[pg_extern(support = _tin_plan_support, immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_rewrite(t: TinArg) -> TinOut {
     if t.header().version == layout::VERSION {
         return TinOut(t.bytes().to_vec());

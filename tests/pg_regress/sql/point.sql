@@ -70,10 +70,11 @@ SELECT setseed(0.7);
 CREATE TABLE rects AS
 WITH b AS (SELECT ST_XMin(e) x0, ST_YMin(e) y0, ST_XMax(e) - ST_XMin(e) w, ST_YMax(e) - ST_YMin(e) h
            FROM (SELECT tin_envelope(t)::box2d e FROM terrain) s)
+-- (random() drawn in (level, i) order whatever order the planner joins in)
 SELECT l AS level, i, x0 - 0.1 * w + random() * 1.2 * w AS x, y0 - 0.1 * h + random() * 1.2 * h AS y,
        random() * (ARRAY[20, 500, 5000])[1 + i % 3] AS width, random() * (ARRAY[20, 500, 5000])[1 + i % 3] AS length,
        random() * 720 - 360 AS angle
-FROM b, generate_series(0, 4) l, generate_series(1, 100) i;
+FROM (SELECT * FROM b, generate_series(0, 4) l, generate_series(1, 100) i ORDER BY l, i OFFSET 0) s;
 SELECT r.level,
        count(*) AS footprints,
        sum(cardinality(got)) AS triangles,

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# The join forms users write, side by side: the heights of 200,000 random
+# points on the bundled DEM's tin at 1 m, 6 levels, through every way of
+# handing a terrain row to tin_height, against ST_Value over 64x64 raster
+# tiles with a GiST index (the PostGIS way), in one run. The forms run in
+# interleaved rounds (each round runs every form once), so a noisy moment
+# hits all of them; medians of 7 rounds. One core per query
+# (max_parallel_workers_per_gather = 0), JIT as the server has it (on).
+# Part of `make bench`; the table goes to docs/performance.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/cluster.sh start >/dev/null
+db=tinmerge_joins
+q() { scripts/cluster.sh psql -qAtX -v ON_ERROR_STOP=1 -d $db "$@"; }
+scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREATE DATABASE $db"
+q -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
+scripts/load-data.sh $db >/dev/null
+raster2pgsql -s 32616 -N -9999 -t 64x64 -I tests/data/jacksboro_fault_dem_utm16n.tif public.dem_tiles 2>/dev/null \
+  | scripts/cluster.sh psql -q -d $db >/dev/null
+q <<'SQL'
+-- the terrain as users make it: CREATE TABLE AS, never analyzed (autovacuum
+-- never analyzes a table of one row) ...
+CREATE TABLE terrain_fresh AS SELECT 1 AS id, tin_from_raster(rast, 1.0, 6) AS t FROM dem;
+-- ... and the same row in a table that was analyzed
+CREATE TABLE terrain AS SELECT * FROM terrain_fresh;
+ANALYZE terrain;
+-- the same terrain as tiles of 128 pixels with a GiST index (docs/scaling.md)
+CREATE TABLE terrain_tiles AS SELECT tx, ty, t FROM dem, tin_tiles(rast, 128, 1.0, 6);
+CREATE INDEX ON terrain_tiles USING gist (tin_envelope(t));
+ANALYZE terrain_tiles;
+SELECT setseed(0.25);
+CREATE TABLE pts AS
+SELECT i AS id, ST_SetSRID(ST_MakePoint(x0 + random() * w, y0 + random() * h), 32616) AS geom
+FROM (SELECT ST_XMin(e) x0, ST_YMin(e) y0, ST_XMax(e) - ST_XMin(e) w, ST_YMax(e) - ST_YMin(e) h
+      FROM (SELECT tin_envelope(t)::box2d e FROM terrain) s) b, generate_series(1, 200000) i;
+VACUUM ANALYZE pts;
+VACUUM ANALYZE dem_tiles;
+-- rounds(queries, n): each round runs every query once, in order; the
+-- median of each query's n times in ms
+CREATE FUNCTION rounds(labels text[], queries text[], n int)
+RETURNS TABLE(k int, what text, median_ms float8) LANGUAGE plpgsql AS $$
+DECLARE t0 timestamptz; ms float8[] := array_fill(0::float8, ARRAY[n, array_length(queries, 1)]);
+BEGIN
+  FOR r IN 1..n LOOP
+    FOR i IN 1..array_length(queries, 1) LOOP
+      t0 := clock_timestamp();
+      EXECUTE queries[i];
+      ms[r][i] := extract(epoch FROM clock_timestamp() - t0) * 1000;
+    END LOOP;
+  END LOOP;
+  RETURN QUERY
+  SELECT i, labels[i], (SELECT percentile_cont(0.5) WITHIN GROUP (ORDER BY ms[r][i]) FROM generate_series(1, n) r)
+  FROM generate_series(1, array_length(queries, 1)) i;
+END $$;
+SQL
+echo "== join forms: sum(tin_height(t, geom)) of 200,000 points, the DEM's tin at 1 m, 6 levels ($(q -c "SELECT tin_num_triangles(t) FROM terrain") finest triangles; $(q -c "SELECT count(*) FROM terrain_tiles") tiles of 128 px)"
+q -F ' | ' <<'SQL'
+SET max_parallel_workers_per_gather = 0;
+PREPARE heights(int) AS SELECT sum(tin_height(t.t, p.geom)) FROM pts p, terrain_fresh t WHERE t.id = $1;
+-- warm: every value decoded once, every library loaded
+SELECT count(tin_height(t, geom)) FROM pts, terrain;
+SELECT count(tin_height(t, geom)) FROM pts p JOIN terrain_tiles k ON tin_envelope(k.t) && p.geom;
+SELECT count(ST_Value(rast, 1, geom)) FROM pts p JOIN dem_tiles r ON ST_Intersects(r.rast, p.geom);
+CREATE TEMP TABLE res AS SELECT * FROM rounds(ARRAY[
+  'comma join, terrain never analyzed: FROM pts p, terrain t',
+  'comma join, terrain analyzed',
+  'JOIN terrain t ON true',
+  'CROSS JOIN LATERAL (SELECT t FROM terrain) t',
+  'WHERE filter on the terrain row: FROM pts p, terrain t WHERE t.id = 1',
+  'scalar subquery: tin_height((SELECT t FROM terrain), p.geom)',
+  'prepared statement: EXECUTE heights(1) (comma join, WHERE t.id = $1)',
+  'GiST join over tiles: JOIN terrain_tiles k ON tin_envelope(k.t) && p.geom',
+  'PostGIS: ST_Value(rast, 1, geom), 64x64 tiles JOIN ON ST_Intersects (GiST)'], ARRAY[
+  'SELECT sum(tin_height(t.t, p.geom)) FROM pts p, terrain_fresh t',
+  'SELECT sum(tin_height(t.t, p.geom)) FROM pts p, terrain t',
+  'SELECT sum(tin_height(t.t, p.geom)) FROM pts p JOIN terrain_fresh t ON true',
+  'SELECT sum(tin_height(t.t, p.geom)) FROM pts p CROSS JOIN LATERAL (SELECT t FROM terrain_fresh) t',
+  'SELECT sum(tin_height(t.t, p.geom)) FROM pts p, terrain_fresh t WHERE t.id = 1',
+  'SELECT sum(tin_height((SELECT t FROM terrain_fresh), p.geom)) FROM pts p',
+  'EXECUTE heights(1)',
+  'SELECT sum(tin_height(k.t, p.geom)) FROM pts p JOIN terrain_tiles k ON tin_envelope(k.t) && p.geom',
+  'SELECT sum(ST_Value(rast, 1, geom)) FROM pts p JOIN dem_tiles r ON ST_Intersects(r.rast, p.geom)'], 7);
+SELECT what AS form, round(median_ms::numeric, 1) AS median_ms,
+       round((median_ms * 1000 / 200000)::numeric, 3) AS us_per_row,
+       round((median_ms / min(median_ms) FILTER (WHERE k < 9) OVER ())::numeric, 2) AS x_fastest,
+       round((max(median_ms) FILTER (WHERE k = 9) OVER () / median_ms)::numeric, 1) AS st_value_over_this
+FROM res ORDER BY k;
+SQL
+echo "== plans: the comma join on the never-analyzed terrain (rows as the planner sees them)"
+q -c "SET max_parallel_workers_per_gather = 0" -c "EXPLAIN SELECT sum(tin_height(t.t, p.geom)) FROM pts p, terrain_fresh t"
+echo "== floor: sum(ST_X(geom)) of the same rows (reading the points alone)"
+q -F ' | ' -c "SET max_parallel_workers_per_gather = 0" -c "SELECT round(median_ms::numeric, 1) AS median_ms, round((median_ms * 1000 / 200000)::numeric, 3) AS us_per_row FROM rounds(ARRAY['st_x'], ARRAY['SELECT sum(ST_X(geom)) FROM pts'], 7)"
