@@ -4,7 +4,7 @@
 # handing a terrain row to tin_height, against ST_Value over 64x64 raster
 # tiles with a GiST index (the PostGIS way), in one run. The forms run in
 # interleaved rounds (each round runs every form once), so a noisy moment
-# hits all of them; medians of 7 rounds. One core per query
+# hits all of them; medians of 9 rounds. One core per query
 # (max_parallel_workers_per_gather = 0), JIT as the server has it (on).
 # Part of `make bench`; the table goes to docs/performance.md.
 set -euo pipefail
@@ -35,10 +35,12 @@ FROM (SELECT ST_XMin(e) x0, ST_YMin(e) y0, ST_XMax(e) - ST_XMin(e) w, ST_YMax(e)
       FROM (SELECT tin_envelope(t)::box2d e FROM terrain) s) b, generate_series(1, 200000) i;
 VACUUM ANALYZE pts;
 VACUUM ANALYZE dem_tiles;
--- rounds(queries, n): each round runs every query once, in order; the
--- median of each query's n times in ms
-CREATE FUNCTION rounds(labels text[], queries text[], n int)
-RETURNS TABLE(k int, what text, median_ms float8) LANGUAGE plpgsql AS $$
+-- rounds(queries, n, ref): each round runs every query once, in order;
+-- the median of each query's n times in ms, and the median over the
+-- rounds of its time over query ref's in the same round (a ratio a noisy
+-- moment moves less)
+CREATE FUNCTION rounds(labels text[], queries text[], n int, ref int DEFAULT 1)
+RETURNS TABLE(k int, what text, median_ms float8, ratio_to_ref float8) LANGUAGE plpgsql AS $$
 DECLARE t0 timestamptz; ms float8[] := array_fill(0::float8, ARRAY[n, array_length(queries, 1)]);
 BEGIN
   FOR r IN 1..n LOOP
@@ -49,7 +51,8 @@ BEGIN
     END LOOP;
   END LOOP;
   RETURN QUERY
-  SELECT i, labels[i], (SELECT percentile_cont(0.5) WITHIN GROUP (ORDER BY ms[r][i]) FROM generate_series(1, n) r)
+  SELECT i, labels[i], (SELECT percentile_cont(0.5) WITHIN GROUP (ORDER BY ms[r][i]) FROM generate_series(1, n) r),
+         (SELECT percentile_cont(0.5) WITHIN GROUP (ORDER BY ms[r][i] / ms[r][ref]) FROM generate_series(1, n) r)
   FROM generate_series(1, array_length(queries, 1)) i;
 END $$;
 SQL
@@ -79,14 +82,15 @@ CREATE TEMP TABLE res AS SELECT * FROM rounds(ARRAY[
   'SELECT sum(tin_height((SELECT t FROM terrain_fresh), p.geom)) FROM pts p',
   'EXECUTE heights(1)',
   'SELECT sum(tin_height(k.t, p.geom)) FROM pts p JOIN terrain_tiles k ON tin_envelope(k.t) && p.geom',
-  'SELECT sum(ST_Value(rast, 1, geom)) FROM pts p JOIN dem_tiles r ON ST_Intersects(r.rast, p.geom)'], 7);
+  'SELECT sum(ST_Value(rast, 1, geom)) FROM pts p JOIN dem_tiles r ON ST_Intersects(r.rast, p.geom)'], 9, 6);
 SELECT what AS form, round(median_ms::numeric, 1) AS median_ms,
        round((median_ms * 1000 / 200000)::numeric, 3) AS us_per_row,
        round((median_ms / min(median_ms) FILTER (WHERE k < 9) OVER ())::numeric, 2) AS x_fastest,
+       round(ratio_to_ref::numeric, 2) AS x_subquery_same_round,
        round((max(median_ms) FILTER (WHERE k = 9) OVER () / median_ms)::numeric, 1) AS st_value_over_this
 FROM res ORDER BY k;
 SQL
 echo "== plans: the comma join on the never-analyzed terrain (rows as the planner sees them)"
 q -c "SET max_parallel_workers_per_gather = 0" -c "EXPLAIN SELECT sum(tin_height(t.t, p.geom)) FROM pts p, terrain_fresh t"
 echo "== floor: sum(ST_X(geom)) of the same rows (reading the points alone)"
-q -F ' | ' -c "SET max_parallel_workers_per_gather = 0" -c "SELECT round(median_ms::numeric, 1) AS median_ms, round((median_ms * 1000 / 200000)::numeric, 3) AS us_per_row FROM rounds(ARRAY['st_x'], ARRAY['SELECT sum(ST_X(geom)) FROM pts'], 7)"
+q -F ' | ' -c "SET max_parallel_workers_per_gather = 0" -c "SELECT round(median_ms::numeric, 1) AS median_ms, round((median_ms * 1000 / 200000)::numeric, 3) AS us_per_row FROM rounds(ARRAY['st_x'], ARRAY['SELECT sum(ST_X(geom)) FROM pts'], 9)"
