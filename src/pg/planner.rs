@@ -17,9 +17,10 @@
 //! column, never analyzed, under the ten pages PostgreSQL assumes. Its rows
 //! are counted (at most ten pages read, under the query's snapshot) and
 //! its pages are its real ones. Every other relation keeps PostgreSQL's
-//! own estimate. The hook is installed by `_PG_init`, so it plans the
-//! queries of a session after tinmerge is loaded in it (its first call, or
-//! from the start with `shared_preload_libraries`).
+//! own estimate. The hook is installed by `_PG_init`; every function that
+//! takes a `tin` names [`_tin_plan_support`] as its planner support, which
+//! PostgreSQL calls before it sizes the query's tables, so a session's
+//! first query that names a tinmerge function loads tinmerge in time.
 
 use pgrx::pg_sys;
 use pgrx::prelude::*;
