@@ -17,7 +17,7 @@ use pgrx::datum::Array;
 use pgrx::Json;
 use std::sync::Arc;
 use tinmerge_core::serve::quantized_mesh::{
-    encode_many, hull, needed, split_length, tile_bytes, Source,
+    encode_many, hull, needed, split_length, tile_bytes, Source, TileOptions,
 };
 use tinmerge_core::serve::tiling::{layer_json, level_for_zoom, tile_bounds, TileBounds};
 use tinmerge_core::tin::Tin;
@@ -175,7 +175,7 @@ fn tile(
     let Some(first) = tins.first() else {
         // no tin: off the terrain
         let empty = Vec::new();
-        return encode_many(&empty, &tb, normals, fill, &mut interrupt).or_raise();
+        return encode_many(&empty, &tb, TileOptions { normals, fill }, &mut interrupt).or_raise();
     };
     for tin in tins {
         check_srid(tin, "tin_quantized_mesh");
@@ -212,7 +212,14 @@ fn tile(
             } else {
                 Some(footprint(tin, &tb, &b))
             };
-            needed(tin, l, f, normals, fill.is_some(), max_len, &mut interrupt).or_raise()
+            needed(
+                tin,
+                l,
+                f,
+                TileOptions { normals, fill }.need(max_len),
+                &mut interrupt,
+            )
+            .or_raise()
         };
         memory::reserve(tile_bytes(need.triangles.len() + need.ring.len()), || {
             format!(
@@ -235,7 +242,7 @@ fn tile(
             geo,
         })
         .collect();
-    encode_many(&sources, &tb, normals, fill, &mut interrupt).or_raise()
+    encode_many(&sources, &tb, TileOptions { normals, fill }, &mut interrupt).or_raise()
 }
 
 /// Each level's largest measured error over the tins.

@@ -14,7 +14,9 @@
 use crate::common;
 
 use std::collections::HashMap;
-use tinmerge_core::serve::quantized_mesh::{ecef, encode, needed, split_length};
+use tinmerge_core::serve::quantized_mesh::{
+    NeedOptions, Source, TileOptions, ecef, encode, needed, split_length,
+};
 use tinmerge_core::serve::tiling::{
     TileBounds, geometric_error, level_for_zoom, max_zoom, tile_bounds, tile_range,
 };
@@ -291,32 +293,23 @@ fn tile_in(
     fill: Option<f64>,
     footprint: Option<[f64; 4]>,
 ) -> Option<Vec<u8>> {
-    let need = needed(
-        &c.tin,
-        level,
-        footprint,
-        normals,
-        fill.is_some(),
-        max_len(c),
-        &mut || Ok(()),
-    )
+    let opts = TileOptions { normals, fill };
+    let need = needed(&c.tin, level, footprint, opts.need(max_len(c)), &mut || {
+        Ok(())
+    })
     .unwrap();
     let geo: Vec<[f64; 2]> = need
         .points(&c.tin)
         .iter()
         .map(|p| (c.map)(p[0], p[1]))
         .collect();
-    encode(
-        &c.tin,
+    let src = Source {
+        tin: &c.tin,
         level,
-        tb,
-        &need,
-        &geo,
-        normals,
-        fill,
-        &mut || Ok(()),
-    )
-    .unwrap()
+        need: &need,
+        geo: &geo,
+    };
+    encode(src, tb, opts, &mut || Ok(())).unwrap()
 }
 
 fn bounds(tris: &[[[f64; 3]; 3]]) -> [f64; 4] {
@@ -803,7 +796,7 @@ fn a_vertex_near_a_side_is_not_an_edge_vertex() {
 /// terrain's outer edge, never along a seam.
 #[test]
 fn tiled_terrain_is_one_mesh() {
-    use tinmerge_core::serve::quantized_mesh::{Source, encode_many};
+    use tinmerge_core::serve::quantized_mesh::encode_many;
     let d = common::read_dem("jacksboro_fault_dem.tif");
     let tols = default_tolerances(2.0, 3).unwrap();
     let tins: Vec<Tin> = common::tiles_of(&d, 150, &tols, 4326)
@@ -844,7 +837,20 @@ fn tiled_terrain_is_one_mesh() {
                     let tb = tile_bounds(z, x as i32, y as i32).unwrap();
                     let needs: Vec<_> = tins
                         .iter()
-                        .map(|t| needed(t, level, None, true, true, None, &mut || Ok(())).unwrap())
+                        .map(|t| {
+                            needed(
+                                t,
+                                level,
+                                None,
+                                NeedOptions {
+                                    normals: true,
+                                    fill: true,
+                                    max_len: None,
+                                },
+                                &mut || Ok(()),
+                            )
+                            .unwrap()
+                        })
                         .collect();
                     let geos: Vec<Vec<[f64; 2]>> =
                         tins.iter().zip(&needs).map(|(t, n)| n.points(t)).collect();
@@ -860,8 +866,16 @@ fn tiled_terrain_is_one_mesh() {
                         })
                         .collect();
                     let oracle: f64 = clipped_area(&tris, &tb);
-                    let Some(bytes) = encode_many(&srcs, &tb, true, None, &mut || Ok(())).unwrap()
-                    else {
+                    let Some(bytes) = encode_many(
+                        &srcs,
+                        &tb,
+                        TileOptions {
+                            normals: true,
+                            fill: None,
+                        },
+                        &mut || Ok(()),
+                    )
+                    .unwrap() else {
                         assert!(oracle < 1e-15);
                         continue;
                     };
@@ -894,9 +908,17 @@ fn tiled_terrain_is_one_mesh() {
                     }
                     // with fill: walls (triangles without area) only on the outer edge
                     let filled = decode(
-                        &encode_many(&srcs, &tb, false, Some(0.0), &mut || Ok(()))
-                            .unwrap()
-                            .unwrap(),
+                        &encode_many(
+                            &srcs,
+                            &tb,
+                            TileOptions {
+                                normals: false,
+                                fill: Some(0.0),
+                            },
+                            &mut || Ok(()),
+                        )
+                        .unwrap()
+                        .unwrap(),
                     );
                     let full = (tb.east - tb.west) * (tb.north - tb.south);
                     assert!((filled.area(&tb) - full).abs() <= 1e-9 * full);

@@ -5,10 +5,10 @@ use rustc_hash::FxHashMap;
 
 use super::clip::{Kind, Source, Tile};
 use super::mesh::{A, B, TileMesh, cross, dot, ecef, norm, sub, tile_mesh, tiles_of};
-use super::needed::Needed;
+use super::needed::NeedOptions;
 use crate::interrupt::Interrupt;
 use crate::serve::tiling::TileBounds;
-use crate::tin::{Tin, TinError};
+use crate::tin::TinError;
 
 /// The largest quantized coordinate.
 const QMAX: f64 = 32767.0;
@@ -157,28 +157,38 @@ fn normals(cxs: &[Tile], mesh: &TileMesh) -> Result<Vec<[f64; 3]>, TinError> {
     Ok(out)
 }
 
+/// How a tile is encoded.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TileOptions {
+    /// The oct-encoded vertex normals extension.
+    pub normals: bool,
+    /// The height of the fill where the terrain is not (`None`: no fill).
+    pub fill: Option<f64>,
+}
+
+impl TileOptions {
+    /// What [`needed()`](super::needed::needed) must pick for such a tile,
+    /// with edges split longer than `max_len`.
+    pub fn need(self, max_len: Option<f64>) -> NeedOptions {
+        NeedOptions {
+            normals: self.normals,
+            fill: self.fill.is_some(),
+            max_len,
+        }
+    }
+}
+
 /// The quantized-mesh tile `tile` of `level`: `None` when nothing of the
-/// terrain (and no fill) meets it. `need` from [`needed()`](super::needed::needed) (with the same
-/// `normals` and fill), `geo` the geographic position of each of
-/// [`Needed::points`].
-#[allow(clippy::too_many_arguments)]
+/// terrain (and no fill) meets it. `need` from [`needed()`](super::needed::needed) (with
+/// [`TileOptions::need`] of the same `opts`), `geo` the geographic position
+/// of each of [`Needed::points`](super::needed::Needed::points).
 pub fn encode(
-    tin: &Tin,
-    level: usize,
+    src: Source<'_>,
     tile: &TileBounds,
-    need: &Needed,
-    geo: &[[f64; 2]],
-    with_normals: bool,
-    fill: Option<f64>,
+    opts: TileOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<Vec<u8>>, TinError> {
-    let src = Source {
-        tin,
-        level,
-        need,
-        geo,
-    };
-    encode_many(&[src], tile, with_normals, fill, interrupt)
+    encode_many(&[src], tile, opts, interrupt)
 }
 
 /// The mesh's vertices numbered in order of first use (the high-water-mark
@@ -265,10 +275,13 @@ fn bounding_sphere(
 pub fn encode_many(
     sources: &[Source],
     tile: &TileBounds,
-    with_normals: bool,
-    fill: Option<f64>,
+    opts: TileOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<Vec<u8>>, TinError> {
+    let TileOptions {
+        normals: with_normals,
+        fill,
+    } = opts;
     let Some(mesh) = tile_mesh(sources, tile, fill, interrupt)? else {
         return Ok(None);
     };

@@ -53,7 +53,7 @@
 //! corner; the ellipsoid's normal for fill corners.
 //!
 //! ```
-//! use tinmerge_core::serve::quantized_mesh::{encode, needed};
+//! use tinmerge_core::serve::quantized_mesh::{Source, TileOptions, encode, needed};
 //! use tinmerge_core::serve::tiling::tile_bounds;
 //! use tinmerge_core::tin::build::build;
 //! let mut pts = Vec::new();
@@ -65,10 +65,12 @@
 //! }
 //! let tin = build(pts, &[5.0, 0.0], 4326, &mut || Ok(())).unwrap();
 //! // a tin in EPSG:4326: its own coordinates are the geographic ones
-//! let need = needed(&tin, 1, None, false, false, None, &mut || Ok(())).unwrap();
+//! let opts = TileOptions::default(); // no normals, no fill
+//! let need = needed(&tin, 1, None, opts.need(None), &mut || Ok(())).unwrap();
 //! let geo = need.points(&tin);
 //! let tile = tile_bounds(8, 136, 179).unwrap();
-//! let bytes = encode(&tin, 1, &tile, &need, &geo, false, None, &mut || Ok(())).unwrap().unwrap();
+//! let src = Source { tin: &tin, level: 1, need: &need, geo: &geo };
+//! let bytes = encode(src, &tile, opts, &mut || Ok(())).unwrap().unwrap();
 //! assert!(bytes.len() > 88);
 //! ```
 //!
@@ -82,6 +84,6 @@ mod mesh;
 mod needed;
 
 pub use clip::Source;
-pub use encode::{encode, encode_many, tile_bytes};
+pub use encode::{TileOptions, encode, encode_many, tile_bytes};
 pub use mesh::{TileMesh, ecef};
-pub use needed::{Needed, Split, hull, needed, split_length};
+pub use needed::{NeedOptions, Needed, Split, hull, needed, split_length};

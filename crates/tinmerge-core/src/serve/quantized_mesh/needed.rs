@@ -104,13 +104,28 @@ impl Needed {
     }
 }
 
+/// What a tile asks of [`needed`] besides its triangles.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NeedOptions {
+    /// The tile carries vertex normals: the triangles around the picked
+    /// triangles' vertices are needed too.
+    pub normals: bool,
+    /// The tile is filled where the terrain is not: the level's hull edges
+    /// are needed.
+    pub fill: bool,
+    /// Edges longer than this (the tin's units; `None`: never) are split
+    /// (see [`needed`]).
+    pub max_len: Option<f64>,
+}
+
 /// The triangles of `level` that meet `footprint` = `[min x, min y, max
 /// x, max y]` in the tin's coordinates (`None`: all; the caller widens it
 /// by what the geographic image of a triangle can differ from its own
 /// footprint), found by the area merge's flat sweep of that rectangle,
-/// with what [`encode`](super::encode::encode) needs about them.
+/// with what [`encode`](super::encode::encode) needs about them
+/// ([`NeedOptions`]).
 ///
-/// `max_len` (the tin's units; `None`: never) splits every edge longer
+/// `opts.max_len` (the tin's units; `None`: never) splits every edge longer
 /// than it into equal pieces ([`split_length`] gives it): a straight edge
 /// of a projected tin is a curve in longitude/latitude, and the straight
 /// line between its transformed ends can pass on the wrong side of a
@@ -122,11 +137,14 @@ pub fn needed(
     tin: &Tin,
     level: usize,
     footprint: Option<[f64; 4]>,
-    normals: bool,
-    fill: bool,
-    max_len: Option<f64>,
+    opts: NeedOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Needed, TinError> {
+    let NeedOptions {
+        normals,
+        fill,
+        max_len,
+    } = opts;
     let lv = &tin.levels[level];
     let mut out = Needed {
         base: lv.num_vertices,
@@ -229,16 +247,12 @@ pub fn needed(
 /// the terrain's exact geographic extent.
 pub fn hull(tin: &Tin, level: usize, max_len: Option<f64>) -> Needed {
     // an empty footprint: no triangle, and nothing that can fail
-    needed(
-        tin,
-        level,
-        Some([0.0; 4]),
-        false,
-        true,
+    let opts = NeedOptions {
+        normals: false,
+        fill: true,
         max_len,
-        &mut || Ok(()),
-    )
-    .unwrap_or_default()
+    };
+    needed(tin, level, Some([0.0; 4]), opts, &mut || Ok(())).unwrap_or_default()
 }
 
 /// The longest edge that may stay straight in longitude/latitude: the

@@ -16,24 +16,62 @@ use crate::tin::sides::choose_border;
 use crate::tin::surface::{GridReference, Reference};
 use crate::tin::{Tin, TinError};
 
+/// What a build makes from its samples: the tolerances and SRID, the
+/// options, and what constrains it (none by default: [`Spec::new`]).
+pub(super) struct Spec<'a> {
+    pub(super) tolerances: &'a [f64],
+    pub(super) srid: i32,
+    pub(super) opts: BuildOptions,
+    /// breaklines held as edges of every level
+    pub(super) lines: &'a [Breakline],
+    /// the domain's boundaries (none: the samples' hull)
+    pub(super) boundaries: &'a [&'a Area],
+    /// the samples are pixel centres of a lattice (in its own frame)
+    pub(super) on_lattice: bool,
+    /// the surface the tolerance holds on between samples (none: at the
+    /// samples only, or the lattice's own when `opts.between_samples`)
+    pub(super) reference: Option<&'a dyn Reference>,
+    /// the seam samples each level keeps
+    pub(super) border: &'a Border,
+}
+
+impl<'a> Spec<'a> {
+    /// Scattered samples, no constraint, no border.
+    pub(super) fn new(tolerances: &'a [f64], srid: i32, opts: BuildOptions) -> Self {
+        const NO_BORDER: &Border = &Border { levels: Vec::new() };
+        Spec {
+            tolerances,
+            srid,
+            opts,
+            lines: &[],
+            boundaries: &[],
+            on_lattice: false,
+            reference: None,
+            border: NO_BORDER,
+        }
+    }
+}
+
 /// The build. Lattice samples (`on_lattice`) that fill most of their
 /// window of the lattice are built in place there ([`build_dense`]);
 /// scattered samples, and lattice samples too sparse for that, are
 /// bucketed ([`SampleGrid`]) and built the same way on them
 /// ([`build_levels`]).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn build_inner(
     samples: Vec<[f64; 3]>,
-    lines: &[Breakline],
-    boundaries: &[&Area],
-    tolerances: &[f64],
-    srid: i32,
-    opts: BuildOptions,
-    on_lattice: bool,
-    reference: Option<&dyn Reference>,
-    border: &Border,
+    spec: &Spec<'_>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
+    let Spec {
+        tolerances,
+        srid,
+        opts,
+        lines,
+        boundaries,
+        on_lattice,
+        reference,
+        border,
+    } = *spec;
     check_tolerances(tolerances)?;
     let constrained = !lines.is_empty() || !boundaries.is_empty();
     if constrained && (on_lattice || opts.keep_border) {
@@ -85,9 +123,7 @@ pub(super) fn build_inner(
     };
     let (verts, raw_levels) = if net.segs.is_empty() {
         let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border, reference)?;
-        build_levels(
-            b, &grid, reference, &sides, boundaries, tolerances, opts, border, interrupt,
-        )?
+        build_levels(b, &grid, &sides, spec, interrupt)?
     } else {
         // each soft segment's samples from end to end (a hard one: none),
         // chosen level by level as a tile's seam is; reserved from the
@@ -119,17 +155,11 @@ pub(super) fn build_inner(
             .into_iter()
             .filter(|s| !s.is_empty())
             .collect();
-        build_levels(
-            b,
-            &grid,
-            reference,
-            &sides,
-            boundaries,
-            tolerances,
-            opts,
-            &Border::default(),
-            interrupt,
-        )?
+        let unbordered = Spec {
+            border: &Border::default(),
+            ..*spec
+        };
+        build_levels(b, &grid, &sides, &unbordered, interrupt)?
     };
     drop(grid);
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
@@ -171,20 +201,24 @@ pub(super) fn mark_void(
 
 /// Every level: level 0 refined in `b` (the whole domain, its hull
 /// inserted; the hull's `sides` under keep_border), the finer ones parent by
-/// parent on `src`, void outside the `boundaries` (none: the whole hull).
-/// The vertices and the levels, for [`assemble`].
-#[allow(clippy::too_many_arguments)]
+/// parent on `src`, void outside the spec's `boundaries` (none: the whole
+/// hull), to its `tolerances`, keeping its `border`, between samples on its
+/// `reference`. The vertices and the levels, for [`assemble`].
 pub(super) fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
     mut b: Builder<'_, S, T>,
     src: &P,
-    reference: Option<&dyn Reference>,
     sides: &[Vec<usize>],
-    boundaries: &[&Area],
-    tolerances: &[f64],
-    opts: BuildOptions,
-    border: &Border,
+    spec: &Spec<'_>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
+    let Spec {
+        reference,
+        boundaries,
+        tolerances,
+        opts,
+        border,
+        ..
+    } = *spec;
     let mut level0 = refine_level0(
         &mut b,
         sides,
@@ -392,17 +426,12 @@ pub(super) fn build_dense(
     } else {
         Vec::new()
     };
-    let (verts, raw_levels) = build_levels(
-        b,
-        &d,
+    let spec = Spec {
         reference,
-        &sides,
-        &[],
-        tolerances,
-        opts,
         border,
-        interrupt,
-    )?;
+        ..Spec::new(tolerances, srid, opts)
+    };
+    let (verts, raw_levels) = build_levels(b, &d, &sides, &spec, interrupt)?;
     drop(d);
     assemble(verts, raw_levels, srid, false, interrupt)
 }

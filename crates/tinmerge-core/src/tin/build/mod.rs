@@ -94,18 +94,7 @@ pub fn build_with(
     opts: BuildOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_inner(
-        samples,
-        &[],
-        &[],
-        tolerances,
-        srid,
-        opts,
-        false,
-        None,
-        &Border::default(),
-        interrupt,
-    )
+    build_inner(samples, &Spec::new(tolerances, srid, opts), interrupt)
 }
 
 /// [`build`] measured between the samples too: against the Delaunay
@@ -338,18 +327,13 @@ fn build_domain_with(
     reference: Option<&dyn Reference>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_inner(
-        samples,
+    let spec = Spec {
         lines,
         boundaries,
-        tolerances,
-        srid,
-        BuildOptions::default(),
-        false,
         reference,
-        &Border::default(),
-        interrupt,
-    )
+        ..Spec::new(tolerances, srid, BuildOptions::default())
+    };
+    build_inner(samples, &spec, interrupt)
 }
 
 /// [`build_domain`] for a raster's valid pixel centres in world
@@ -484,18 +468,12 @@ pub fn build_lattice_window_kept(
             .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
             .collect(),
     };
-    let mut tin = build_inner(
-        samples,
-        &[],
-        &[],
-        tolerances,
-        srid,
-        opts,
-        true,
-        None,
-        &keep,
-        interrupt,
-    )?;
+    let spec = Spec {
+        on_lattice: true,
+        border: &keep,
+        ..Spec::new(tolerances, srid, opts)
+    };
+    let mut tin = build_inner(samples, &spec, interrupt)?;
     local(&tin)?;
     for v in &mut tin.verts {
         v[0] += c0;
