@@ -23,7 +23,7 @@ use geo::{BooleanOps, Contains, Coord, LineString, MultiPolygon, Point, Polygon}
 use rustc_hash::FxHashMap;
 
 use super::{Part, pieces, runs};
-use crate::geom::point_segment_nearest;
+use crate::geom::{point_segment_nearest, xy};
 use crate::merge::point;
 use crate::tin::{Tin, TinError};
 
@@ -196,10 +196,6 @@ pub(crate) fn drape_clipped(
         }
     }
     Ok(out)
-}
-
-fn xy(p: &[f64; 3]) -> [f64; 2] {
-    [p[0], p[1]]
 }
 
 fn same(a: &[f64; 3], b: &[f64; 3]) -> bool {
