@@ -67,7 +67,7 @@ fn area_arg(g: Ewkb, validity: &dyn Fn() -> Option<String>, tin_srid: i32, func:
         }
     }
     for c in polys.iter().flatten().flatten() {
-        tinmerge_core::tin::check_xy(&format!("{func}: the polygon"), c[0], c[1]).or_raise();
+        tinmerge_core::tin::check_xy(format_args!("{func}: the polygon"), c[0], c[1]).or_raise();
     }
     Area::new(
         polys

@@ -43,7 +43,7 @@ impl GeomArg {
         }
         match p.point {
             Some(Some(xy)) => {
-                tinmerge_core::tin::check_xy(&format!("{func}: the point"), xy[0], xy[1])
+                tinmerge_core::tin::check_xy(format_args!("{func}: the point"), xy[0], xy[1])
                     .or_raise();
                 Some(xy)
             }

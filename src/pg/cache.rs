@@ -96,6 +96,19 @@ pub fn alias_for(key: &ToastKey, epoch: i64) -> Option<Alias> {
     })
 }
 
+/// The decoded value remembered for `key` in transaction `epoch` when `key`
+/// is the key looked up last and its value is still cached (what a per-row
+/// call on one stored tin meets): no clone of the alias, no map look-up.
+pub fn last_decoded(key: &ToastKey, epoch: i64) -> Option<Arc<Tin>> {
+    ALIASES.with(|a| {
+        let a = a.borrow();
+        match &a.last {
+            Some((k, v)) if a.epoch == epoch && k == key => v.tin.upgrade(),
+            _ => None,
+        }
+    })
+}
+
 /// Remember `alias` for `key` in transaction `epoch`.
 pub fn remember(key: ToastKey, epoch: i64, alias: Alias) {
     ALIASES.with(|a| {

@@ -44,6 +44,22 @@ const READ_AHEAD: u64 = 1;
 /// is read a page at a time as groups are needed.
 const PREFIX_CHUNKS: u64 = 4;
 
+/// The backend's local transaction id: unique per transaction in this
+/// backend (read-only ones included), unlike the start timestamp, which two
+/// quick transactions can share.
+fn transaction_epoch() -> i64 {
+    // SAFETY: MyProc is either NULL (checked) or this backend's PGPROC, valid
+    // for the backend's life; the timestamp call has no preconditions.
+    unsafe {
+        let proc_ = pg_sys::MyProc;
+        if proc_.is_null() {
+            pg_sys::GetCurrentTransactionStartTimestamp()
+        } else {
+            i64::from((*proc_).lxid)
+        }
+    }
+}
+
 /// What the point and line functions read: the decoded value, or the
 /// stored value read block by block (see [`TinArg::mesh_source`]).
 pub enum MeshSource {
@@ -92,20 +108,16 @@ impl TinArg {
     /// in, and what this transaction remembers of it.
     fn remembered(&self) -> Option<(cache::ToastKey, i64, Option<cache::Alias>)> {
         let key = self.toast_key()?;
-        // The backend's local transaction id: unique per transaction in this
-        // backend (read-only ones included), unlike the start timestamp,
-        // which two quick transactions can share.
-        // SAFETY: MyProc is either NULL (checked) or this backend's PGPROC, valid
-        // for the backend's life; the timestamp call has no preconditions.
-        let epoch = unsafe {
-            let proc_ = pg_sys::MyProc;
-            if proc_.is_null() {
-                pg_sys::GetCurrentTransactionStartTimestamp()
-            } else {
-                i64::from((*proc_).lxid)
-            }
-        };
+        let epoch = transaction_epoch();
         Some((key, epoch, cache::alias_for(&key, epoch)))
+    }
+
+    /// The decoded value when the previous call of this transaction was on
+    /// the same on-disk value and it is still cached: the per-row path of a
+    /// join with one terrain (no clone of what is remembered, one look-up).
+    fn decoded_as_last(&self) -> Option<Arc<Tin>> {
+        let key = self.toast_key()?;
+        cache::last_decoded(&key, transaction_epoch())
     }
 
     /// What this transaction knows of the value without decoding it: its
@@ -180,6 +192,10 @@ impl TinArg {
     /// not the whole value. After [`cache::SLICED_CALLS`] calls on one value,
     /// or once it holds an eighth of the blocks, it is decoded whole.
     pub fn mesh_source(&self) -> MeshSource {
+        if let Some(t) = self.decoded_as_last() {
+            cache::count_alias_hit();
+            return MeshSource::Decoded(t);
+        }
         let k = self.known();
         if let Some(t) = k.tin {
             cache::count_alias_hit();
@@ -189,6 +205,15 @@ impl TinArg {
             return MeshSource::Decoded(self.decode(k));
         }
         if let Some(t) = cache::peek(k.header.hash, k.header.total_len) {
+            // decoded by an earlier transaction: remembered for the rest of
+            // this one, so its next rows take the first path above
+            if let Some((key, epoch)) = k.key {
+                let alias = cache::Alias {
+                    header: k.header,
+                    tin: Arc::downgrade(&t),
+                };
+                cache::remember(key, epoch, alias);
+            }
             return MeshSource::Decoded(t);
         }
         match cache::sliced(k.header.hash, k.header.total_len, || {
@@ -238,6 +263,10 @@ impl TinArg {
     /// content was decoded before. For a stored value met again in this
     /// transaction this is one look-up, with no read of the value at all.
     pub fn tin(&self) -> Arc<Tin> {
+        if let Some(t) = self.decoded_as_last() {
+            cache::count_alias_hit();
+            return t;
+        }
         let k = self.known();
         if let Some(t) = k.tin {
             cache::count_alias_hit();

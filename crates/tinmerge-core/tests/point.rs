@@ -141,6 +141,39 @@ fn locate_and_height_on(tin: &Tin) {
             let (p, q) = (tin.verts[t[j] as usize], tin.verts[t[(j + 1) % 3] as usize]);
             pts.push(((p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, "edge midpoint"));
         }
+        // within rounding of a hull edge's line, both sides of it: where
+        // the walk's "outside" is not proof and the triangles around are
+        // searched (`locate::near_hull`)
+        let band = 1e-9
+            * [b.min_x, b.max_x, b.min_y, b.max_y]
+                .iter()
+                .fold(0.0_f64, |a, v| a.max(v.abs()));
+        let hull: Vec<(usize, usize)> = (0..lv.tris.len())
+            .flat_map(|t| (0..3).map(move |j| (t, j)))
+            .filter(|&(t, j)| lv.nbrs[t][j] == u32::MAX)
+            .collect();
+        for i in 0..2_000 {
+            let (t, j) = hull[rng.random_range(0..hull.len())];
+            let tri = lv.tris[t];
+            let (p, q) = (
+                tin.verts[tri[(j + 1) % 3] as usize],
+                tin.verts[tri[(j + 2) % 3] as usize],
+            );
+            let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+            let len = dx.hypot(dy);
+            // along the edge, past its ends too; across it, within two bands
+            let s = if i % 4 == 0 {
+                [0.0, 1.0][i % 8 / 4]
+            } else {
+                rng.random::<f64>() * 1.2 - 0.1
+            };
+            let off = (rng.random::<f64>() * 4.0 - 2.0) * band;
+            pts.push((
+                p[0] + s * dx + off * dy / len,
+                p[1] + s * dy - off * dx / len,
+                "beside a hull edge",
+            ));
+        }
         for _ in 0..1_000 {
             let a = rng.random::<f64>() * std::f64::consts::TAU;
             pts.push((

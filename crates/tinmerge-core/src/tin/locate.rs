@@ -80,6 +80,20 @@ pub(crate) fn walk_in<M: Mesh>(
     x: f64,
     y: f64,
 ) -> Result<Walk, M::Err> {
+    Ok(walk_strict(m, level, start, x, y)?.0)
+}
+
+/// [`walk_in`], and whether an `Inside` triangle holds the point in its
+/// interior (no edge through it: the triangle is the only one holding it,
+/// so [`canonical_in`] has nothing to do). False when unknown (the walk
+/// fell back on a scan).
+fn walk_strict<M: Mesh>(
+    m: &M,
+    level: usize,
+    start: u32,
+    x: f64,
+    y: f64,
+) -> Result<(Walk, bool), M::Err> {
     let n = m.num_triangles(level);
     let p = Coord { x, y };
     let mut t = start;
@@ -103,6 +117,7 @@ pub(crate) fn walk_in<M: Mesh>(
             (seed % 3) as usize
         };
         let mut crossed = false;
+        let mut strict = true;
         for k in 0..3 {
             let j = (r + k) % 3;
             let nb = nbrs[j];
@@ -111,23 +126,28 @@ pub(crate) fn walk_in<M: Mesh>(
             }
             let a = vco(&m.vert(tri[(j + 1) % 3])?);
             let b = vco(&m.vert(tri[(j + 2) % 3])?);
-            if orient2d(a, b, p) < 0.0 {
+            let o = orient2d(a, b, p);
+            if o < 0.0 {
                 if nb == NONE {
-                    return Ok(Walk::Outside(t));
+                    return Ok((Walk::Outside(t), false));
                 }
                 came_from = t;
                 t = nb;
                 crossed = true;
                 break;
             }
+            strict &= o > 0.0;
         }
         if !crossed {
-            // The skipped edge (the one we came through) has p on its inner
-            // side by construction, so t contains p.
-            return Ok(Walk::Inside(t));
+            // The skipped edge (the one we came through) has p strictly on
+            // its inner side (the walk crossed it because p was strictly
+            // outside it seen from the other triangle), so t contains p,
+            // in its interior when the edges tested have p strictly inside.
+            return Ok((Walk::Inside(t), strict));
         }
     }
-    Ok(brute_force(m, level, x, y)?.map_or(Walk::Outside(t), Walk::Inside))
+    let w = brute_force(m, level, x, y)?.map_or(Walk::Outside(t), Walk::Inside);
+    Ok((w, false))
 }
 
 /// Whether the closed triangle `t` contains (x, y).
@@ -266,16 +286,77 @@ pub fn locate_hull_in<M: Indexed>(
         return Ok(None);
     }
     let s = start_in(m, level, x, y)?;
-    Ok(match walk_in(m, level, s, x, y)? {
-        Walk::Inside(t) => Some(canonical_in(m, level, t, x, y)?),
-        Walk::Outside(t) if beside_hull_edge(m, level, t, x, y)? => {
-            match brute_force(m, level, x, y)? {
+    Ok(match walk_strict(m, level, s, x, y)? {
+        (Walk::Inside(t), true) => Some(t),
+        (Walk::Inside(t), false) => Some(canonical_in(m, level, t, x, y)?),
+        (Walk::Outside(t), _) if beside_hull_edge(m, level, t, x, y)? => {
+            match near_hull(m, level, t, x, y)? {
                 Some(t) => Some(canonical_in(m, level, t, x, y)?),
                 None => None,
             }
         }
-        Walk::Outside(_) => None,
+        (Walk::Outside(_), _) => None,
     })
+}
+
+/// Most triangles [`near_hull`] visits before it scans the level instead.
+const NEAR_HULL_VISITS: usize = 4096;
+
+/// A triangle containing (x, y), a point the walk found outside the hull
+/// edge of `t` but within rounding of it ([`beside_hull_edge`]), or None:
+/// the triangles whose bounding box, widened by `reach`, holds the point,
+/// searched across edges from `t` (`reach` is the point's distance to
+/// `t`'s box plus the rounding band, so `t` is one of them). Those include
+/// every triangle meeting the disc of radius `reach` around the point, and
+/// the domain's part of that disc is convex up to rounding, so the ones
+/// meeting it are connected across edges: the triangle containing the
+/// point, if any, is found. After [`NEAR_HULL_VISITS`] triangles (a
+/// geometrically unusual value) the level is scanned.
+fn near_hull<M: Indexed>(
+    m: &M,
+    level: usize,
+    t: u32,
+    x: f64,
+    y: f64,
+) -> Result<Option<u32>, M::Err> {
+    let bbox = |u: u32| -> Result<[f64; 4], M::Err> {
+        let c = m.corners(level, u)?;
+        Ok([
+            c[0][0].min(c[1][0]).min(c[2][0]),
+            c[0][1].min(c[1][1]).min(c[2][1]),
+            c[0][0].max(c[1][0]).max(c[2][0]),
+            c[0][1].max(c[1][1]).max(c[2][1]),
+        ])
+    };
+    let b = m.bbox();
+    let band = 1e-9
+        * [b.min_x, b.max_x, b.min_y, b.max_y]
+            .iter()
+            .fold(0.0_f64, |a, v| a.max(v.abs()));
+    let bt = bbox(t)?;
+    let dx = (bt[0] - x).max(x - bt[2]).max(0.0);
+    let dy = (bt[1] - y).max(y - bt[3]).max(0.0);
+    let reach = dx.hypot(dy) + 2.0 * band;
+    let near = |e: [f64; 4]| {
+        x >= e[0] - reach && x <= e[2] + reach && y >= e[1] - reach && y <= e[3] + reach
+    };
+    let mut seen = vec![t];
+    let mut stack = vec![t];
+    while let Some(u) = stack.pop() {
+        if contains_in(m, level, u, x, y)? {
+            return Ok(Some(u));
+        }
+        for nb in m.nbrs(level, u)? {
+            if nb != NONE && !seen.contains(&nb) && near(bbox(nb)?) {
+                if seen.len() >= NEAR_HULL_VISITS {
+                    return brute_force(m, level, x, y);
+                }
+                seen.push(nb);
+                stack.push(nb);
+            }
+        }
+    }
+    Ok(None)
 }
 
 /// Whether (x, y), outside a hull edge of `t`, is within rounding of that
@@ -285,7 +366,7 @@ pub fn locate_hull_in<M: Indexed>(
 /// dropped: `Builder::snapshot` in the build), so the line of a hull edge
 /// next to such a vertex can pass a rounding outside points of the domain
 /// and the walk's "outside" is not proof there: [`locate_hull_in`] then
-/// scans the level.
+/// searches the triangles around ([`near_hull`]).
 fn beside_hull_edge<M: Indexed>(
     m: &M,
     level: usize,

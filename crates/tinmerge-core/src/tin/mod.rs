@@ -44,7 +44,9 @@ pub const MAX_LEVELS: usize = 16;
 pub const MAX_COORD: f64 = 1e100;
 
 /// `Ok` for a usable x, y; otherwise an `InvalidParameter` error saying what
-/// (`what`: "the polygon", "sample") had which coordinate.
+/// (`what`: "the polygon", "sample") had which coordinate. `what` is
+/// formatted only for the error, so a per-row caller can pass
+/// `format_args!(..)` at no cost.
 ///
 /// ```
 /// use tinmerge_core::tin::check_xy;
@@ -52,7 +54,7 @@ pub const MAX_COORD: f64 = 1e100;
 /// assert!(check_xy("the line", f64::NAN, 0.0).is_err());
 /// assert!(check_xy("the line", 1e300, 0.0).is_err());
 /// ```
-pub fn check_xy(what: &str, x: f64, y: f64) -> Result<(), TinError> {
+pub fn check_xy(what: impl std::fmt::Display, x: f64, y: f64) -> Result<(), TinError> {
     if !(x.is_finite() && y.is_finite()) {
         return Err(TinError::InvalidParameter(format!(
             "{what} has a non-finite coordinate ({x} {y})"
