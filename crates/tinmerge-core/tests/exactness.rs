@@ -406,6 +406,7 @@ fn oracle_sees_a_hidden_t_junction() {
             ny: 1,
             cells: vec![0],
         },
+        outline: Default::default(),
     });
     let f = oracle(&g, &tin);
     assert!(f.slivers >= 1 && f.bad_edges >= 1, "{f:?}");

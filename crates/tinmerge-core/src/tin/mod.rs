@@ -28,6 +28,7 @@ pub mod lattice;
 pub mod layout;
 pub mod locate;
 pub mod mesh;
+pub mod outline;
 pub mod samples;
 pub mod sides;
 pub mod sliced;
@@ -150,6 +151,9 @@ pub struct Level {
     /// Derived from the next level's `parent` (not stored on disk).
     pub child_start: Vec<u32>,
     pub grid: Grid,
+    /// The domain's outline, derived on first use ([`Tin::outline`]);
+    /// `Default::default()` when making a level.
+    pub outline: outline::Derived<outline::Outline>,
 }
 
 impl Level {

@@ -30,46 +30,6 @@ use crate::tin::{Tin, TinError};
 /// A boundary edge of the level (domain on its left), its ends with heights.
 type Edge = [[f64; 3]; 2];
 
-/// The boundary edges chained into closed rings of vertex ids (at a vertex
-/// where two rings touch, any pairing: the rings are used with the
-/// even-odd rule).
-fn rings_of(edges: &[[u32; 2]]) -> Vec<Vec<u32>> {
-    let mut from: FxHashMap<u32, Vec<usize>> = FxHashMap::default();
-    for (i, e) in edges.iter().enumerate() {
-        from.entry(e[0]).or_default().push(i);
-    }
-    let mut used = vec![false; edges.len()];
-    let mut rings = Vec::new();
-    for s in 0..edges.len() {
-        if used[s] {
-            continue;
-        }
-        let mut ring = vec![edges[s][0]];
-        let mut i = s;
-        loop {
-            used[i] = true;
-            let v = edges[i][1];
-            if v == edges[s][0] {
-                break;
-            }
-            ring.push(v);
-            let Some(n) = from
-                .get(&v)
-                .and_then(|es| es.iter().copied().find(|&k| !used[k]))
-            else {
-                // an open chain: not a valid tin's boundary; drop it
-                ring.clear();
-                break;
-            };
-            i = n;
-        }
-        if ring.len() >= 3 {
-            rings.push(ring);
-        }
-    }
-    rings
-}
-
 fn bbox2(pts: impl Iterator<Item = [f64; 2]>) -> [f64; 4] {
     pts.fold(
         [
@@ -87,10 +47,6 @@ fn bbox2(pts: impl Iterator<Item = [f64; 2]>) -> [f64; 4] {
             ]
         },
     )
-}
-
-fn meets(a: &[f64; 4], b: &[f64; 4]) -> bool {
-    a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3]
 }
 
 fn line(r: impl Iterator<Item = [f64; 2]>) -> LineString<f64> {
@@ -134,40 +90,37 @@ impl Snap {
 /// Whether a polygon whose rings are all on the terrain still holds part
 /// of the domain's boundary inside it (a hole of the domain, or void
 /// around an island of it, wholly within the polygon): then it is not all
-/// terrain and must be cut too. Only a level with void triangles can;
-/// `boundary` is the level's [`crate::tin::Level::boundary_edges`].
-pub(crate) fn encloses_void(
-    tin: &Tin,
-    level: usize,
-    boundary: &[[u32; 2]],
-    rings: &[Vec<[f64; 3]>],
-) -> bool {
+/// terrain and must be cut too. Only a level with void triangles can; only
+/// the outline's rings whose box meets the polygon's are read.
+pub(crate) fn encloses_void(tin: &Tin, level: usize, rings: &[Vec<[f64; 3]>]) -> bool {
     if tin.levels[level].num_void == 0 || rings.is_empty() {
         return false;
     }
+    let outline = tin.outline(level);
     let pb = bbox2(rings.iter().flatten().map(|p| [p[0], p[1]]));
     let closed = |r: &Vec<[f64; 3]>| line(r.iter().chain(r.first()).map(|p| [p[0], p[1]]));
     let poly = Polygon::new(closed(&rings[0]), rings[1..].iter().map(closed).collect());
-    boundary.iter().any(|e| {
-        let p = tin.verts[e[0] as usize];
-        p[0] > pb[0]
-            && p[0] < pb[2]
-            && p[1] > pb[1]
-            && p[1] < pb[3]
-            && poly.contains(&Point::new(p[0], p[1]))
+    outline.rings_meeting(&pb).any(|i| {
+        outline.rings[i].iter().any(|&v| {
+            let p = tin.verts[v as usize];
+            p[0] > pb[0]
+                && p[0] < pb[2]
+                && p[1] > pb[1]
+                && p[1] < pb[3]
+                && poly.contains(&Point::new(p[0], p[1]))
+        })
     })
 }
 
 /// `rings` (a polygon: shell, then holes) cut to the domain of `level` and
 /// draped: the polygons left (none when the polygon misses the domain).
-/// `boundary` is the level's [`crate::tin::Level::boundary_edges`]. The
-/// domain's rings near the polygon are gathered ([`Cut::new`]), the
+/// The domain's rings near the polygon are gathered from the level's
+/// outline ([`Cut::new`], [`Tin::outline`]), the
 /// polygon intersected with them ([`Cut::intersection`]), and each ring of
 /// the result draped ([`Cut::drape_ring`]).
 pub(crate) fn drape_clipped(
     tin: &Tin,
     level: usize,
-    boundary: &[[u32; 2]],
     rings: &[Vec<[f64; 3]>],
 ) -> Result<Vec<Vec<Vec<[f64; 3]>>>, TinError> {
     if let Some(p) = rings
@@ -180,7 +133,7 @@ pub(crate) fn drape_clipped(
             p[0], p[1]
         )));
     }
-    let Some(cut) = Cut::new(tin, level, boundary, rings) else {
+    let Some(cut) = Cut::new(tin, level, rings) else {
         return Ok(Vec::new());
     };
     let mut out = Vec::new();
@@ -220,20 +173,16 @@ impl<'a> Cut<'a> {
     /// meets it. Rings whose box misses the polygon's cannot change the
     /// answer: an outer ring holding the polygon, and the holes inside
     /// that ring, have boxes that meet it.
-    fn new(
-        tin: &'a Tin,
-        level: usize,
-        boundary: &[[u32; 2]],
-        rings: &[Vec<[f64; 3]>],
-    ) -> Option<Cut<'a>> {
+    fn new(tin: &'a Tin, level: usize, rings: &[Vec<[f64; 3]>]) -> Option<Cut<'a>> {
         let pb = bbox2(rings.iter().flatten().map(xy));
         if !(pb[0].is_finite() && pb[1].is_finite() && pb[2].is_finite() && pb[3].is_finite()) {
             return None;
         }
         let v = |i: u32| tin.verts[i as usize];
-        let kept: Vec<Vec<u32>> = rings_of(boundary)
-            .into_iter()
-            .filter(|r| meets(&bbox2(r.iter().map(|&i| xy(&v(i)))), &pb))
+        let outline = tin.outline(level);
+        let kept: Vec<Vec<u32>> = outline
+            .rings_meeting(&pb)
+            .map(|i| outline.rings[i].clone())
             .collect();
         if kept.is_empty() {
             return None;

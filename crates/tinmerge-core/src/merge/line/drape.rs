@@ -80,20 +80,15 @@ fn drape_polygon(
     level: usize,
     rings: &[Vec<[f64; 3]>],
 ) -> Result<Vec<Vec<Vec<[f64; 3]>>>, TinError> {
-    let boundary = || tin.levels[level].boundary_edges().collect::<Vec<_>>();
     let mut whole = Vec::with_capacity(rings.len());
     for r in rings {
         match drape_ring(tin, level, r)? {
             Some(d) => whole.push(d),
-            None => return drape_clipped(tin, level, &boundary(), rings),
+            None => return drape_clipped(tin, level, rings),
         }
     }
-    if tin.levels[level].num_void > 0 {
-        // the boundary read once, for the test and the cut
-        let b = boundary();
-        if encloses_void(tin, level, &b, rings) {
-            return drape_clipped(tin, level, &b, rings);
-        }
+    if encloses_void(tin, level, rings) {
+        return drape_clipped(tin, level, rings);
     }
     Ok(vec![whole])
 }

@@ -215,7 +215,7 @@ pub fn needed(
     if fill {
         // the domain's boundary: hull edges, and edges between a domain
         // triangle and a void one (the outline of the data, its holes)
-        for e in lv.boundary_edges() {
+        for &e in &tin.outline(level).edges {
             used[e[0] as usize] = true;
             used[e[1] as usize] = true;
             hull.push(e);

@@ -214,6 +214,7 @@ pub(super) fn assemble(
                 ny: 0,
                 cells: Vec::new(),
             },
+            outline: Default::default(),
         };
         if grids {
             level.grid = grid::build_grid(&tin.verts, &tin.bbox, &level);

@@ -124,6 +124,7 @@ fn level_of(
             ny: li.grid_ny,
             cells,
         },
+        outline: Default::default(),
     }
 }
 
