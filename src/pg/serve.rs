@@ -12,21 +12,90 @@ use super::args::postgis_transform;
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
-use super::tin_type::TinArg;
+use super::tin_type::{MeshSource, TinArg};
 use pgrx::datum::Array;
 use pgrx::Json;
+use std::rc::Rc;
 use std::sync::Arc;
 use tinmerge_core::serve::quantized_mesh::{
-    encode_many, hull, needed, split_length, tile_bytes, Source, TileOptions,
+    encode_many, hull, needed, needed_in, split_length, tile_bytes, NeedOptions, Needed, Source,
+    TileOptions,
 };
 use tinmerge_core::serve::tiling::{layer_json, level_for_zoom, tile_bounds, TileBounds};
-use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::sliced::SlicedTin;
+use tinmerge_core::tin::{resolve_level, Bbox, Tin};
 
 /// WGS 84 longitude/latitude.
 const WGS84: i32 = 4326;
 
-fn check_srid(tin: &Tin, func: &str) {
-    if tin.srid == 0 {
+/// One tin of a tile: the decoded value, or the stored value read in
+/// slices (a tile reads only the triangles near it, so the first tile a
+/// backend serves from a large terrain does not decode all of it).
+enum Served<'a> {
+    Decoded(Arc<Tin>),
+    Sliced(Rc<SlicedTin>, &'a TinArg),
+}
+
+impl<'a> Served<'a> {
+    /// The tin of `t` as a tile reads it: in slices when the argument's
+    /// source is ([`TinArg::mesh_source`]) and no fill is asked (a fill
+    /// needs the level's whole outline), else decoded.
+    fn of(t: &'a TinArg, fill: bool) -> Served<'a> {
+        if fill {
+            return Served::Decoded(t.tin());
+        }
+        match t.mesh_source() {
+            MeshSource::Decoded(tin) => Served::Decoded(tin),
+            MeshSource::Sliced(s) => Served::Sliced(s, t),
+        }
+    }
+
+    fn srid(&self) -> i32 {
+        match self {
+            Served::Decoded(t) => t.srid,
+            Served::Sliced(s, _) => s.header().srid,
+        }
+    }
+
+    fn bbox(&self) -> Bbox {
+        match self {
+            Served::Decoded(t) => t.bbox,
+            Served::Sliced(s, _) => s.header().bbox,
+        }
+    }
+
+    /// Each level's measured error.
+    fn max_errors(&self) -> Vec<f64> {
+        match self {
+            Served::Decoded(t) => t.levels.iter().map(|l| l.max_error).collect(),
+            Served::Sliced(s, _) => s.header().levels.iter().map(|l| l.max_error).collect(),
+        }
+    }
+
+    /// What the tile needs of level `l` in `footprint` ([`needed`]).
+    fn need(&self, l: usize, footprint: Option<[f64; 4]>, opts: NeedOptions) -> Needed {
+        match self {
+            Served::Decoded(t) => needed(t, l, footprint, opts, &mut interrupt).or_raise(),
+            Served::Sliced(s, arg) => {
+                let mut fetch = arg.fetch();
+                let reader = s.reader(&mut fetch);
+                needed_in(&reader, l, footprint, opts, &[], &mut interrupt).or_raise()
+            }
+        }
+    }
+
+    /// Only the hull of level `l` ([`hull`]): the whole outline, so from
+    /// the decoded value.
+    fn hull(&self, l: usize, max_len: Option<f64>) -> Needed {
+        match self {
+            Served::Decoded(t) => hull(t, l, max_len),
+            Served::Sliced(_, arg) => hull(&arg.tin(), l, max_len),
+        }
+    }
+}
+
+fn check_srid(srid: i32, func: &str) {
+    if srid == 0 {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
             format!("{func}: the tin has no SRID (0); Cesium tiles need to know where the terrain is: build it with an SRID or rebuild from a georeferenced raster"),
@@ -34,26 +103,26 @@ fn check_srid(tin: &Tin, func: &str) {
     }
 }
 
-/// Points of the tin's frame in degrees (themselves when it is in 4326).
-fn points_to_degrees(tin: &Tin, pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
-    if tin.srid == WGS84 {
+/// Points of the tin's frame (SRID `srid`) in degrees (themselves when it
+/// is in 4326).
+fn points_to_degrees(srid: i32, pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    if srid == WGS84 {
         pts
     } else {
-        postgis_transform(&pts, tin.srid, WGS84)
+        postgis_transform(&pts, srid, WGS84)
     }
 }
 
 /// The longest edge that stays straight in degrees (see
 /// `quantized_mesh::split_length`): the bulge of the images of the
 /// terrain's two diagonals, measured through ST_Transform.
-fn max_edge(tin: &Tin) -> Option<f64> {
-    if tin.srid == WGS84 {
+fn max_edge(srid: i32, b: &Bbox) -> Option<f64> {
+    if srid == WGS84 {
         return None;
     }
-    let b = &tin.bbox;
     let (cx, cy) = ((b.min_x + b.max_x) / 2.0, (b.min_y + b.max_y) / 2.0);
     let g = points_to_degrees(
-        tin,
+        srid,
         vec![
             [b.min_x, b.min_y],
             [b.max_x, b.max_y],
@@ -95,14 +164,13 @@ fn extent(pts: impl IntoIterator<Item = [f64; 2]>, margin: f64) -> [f64; 4] {
 /// all).
 fn geo_bounds(tin: &Tin, l: usize, max_len: Option<f64>) -> [f64; 4] {
     let hull = hull(tin, l, max_len);
-    extent(points_to_degrees(tin, hull.points(tin)), 0.0)
+    extent(points_to_degrees(tin.srid, hull.points()), 0.0)
 }
 
 /// A geographic extent holding the whole tin, cheaply: its bounding box's
 /// outline (32 points a side) in degrees, widened by 1e-5 degrees (a
 /// metre; the outline's pieces bulge far less).
-fn geo_extent(tin: &Tin) -> [f64; 4] {
-    let b = &tin.bbox;
+fn geo_extent(srid: i32, b: &Bbox) -> [f64; 4] {
     let mut ring = Vec::with_capacity(128);
     for i in 0..32 {
         let f = i as f64 / 32.0;
@@ -117,14 +185,14 @@ fn geo_extent(tin: &Tin) -> [f64; 4] {
             [b.min_x, b.max_y - (y - b.min_y)],
         ]);
     }
-    let m = if tin.srid == WGS84 { 0.0 } else { 1e-5 };
-    extent(points_to_degrees(tin, ring), m)
+    let m = if srid == WGS84 { 0.0 } else { 1e-5 };
+    extent(points_to_degrees(srid, ring), m)
 }
 
 /// The part of the tile over the terrain, in the tin's coordinates: the
 /// rectangle `tile ∩ bounds` densified (16 points a side) and transformed,
 /// its bounding box.
-fn footprint(tin: &Tin, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] {
+fn footprint(srid: i32, bbox: &Bbox, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] {
     let (w, s, e, n) = (
         tb.west.max(b[0]),
         tb.south.max(b[1]),
@@ -141,12 +209,12 @@ fn footprint(tin: &Tin, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] {
     }
     // widened by 1e-5 of the terrain's diagonal: the geographic image of a
     // triangle (split as needed) is within a millimetre of its footprint
-    let b = &tin.bbox;
-    if tin.srid == WGS84 {
+    let b = bbox;
+    if srid == WGS84 {
         extent(ring, 0.0)
     } else {
         let m = 1e-5 * (b.max_x - b.min_x).hypot(b.max_y - b.min_y);
-        extent(postgis_transform(&ring, WGS84, tin.srid), m)
+        extent(postgis_transform(&ring, WGS84, srid), m)
     }
 }
 
@@ -155,7 +223,7 @@ fn footprint(tin: &Tin, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] {
 /// zoom chooses from the largest error of each level over the tins).
 #[allow(clippy::too_many_arguments)]
 fn tile(
-    tins: &[Arc<Tin>],
+    tins: &[Served],
     level: Option<Option<i32>>,
     z: i32,
     x: i32,
@@ -177,49 +245,44 @@ fn tile(
         let empty = Vec::new();
         return encode_many(&empty, &tb, TileOptions { normals, fill }, &mut interrupt).or_raise();
     };
-    for tin in tins {
-        check_srid(tin, "tin_quantized_mesh");
-        if tin.srid != first.srid || tin.levels.len() != first.levels.len() {
+    let errors: Vec<Vec<f64>> = tins.iter().map(Served::max_errors).collect();
+    for (tin, e) in tins.iter().zip(&errors) {
+        check_srid(tin.srid(), "tin_quantized_mesh");
+        if tin.srid() != first.srid() || e.len() != errors[0].len() {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
                 format!(
                     "tin_quantized_mesh: the tins of one terrain must share their SRID and number of levels (SRID {} with {} levels, SRID {} with {} levels)",
-                    first.srid,
-                    first.levels.len(),
-                    tin.srid,
-                    tin.levels.len()
+                    first.srid(),
+                    errors[0].len(),
+                    tin.srid(),
+                    e.len()
                 ),
             );
         }
     }
     let l = match level {
-        None => level_for_zoom(&max_errors(tins), z),
-        Some(lv) => first.level_index(lv).or_raise(),
+        None => level_for_zoom(&max_errors(&errors), z),
+        Some(lv) => resolve_level(lv, errors[0].len()).or_raise(),
     };
     let mut parts = Vec::with_capacity(tins.len());
     for tin in tins {
-        let b = geo_extent(tin);
-        let max_len = max_edge(tin);
+        let (srid, bbox) = (tin.srid(), tin.bbox());
+        let b = geo_extent(srid, &bbox);
+        let max_len = max_edge(srid, &bbox);
         let need = if !tb.intersects(&b) {
             if fill.is_none() {
                 continue;
             }
             // only the hull, to tell the fill it is off the terrain
-            hull(tin, l, max_len)
+            tin.hull(l, max_len)
         } else {
             let f = if tb.contains(&b) {
                 None
             } else {
-                Some(footprint(tin, &tb, &b))
+                Some(footprint(srid, &bbox, &tb, &b))
             };
-            needed(
-                tin,
-                l,
-                f,
-                TileOptions { normals, fill }.need(max_len),
-                &mut interrupt,
-            )
-            .or_raise()
+            tin.need(l, f, TileOptions { normals, fill }.need(max_len))
         };
         memory::reserve(tile_bytes(need.triangles.len() + need.ring.len()), || {
             format!(
@@ -227,31 +290,28 @@ fn tile(
                 need.triangles.len()
             )
         });
-        let geo = points_to_degrees(tin, need.points(tin));
-        parts.push((tin, need, geo));
+        let geo = points_to_degrees(srid, need.points());
+        parts.push((need, geo));
     }
     if parts.is_empty() {
         return None;
     }
     let sources: Vec<Source> = parts
         .iter()
-        .map(|(tin, need, geo)| Source {
-            tin,
-            level: l,
-            need,
-            geo,
-        })
+        .map(|(need, geo)| Source { need, geo })
         .collect();
     encode_many(&sources, &tb, TileOptions { normals, fill }, &mut interrupt).or_raise()
 }
 
-/// Each level's largest measured error over the tins.
-fn max_errors(tins: &[Arc<Tin>]) -> Vec<f64> {
-    let n = tins.iter().map(|t| t.levels.len()).max().unwrap_or(0);
+/// Each level's largest measured error over the tins (each tin's errors
+/// by level).
+fn max_errors(errors: &[Vec<f64>]) -> Vec<f64> {
+    let n = errors.iter().map(Vec::len).max().unwrap_or(0);
     (0..n)
         .map(|i| {
-            tins.iter()
-                .filter_map(|t| t.levels.get(i).map(|l| l.max_error))
+            errors
+                .iter()
+                .filter_map(|e| e.get(i).copied())
                 .fold(0.0, f64::max)
         })
         .collect()
@@ -272,7 +332,8 @@ fn tin_quantized_mesh_tiles(
     fill: default!(Option<f64>, "NULL"),
 ) -> Option<Vec<u8>> {
     let (ts, z, x, y) = (ts?, z?, x?, y?);
-    tile(&tins_of(&ts), None, z, x, y, normals.unwrap_or(false), fill)
+    let tins: Vec<Served> = tins_of(&ts).into_iter().map(Served::Decoded).collect();
+    tile(&tins, None, z, x, y, normals.unwrap_or(false), fill)
 }
 
 #[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 5000, requires = ["tin_type"])]
@@ -285,7 +346,8 @@ fn tin_quantized_mesh(
     fill: default!(Option<f64>, "NULL"),
 ) -> Option<Vec<u8>> {
     let (t, z, x, y) = (t?, z?, x?, y?);
-    tile(&[t.tin()], None, z, x, y, normals.unwrap_or(false), fill)
+    let served = [Served::of(&t, fill.is_some())];
+    tile(&served, None, z, x, y, normals.unwrap_or(false), fill)
 }
 
 #[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 5000, name = "tin_quantized_mesh", requires = ["tin_type"])]
@@ -300,7 +362,7 @@ fn tin_quantized_mesh_level(
 ) -> Option<Vec<u8>> {
     let (t, z, x, y) = (t?, z?, x?, y?);
     tile(
-        &[t.tin()],
+        &[Served::of(&t, fill.is_some())],
         Some(level),
         z,
         x,
@@ -364,8 +426,8 @@ fn layer(
         f64::NEG_INFINITY,
     ];
     for tin in tins {
-        check_srid(tin, "tin_quantized_mesh_layer");
-        let g = geo_bounds(tin, tin.levels.len() - 1, max_edge(tin));
+        check_srid(tin.srid, "tin_quantized_mesh_layer");
+        let g = geo_bounds(tin, tin.levels.len() - 1, max_edge(tin.srid, &tin.bbox));
         b = [
             b[0].min(g[0]),
             b[1].min(g[1]),
@@ -376,7 +438,12 @@ fn layer(
     let s = layer_json(
         name.as_deref().unwrap_or("terrain"),
         &b,
-        &max_errors(tins),
+        &max_errors(
+            &tins
+                .iter()
+                .map(|t| t.levels.iter().map(|l| l.max_error).collect())
+                .collect::<Vec<_>>(),
+        ),
         normals.unwrap_or(false),
         fill.unwrap_or(false),
     );

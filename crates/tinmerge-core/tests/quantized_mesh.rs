@@ -299,13 +299,11 @@ fn tile_in(
     })
     .unwrap();
     let geo: Vec<[f64; 2]> = need
-        .points(&c.tin)
+        .points()
         .iter()
         .map(|p| (c.map)(p[0], p[1]))
         .collect();
     let src = Source {
-        tin: &c.tin,
-        level,
         need: &need,
         geo: &geo,
     };
@@ -853,17 +851,11 @@ fn tiled_terrain_is_one_mesh() {
                         })
                         .collect();
                     let geos: Vec<Vec<[f64; 2]>> =
-                        tins.iter().zip(&needs).map(|(t, n)| n.points(t)).collect();
-                    let srcs: Vec<Source> = tins
+                        needs.iter().map(|n| n.points()).collect();
+                    let srcs: Vec<Source> = needs
                         .iter()
-                        .zip(&needs)
                         .zip(&geos)
-                        .map(|((t, n), g)| Source {
-                            tin: t,
-                            level,
-                            need: n,
-                            geo: g,
-                        })
+                        .map(|(n, g)| Source { need: n, geo: g })
                         .collect();
                     let oracle: f64 = clipped_area(&tris, &tb);
                     let Some(bytes) = encode_many(

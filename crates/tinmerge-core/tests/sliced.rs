@@ -520,3 +520,69 @@ fn rasters_read_in_slices_merge_as_on_the_decoded_value() {
         }
     }
 }
+
+#[test]
+fn tiles_read_in_slices_encode_as_on_the_decoded_value() {
+    use tinmerge_core::serve::quantized_mesh::{
+        NeedOptions, Source, TileOptions, encode, needed, needed_in,
+    };
+    use tinmerge_core::serve::tiling::tile_bounds;
+    let mut r = StdRng::seed_from_u64(0x711e);
+    for (tname, tin) in tins() {
+        let b = tin.bbox;
+        let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
+        // the tin's box mapped affinely into a degree square of the
+        // western root tile: any finite positions do for the comparison
+        let geo = |p: &[f64; 2]| {
+            [
+                -100.0 + (p[0] - b.min_x) / w,
+                30.0 + (p[1] - b.min_y) / h,
+            ]
+        };
+        let tb = tile_bounds(0, 0, 0).unwrap();
+        for (fmt, stored, unit) in formats(&tin) {
+            for l in 0..tin.levels.len() {
+                for k in 0..6 {
+                    // a rectangle somewhere, one past the domain's edge
+                    let (x0, y0) = (
+                        b.min_x - 0.1 * w + r.random::<f64>() * w,
+                        b.min_y - 0.1 * h + r.random::<f64>() * h,
+                    );
+                    let f = [x0, y0, x0 + 0.2 * w, y0 + 0.15 * h];
+                    let opts = NeedOptions {
+                        normals: k % 2 == 1,
+                        fill: false,
+                        max_len: (k >= 3).then_some(0.05 * w),
+                    };
+                    let s = open(&stored, unit);
+                    let mut fetch = |at: u64, len: usize| -> Result<Vec<u8>, TinError> {
+                        Ok(stored[at as usize..at as usize + len].to_vec())
+                    };
+                    let reader = s.reader(&mut fetch);
+                    let ns = needed_in(&reader, l, Some(f), opts, &[], &mut || Ok(())).unwrap();
+                    let nd = needed(&tin, l, Some(f), opts, &mut || Ok(())).unwrap();
+                    let what = format!("{tname} {fmt} level {l} rectangle {k}");
+                    assert_eq!(ns.triangles, nd.triangles, "{what}");
+                    assert_eq!(ns.ring, nd.ring, "{what}");
+                    assert_eq!(ns.vertices, nd.vertices, "{what}");
+                    assert_eq!(ns.coords, nd.coords, "{what}");
+                    assert_eq!(ns.splits.len(), nd.splits.len(), "{what}");
+                    // the decoded value's own coordinates, independently
+                    for (v, c) in nd.vertices.iter().zip(&nd.coords) {
+                        assert_eq!(tin.verts[*v as usize], *c);
+                    }
+                    let to = TileOptions {
+                        normals: opts.normals,
+                        fill: None,
+                    };
+                    let gs: Vec<[f64; 2]> = ns.points().iter().map(geo).collect();
+                    let gd: Vec<[f64; 2]> = nd.points().iter().map(geo).collect();
+                    let bs = encode(Source { need: &ns, geo: &gs }, &tb, to, &mut || Ok(())).unwrap();
+                    let bd = encode(Source { need: &nd, geo: &gd }, &tb, to, &mut || Ok(())).unwrap();
+                    assert_eq!(bs, bd, "{what}");
+                    assert_eq!(bd.is_some(), !nd.triangles.is_empty(), "{what}");
+                }
+            }
+        }
+    }
+}

@@ -3,7 +3,7 @@
 
 use super::needed::Needed;
 use crate::serve::tiling::TileBounds;
-use crate::tin::{Tin, TinError};
+use crate::tin::TinError;
 
 /// Where a point of a clipped polygon comes from.
 #[derive(Clone, Copy, Debug)]
@@ -36,20 +36,17 @@ pub(super) struct Pt {
 
 pub(super) struct Tile<'a> {
     pub(super) b: TileBounds,
-    pub(super) tin: &'a Tin,
-    pub(super) level: usize,
     pub(super) need: &'a Needed,
     pub(super) geo: &'a [[f64; 2]],
     pub(super) src: u32,
 }
 
-/// One tin cut into a tile: its level, what [`needed()`](super::needed::needed) found, and the
+/// One tin cut into a tile: what [`needed()`](super::needed::needed) found
+/// at the level served (all the encoding reads of the tin), and the
 /// geographic positions of [`Needed::points`]. A terrain stored as tiles
 /// (tins sharing their seams, `tin::tiles`) is one source per tin.
 #[derive(Clone, Copy)]
 pub struct Source<'a> {
-    pub tin: &'a Tin,
-    pub level: usize,
     pub need: &'a Needed,
     pub geo: &'a [[f64; 2]],
 }
@@ -87,7 +84,7 @@ impl Tile<'_> {
         let h = if v >= self.need.base {
             self.need.splits[(v - self.need.base) as usize].xyz[2]
         } else {
-            self.tin.verts[v as usize][2]
+            self.need.height(v)?
         };
         Ok(Pt {
             x: g[0],

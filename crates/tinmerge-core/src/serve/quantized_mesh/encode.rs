@@ -77,21 +77,20 @@ fn normals(cxs: &[Tile], mesh: &TileMesh) -> Result<Vec<[f64; 3]>, TinError> {
         around: FxHashMap<u32, Vec<u32>>,
     }
     let tri_normal = |cx: &Tile, t: u32| -> Result<[f64; 3], TinError> {
-        let tri = cx.tin.levels[cx.level].tris[t as usize];
+        let tri = cx.need.tri(t)?;
         let p = [cx.vertex(tri[0])?, cx.vertex(tri[1])?, cx.vertex(tri[2])?]
             .map(|p| ecef(p.x, p.y, p.h));
         Ok(cross(sub(p[1], p[0]), sub(p[2], p[0])))
     };
     let mut per: Vec<Around> = Vec::with_capacity(cxs.len());
     for cx in cxs {
-        let lv = &cx.tin.levels[cx.level];
         let mut a = Around {
             face: FxHashMap::default(),
             around: FxHashMap::default(),
         };
         for &t in &cx.need.ring {
             a.face.insert(t, tri_normal(cx, t)?);
-            for &v in &lv.tris[t as usize] {
+            for v in cx.need.tri(t)? {
                 a.around.entry(v).or_default().push(t);
             }
         }

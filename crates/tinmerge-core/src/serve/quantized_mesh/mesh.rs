@@ -94,10 +94,9 @@ pub(crate) fn tile_mesh(
     let mut keys: Keys = FxHashMap::default();
     let mut pieces: Vec<[u32; 3]> = Vec::new();
     for cx in &cxs {
-        let lv = &cx.tin.levels[cx.level];
         for &t in &cx.need.triangles {
             tick.tick()?;
-            let tri = lv.tris[t as usize];
+            let tri = cx.need.tri(t)?;
             pieces.clear();
             if cx.need.split_of.is_empty() {
                 pieces.push(tri);
@@ -136,8 +135,6 @@ pub(super) fn tiles_of<'a>(sources: &[Source<'a>], tile: &TileBounds) -> Vec<Til
         .enumerate()
         .map(|(i, s)| Tile {
             b: *tile,
-            tin: s.tin,
-            level: s.level,
             need: s.need,
             geo: s.geo,
             src: i as u32,

@@ -67,9 +67,9 @@
 //! // a tin in EPSG:4326: its own coordinates are the geographic ones
 //! let opts = TileOptions::default(); // no normals, no fill
 //! let need = needed(&tin, 1, None, opts.need(None), &mut || Ok(())).unwrap();
-//! let geo = need.points(&tin);
+//! let geo = need.points();
 //! let tile = tile_bounds(8, 136, 179).unwrap();
-//! let src = Source { tin: &tin, level: 1, need: &need, geo: &geo };
+//! let src = Source { need: &need, geo: &geo };
 //! let bytes = encode(src, &tile, opts, &mut || Ok(())).unwrap().unwrap();
 //! assert!(bytes.len() > 88);
 //! ```
@@ -86,4 +86,4 @@ mod needed;
 pub use clip::Source;
 pub use encode::{TileOptions, encode, encode_many, tile_bytes};
 pub use mesh::{TileMesh, ecef};
-pub use needed::{NeedOptions, Needed, Split, hull, needed, split_length};
+pub use needed::{NeedOptions, Needed, Split, hull, needed, needed_in, split_length};

@@ -6,25 +6,35 @@ use rustc_hash::FxHashMap;
 use crate::interrupt::Interrupt;
 use crate::merge::area::{Method, sweep};
 use crate::polygon::Area;
+use crate::tin::mesh::Indexed;
 use crate::tin::{NONE, Tin, TinError};
 
 /// What a tile needs from the level: the triangles that may meet it, the
 /// triangles around their vertices (for normals), the hull edges (for
 /// fill; pieces of split edges), the vertices of those and the points
 /// that split their long edges, whose geographic positions the caller
-/// supplies in the order of [`Needed::points`].
+/// supplies in the order of [`Needed::points`]. It holds what the tile's
+/// encoding reads of the level (the corners of those triangles, the
+/// vertices' coordinates), so the encoding never reads the tin itself.
 #[derive(Clone, Debug, Default)]
 pub struct Needed {
     pub triangles: Vec<u32>,
     pub ring: Vec<u32>,
     pub hull: Vec<[u32; 2]>,
+    /// Vertex ids, ascending.
     pub vertices: Vec<u32>,
+    /// x, y, z of each of [`Needed::vertices`].
+    pub coords: Vec<[f64; 3]>,
+    /// The vertex ids of each triangle of [`Needed::triangles`] and
+    /// [`Needed::ring`].
+    pub(super) corners: FxHashMap<u32, [u32; 3]>,
     /// Points on long edges: ids `num_vertices + i` (see [`needed()`]).
     pub splits: Vec<Split>,
     /// Edge (lower id first) -> index of its first split point and the
     /// number of pieces.
     pub(super) split_of: FxHashMap<(u32, u32), (u32, u32)>,
-    /// The first split point's id (the level's vertex count).
+    /// The first split point's id (the tin's vertex count: above every
+    /// vertex id).
     pub(super) base: u32,
 }
 
@@ -39,17 +49,26 @@ pub struct Split {
 impl Needed {
     /// The points whose geographic positions [`encode`](super::encode::encode) needs, in the
     /// tin's coordinates: the vertices, then the split points.
-    pub fn points(&self, tin: &Tin) -> Vec<[f64; 2]> {
-        let mut p: Vec<[f64; 2]> = self
-            .vertices
-            .iter()
-            .map(|&v| {
-                let q = tin.verts[v as usize];
-                [q[0], q[1]]
-            })
-            .collect();
+    pub fn points(&self) -> Vec<[f64; 2]> {
+        let mut p: Vec<[f64; 2]> = self.coords.iter().map(|q| [q[0], q[1]]).collect();
         p.extend(self.splits.iter().map(|s| [s.xyz[0], s.xyz[1]]));
         p
+    }
+
+    /// The vertex ids of needed triangle `t`.
+    pub(super) fn tri(&self, t: u32) -> Result<[u32; 3], TinError> {
+        self.corners
+            .get(&t)
+            .copied()
+            .ok_or_else(|| TinError::Corrupt(format!("triangle {t} is not one the tile needs")))
+    }
+
+    /// The height of vertex `v` (one of [`Needed::vertices`]).
+    pub(super) fn height(&self, v: u32) -> Result<f64, TinError> {
+        self.vertices
+            .binary_search(&v)
+            .map(|i| self.coords[i][2])
+            .map_err(|_| TinError::Corrupt(format!("vertex {v} is not one the tile needs")))
     }
 
     /// Index into [`Needed::points`] of vertex or split point `id`.
@@ -77,15 +96,15 @@ impl Needed {
         c
     }
 
-    fn split_edge(&mut self, tin: &Tin, a: u32, b: u32, max_len: f64) {
+    fn split_edge<M: Indexed>(&mut self, m: &M, a: u32, b: u32, max_len: f64) -> Result<(), M::Err> {
         let key = (a.min(b), a.max(b));
         if self.split_of.contains_key(&key) {
-            return;
+            return Ok(());
         }
-        let (p, q) = (tin.verts[key.0 as usize], tin.verts[key.1 as usize]);
+        let (p, q) = (m.vert(key.0)?, m.vert(key.1)?);
         let len = (q[0] - p[0]).hypot(q[1] - p[1]);
         if len <= max_len {
-            return;
+            return Ok(());
         }
         // at most 4,096 pieces: the caller's length is a bound, not a promise
         let n = ((len / max_len).ceil() as u32).min(4096);
@@ -101,6 +120,7 @@ impl Needed {
                 ],
             });
         }
+        Ok(())
     }
 }
 
@@ -140,19 +160,41 @@ pub fn needed(
     opts: NeedOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Needed, TinError> {
+    let boundary: &[[u32; 2]] = if opts.fill {
+        &tin.outline(level).edges
+    } else {
+        &[]
+    };
+    needed_in(tin, level, footprint, opts, boundary, interrupt)
+}
+
+/// [`needed()`] on any indexed mesh (a stored value read in slices:
+/// [`crate::tin::sliced`]), reading only the triangles the tile needs.
+/// `boundary` is the level's domain boundary ([`Tin::outline`]'s edges)
+/// when `opts.fill`, which only a decoded value keeps.
+pub fn needed_in<M: Indexed>(
+    m: &M,
+    level: usize,
+    footprint: Option<[f64; 4]>,
+    opts: NeedOptions,
+    boundary: &[[u32; 2]],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Needed, TinError>
+where
+    TinError: From<M::Err>,
+{
     let NeedOptions {
         normals,
         fill,
         max_len,
     } = opts;
-    let lv = &tin.levels[level];
     let mut out = Needed {
-        base: lv.num_vertices,
+        base: m.num_vertices() as u32,
         ..Needed::default()
     };
-    let mut used = vec![false; lv.num_vertices as usize];
+    let domain = m.num_domain(level);
     match footprint {
-        None => out.triangles = (0..lv.num_domain() as u32).collect(),
+        None => out.triangles = (0..domain as u32).collect(),
         Some(f) if f[0] < f[2] && f[1] < f[3] => {
             // the triangles meeting the rectangle, by the area merge's flat
             // sweep at this level alone (no scan of the level)
@@ -163,7 +205,7 @@ pub fn needed(
                 [f[0], f[3]],
                 [f[0], f[1]],
             ]]]);
-            let s = sweep(tin, level, &area, Method::Flat, interrupt)?;
+            let s = sweep(m, level, &area, Method::Flat, interrupt)?;
             let mut ids = s.inside.get(level).cloned().unwrap_or_default();
             ids.extend_from_slice(&s.boundary);
             ids.sort_unstable();
@@ -172,10 +214,11 @@ pub fn needed(
         }
         Some(_) => {}
     }
+    let mut used: Vec<u32> = Vec::with_capacity(out.triangles.len() * 3);
     for &t in &out.triangles {
-        for &v in &lv.tris[t as usize] {
-            used[v as usize] = true;
-        }
+        let tri = m.tri(level, t)?;
+        out.corners.insert(t, tri);
+        used.extend_from_slice(&tri);
     }
     if normals {
         // every triangle around a vertex of those: from each, the triangles
@@ -183,16 +226,16 @@ pub fn needed(
         let mut ring = rustc_hash::FxHashSet::default();
         let mut stack = Vec::new();
         for &t in &out.triangles {
-            for &v in &lv.tris[t as usize] {
+            for v in m.tri(level, t)? {
                 stack.push(t);
                 while let Some(u) = stack.pop() {
                     if !ring.insert((v, u)) {
                         continue;
                     }
-                    for &n in &lv.nbrs[u as usize] {
+                    for n in m.nbrs(level, u)? {
                         if n != NONE
-                            && (n as usize) < lv.num_domain()
-                            && lv.tris[n as usize].contains(&v)
+                            && (n as usize) < domain
+                            && m.tri(level, n)?.contains(&v)
                             && !ring.contains(&(v, n))
                         {
                             stack.push(n);
@@ -205,9 +248,9 @@ pub fn needed(
         ts.sort_unstable();
         ts.dedup();
         for &t in &ts {
-            for &v in &lv.tris[t as usize] {
-                used[v as usize] = true;
-            }
+            let tri = m.tri(level, t)?;
+            out.corners.insert(t, tri);
+            used.extend_from_slice(&tri);
         }
         out.ring = ts;
     }
@@ -215,30 +258,30 @@ pub fn needed(
     if fill {
         // the domain's boundary: hull edges, and edges between a domain
         // triangle and a void one (the outline of the data, its holes)
-        for &e in &tin.outline(level).edges {
-            used[e[0] as usize] = true;
-            used[e[1] as usize] = true;
+        for &e in boundary {
+            used.extend_from_slice(&e);
             hull.push(e);
         }
     }
-    if let Some(m) = max_len.filter(|m| *m > 0.0 && m.is_finite()) {
+    if let Some(ml) = max_len.filter(|l| *l > 0.0 && l.is_finite()) {
         for i in 0..out.triangles.len() {
-            let tri = lv.tris[out.triangles[i] as usize];
+            let tri = out.tri(out.triangles[i])?;
             for k in 0..3 {
-                out.split_edge(tin, tri[k], tri[(k + 1) % 3], m);
+                out.split_edge(m, tri[k], tri[(k + 1) % 3], ml)?;
             }
         }
         for e in &hull {
-            out.split_edge(tin, e[0], e[1], m);
+            out.split_edge(m, e[0], e[1], ml)?;
         }
     }
     for e in hull {
         let c = out.chain(e[0], e[1]);
         out.hull.extend(c.windows(2).map(|w| [w[0], w[1]]));
     }
-    out.vertices = (0..used.len() as u32)
-        .filter(|&v| used[v as usize])
-        .collect();
+    used.sort_unstable();
+    used.dedup();
+    out.coords = used.iter().map(|&v| m.vert(v)).collect::<Result<_, _>>()?;
+    out.vertices = used;
     Ok(out)
 }
 
