@@ -54,7 +54,8 @@ pub(crate) fn line_parts(bytes: &[u8], tin_srid: i32, func: &str) -> Vec<Part> {
         .into_iter()
         .map(|l| {
             for c in l.iter() {
-                tinmerge_core::tin::check_xy(format_args!("{func}: the line"), c[0], c[1]).or_raise();
+                tinmerge_core::tin::check_xy(format_args!("{func}: the line"), c[0], c[1])
+                    .or_raise();
             }
             Part::new(l.iter().map(|c| [c[0], c[1]]).collect())
         })

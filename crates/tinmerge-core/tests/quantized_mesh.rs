@@ -298,11 +298,7 @@ fn tile_in(
         Ok(())
     })
     .unwrap();
-    let geo: Vec<[f64; 2]> = need
-        .points()
-        .iter()
-        .map(|p| (c.map)(p[0], p[1]))
-        .collect();
+    let geo: Vec<[f64; 2]> = need.points().iter().map(|p| (c.map)(p[0], p[1])).collect();
     let src = Source {
         need: &need,
         geo: &geo,
@@ -850,8 +846,7 @@ fn tiled_terrain_is_one_mesh() {
                             .unwrap()
                         })
                         .collect();
-                    let geos: Vec<Vec<[f64; 2]>> =
-                        needs.iter().map(|n| n.points()).collect();
+                    let geos: Vec<Vec<[f64; 2]>> = needs.iter().map(|n| n.points()).collect();
                     let srcs: Vec<Source> = needs
                         .iter()
                         .zip(&geos)

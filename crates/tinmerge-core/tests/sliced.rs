@@ -533,12 +533,7 @@ fn tiles_read_in_slices_encode_as_on_the_decoded_value() {
         let (w, h) = (b.max_x - b.min_x, b.max_y - b.min_y);
         // the tin's box mapped affinely into a degree square of the
         // western root tile: any finite positions do for the comparison
-        let geo = |p: &[f64; 2]| {
-            [
-                -100.0 + (p[0] - b.min_x) / w,
-                30.0 + (p[1] - b.min_y) / h,
-            ]
-        };
+        let geo = |p: &[f64; 2]| [-100.0 + (p[0] - b.min_x) / w, 30.0 + (p[1] - b.min_y) / h];
         let tb = tile_bounds(0, 0, 0).unwrap();
         for (fmt, stored, unit) in formats(&tin) {
             for l in 0..tin.levels.len() {
@@ -577,8 +572,26 @@ fn tiles_read_in_slices_encode_as_on_the_decoded_value() {
                     };
                     let gs: Vec<[f64; 2]> = ns.points().iter().map(geo).collect();
                     let gd: Vec<[f64; 2]> = nd.points().iter().map(geo).collect();
-                    let bs = encode(Source { need: &ns, geo: &gs }, &tb, to, &mut || Ok(())).unwrap();
-                    let bd = encode(Source { need: &nd, geo: &gd }, &tb, to, &mut || Ok(())).unwrap();
+                    let bs = encode(
+                        Source {
+                            need: &ns,
+                            geo: &gs,
+                        },
+                        &tb,
+                        to,
+                        &mut || Ok(()),
+                    )
+                    .unwrap();
+                    let bd = encode(
+                        Source {
+                            need: &nd,
+                            geo: &gd,
+                        },
+                        &tb,
+                        to,
+                        &mut || Ok(()),
+                    )
+                    .unwrap();
                     assert_eq!(bs, bd, "{what}");
                     assert_eq!(bd.is_some(), !nd.triangles.is_empty(), "{what}");
                 }

@@ -96,7 +96,13 @@ impl Needed {
         c
     }
 
-    fn split_edge<M: Indexed>(&mut self, m: &M, a: u32, b: u32, max_len: f64) -> Result<(), M::Err> {
+    fn split_edge<M: Indexed>(
+        &mut self,
+        m: &M,
+        a: u32,
+        b: u32,
+        max_len: f64,
+    ) -> Result<(), M::Err> {
         let key = (a.min(b), a.max(b));
         if self.split_of.contains_key(&key) {
             return Ok(());
