@@ -11,7 +11,7 @@
 //! can never be mistaken for the value it replaced.
 
 use std::cell::RefCell;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::rc::Rc;
 use std::sync::{Arc, Weak};
 
@@ -50,7 +50,7 @@ struct Aliases {
     epoch: i64,
     /// The key looked up last: a per-row call on one stored tin hits here.
     last: Option<(ToastKey, Alias)>,
-    map: HashMap<ToastKey, Alias>,
+    map: FxHashMap<ToastKey, Alias>,
 }
 
 /// `tinmerge.cache_size`: MB of decoded tin values kept per backend.
@@ -96,15 +96,19 @@ pub fn alias_for(key: &ToastKey, epoch: i64) -> Option<Alias> {
     })
 }
 
-/// The decoded value remembered for `key` in transaction `epoch` when `key`
-/// is the key looked up last and its value is still cached (what a per-row
-/// call on one stored tin meets): no clone of the alias, no map look-up.
-pub fn last_decoded(key: &ToastKey, epoch: i64) -> Option<Arc<Tin>> {
+/// The decoded value remembered for `key` in transaction `epoch`, when it
+/// is still cached: what a per-row call meets on one stored tin (the key
+/// looked up last) or on a few (a join with a table of tiles), without
+/// cloning what is remembered.
+pub fn decoded_alias(key: &ToastKey, epoch: i64) -> Option<Arc<Tin>> {
     ALIASES.with(|a| {
         let a = a.borrow();
+        if a.epoch != epoch {
+            return None;
+        }
         match &a.last {
-            Some((k, v)) if a.epoch == epoch && k == key => v.tin.upgrade(),
-            _ => None,
+            Some((k, v)) if k == key => v.tin.upgrade(),
+            _ => a.map.get(key).and_then(|v| v.tin.upgrade()),
         }
     })
 }

@@ -112,12 +112,12 @@ impl TinArg {
         Some((key, epoch, cache::alias_for(&key, epoch)))
     }
 
-    /// The decoded value when the previous call of this transaction was on
-    /// the same on-disk value and it is still cached: the per-row path of a
-    /// join with one terrain (no clone of what is remembered, one look-up).
-    fn decoded_as_last(&self) -> Option<Arc<Tin>> {
+    /// The decoded value when this transaction met the same on-disk value
+    /// before and it is still cached: the per-row path of a join with a
+    /// terrain or a table of tiles (no clone of what is remembered).
+    fn decoded_as_before(&self) -> Option<Arc<Tin>> {
         let key = self.toast_key()?;
-        cache::last_decoded(&key, transaction_epoch())
+        cache::decoded_alias(&key, transaction_epoch())
     }
 
     /// What this transaction knows of the value without decoding it: its
@@ -192,7 +192,7 @@ impl TinArg {
     /// not the whole value. After [`cache::SLICED_CALLS`] calls on one value,
     /// or once it holds an eighth of the blocks, it is decoded whole.
     pub fn mesh_source(&self) -> MeshSource {
-        if let Some(t) = self.decoded_as_last() {
+        if let Some(t) = self.decoded_as_before() {
             cache::count_alias_hit();
             return MeshSource::Decoded(t);
         }
@@ -263,7 +263,7 @@ impl TinArg {
     /// content was decoded before. For a stored value met again in this
     /// transaction this is one look-up, with no read of the value at all.
     pub fn tin(&self) -> Arc<Tin> {
-        if let Some(t) = self.decoded_as_last() {
+        if let Some(t) = self.decoded_as_before() {
             cache::count_alias_hit();
             return t;
         }
