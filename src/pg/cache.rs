@@ -10,8 +10,8 @@
 //! emptied when the transaction changes, so a value id reused after VACUUM
 //! can never be mistaken for the value it replaced.
 
-use std::cell::RefCell;
 use rustc_hash::FxHashMap;
+use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::{Arc, Weak};
 

@@ -424,6 +424,40 @@ fn overlay_of_builds_between_samples_on_one_grid() {
                 check_one(x, la, y, lb, &o);
                 let o = overlay(x, la, y, lb, &mut || Ok(())).unwrap();
                 check_one(x, la, y, lb, &o);
+                assert_eq!(
+                    o.fallback, None,
+                    "levels {la}, {lb}: the faces path fell back"
+                );
+            }
+        }
+    }
+}
+
+/// Issue 47: two raster builds of the DEM whose grids are moved by a
+/// fraction of a pixel (31 m and -17 m on the full DEM: 3.1 and -1.7 of
+/// its 10 m pixels). Their edges run along the same directions, and an
+/// edge of one passes within an ulp of vertices of the other: the
+/// crossings there round on or around the vertex, and the faces path fell
+/// back on the constrained triangulation (six times slower) for "face
+/// vertices not in strict angular order", then "two faces disagree on
+/// their common boundary" (a sliver face flat once rounded). Such
+/// crossings are now the vertex itself. Every pair of levels, the faces
+/// path, against the oracles.
+#[test]
+fn overlay_of_raster_builds_a_fraction_of_a_pixel_apart() {
+    let a = between(200, 200, 100, 0.0, 0.0, &[8.0, 2.0]);
+    let b = between(200, 200, 100, 3.1, -1.7, &[8.0, 2.0]);
+    let c = between(200, 200, 100, 0.5, 0.5, &[4.0, 1.0]);
+    for (x, y) in [(&a, &b), (&b, &a), (&a, &c)] {
+        for la in 0..x.levels.len() {
+            for lb in 0..y.levels.len() {
+                let o = overlay(x, la, y, lb, &mut || Ok(())).unwrap();
+                assert_eq!(
+                    o.fallback, None,
+                    "levels {la}, {lb}: the faces path fell back"
+                );
+                check_one(x, la, y, lb, &o);
+                assert!(o.crossings > 0);
             }
         }
     }
@@ -432,11 +466,10 @@ fn overlay_of_builds_between_samples_on_one_grid() {
 /// The topology checks of [`check_one`] on the geographic DEM (degrees:
 /// its thresholds scale by [`unit`]), both paths: other tolerances on the
 /// same samples, a copy shifted by a fraction of a pixel, and one shifted
-/// by 25 pixels (partial overlap). Unlike on the UTM DEM, the faces path
-/// refuses most of these pairs today ("face vertices not in strict angular
-/// order") and `overlay` answers by the constrained path, about 4x slower:
-/// the answer is checked, the refusal is not asserted (a known gap of the
-/// faces path, not of the answer).
+/// by 25 pixels (partial overlap). The faces path refused most of these
+/// pairs until 0.16.0 ("face vertices not in strict angular order":
+/// crossings rounding onto each other next to a vertex) and `overlay`
+/// answered by the constrained path, about 4x slower; it is asserted now.
 #[test]
 fn overlay_on_the_geographic_dem() {
     let file = "jacksboro_fault_dem.tif";
@@ -464,6 +497,7 @@ fn overlay_on_the_geographic_dem() {
         check_one(x, la, y, lb, &o);
         let o = overlay(x, la, y, lb, &mut || Ok(())).unwrap();
         check_one(x, la, y, lb, &o);
+        assert_eq!(o.fallback, None, "the faces path fell back");
         assert!(o.crossings > 0);
     }
 }

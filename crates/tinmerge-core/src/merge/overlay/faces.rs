@@ -218,6 +218,11 @@ fn through_interior(fv: &[FaceVertex]) -> u8 {
     out
 }
 
+/// A crossing of two edges is the end of one of them when that end is
+/// within this many ulps (of the crossing's largest coordinate) of the
+/// other edge's line ([`Builder::face`]).
+const SNAP_ULPS: f64 = 4.0;
+
 /// Output being built, with the symbolic vertex identities.
 struct Builder<'t> {
     a: &'t Tin,
@@ -356,16 +361,46 @@ impl Builder<'_> {
                             std::mem::swap(&mut u, &mut v);
                         }
                         let x = crossing(p, q, u, v);
-                        let id = self.push(
-                            x,
-                            interpolate(&ca3, x[0], x[1]),
-                            interpolate(&cb3, x[0], x[1]),
-                        );
+                        // an edge of one tin passing within a few ulps of
+                        // an end of the other edge (a vertex of the other
+                        // tin) crosses the edges around that vertex in
+                        // points that round on or around it: every such
+                        // crossing is that vertex (decided on the vertex's
+                        // distance to the line, the same for all of them),
+                        // and the slivers between them, flat once rounded,
+                        // are no faces
+                        let mag = x[0].abs().max(x[1].abs());
+                        let tol = SNAP_ULPS * f64::EPSILON * mag;
+                        let off = |a: [f64; 2], b: [f64; 2], e: [f64; 2]| {
+                            let near_x = (e[0] - x[0]).hypot(e[1] - x[1]) <= 1e-6 * mag;
+                            let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+                            near_x && orient2d(co(a), co(b), co(e)).abs() <= tol * len
+                        };
+                        let id = if off(ca[i1], ca[i2], cb[m1]) {
+                            self.vertex_b(trb[m1], &ca3)
+                        } else if off(ca[i1], ca[i2], cb[m2]) {
+                            self.vertex_b(trb[m2], &ca3)
+                        } else if off(cb[m1], cb[m2], ca[i1]) {
+                            self.vertex_a(tra[i1], &cb3)
+                        } else if off(cb[m1], cb[m2], ca[i2]) {
+                            self.vertex_a(tra[i2], &cb3)
+                        } else {
+                            self.push(
+                                x,
+                                interpolate(&ca3, x[0], x[1]),
+                                interpolate(&cb3, x[0], x[1]),
+                            )
+                        };
                         self.cross.insert(key, id);
                         self.o.crossings += 1;
                         id
                     }
                 };
+                if let Some(f) = fv.iter_mut().find(|f| f.id == id) {
+                    f.on_a |= 1 << k;
+                    f.on_b |= 1 << j;
+                    continue;
+                }
                 let p = self.o.pts[id as usize];
                 fv.push(FaceVertex {
                     id,
@@ -434,15 +469,12 @@ impl Builder<'_> {
                 ));
             }
         }
-        for i in 0..n {
-            let (u, v, w) = (fv[(i + n - 1) % n].p, fv[i].p, fv[(i + 1) % n].p);
-            if orient2d(co(u), co(v), co(w)) < 0.0 {
-                return Err(Refused::Rounding("face not convex after rounding"));
-            }
-        }
         self.boundary(ta, tb, fv);
         // ears: a strictly convex corner whose removal leaves a face that
-        // is not flat
+        // is not flat, and whose triangle holds no other vertex of the face
+        // (a face convex in exact arithmetic can be a rounding short of
+        // convex once its points are rounded or snapped: still a simple
+        // polygon, star-shaped around its mean, so it has ears)
         let mut ring: Vec<usize> = (0..n).collect();
         while ring.len() > 3 {
             let r = ring.len();
@@ -454,6 +486,17 @@ impl Builder<'_> {
                     fv[ring[(i + 1) % r]].p,
                 );
                 if orient2d(co(u), co(v), co(w)) <= 0.0 {
+                    continue;
+                }
+                let holds = (0..r)
+                    .filter(|&x| x != i && x != (i + r - 1) % r && x != (i + 1) % r)
+                    .map(|x| co(fv[ring[x]].p))
+                    .any(|x| {
+                        orient2d(co(u), co(v), x) >= 0.0
+                            && orient2d(co(v), co(w), x) >= 0.0
+                            && orient2d(co(w), co(u), x) >= 0.0
+                    });
+                if holds {
                     continue;
                 }
                 let flat = (0..r)
