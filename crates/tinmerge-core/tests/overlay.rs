@@ -458,6 +458,23 @@ fn overlay_of_raster_builds_a_fraction_of_a_pixel_apart() {
                 );
                 check_one(x, la, y, lb, &o);
                 assert!(o.crossings > 0);
+                // cut and fill against exact integration over the pairs of
+                // input triangles
+                let (want_cut, want_fill) = exact_cut_fill(x, la, y, lb);
+                let scale = want_cut + want_fill;
+                let (cut, fill, _) = difference(&o);
+                assert!(
+                    (cut - want_cut).abs() <= 1e-9 * scale
+                        && (fill - want_fill).abs() <= 1e-9 * scale,
+                    "levels {la}/{lb}: cut {cut} fill {fill}, exact {want_cut} {want_fill}"
+                );
+                let c = overlay_constrained(x, la, y, lb, &mut || Ok(())).unwrap();
+                let (cc, cf, _) = difference(&c);
+                eprintln!(
+                    "levels {la}/{lb}: constrained path off by {:.3e} and {:.3e} of {scale:.3e}",
+                    cc - want_cut,
+                    cf - want_fill
+                );
             }
         }
     }
