@@ -28,6 +28,27 @@ pub(crate) fn vco(v: &[f64; 3]) -> Coord<f64> {
     Coord { x: v[0], y: v[1] }
 }
 
+/// The bounding box `[min x, min y, max x, max y]` of points (infinite,
+/// min above max, for none).
+pub fn bbox2(pts: impl Iterator<Item = [f64; 2]>) -> [f64; 4] {
+    pts.fold(
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |b, p| {
+            [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ]
+        },
+    )
+}
+
 /// The plane point of a vertex (x, y, z).
 #[inline]
 pub fn xy(v: &[f64; 3]) -> P2 {

@@ -12,6 +12,7 @@ use rustc_hash::FxHashMap;
 use std::sync::OnceLock;
 
 use super::{Level, Tin};
+use crate::geom::{bbox2, xy};
 
 /// The outline of one level (see the module doc).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -33,7 +34,7 @@ impl Outline {
         let rings = rings_of(&edges);
         let boxes = rings
             .iter()
-            .map(|r| bbox(r.iter().map(|&v| verts[v as usize])))
+            .map(|r| bbox2(r.iter().map(|&v| xy(&verts[v as usize]))))
             .collect();
         Outline {
             edges,
@@ -51,25 +52,6 @@ impl Outline {
             r[0] <= b[2] && b[0] <= r[2] && r[1] <= b[3] && b[1] <= r[3]
         })
     }
-}
-
-fn bbox(pts: impl Iterator<Item = [f64; 3]>) -> [f64; 4] {
-    pts.fold(
-        [
-            f64::INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-        ],
-        |b, p| {
-            [
-                b[0].min(p[0]),
-                b[1].min(p[1]),
-                b[2].max(p[0]),
-                b[3].max(p[1]),
-            ]
-        },
-    )
 }
 
 /// Boundary edges chained into closed rings of vertex ids. An open chain

@@ -23,31 +23,12 @@ use geo::{BooleanOps, Contains, Coord, LineString, MultiPolygon, Point, Polygon}
 use rustc_hash::FxHashMap;
 
 use super::{Part, pieces, runs};
-use crate::geom::{point_segment_nearest, xy};
+use crate::geom::{bbox2, point_segment_nearest, xy};
 use crate::merge::point;
 use crate::tin::{Tin, TinError};
 
 /// A boundary edge of the level (domain on its left), its ends with heights.
 type Edge = [[f64; 3]; 2];
-
-fn bbox2(pts: impl Iterator<Item = [f64; 2]>) -> [f64; 4] {
-    pts.fold(
-        [
-            f64::INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-        ],
-        |b, p| {
-            [
-                b[0].min(p[0]),
-                b[1].min(p[1]),
-                b[2].max(p[0]),
-                b[3].max(p[1]),
-            ]
-        },
-    )
-}
 
 fn line(r: impl Iterator<Item = [f64; 2]>) -> LineString<f64> {
     LineString::new(r.map(|p| Coord { x: p[0], y: p[1] }).collect())
