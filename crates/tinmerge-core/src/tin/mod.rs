@@ -121,6 +121,55 @@ pub struct Grid {
     pub cells: Vec<u32>,
 }
 
+/// The outline of a level's domain: its boundary edges chained into
+/// rings, with their boxes ([`outline`], [`Tin::outline`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outline {
+    /// The boundary edges as vertex pairs, in [`Level::boundary_edges`]'s
+    /// order.
+    pub edges: Vec<[u32; 2]>,
+    /// The edges chained into closed rings of vertex ids (at a vertex where
+    /// two rings touch, any pairing: use the rings with the even-odd rule).
+    pub rings: Vec<Vec<u32>>,
+    /// Each ring's bounding box, `[min x, min y, max x, max y]`.
+    pub boxes: Vec<[f64; 4]>,
+}
+
+/// A value derived from a decoded level on first use and kept with it. It
+/// is not part of the value: clones start empty and derive it again, and
+/// it never makes two levels differ.
+#[derive(Default)]
+pub struct Derived<T>(std::sync::OnceLock<T>);
+
+impl<T> Derived<T> {
+    /// The value, derived by `f` on the first call.
+    pub fn get_or_init(&self, f: impl FnOnce() -> T) -> &T {
+        self.0.get_or_init(f)
+    }
+}
+
+impl<T> Clone for Derived<T> {
+    fn clone(&self) -> Self {
+        Derived(std::sync::OnceLock::new())
+    }
+}
+
+impl<T> PartialEq for Derived<T> {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl<T> std::fmt::Debug for Derived<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.get().is_some() {
+            "Derived(kept)"
+        } else {
+            "Derived(not yet)"
+        })
+    }
+}
+
 /// One level of detail.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Level {
@@ -153,7 +202,7 @@ pub struct Level {
     pub grid: Grid,
     /// The domain's outline, derived on first use ([`Tin::outline`]);
     /// `Default::default()` when making a level.
-    pub outline: outline::Derived<outline::Outline>,
+    pub outline: Derived<Outline>,
 }
 
 impl Level {

@@ -9,23 +9,9 @@
 //! the whole level, on every call.
 
 use rustc_hash::FxHashMap;
-use std::sync::OnceLock;
 
-use super::{Level, Tin};
+use super::{Level, Outline, Tin};
 use crate::geom::{bbox2, xy};
-
-/// The outline of one level (see the module doc).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Outline {
-    /// The boundary edges as vertex pairs, in [`Level::boundary_edges`]'s
-    /// order.
-    pub edges: Vec<[u32; 2]>,
-    /// The edges chained into closed rings of vertex ids (at a vertex where
-    /// two rings touch, any pairing: use the rings with the even-odd rule).
-    pub rings: Vec<Vec<u32>>,
-    /// Each ring's bounding box, `[min x, min y, max x, max y]`.
-    pub boxes: Vec<[f64; 4]>,
-}
 
 impl Outline {
     /// The outline of `level`, whose vertices are `verts`.
@@ -93,34 +79,6 @@ fn rings_of(edges: &[[u32; 2]]) -> Vec<Vec<u32>> {
     rings
 }
 
-/// A value derived from a decoded level on first use and kept with it. It
-/// is not part of the value: clones start empty and derive it again, and
-/// it never makes two levels differ.
-#[derive(Default)]
-pub struct Derived<T>(OnceLock<T>);
-
-impl<T> Clone for Derived<T> {
-    fn clone(&self) -> Self {
-        Derived(OnceLock::new())
-    }
-}
-
-impl<T> PartialEq for Derived<T> {
-    fn eq(&self, _: &Self) -> bool {
-        true
-    }
-}
-
-impl<T> std::fmt::Debug for Derived<T> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(if self.0.get().is_some() {
-            "Derived(kept)"
-        } else {
-            "Derived(not yet)"
-        })
-    }
-}
-
 impl Tin {
     /// The outline of `level`'s domain, computed on the first call and
     /// kept with the value.
@@ -142,6 +100,6 @@ impl Tin {
     /// ```
     pub fn outline(&self, level: usize) -> &Outline {
         let lv = &self.levels[level];
-        lv.outline.0.get_or_init(|| Outline::of(&self.verts, lv))
+        lv.outline.get_or_init(|| Outline::of(&self.verts, lv))
     }
 }
