@@ -1,0 +1,6 @@
+-- tinmerge 0.16.0 -> 0.17.0. No catalog change; stored values read as
+-- before. tin_overlay and tin_difference of two tins whose edges run along
+-- the same directions (raster builds a fraction of a pixel apart) now take
+-- the face-by-face path instead of the constrained triangulation: their
+-- triangles change, and the cut and fill are right where the constrained
+-- path got them wrong next to void triangles (docs/upgrading.md).
