@@ -22,7 +22,7 @@
 
 use super::mesh::{Indexed, LevelRef, Mesh, infallible};
 use super::{Level, NONE, Tin};
-use crate::geom::vco;
+use crate::geom::{point_segment_nearest, vco, xy};
 use robust::{Coord, orient2d};
 
 /// Outcome of a walk.
@@ -305,13 +305,14 @@ const NEAR_HULL_VISITS: usize = 4096;
 /// A triangle containing (x, y), a point the walk found outside the hull
 /// edge of `t` but within rounding of it ([`beside_hull_edge`]), or None:
 /// the triangles whose bounding box, widened by `reach`, holds the point,
-/// searched across edges from `t` (`reach` is the point's distance to
-/// `t`'s box plus the rounding band, so `t` is one of them). Those include
-/// every triangle meeting the disc of radius `reach` around the point, and
-/// the domain's part of that disc is convex up to rounding, so the ones
-/// meeting it are connected across edges: the triangle containing the
-/// point, if any, is found. After [`NEAR_HULL_VISITS`] triangles (a
-/// geometrically unusual value) the level is scanned.
+/// searched across edges from `t`. `reach` is the point's distance to the
+/// triangle `t` (plus the rounding band). If a triangle contains the
+/// point, the point is in the hull, and so is the segment from the nearest
+/// point of `t` (on the hull) to it: the hull is convex up to rounding. The
+/// triangles that segment crosses, edge by edge, are within `reach` of the
+/// point, and so are their boxes: the search finds the triangle. After
+/// [`NEAR_HULL_VISITS`] triangles (a geometrically unusual value) the
+/// level is scanned.
 fn near_hull<M: Indexed>(
     m: &M,
     level: usize,
@@ -333,10 +334,11 @@ fn near_hull<M: Indexed>(
         * [b.min_x, b.max_x, b.min_y, b.max_y]
             .iter()
             .fold(0.0_f64, |a, v| a.max(v.abs()));
-    let bt = bbox(t)?;
-    let dx = (bt[0] - x).max(x - bt[2]).max(0.0);
-    let dy = (bt[1] - y).max(y - bt[3]).max(0.0);
-    let reach = dx.hypot(dy) + 2.0 * band;
+    let c = m.corners(level, t)?;
+    let reach = (0..3).fold(f64::INFINITY, |r, j| {
+        let (a, e) = (xy(&c[j]), xy(&c[(j + 1) % 3]));
+        r.min(point_segment_nearest([x, y], a, e).0)
+    }) + 2.0 * band;
     let near = |e: [f64; 4]| {
         x >= e[0] - reach && x <= e[2] + reach && y >= e[1] - reach && y <= e[3] + reach
     };
