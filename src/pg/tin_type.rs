@@ -122,28 +122,19 @@ impl TinArg {
 
     /// What this transaction knows of the value without decoding it: its
     /// header (remembered from an earlier row for the same on-disk value,
-    /// or read through a prefix slice and remembered), the decoded value
-    /// when that is still at hand, and the TOAST key and transaction a
-    /// decode is to be remembered under (None for a value not on disk).
+    /// or read through a prefix slice and remembered), and the TOAST key
+    /// and transaction a decode is to be remembered under (None for a value
+    /// not on disk). The decoded value still at hand is
+    /// [`TinArg::decoded_as_before`]'s.
     fn known(&self) -> Known {
         let Some((key, epoch, alias)) = self.remembered() else {
             return Known {
                 header: Arc::new(self.read_header()),
-                tin: None,
                 key: None,
             };
         };
         let header = match alias {
-            Some(a) => {
-                if let Some(t) = a.tin.upgrade() {
-                    return Known {
-                        header: a.header,
-                        tin: Some(t),
-                        key: Some((key, epoch)),
-                    };
-                }
-                a.header
-            }
+            Some(a) => a.header,
             None => {
                 let header = Arc::new(self.read_header());
                 cache::remember(
@@ -159,7 +150,6 @@ impl TinArg {
         };
         Known {
             header,
-            tin: None,
             key: Some((key, epoch)),
         }
     }
@@ -197,23 +187,13 @@ impl TinArg {
             return MeshSource::Decoded(t);
         }
         let k = self.known();
-        if let Some(t) = k.tin {
-            cache::count_alias_hit();
-            return MeshSource::Decoded(t);
-        }
         if k.key.is_none() || k.header.version == layout::VERSION_1 {
             return MeshSource::Decoded(self.decode(k));
         }
         if let Some(t) = cache::peek(k.header.hash, k.header.total_len) {
             // decoded by an earlier transaction: remembered for the rest of
             // this one, so its next rows take the first path above
-            if let Some((key, epoch)) = k.key {
-                let alias = cache::Alias {
-                    header: k.header,
-                    tin: Arc::downgrade(&t),
-                };
-                cache::remember(key, epoch, alias);
-            }
+            k.remember(&t);
             return MeshSource::Decoded(t);
         }
         match cache::sliced(k.header.hash, k.header.total_len, || {
@@ -267,12 +247,7 @@ impl TinArg {
             cache::count_alias_hit();
             return t;
         }
-        let k = self.known();
-        if let Some(t) = k.tin {
-            cache::count_alias_hit();
-            return t;
-        }
-        self.decode(k)
+        self.decode(self.known())
     }
 
     /// The decoded value for what is known of it (from the backend cache
@@ -283,16 +258,7 @@ impl TinArg {
         let tin = cache::get_or_decode(k.header.hash, k.header.total_len, need, || {
             layout::decode_checked(self.bytes(), &mut interrupt)
         });
-        if let Some((key, epoch)) = k.key {
-            cache::remember(
-                key,
-                epoch,
-                cache::Alias {
-                    header: k.header,
-                    tin: Arc::downgrade(&tin),
-                },
-            );
-        }
+        k.remember(&tin);
         tin
     }
 }
@@ -300,8 +266,21 @@ impl TinArg {
 /// See [`TinArg::known`].
 struct Known {
     header: Arc<Header>,
-    tin: Option<Arc<Tin>>,
     key: Option<(cache::ToastKey, i64)>,
+}
+
+impl Known {
+    /// Remember `tin` as the decoded value for the rest of the transaction
+    /// (a value on disk only).
+    fn remember(self, tin: &Arc<Tin>) {
+        if let Some((key, epoch)) = self.key {
+            let alias = cache::Alias {
+                header: self.header,
+                tin: Arc::downgrade(tin),
+            };
+            cache::remember(key, epoch, alias);
+        }
+    }
 }
 
 /// A `tin` result: storage bytes, copied into a palloc'd varlena on return.

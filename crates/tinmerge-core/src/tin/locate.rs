@@ -22,7 +22,7 @@
 
 use super::mesh::{Indexed, LevelRef, Mesh, infallible};
 use super::{Level, NONE, Tin};
-use crate::geom::{point_segment_nearest, vco, xy};
+use crate::geom::{bbox2, point_segment_nearest, vco, xy};
 use robust::{Coord, orient2d};
 
 /// Outcome of a walk.
@@ -299,6 +299,15 @@ pub fn locate_hull_in<M: Indexed>(
     })
 }
 
+/// The rounding band of the hull's edges: a billionth of the largest
+/// coordinate ([`beside_hull_edge`], [`near_hull`]).
+fn hull_band<M: Indexed>(m: &M) -> f64 {
+    let b = m.bbox();
+    1e-9 * [b.min_x, b.max_x, b.min_y, b.max_y]
+        .iter()
+        .fold(0.0_f64, |a, v| a.max(v.abs()))
+}
+
 /// Most triangles [`near_hull`] visits before it scans the level instead.
 const NEAR_HULL_VISITS: usize = 4096;
 
@@ -320,20 +329,9 @@ fn near_hull<M: Indexed>(
     x: f64,
     y: f64,
 ) -> Result<Option<u32>, M::Err> {
-    let bbox = |u: u32| -> Result<[f64; 4], M::Err> {
-        let c = m.corners(level, u)?;
-        Ok([
-            c[0][0].min(c[1][0]).min(c[2][0]),
-            c[0][1].min(c[1][1]).min(c[2][1]),
-            c[0][0].max(c[1][0]).max(c[2][0]),
-            c[0][1].max(c[1][1]).max(c[2][1]),
-        ])
-    };
-    let b = m.bbox();
-    let band = 1e-9
-        * [b.min_x, b.max_x, b.min_y, b.max_y]
-            .iter()
-            .fold(0.0_f64, |a, v| a.max(v.abs()));
+    let bbox =
+        |u: u32| -> Result<[f64; 4], M::Err> { Ok(bbox2(m.corners(level, u)?.iter().map(xy))) };
+    let band = hull_band(m);
     let c = m.corners(level, t)?;
     let reach = (0..3).fold(f64::INFINITY, |r, j| {
         let (a, e) = (xy(&c[j]), xy(&c[(j + 1) % 3]));
@@ -376,11 +374,7 @@ fn beside_hull_edge<M: Indexed>(
     x: f64,
     y: f64,
 ) -> Result<bool, M::Err> {
-    let b = m.bbox();
-    let band = 1e-9
-        * [b.min_x, b.max_x, b.min_y, b.max_y]
-            .iter()
-            .fold(0.0_f64, |a, v| a.max(v.abs()));
+    let band = hull_band(m);
     let c = m.corners(level, t)?;
     let nbrs = m.nbrs(level, t)?;
     let p = Coord { x, y };

@@ -232,7 +232,7 @@ where
         let mut ring = rustc_hash::FxHashSet::default();
         let mut stack = Vec::new();
         for &t in &out.triangles {
-            for v in m.tri(level, t)? {
+            for v in out.tri(t)? {
                 stack.push(t);
                 while let Some(u) = stack.pop() {
                     if !ring.insert((v, u)) {
