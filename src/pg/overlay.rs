@@ -10,7 +10,7 @@ use super::memory;
 use super::tin_type::tin_level;
 use super::tin_type::{TinArg, TinOut};
 use tinmerge_core::io::ewkb;
-use tinmerge_core::merge::overlay::{difference, overlay, Overlay};
+use tinmerge_core::merge::overlay::{difference, mark_same, overlay, Overlay};
 use tinmerge_core::tin::build::from_triangles;
 
 /// The overlay of two tin arguments at their levels, SRIDs checked, with
@@ -21,6 +21,7 @@ fn overlay_args(
     b: &TinArg,
     level_b: Option<i32>,
     func: &str,
+    same: bool,
 ) -> (Overlay, i32) {
     let (ta, la) = tin_level(a, level_a);
     let (tb, lb) = tin_level(b, level_b);
@@ -37,10 +38,11 @@ fn overlay_args(
     memory::reserve(tinmerge_core::merge::overlay::overlay_bytes(na, nb), || {
         format!("{func}: overlaying {na} and {nb} triangles")
     });
-    (
-        overlay(&ta, la, &tb, lb, &mut interrupt).or_raise(),
-        ta.srid,
-    )
+    let mut o = overlay(&ta, la, &tb, lb, &mut interrupt).or_raise();
+    if same {
+        mark_same(&mut o, &ta, la, &tb, lb);
+    }
+    (o, ta.srid)
 }
 
 type OverlayRow = (i32, i32, i32, Vec<u8>, Vec<u8>);
@@ -65,7 +67,7 @@ fn _tin_overlay(
     let (Some(a), Some(b)) = (a, b) else {
         return TableIterator::new(Vec::<OverlayRow>::new());
     };
-    let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay");
+    let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay", false);
     let rows: Vec<usize> = o.domain().collect();
     TableIterator::new(rows.into_iter().map(move |t| {
         (
@@ -95,7 +97,7 @@ fn _tin_overlay_tin(
     level_b: Option<i32>,
 ) -> Option<TinOut> {
     let (a, b) = (a?, b?);
-    let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay_tin");
+    let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay_tin", false);
     if o.tris.is_empty() {
         return None;
     }
@@ -136,7 +138,7 @@ fn _tin_difference(
     let (Some(a), Some(b)) = (a, b) else {
         return TableIterator::new(Vec::new());
     };
-    let (o, _) = overlay_args(&a, level_a, &b, level_b, "tin_difference");
+    let (o, _) = overlay_args(&a, level_a, &b, level_b, "tin_difference", true);
     if o.tris.is_empty() {
         return TableIterator::new(Vec::new());
     }

@@ -173,6 +173,28 @@ pub fn segments_intersect(p1: Coord<f64>, p2: Coord<f64>, q1: Coord<f64>, q2: Co
         || (d4 == 0.0 && on_segment(p1, p2, q2))
 }
 
+/// Position of `p` along the segment `a`–`b` (z ignored): 0 at `a`, 1 at
+/// `b`, by projection onto the segment's line.
+pub fn param_along(a: &[f64; 3], b: &[f64; 3], p: P2) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)
+}
+
+/// Height at `p` of the segment `a`–`b` taken as a line in 3D, `p`
+/// projected onto it and held to the segment: the height of a point on
+/// an edge (a crossing, a vertex on it up to rounding) from that edge's
+/// ends alone, whatever triangle the point would be located in.
+///
+/// ```
+/// use tinmerge_core::geom::z_along;
+/// assert_eq!(z_along(&[0.0, 0.0, 10.0], &[4.0, 0.0, 20.0], [1.0, 0.0]), 12.5);
+/// assert_eq!(z_along(&[0.0, 0.0, 10.0], &[4.0, 0.0, 20.0], [9.0, 0.0]), 20.0);
+/// ```
+pub fn z_along(a: &[f64; 3], b: &[f64; 3], p: P2) -> f64 {
+    let t = param_along(a, b, p).clamp(0.0, 1.0);
+    a[2] + t * (b[2] - a[2])
+}
+
 /// Crossing point of segment pq with segment uv, known to cross properly
 /// (all four orientations non-zero). Callers that need the same point
 /// whoever asks (the overlay) give the ends of both segments in a canonical

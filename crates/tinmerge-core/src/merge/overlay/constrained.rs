@@ -5,15 +5,25 @@
 //! pieces that rounding made cross again inserted with splitting), output
 //! triangles labelled by locating their centroids. Used when B's domain is
 //! not convex or the face-by-face path ([`super::faces`]) refuses.
+//!
+//! Each output point gets its heights where it is made, from what it was
+//! made of: a crossing from the two edges' ends ([`z_along`]), a vertex of
+//! one tin from the edge or triangle of the other it was located on. They
+//! used to be interpolated in the first output triangle met at the point;
+//! along a tin's boundary the crossings' rounding leaves flat slivers a few
+//! hundred metres long, whose centroid lies in a triangle far from some of
+//! their corners, and the extrapolation there was metres off (issue 47's
+//! shifted pair: 15 of 2,963 million m³ of cut).
 
-use super::output::Overlay;
-use crate::geom::{co, crossing, xy};
+use super::faces::HullBuckets;
+use super::output::{Overlay, drop_unused};
+use crate::geom::{co, crossing, point_segment_nearest, xy, z_along};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::{NONE, Tin, TinError, interpolate, locate};
 use robust::orient2d;
-use spade::handles::FixedVertexHandle;
+use spade::handles::{FaceHandle, FixedVertexHandle, InnerTag};
 use spade::{
-    ConstrainedDelaunayTriangulation, Intersection, LineIntersectionIterator, Point2,
+    CdtEdge, ConstrainedDelaunayTriangulation, Intersection, LineIntersectionIterator, Point2,
     PositionInTriangulation, Triangulation,
 };
 
@@ -95,13 +105,29 @@ struct Points {
     /// A or B vertex id behind each output vertex (NONE: a crossing).
     src_a: Vec<u32>,
     src_b: Vec<u32>,
+    /// Heights on A's and B's surfaces.
+    za: Vec<f64>,
+    zb: Vec<f64>,
 }
 
 impl Points {
-    fn push(&mut self, p: [f64; 2], a: u32, b: u32) -> u32 {
+    fn with_capacity(n: usize) -> Points {
+        Points {
+            pts: Vec::with_capacity(n),
+            src_a: Vec::with_capacity(n),
+            src_b: Vec::with_capacity(n),
+            za: Vec::with_capacity(n),
+            zb: Vec::with_capacity(n),
+        }
+    }
+
+    /// A point, the vertices of A and B behind it (or NONE), its heights.
+    fn push(&mut self, p: [f64; 2], (a, b): (u32, u32), (za, zb): (f64, f64)) -> u32 {
         self.pts.push(Point2::new(p[0], p[1]));
         self.src_a.push(a);
         self.src_b.push(b);
+        self.za.push(za);
+        self.zb.push(zb);
         (self.pts.len() - 1) as u32
     }
 }
@@ -124,18 +150,24 @@ pub(crate) fn overlay_cdt(
         return Ok(Overlay::default()); // disjoint domains
     }
     let cdt_b = load(b, level_b, "b")?;
+    let (hull_a, hull_b) = (
+        HullBuckets::new(a, &a.levels[level_a]),
+        HullBuckets::new(b, &b.levels[level_b]),
+    );
     let (a, b) = (
         Side {
             tin: a,
             level: level_a,
+            hull: &hull_a,
         },
         Side {
             tin: b,
             level: level_b,
+            hull: &hull_b,
         },
     );
     let mut found = locate_vertices(a, b, &cdt_b, &mut tk)?;
-    let (mut pieces, crossings) = walk_edges_of_a(a, &cdt_b, &mut found, &mut tk)?;
+    let (mut pieces, crossings) = walk_edges_of_a(a, b, &cdt_b, &mut found, &mut tk)?;
     pieces_of_b(&cdt_b, &found, &mut pieces, &mut tk)?;
     for p in pieces.iter_mut() {
         if p[0] > p[1] {
@@ -158,31 +190,58 @@ pub(crate) fn overlay_cdt(
         resplit,
         ..Overlay::default()
     };
-    let nv = o.pts.len();
-    o.za = vec![f64::NAN; nv];
-    o.zb = vec![f64::NAN; nv];
-    for (id, (&sa, &sb)) in pts.src_a.iter().zip(&pts.src_b).enumerate() {
-        if sa != NONE {
-            o.za[id] = a.tin.verts[sa as usize][2];
-        }
-        if sb != NONE {
-            o.zb[id] = b.tin.verts[sb as usize][2];
-        }
+    // the points in the order given (the CDT keeps it), then those its
+    // splitting insertion added where two pieces crossed again: located
+    o.za = pts.za;
+    o.zb = pts.zb;
+    for p in &o.pts[o.za.len()..] {
+        tk.tick()?;
+        o.za.push(z_at(a, *p)?);
+        o.zb.push(z_at(b, *p)?);
     }
-    label_faces(a, b, &cdt, &mut o, &mut tk)?;
+    let band = 1e-9
+        * o.pts
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let outside = outside_slivers(&cdt, band, &mut tk)?;
+    label_faces(a, b, &cdt, &outside, &mut o, &mut tk)?;
     Ok(o)
 }
 
-/// One input of the overlay: a tin at a level.
+/// One input of the overlay: a tin at a level, and its hull triangles.
 #[derive(Clone, Copy)]
 struct Side<'a> {
     tin: &'a Tin,
     level: usize,
+    hull: &'a HullBuckets,
 }
 
 impl Side<'_> {
     fn num_vertices(&self) -> usize {
         self.tin.levels[self.level].num_vertices as usize
+    }
+
+    /// The hull triangle nearest `p` by distance to its hull edges, with
+    /// that distance, among those whose box is within `reach` of `p`
+    /// (all of them when `reach` is infinite).
+    fn nearest_hull(&self, p: [f64; 2], reach: f64) -> Option<(f64, u32)> {
+        let lv = &self.tin.levels[self.level];
+        let (lo, hi) = ([p[0] - reach, p[1] - reach], [p[0] + reach, p[1] + reach]);
+        let mut best: Option<(f64, u32)> = None;
+        for t in self.hull.near(lo, hi) {
+            let (tri, nb) = (lv.tris[t as usize], lv.nbrs[t as usize]);
+            for j in (0..3).filter(|&j| nb[j] == NONE) {
+                let (u, v) = (
+                    xy(&self.tin.verts[tri[(j + 1) % 3] as usize]),
+                    xy(&self.tin.verts[tri[(j + 2) % 3] as usize]),
+                );
+                let d = point_segment_nearest(p, u, v).0;
+                if d <= reach && best.is_none_or(|b| d < b.0) {
+                    best = Some((d, t));
+                }
+            }
+        }
+        best
     }
 }
 
@@ -207,43 +266,82 @@ fn locate_vertices(
 ) -> Result<Found, TinError> {
     let (nva, nvb) = (a.num_vertices(), b.num_vertices());
     let mut f = Found {
-        pts: Points {
-            pts: Vec::with_capacity(nva + nvb),
-            src_a: Vec::with_capacity(nva + nvb),
-            src_b: Vec::with_capacity(nva + nvb),
-        },
+        pts: Points::with_capacity(nva + nvb),
         out_a: vec![NONE; nva],
         out_b: vec![NONE; nvb],
         on_b: vec![Vec::new(); cdt_b.num_undirected_edges()],
     };
     let lb = &b.tin.levels[b.level];
+    let big = [&a.tin.bbox, &b.tin.bbox]
+        .iter()
+        .flat_map(|b| [b.min_x, b.max_x, b.min_y, b.max_y])
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let eps = snap_eps(big);
+    // a point in a rounding-wide sliver outside B (an edge or a face of
+    // the CDT that is no edge or triangle of B, see `load`): outside B
+    // unless within `eps` of it, as for B's vertices below
+    let near_b = |v: &[f64; 3]| -> Result<Option<f64>, TinError> {
+        Ok(match b.nearest_hull(xy(v), eps) {
+            Some(_) => Some(z_at(b, xy(v))?),
+            None => None,
+        })
+    };
     for (i, v) in a.tin.verts[..nva].iter().enumerate() {
         tk.tick()?;
         let hint = {
             let t = locate::start_triangle(b.tin, b.level, v[0], v[1]);
             FixedVertexHandle::from_index(lb.tris.get(t as usize).map_or(0, |tr| tr[0] as usize))
         };
+        let zb = |h: FixedVertexHandle| b.tin.verts[h.index()];
         match cdt_b.locate_with_hint(Point2::new(v[0], v[1]), hint) {
             PositionInTriangulation::OnVertex(h) => {
-                let id = f.pts.push(xy(v), i as u32, h.index() as u32);
+                let id = f
+                    .pts
+                    .push(xy(v), (i as u32, h.index() as u32), (v[2], zb(h)[2]));
                 f.out_a[i] = id;
                 f.out_b[h.index()] = id;
             }
             PositionInTriangulation::OnEdge(e) => {
-                let id = f.pts.push(xy(v), i as u32, NONE);
-                f.out_a[i] = id;
-                f.on_b[e.as_undirected().index()].push(id);
+                let e = cdt_b.directed_edge(e);
+                if e.is_constraint_edge() {
+                    let z = z_along(&zb(e.from().fix()), &zb(e.to().fix()), xy(v));
+                    let id = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
+                    f.out_a[i] = id;
+                    f.on_b[e.as_undirected().index()].push(id);
+                } else if let Some(z) = near_b(v)? {
+                    f.out_a[i] = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
+                }
             }
-            PositionInTriangulation::OnFace(_) => {
-                f.out_a[i] = f.pts.push(xy(v), i as u32, NONE);
+            PositionInTriangulation::OnFace(h) => {
+                let face = cdt_b.face(h);
+                // a triangle of B has constraints for sides; a sliver
+                // outside it does not
+                if face.adjacent_edges().iter().all(|e| e.is_constraint_edge()) {
+                    let z = interpolate(&face.vertices().map(|w| zb(w.fix())), v[0], v[1]);
+                    f.out_a[i] = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
+                } else if let Some(z) = near_b(v)? {
+                    f.out_a[i] = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
+                }
             }
             _ => {}
         }
     }
+    // B's vertices in A, and those a rounding outside it: A's outer
+    // boundary can bend in by an ulp where a boundary ring meets the
+    // samples' hull, and a vertex of B on the hull line is then outside
+    // A's triangles. The crossings of A's edges with B's edges there
+    // round onto that vertex (`merge_coincident`), as the faces path snaps
+    // them; left out, the vertex would be missing from the output.
     for (j, v) in b.tin.verts[..nvb].iter().enumerate() {
         tk.tick()?;
-        if f.out_b[j] == NONE && locate::locate_hull(a.tin, a.level, v[0], v[1]).is_some() {
-            f.out_b[j] = f.pts.push(xy(v), NONE, j as u32);
+        if f.out_b[j] != NONE {
+            continue;
+        }
+        let t = locate::locate_hull(a.tin, a.level, v[0], v[1])
+            .or_else(|| a.nearest_hull(xy(v), eps).map(|n| n.1));
+        if let Some(t) = t {
+            let z = interpolate(&a.tin.corners(a.level, t), v[0], v[1]);
+            f.out_b[j] = f.pts.push(xy(v), (NONE, j as u32), (z, v[2]));
         }
     }
     Ok(f)
@@ -255,6 +353,7 @@ fn locate_vertices(
 /// pieces, and the number of crossings.
 fn walk_edges_of_a(
     a: Side<'_>,
+    b: Side<'_>,
     cdt_b: &Cdt,
     f: &mut Found,
     tk: &mut Ticker<'_, '_>,
@@ -264,7 +363,8 @@ fn walk_edges_of_a(
     let mut chain: Vec<u32> = Vec::new();
     for [i, k] in level_edges(a.tin, a.level) {
         tk.tick()?;
-        let (p, q) = (xy(&a.tin.verts[i as usize]), xy(&a.tin.verts[k as usize]));
+        let (pa, qa) = (&a.tin.verts[i as usize], &a.tin.verts[k as usize]);
+        let (p, q) = (xy(pa), xy(qa));
         chain.clear();
         if f.out_a[i as usize] != NONE {
             chain.push(f.out_a[i as usize]);
@@ -282,6 +382,10 @@ fn walk_edges_of_a(
                     }
                     chain.push(id);
                 }
+                // an edge of the CDT that is no edge of B spans a
+                // rounding-wide sliver outside B (see `load`): nothing
+                // of the overlay is there
+                Intersection::EdgeIntersection(e) if !e.is_constraint_edge() => {}
                 Intersection::EdgeIntersection(e) => {
                     let (hu, hv) = (e.from(), e.to());
                     let (u, v) = (hu.position(), hv.position());
@@ -300,7 +404,13 @@ fn walk_edges_of_a(
                     } else {
                         (v, u)
                     };
-                    let id = f.pts.push(crossing(s, t, s2, t2), NONE, NONE);
+                    let x = crossing(s, t, s2, t2);
+                    let (ub, vb) = (
+                        &b.tin.verts[hu.fix().index()],
+                        &b.tin.verts[hv.fix().index()],
+                    );
+                    let zb = z_along(ub, vb, x);
+                    let id = f.pts.push(x, (NONE, NONE), (z_along(pa, qa, x), zb));
                     crossings += 1;
                     f.on_b[e.as_undirected().index()].push(id);
                     chain.push(id);
@@ -328,7 +438,8 @@ fn pieces_of_b(
     tk: &mut Ticker<'_, '_>,
 ) -> Result<(), TinError> {
     let mut along: Vec<(f64, u32)> = Vec::new();
-    for e in cdt_b.undirected_edges() {
+    // B's own edges: not those spanning a sliver outside it (`load`)
+    for e in cdt_b.undirected_edges().filter(|e| e.is_constraint_edge()) {
         tk.tick()?;
         let [hu, hv] = e.vertices();
         let (iu, iv) = (hu.fix().index(), hv.fix().index());
@@ -385,42 +496,95 @@ fn triangulate(
     Ok((cdt, resplit))
 }
 
+/// The faces of the CDT outside the common domain, by face index: those
+/// reached from the convex hull without crossing a piece of an input edge,
+/// through faces no wider than `band` (area at most `band` times the
+/// longest side).
+///
+/// The CDT covers the convex hull of the output points, and both inputs'
+/// outer boundaries may bend in by a rounding (see `load`): the faces in
+/// such a concavity are flat slivers outside the common domain, up to
+/// hundreds of metres long along it, in no one triangle of the tin they
+/// leave, and none of the faces path's. Bounded by the pieces of both
+/// boundaries on the inside; a face wider than `band` stops the fill
+/// whatever it met, so a gap in those pieces cannot empty the overlay.
+fn outside_slivers(cdt: &Cdt, band: f64, tk: &mut Ticker<'_, '_>) -> Result<Vec<bool>, TinError> {
+    let mut out = vec![false; cdt.num_all_faces()];
+    let flat = |f: FaceHandle<'_, InnerTag, Point2<f64>, (), CdtEdge<()>, ()>| {
+        let p: [Point2<f64>; 3] = f.positions();
+        let longest = (0..3).fold(0.0f64, |m, j| {
+            let (u, v) = (p[j], p[(j + 1) % 3]);
+            m.max((v.x - u.x).hypot(v.y - u.y))
+        });
+        f.area().abs() <= band * longest
+    };
+    let mut stack = Vec::new();
+    for e in cdt.convex_hull() {
+        for h in [e, e.rev()] {
+            if let Some(f) = h.face().as_inner()
+                && !h.is_constraint_edge()
+                && !out[f.fix().index()]
+                && flat(f)
+            {
+                out[f.fix().index()] = true;
+                stack.push(f);
+            }
+        }
+    }
+    while let Some(f) = stack.pop() {
+        tk.tick()?;
+        for e in f.adjacent_edges() {
+            if e.is_constraint_edge() {
+                continue;
+            }
+            if let Some(g) = e.rev().face().as_inner()
+                && !out[g.fix().index()]
+                && flat(g)
+            {
+                out[g.fix().index()] = true;
+                stack.push(g);
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// The CDT's faces as the overlay's triangles, each labelled with the
-/// triangles of A and B holding its centroid, the heights the inputs did
-/// not give interpolated in those.
+/// triangles of A and B holding its centroid; those [`outside_slivers`]
+/// found dropped, and the points only they used.
 fn label_faces(
     a: Side<'_>,
     b: Side<'_>,
     cdt: &Cdt,
+    outside: &[bool],
     o: &mut Overlay,
     tk: &mut Ticker<'_, '_>,
 ) -> Result<(), TinError> {
     o.tris.reserve(cdt.num_inner_faces());
     for f in cdt.inner_faces() {
         tk.tick()?;
+        if outside[f.fix().index()] {
+            continue;
+        }
         let vs = f.vertices().map(|v| v.fix().index() as u32);
         let c = vs.map(|v| o.pts[v as usize]);
         let (cx, cy) = (
             (c[0][0] + c[1][0] + c[2][0]) / 3.0,
             (c[0][1] + c[1][1] + c[2][1]) / 3.0,
         );
-        let ta = owner(a.tin, a.level, cx, cy, &c)?;
-        let tb = owner(b.tin, b.level, cx, cy, &c)?;
-        let (ca, cb) = (a.tin.corners(a.level, ta), b.tin.corners(b.level, tb));
-        for (k, &v) in vs.iter().enumerate() {
-            let v = v as usize;
-            if o.za[v].is_nan() {
-                o.za[v] = interpolate(&ca, c[k][0], c[k][1]);
-            }
-            if o.zb[v].is_nan() {
-                o.zb[v] = interpolate(&cb, c[k][0], c[k][1]);
-            }
-        }
+        let (ta, tb) = (owner(a, cx, cy), owner(b, cx, cy));
         o.tris.push(vs);
         o.tri_a.push(ta);
         o.tri_b.push(tb);
     }
+    drop_unused(o);
     Ok(())
+}
+
+/// Points this close in x and in y are one output point: 8 ulps of the
+/// largest coordinate `big` ([`merge_coincident`]).
+fn snap_eps(big: f64) -> f64 {
+    8.0 * f64::EPSILON * big.max(f64::MIN_POSITIVE)
 }
 
 /// Points at the same position, or a few units in the last place apart,
@@ -441,17 +605,13 @@ fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[u
         .pts
         .iter()
         .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
-    let eps = 8.0 * f64::EPSILON * big.max(f64::MIN_POSITIVE);
+    let eps = snap_eps(big);
     let cell = |v: f64| (v / (2.0 * eps)).floor() as i64;
     // points by cell of side 2 eps: a point within eps of another is in one
     // of the 3 x 3 cells around it
     let mut grid: rustc_hash::FxHashMap<(i64, i64), Vec<u32>> = Default::default();
     let mut id = Vec::with_capacity(pts.pts.len());
-    let mut out = Points {
-        pts: Vec::with_capacity(pts.pts.len()),
-        src_a: Vec::with_capacity(pts.pts.len()),
-        src_b: Vec::with_capacity(pts.pts.len()),
-    };
+    let mut out = Points::with_capacity(pts.pts.len());
     for (k, p) in pts.pts.iter().enumerate() {
         let (cx, cy) = (cell(p.x), cell(p.y));
         let mut found = None;
@@ -470,16 +630,23 @@ fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[u
         }
         match found {
             Some(j) => {
-                if out.src_a[j] == NONE {
+                // an input vertex's own height wins over one interpolated
+                if out.src_a[j] == NONE && pts.src_a[k] != NONE {
                     out.src_a[j] = pts.src_a[k];
+                    out.za[j] = pts.za[k];
                 }
-                if out.src_b[j] == NONE {
+                if out.src_b[j] == NONE && pts.src_b[k] != NONE {
                     out.src_b[j] = pts.src_b[k];
+                    out.zb[j] = pts.zb[k];
                 }
                 id.push(j);
             }
             None => {
-                let j = out.push([p.x, p.y], pts.src_a[k], pts.src_b[k]);
+                let j = out.push(
+                    [p.x, p.y],
+                    (pts.src_a[k], pts.src_b[k]),
+                    (pts.za[k], pts.zb[k]),
+                );
                 grid.entry((cx, cy)).or_default().push(j);
                 id.push(j as usize);
             }
@@ -500,21 +667,40 @@ fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[u
     (out, pieces)
 }
 
-/// The triangle of `tin` holding an output triangle (its centroid; for a
-/// sliver whose rounded centroid falls just outside the domain, the hull
-/// triangle the walk ends in).
-fn owner(tin: &Tin, level: usize, x: f64, y: f64, c: &[[f64; 2]; 3]) -> Result<u32, TinError> {
+/// Height of `tin`'s level at `p`, in the triangle holding it (or the hull
+/// triangle nearest, for a point a rounding outside).
+fn z_at(s: Side<'_>, p: [f64; 2]) -> Result<f64, TinError> {
+    let t = owner(s, p[0], p[1]);
+    Ok(interpolate(&s.tin.corners(s.level, t), p[0], p[1]))
+}
+
+/// The triangle of `s` holding `(x, y)`, or for a point outside the
+/// level's triangles (a rounding outside: a crossing on an edge of the
+/// constrained triangulation that spans a rounding-wide concavity of the
+/// level's outer boundary, see `load`) the hull triangle nearest it.
+///
+/// A walk towards such a point can leave the hull through any hull edge
+/// whose line the point is beyond, kilometres away along a nearly
+/// straight boundary; heights extrapolated from there were hundreds of
+/// metres off (issue 47's shifted pair).
+fn owner(s: Side<'_>, x: f64, y: f64) -> u32 {
+    let (tin, level) = (s.tin, s.level);
     if let Some(t) = locate::locate_hull(tin, level, x, y) {
-        return Ok(t);
+        return t;
     }
-    for p in c {
-        if let Some(t) = locate::locate_hull(tin, level, p[0], p[1]) {
-            return Ok(t);
+    // the cells around first: a point a rounding outside lies in the box
+    // of its hull triangle; then every hull triangle
+    let cell = s.hull.cell[0].hypot(s.hull.cell[1]);
+    let near = s.nearest_hull([x, y], cell);
+    match near.or_else(|| s.nearest_hull([x, y], f64::INFINITY)) {
+        Some((_, t)) => t,
+        // no hull triangle: not a level a build makes
+        None => {
+            let st = locate::start_triangle(tin, level, x, y);
+            match locate::walk(tin, level, st, x, y) {
+                locate::Walk::Inside(t) | locate::Walk::Outside(t) => t,
+            }
         }
-    }
-    let s = locate::start_triangle(tin, level, x, y);
-    match locate::walk(tin, level, s, x, y) {
-        locate::Walk::Inside(t) | locate::Walk::Outside(t) => Ok(t),
     }
 }
 

@@ -37,8 +37,8 @@
 // corners and edges are indexed 0..3 in several arrays at once
 #![allow(clippy::needless_range_loop)]
 
-use super::output::Overlay;
-use crate::geom::{co, crossing, xy};
+use super::output::{Overlay, drop_unused};
+use crate::geom::{co, crossing, xy, z_along};
 
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::{Level, NONE, Tin, TinError, interpolate, locate};
@@ -85,17 +85,19 @@ fn edge_ids(lv: &Level) -> Result<Vec<[u32; 3]>, TinError> {
     Ok(ids)
 }
 
-/// Hull triangles of B in a coarse bucket grid, to seed triangles of A whose
-/// corners all lie outside B.
-struct HullBuckets {
+/// Hull triangles of a level in a coarse bucket grid: to seed triangles
+/// of A whose corners all lie outside B, and to find the hull triangle
+/// nearest a point a rounding outside a level (the constrained path).
+pub(super) struct HullBuckets {
     min: [f64; 2],
-    cell: [f64; 2],
+    /// a cell's width and height
+    pub(super) cell: [f64; 2],
     n: usize,
     cells: Vec<Vec<u32>>,
 }
 
 impl HullBuckets {
-    fn new(tin: &Tin, lv: &Level) -> HullBuckets {
+    pub(super) fn new(tin: &Tin, lv: &Level) -> HullBuckets {
         let hull: Vec<u32> = (0..lv.tris.len() as u32)
             .filter(|&t| lv.nbrs[t as usize].contains(&NONE))
             .collect();
@@ -134,6 +136,15 @@ impl HullBuckets {
             }
         };
         (f(lo[0], 0), f(lo[1], 1), f(hi[0], 0), f(hi[1], 1))
+    }
+
+    /// The hull triangles whose boxes may meet the box `lo`..`hi` (those
+    /// of the cells it covers; one in several cells comes once per cell).
+    pub(super) fn near(&self, lo: [f64; 2], hi: [f64; 2]) -> impl Iterator<Item = u32> + '_ {
+        let (x0, y0, x1, y1) = self.range(lo, hi);
+        (y0..=y1).flat_map(move |y| {
+            (x0..=x1).flat_map(move |x| self.cells[y * self.n + x].iter().copied())
+        })
     }
 }
 
@@ -385,10 +396,13 @@ impl Builder<'_> {
                         } else if off(cb[m1], cb[m2], ca[i2]) {
                             self.vertex_a(tra[i2], &cb3)
                         } else {
+                            // heights along the two edges (as the
+                            // constrained path has them): exact where an
+                            // edge is level, so equal surfaces stay equal
                             self.push(
                                 x,
-                                interpolate(&ca3, x[0], x[1]),
-                                interpolate(&cb3, x[0], x[1]),
+                                z_along(&ca3[i1], &ca3[i2], x),
+                                z_along(&cb3[m1], &cb3[m2], x),
                             )
                         };
                         self.cross.insert(key, id);
@@ -658,14 +672,9 @@ impl Search<'_> {
             }
         }
         if self.queue.is_empty() {
-            let (x0, y0, x1, y1) = self.hull.range(lo, hi);
-            for y in y0..=y1 {
-                for x in x0..=x1 {
-                    for &t in &self.hull.cells[y * self.hull.n + x] {
-                        if !self.queue.contains(&t) {
-                            self.queue.push(t);
-                        }
-                    }
+            for t in self.hull.near(lo, hi) {
+                if !self.queue.contains(&t) {
+                    self.queue.push(t);
                 }
             }
         }
@@ -760,38 +769,6 @@ fn check_conformity(bnd: &[(u64, bool, bool)], tk: &mut Ticker<'_, '_>) -> Resul
         i = k;
     }
     Ok(())
-}
-
-/// A vertex met only where two closed triangles touch (a point of the
-/// common domain's boundary with no face around it) dropped, the triangles
-/// renumbered.
-fn drop_unused(o: &mut Overlay) {
-    let mut used = vec![false; o.pts.len()];
-    for t in &o.tris {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    if used.iter().all(|&u| u) {
-        return;
-    }
-    let mut map = vec![NONE; used.len()];
-    let mut k = 0usize;
-    for i in 0..used.len() {
-        if used[i] {
-            map[i] = k as u32;
-            o.pts[k] = o.pts[i];
-            o.za[k] = o.za[i];
-            o.zb[k] = o.zb[i];
-            k += 1;
-        }
-    }
-    o.pts.truncate(k);
-    o.za.truncate(k);
-    o.zb.truncate(k);
-    for t in &mut o.tris {
-        *t = t.map(|v| map[v as usize]);
-    }
 }
 
 #[cfg(test)]

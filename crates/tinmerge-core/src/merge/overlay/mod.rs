@@ -52,10 +52,10 @@ pub mod constrained;
 pub mod faces;
 mod output;
 
-pub use output::{Overlay, difference};
+pub use output::{Overlay, SAME_PLANE, difference};
 
 use crate::interrupt::Interrupt;
-use crate::tin::{Tin, TinError};
+use crate::tin::{Tin, TinError, interpolate};
 use constrained::overlay_cdt;
 
 /// Overlay of A at `level_a` and B at `level_b`: face by face
@@ -89,6 +89,26 @@ fn mark_void(o: &mut Overlay, a: &Tin, level_a: usize, b: &Tin, level_b: usize) 
         .iter()
         .zip(&o.tri_b)
         .map(|(&ta, &tb)| la.is_void(ta) || lb.is_void(tb))
+        .collect();
+}
+
+/// Marks the output triangles over which A at `level_a` and B at
+/// `level_b` are one plane ([`Overlay::same`]): each of the two owning
+/// triangles' corners on the other's plane, within [`SAME_PLANE`] of its
+/// height. [`difference`] then counts them unchanged whatever rounding did
+/// to the heights interpolated at their corners.
+pub fn mark_same(o: &mut Overlay, a: &Tin, level_a: usize, b: &Tin, level_b: usize) {
+    let on = |p: &[f64; 3], c: &[[f64; 3]; 3]| {
+        (interpolate(c, p[0], p[1]) - p[2]).abs() <= SAME_PLANE * p[2].abs().max(1.0)
+    };
+    o.same = o
+        .tri_a
+        .iter()
+        .zip(&o.tri_b)
+        .map(|(&ta, &tb)| {
+            let (ca, cb) = (a.corners(level_a, ta), b.corners(level_b, tb));
+            ca.iter().all(|p| on(p, &cb)) && cb.iter().all(|p| on(p, &ca))
+        })
         .collect();
 }
 

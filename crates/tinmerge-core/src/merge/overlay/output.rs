@@ -1,6 +1,8 @@
 //! The overlay's output: its triangles, their provenance, heights, and the
 //! cut and fill between the two surfaces over it.
 
+use crate::tin::NONE;
+
 /// The overlay of two TINs.
 #[derive(Clone, Debug, Default)]
 pub struct Overlay {
@@ -27,7 +29,18 @@ pub struct Overlay {
     /// of B ([`crate::tin::Level::num_void`]); empty when there are none.
     /// They keep the triangulation convex; no answer is made of them.
     pub void: Vec<bool>,
+    /// Output triangles over which A and B are one plane (their triangles'
+    /// planes agree to [`SAME_PLANE`] of the heights): unchanged for
+    /// [`difference`]. Filled by [`crate::merge::overlay::mark_same`]; empty
+    /// when not asked.
+    pub same: Vec<bool>,
 }
+
+/// Two triangles are one plane when each one's corners lie on the other's
+/// plane to within this fraction of their heights (at least 1): half a
+/// micrometre at 500 m, far below the precision of any terrain survey, and
+/// far above the rounding of evaluating a plane a triangle's size away.
+pub const SAME_PLANE: f64 = 1e-9;
 
 impl Overlay {
     /// Whether output triangle `t` is off the common domain.
@@ -66,12 +79,21 @@ impl Overlay {
 /// is above B, volume where A is below B, planar area where they differ).
 /// Exact for the piecewise linear surfaces: within an output triangle both
 /// are linear, and the triangle is split at the zero line of A - B.
+///
+/// A triangle is unchanged where [`Overlay::same`] says A and B are one
+/// plane over it, or (not known) where they agree exactly at its corners.
+/// The heights where edges cross are interpolated, from an edge or a
+/// triangle of each tin, and where the two surfaces are one plane they can
+/// differ in their last bits: exact equality at the corners counted 17,600
+/// to 44,000 m² of the tutorial's pair as changed, where the surfaces are
+/// one plane over 68,590 m², depending on how the crossings' heights were
+/// interpolated.
 pub fn difference(o: &Overlay) -> (f64, f64, f64) {
     let (mut cut, mut fill, mut changed) = (0.0, 0.0, 0.0);
     for t in o.domain() {
         let area = o.area(t);
         let d = o.tris[t].map(|v| o.za[v as usize] - o.zb[v as usize]);
-        if d.iter().all(|&x| x == 0.0) {
+        if o.same.get(t).copied().unwrap_or(false) || d.iter().all(|&x| x == 0.0) {
             continue;
         }
         changed += area;
@@ -97,5 +119,38 @@ pub(super) fn positive_part(area: f64, d: [f64; 3]) -> f64 {
         // two corners above: everything minus the negative corner triangle
         ([p1, p2], [n]) => total + area * (-n) * (-n) * (-n) / (3.0 * (p1 - n) * (p2 - n)),
         _ => 0.0,
+    }
+}
+
+/// The vertices no triangle uses dropped, the triangles renumbered: a
+/// point met only where two closed triangles touch (faces path: a point of
+/// the common domain's boundary with no face around it), or only by flat
+/// slivers outside the common domain (constrained path).
+pub(super) fn drop_unused(o: &mut Overlay) {
+    let mut used = vec![false; o.pts.len()];
+    for t in &o.tris {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    if used.iter().all(|&u| u) {
+        return;
+    }
+    let mut map = vec![NONE; used.len()];
+    let mut k = 0usize;
+    for i in 0..used.len() {
+        if used[i] {
+            map[i] = k as u32;
+            o.pts[k] = o.pts[i];
+            o.za[k] = o.za[i];
+            o.zb[k] = o.zb[i];
+            k += 1;
+        }
+    }
+    o.pts.truncate(k);
+    o.za.truncate(k);
+    o.zb.truncate(k);
+    for t in &mut o.tris {
+        *t = t.map(|v| map[v as usize]);
     }
 }

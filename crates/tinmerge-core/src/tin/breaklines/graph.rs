@@ -2,7 +2,7 @@
 //! build asks of single lines: their validity, hard segments, samples
 //! they drop and soft profiles.
 
-use crate::geom::{crossing, is_sliver, orient};
+use crate::geom::{crossing, is_sliver, orient, param_along, z_along};
 use crate::interrupt::Interrupt;
 use crate::tin::TinError;
 use rustc_hash::FxHashMap;
@@ -30,8 +30,7 @@ pub const MAX_BREAKLINE_VERTICES: usize = 1_000_000;
 
 /// Position of `p` along segment `a`–`b`, 0 at `a`, 1 at `b`.
 fn param(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)
+    param_along(a, b, [p[0], p[1]])
 }
 
 /// Whether `p` lies on the open segment `a`–`b` up to rounding (not at
@@ -213,8 +212,7 @@ impl Buckets {
 
 /// Height of a point along a hard segment.
 fn along(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> f64 {
-    let t = param(a, b, p).clamp(0.0, 1.0);
-    a[2] + t * (b[2] - a[2])
+    z_along(a, b, [p[0], p[1]])
 }
 
 /// Vertices of the network under construction: equal (x, y), or within

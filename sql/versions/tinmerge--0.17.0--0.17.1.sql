@@ -1,0 +1,6 @@
+-- tinmerge 0.17.0 -> 0.17.1. No catalog change; stored values read as
+-- before. The overlay's constrained path (what tin_overlay and
+-- tin_difference fall back on when the face-by-face path refuses) gave
+-- heights metres off along the tins' outer boundaries, wrong cut and fill
+-- next to void triangles, and flat slivers outside the common domain; it
+-- now agrees with the face-by-face path (docs/upgrading.md).
