@@ -107,6 +107,9 @@ tests/sharding.sh
 step "a terrain bigger than one value at test size: 4.5 million pixels as tiles, checked against PostGIS"
 tests/big.sh
 
+step "tinmerge.max_memory from outside: the DEM 8x finer builds under the defaults, a build past the limit stopped (backend VmHWM)"
+tests/memory.sh
+
 step "hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
 scripts/python.sh tests/properties/check_hierarchy.py
 step "point builds between their samples against their Delaunay triangulation (independent oracle: matplotlib's qhull)"

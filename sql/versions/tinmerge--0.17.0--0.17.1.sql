@@ -4,3 +4,6 @@
 -- heights metres off along the tins' outer boundaries, wrong cut and fill
 -- next to void triangles, and flat slivers outside the common domain; it
 -- now agrees with the face-by-face path (docs/upgrading.md).
+-- tinmerge.max_memory checks raster builds against their typical cost
+-- (60 + 10 bytes a level a pixel) instead of the worst case; a rough raster
+-- that needs more is stopped by the running check.

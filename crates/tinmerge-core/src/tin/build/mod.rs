@@ -554,12 +554,25 @@ pub fn build_bytes(samples: usize, levels: usize) -> usize {
 /// `tests/memory.rs` on the DEM: 187 bytes a sample at 1 level, 135 at 5
 /// levels and 2 m, 408 when nearly every sample is a vertex of every level;
 /// `cargo bench --bench build` on the DEM upsampled 4x: 97 at 5 levels, 42
-/// at one). Between samples ([`BuildOptions::between_samples`]) the peak
-/// is larger: 308 bytes a sample at 1 level, 521 at 5, 913 when nearly
-/// every sample is a vertex (`tests/memory.rs`), so its estimate is too.
+/// at one).
+///
+/// Between samples ([`BuildOptions::between_samples`], what
+/// `tin_from_raster` builds) the estimate is the *typical* peak with a
+/// margin, not the worst case: the peak follows the vertices (about 450
+/// bytes each), which no one knows before the build. A terrain finer than
+/// its relief (the DEM 4x finer by bilinear resampling, as LiDAR DEMs are
+/// at 1 m) peaks at 48 bytes a sample on the heap (`tests/memory.rs`;
+/// the backend's peak resident size grows 90 bytes a pixel building the
+/// DEM 8x finer over its 7.6 million valid pixels, `tests/memory.sh`); the
+/// estimate, 60 + 10 a level,
+/// is 110 at 5 levels. Rough rasters need more (the DEM at its own 90 m:
+/// 548 bytes a sample; white noise: 1,700), and the running check of
+/// `tinmerge.max_memory` stops them as they pass the limit. The worst-case
+/// estimate (1,000 + 40 a level) refused that build under the default 1 GB
+/// limit, which it fits in.
 pub fn lattice_build_bytes(samples: usize, levels: usize, between_samples: bool) -> usize {
     let per = if between_samples {
-        1000 + 40 * levels
+        60 + 10 * levels
     } else {
         300 + 40 * levels
     };
@@ -578,10 +591,11 @@ pub fn points_build_bytes(samples: usize, levels: usize) -> usize {
 
 /// [`build_bytes`] for [`build_domain_raster`] over `samples` valid pixels
 /// of a raster of `pixels` (whose heights, 8 bytes a pixel, are part of
-/// the request).
+/// the request): the typical cost between samples, as
+/// [`lattice_build_bytes`] (`tests/memory.rs`: the DEM 4x finer, bilinear,
+/// over its valid pixels; the DEM at its own 90 m, rougher, needs about
+/// 5x the estimate, and the running check of `tinmerge.max_memory` stops
+/// such builds as they pass the limit).
 pub fn domain_raster_build_bytes(samples: usize, pixels: usize, levels: usize) -> usize {
-    samples
-        .saturating_mul(1000 + 40 * levels)
-        .saturating_add(pixels.saturating_mul(8))
-        .saturating_add(1 << 20)
+    lattice_build_bytes(samples, levels, true).saturating_add(pixels.saturating_mul(8))
 }

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# tinmerge.max_memory seen from outside: the backend's own peak resident
+# memory (VmHWM of /proc/<pid>/status), not the extension's counters.
+#
+# 1. tin_from_raster of the bundled DEM 8x finer (bilinear, 2752 x 2904,
+#    7.6 million valid pixels, as a 2.75 km tile of a 1 m LiDAR DEM is),
+#    2 m and 5 levels, builds under the default settings (the worst-case
+#    estimate refused it: "needs about 8843 MB").
+# 2. A raster whose build really needs more than the limit (white noise:
+#    every pixel a vertex, about 1.7 kB a pixel) passes the up-front
+#    estimate, which is the typical cost, and is stopped by the running
+#    check with SQLSTATE 53400; the backend's peak stays within 1.5x the
+#    limit (the heap is checked between pieces of work; the allocator keeps
+#    some freed memory, and what grows between two checks is not yet seen).
+# 3. The same session still answers afterwards.
+#
+# Needs the running test cluster and the installed extension.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+q() { scripts/cluster.sh psql -qAt "$@"; }
+db=tinmerge_memory
+work="$PWD/target/memory"; rm -rf "$work"; mkdir -p "$work"
+q -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREATE DATABASE $db"
+q -d $db -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
+
+gdal_translate -q -outsize 800% 800% -r bilinear tests/data/jacksboro_fault_dem_utm16n.tif "$work/x8.tif"
+raster2pgsql -s 32616 -N -9999 "$work/x8.tif" public.dem8 2>/dev/null | q -d $db >/dev/null
+# white noise, 1000 x 1000 pixels of 2 m, seeded
+q -d $db -c "SELECT setseed(0.25)" -c "CREATE TABLE noise AS SELECT ST_SetValues(
+    ST_AddBand(ST_MakeEmptyRaster(1000, 1000, 700000, 4060000, 2, -2, 0, 0, 32616), '32BF'::text, 0, -9999),
+    1, 1, 1, (SELECT array_agg(v ORDER BY r) FROM (SELECT r, array_agg(300 + 50 * random() ORDER BY c) AS v
+              FROM generate_series(1, 1000) r, generate_series(1, 1000) c GROUP BY r) s)) AS rast"
+
+# one session: the backend's VmHWM before, the query, VmHWM after, then
+# what follows in the same session (kB; psql's \! runs on this machine,
+# where the server is)
+session() {
+    local sql="$1" then="${2:-}"
+    cat > "$work/s.sql" <<EOF
+SELECT pg_backend_pid() AS pid \\gset
+\\setenv BPID :pid
+\\! echo "before \$(grep VmHWM /proc/\$BPID/status | tr -s ' \t' ' ' | cut -d' ' -f2)"
+$sql
+\\! echo "after \$(grep VmHWM /proc/\$BPID/status | tr -s ' \t' ' ' | cut -d' ' -f2)"
+$then
+EOF
+    scripts/cluster.sh psql -qAt -d $db -v ON_ERROR_STOP=0 -f "$work/s.sql" 2>&1
+}
+kb() { awk -v k="$1" '$1 == k {print $2}'; }
+
+echo "-- the DEM 8x finer under the default settings"
+out=$(session "SELECT current_setting('tinmerge.max_memory'), (SELECT ST_Count(rast) FROM dem8), tin_num_vertices(t), tin_num_levels(t) FROM (SELECT tin_from_raster(rast, 2.0, 5) AS t FROM dem8) s;")
+echo "$out"
+grep -q '^1GB|7603232|[0-9]*|5$' <<<"$out" || { echo "FAIL: the 7.6-million-pixel build did not run under the default settings"; exit 1; }
+before=$(kb before <<<"$out"); after=$(kb after <<<"$out")
+echo "backend VmHWM: $before kB before, $after kB after ($(( (after - before) / 1024 )) MB for the build)"
+
+echo "-- white noise past a 256 MB limit"
+out=$(session "SET tinmerge.max_memory = '256MB';
+\\set VERBOSITY verbose
+SELECT tin_num_vertices(tin_from_raster(rast, 2.0, 5)) FROM noise;" \
+    "SELECT 'again', tin_num_levels(tin_from_raster(ST_Clip(rast, ST_MakeEnvelope(700000, 4059800, 700200, 4060000, 32616)), 5.0, 2)) FROM noise;")
+echo "$out"
+grep -q 'ERROR:  53400: this call has used [0-9]* MB, more than tinmerge.max_memory (256 MB) allows' <<<"$out" \
+    || { echo "FAIL: the noise build was not stopped by the running check"; exit 1; }
+grep -q '^again|2$' <<<"$out" || { echo "FAIL: the session did not answer after the refusal"; exit 1; }
+before=$(kb before <<<"$out"); after=$(kb after <<<"$out")
+grown=$(( (after - before) / 1024 ))
+echo "backend VmHWM: $before kB before, $after kB after: grew $grown MB at a 256 MB limit"
+[ "$grown" -le 384 ] || { echo "FAIL: the backend grew $grown MB, more than 1.5x the 256 MB limit"; exit 1; }
+q -d postgres -c "DROP DATABASE $db"
+echo "memory: ok"
