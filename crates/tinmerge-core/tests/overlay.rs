@@ -570,24 +570,12 @@ fn constrained_overlay_with_void_triangles_against_exact_integration() {
         for la in 0..x.levels.len() {
             for lb in 0..y.levels.len() {
                 let want = exact_difference(x, la, y, lb);
-                let scale = want.cut + want.fill;
                 for o in [
                     overlay_constrained(x, la, y, lb, &mut || Ok(())).unwrap(),
                     overlay(x, la, y, lb, &mut || Ok(())).unwrap(),
                 ] {
-                    let (cut, fill, changed) = difference_marked(o.clone(), x, la, y, lb);
-                    assert!(
-                        (cut - want.cut).abs() <= 1e-9 * scale
-                            && (fill - want.fill).abs() <= 1e-9 * scale
-                            && changed >= want.changed_lo - 1e-9 * want.area
-                            && changed <= want.changed_hi + 1e-9 * want.area,
-                        "levels {la}/{lb} ({:?}): cut {cut} fill {fill} changed {changed}, exact {} {} {}..{}",
-                        o.fallback,
-                        want.cut,
-                        want.fill,
-                        want.changed_lo,
-                        want.changed_hi
-                    );
+                    let what = format!("levels {la}/{lb} ({:?})", o.fallback);
+                    assert_difference(o.clone(), (x, la), (y, lb), &want, &what);
                     check_one(x, la, y, lb, &o);
                 }
             }
@@ -768,6 +756,32 @@ fn exact_difference(a: &Tin, la: usize, b: &Tin, lb: usize) -> Exact {
     }
 }
 
+/// `difference` after `mark_same` against [`exact_difference`]: cut and
+/// fill within 1e-9 of the volume moved, the changed area between the
+/// pairs surely changed and those changed at all (1e-9 of the area).
+fn assert_difference(
+    o: Overlay,
+    (x, la): (&Tin, usize),
+    (y, lb): (&Tin, usize),
+    want: &Exact,
+    what: &str,
+) {
+    let scale = want.cut + want.fill;
+    let (cut, fill, changed) = difference_marked(o, x, la, y, lb);
+    assert!(
+        (cut - want.cut).abs() <= 1e-9 * scale
+            && (fill - want.fill).abs() <= 1e-9 * scale
+            && changed >= want.changed_lo - 1e-9 * want.area
+            && changed <= want.changed_hi + 1e-9 * want.area,
+        "{what}: cut {cut} fill {fill} changed {changed}, exact {} {} {}..{} of {}",
+        want.cut,
+        want.fill,
+        want.changed_lo,
+        want.changed_hi,
+        want.area
+    );
+}
+
 /// `difference` after `mark_same`, as `tin_difference` computes it.
 fn difference_marked(mut o: Overlay, a: &Tin, la: usize, b: &Tin, lb: usize) -> (f64, f64, f64) {
     mark_same(&mut o, a, la, b, lb);
@@ -792,24 +806,12 @@ fn difference_against_exact_integration_on_both_dems() {
             for la in 0..x.levels.len() {
                 for lb in 0..y.levels.len() {
                     let want = exact_difference(x, la, y, lb);
-                    let scale = want.cut + want.fill;
                     for o in [
                         overlay(x, la, y, lb, &mut || Ok(())).unwrap(),
                         overlay_constrained(x, la, y, lb, &mut || Ok(())).unwrap(),
                     ] {
-                        let (cut, fill, changed) = difference_marked(o, x, la, y, lb);
-                        assert!(
-                            (cut - want.cut).abs() <= 1e-9 * scale
-                                && (fill - want.fill).abs() <= 1e-9 * scale
-                                && changed >= want.changed_lo - 1e-9 * want.area
-                                && changed <= want.changed_hi + 1e-9 * want.area,
-                            "{file} {what} levels {la}/{lb}: cut {cut} fill {fill} changed {changed}, exact {} {} {}..{} of {}",
-                            want.cut,
-                            want.fill,
-                            want.changed_lo,
-                            want.changed_hi,
-                            want.area
-                        );
+                        let label = format!("{file} {what} levels {la}/{lb}");
+                        assert_difference(o, (x, la), (y, lb), &want, &label);
                     }
                     eprintln!(
                         "{file} {what} levels {la}/{lb}: cut {:.6e} fill {:.6e} changed {:.6e} of {:.6e}",
