@@ -622,6 +622,27 @@ fn overlay_on_the_geographic_dem() {
     }
 }
 
+/// A level the tin does not have is an error, not a panic (the SQL layer
+/// resolves levels first; the core's callers need not).
+#[test]
+fn overlay_of_a_level_out_of_range_is_an_error() {
+    let a = tin(window(10, 10, 30, 0.0, 0.0, 0.0), &[4.0, 2.0]);
+    for (la, lb) in [(2, 0), (0, 2), (7, 9)] {
+        for r in [
+            overlay(&a, la, &a, lb, &mut || Ok(())),
+            overlay_constrained(&a, la, &a, lb, &mut || Ok(())),
+        ] {
+            assert!(
+                matches!(
+                    r,
+                    Err(tinmerge_core::tin::TinError::LevelOutOfRange { num_levels: 2, .. })
+                ),
+                "levels {la}/{lb}: {r:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn overlay_with_itself_is_itself() {
     let a = tin(window(10, 10, 50, 0.0, 0.0, 0.0), &[4.0, 2.0]);

@@ -71,11 +71,26 @@ pub fn overlay(
     level_b: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
+    levels_exist(a, level_a, b, level_b)?;
     let mut o = guarded(interrupt, |check| {
         overlay_dispatch(a, level_a, b, level_b, check)
     })?;
     mark_void(&mut o, a, level_a, b, level_b);
     Ok(o)
+}
+
+/// `LevelOutOfRange` unless both levels exist (the SQL layer resolves
+/// levels first; a core caller could pass any).
+fn levels_exist(a: &Tin, level_a: usize, b: &Tin, level_b: usize) -> Result<(), TinError> {
+    for (t, l) in [(a, level_a), (b, level_b)] {
+        if l >= t.levels.len() {
+            return Err(TinError::LevelOutOfRange {
+                level: i64::try_from(l).unwrap_or(i64::MAX),
+                num_levels: t.levels.len(),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The output triangles in a void triangle of A or of B.
@@ -121,6 +136,7 @@ pub fn overlay_constrained(
     level_b: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Overlay, TinError> {
+    levels_exist(a, level_a, b, level_b)?;
     let mut o = guarded(interrupt, |check| {
         overlay_cdt(a, level_a, b, level_b, check)
     })?;
