@@ -196,8 +196,8 @@ pub(crate) fn overlay_cdt(
     o.zb = pts.zb;
     for p in &o.pts[o.za.len()..] {
         tk.tick()?;
-        o.za.push(z_at(a, *p)?);
-        o.zb.push(z_at(b, *p)?);
+        o.za.push(z_at(a, *p));
+        o.zb.push(z_at(b, *p));
     }
     let band = 1e-9
         * o.pts
@@ -280,12 +280,7 @@ fn locate_vertices(
     // a point in a rounding-wide sliver outside B (an edge or a face of
     // the CDT that is no edge or triangle of B, see `load`): outside B
     // unless within `eps` of it, as for B's vertices below
-    let near_b = |v: &[f64; 3]| -> Result<Option<f64>, TinError> {
-        Ok(match b.nearest_hull(xy(v), eps) {
-            Some(_) => Some(z_at(b, xy(v))?),
-            None => None,
-        })
-    };
+    let near_b = |v: &[f64; 3]| b.nearest_hull(xy(v), eps).map(|_| z_at(b, xy(v)));
     for (i, v) in a.tin.verts[..nva].iter().enumerate() {
         tk.tick()?;
         let hint = {
@@ -303,23 +298,34 @@ fn locate_vertices(
             }
             PositionInTriangulation::OnEdge(e) => {
                 let e = cdt_b.directed_edge(e);
-                if e.is_constraint_edge() {
-                    let z = z_along(&zb(e.from().fix()), &zb(e.to().fix()), xy(v));
+                let on_edge_of_b = e.is_constraint_edge();
+                let z = if on_edge_of_b {
+                    Some(z_along(&zb(e.from().fix()), &zb(e.to().fix()), xy(v)))
+                } else {
+                    near_b(v)
+                };
+                if let Some(z) = z {
                     let id = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
                     f.out_a[i] = id;
-                    f.on_b[e.as_undirected().index()].push(id);
-                } else if let Some(z) = near_b(v)? {
-                    f.out_a[i] = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
+                    if on_edge_of_b {
+                        f.on_b[e.as_undirected().index()].push(id);
+                    }
                 }
             }
             PositionInTriangulation::OnFace(h) => {
                 let face = cdt_b.face(h);
                 // a triangle of B has constraints for sides; a sliver
                 // outside it does not
-                if face.adjacent_edges().iter().all(|e| e.is_constraint_edge()) {
-                    let z = interpolate(&face.vertices().map(|w| zb(w.fix())), v[0], v[1]);
-                    f.out_a[i] = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
-                } else if let Some(z) = near_b(v)? {
+                let z = if face.adjacent_edges().iter().all(|e| e.is_constraint_edge()) {
+                    Some(interpolate(
+                        &face.vertices().map(|w| zb(w.fix())),
+                        v[0],
+                        v[1],
+                    ))
+                } else {
+                    near_b(v)
+                };
+                if let Some(z) = z {
                     f.out_a[i] = f.pts.push(xy(v), (i as u32, NONE), (v[2], z));
                 }
             }
@@ -669,9 +675,9 @@ fn merge_coincident(pts: Points, mut pieces: Vec<[usize; 2]>) -> (Points, Vec<[u
 
 /// Height of `tin`'s level at `p`, in the triangle holding it (or the hull
 /// triangle nearest, for a point a rounding outside).
-fn z_at(s: Side<'_>, p: [f64; 2]) -> Result<f64, TinError> {
+fn z_at(s: Side<'_>, p: [f64; 2]) -> f64 {
     let t = owner(s, p[0], p[1]);
-    Ok(interpolate(&s.tin.corners(s.level, t), p[0], p[1]))
+    interpolate(&s.tin.corners(s.level, t), p[0], p[1])
 }
 
 /// The triangle of `s` holding `(x, y)`, or for a point outside the
