@@ -272,6 +272,22 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_paint(tin, raster, int) IS
 'An image painted on the surface: the mean colour (bands 1, 2, 3 as red, green, blue) of the pixels whose centres each triangle of a level (NULL = finest) contains (the rule of tin_raster_stats); a pixel counts when all three bands are valid. Triangles receiving no pixel are not returned.';
 
+CREATE FUNCTION tin_as_raster(t tin, ref raster, level int DEFAULT NULL, pixel_type text DEFAULT '64BF', nodata float8 DEFAULT -9999)
+RETURNS raster AS
+$$ SELECT ST_RastFromWKB(@extschema@._tin_as_raster($1, $2::bytea, $3, $4, $5)) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_as_raster(tin, raster, int, text, float8) IS
+'The surface of a level (NULL = finest) as a one-band raster on the grid of ref (its size, georeference and SRID; its bands are ignored): the height at every pixel centre, bit for bit what tin_height gives at ST_PixelAsCentroid of that pixel, by one scanline sweep over the triangles (no point location per pixel). Pixels whose centre is off the domain (off the hull, in a hole or outside a build''s boundary) get nodata. pixel_type ''64BF'' (exact) or ''32BF''; nodata is the band''s nodata value. ST_HillShade, ST_Slope, ST_Aspect, ST_AsGDALRaster and gdaldem then work on the tin. ref must be north-up and have the tin''s SRID; for a large extent, one call per tile of ST_MakeEmptyCoverage. NULL for a NULL tin, raster, pixel_type or nodata.';
+
+CREATE FUNCTION tin_as_raster(t tin, pixel_size float8, level int DEFAULT NULL, pixel_type text DEFAULT '64BF', nodata float8 DEFAULT -9999, gridx float8 DEFAULT 0, gridy float8 DEFAULT 0)
+RETURNS raster AS
+$$ SELECT ST_RastFromWKB(@extschema@._tin_as_raster_sized($1, $2, $3, $4, $5, $6, $7)) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_as_raster(tin, float8, int, text, float8, float8, float8) IS
+'The surface of a level (NULL = finest) as a one-band north-up raster of square pixels pixel_size across (in the tin''s units), with the tin''s SRID: pixel edges on the lines gridx + k * pixel_size and gridy + k * pixel_size (as gdalwarp -tap), the fewest pixels covering the tin''s extent. Heights at pixel centres, nodata off the domain, as tin_as_raster(tin, raster). At most 65535 pixels a side and 1 GB; for the grid of an existing raster (the DEM the tin was built from), pass that raster instead. NULL for a NULL tin, pixel_size, pixel_type, nodata, gridx or gridy.';
+
 -- TIN/TIN overlay
 CREATE FUNCTION tin_overlay(a tin, b tin, level_a int DEFAULT NULL, level_b int DEFAULT NULL)
 RETURNS TABLE(id int, triangle_a int, triangle_b int, geom_a geometry, geom_b geometry) AS

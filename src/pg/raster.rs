@@ -1,5 +1,6 @@
 //! SQL functions of the raster merge: `tin_raster_stats` (by pixel centre
-//! or coverage-weighted), `tin_raster_pixels`, `tin_paint`. Rasters arrive as WKB (the SQL wrapper casts
+//! or coverage-weighted), `tin_raster_pixels`, `tin_paint`; and the surface
+//! out as a raster, `tin_as_raster`. Rasters arrive as WKB (the SQL wrapper casts
 //! `raster` to `bytea`). Not STRICT (a NULL level means finest): a NULL tin,
 //! raster or band gives no rows. A stored tin read in slices is merged
 //! through a [`Patch`] of the triangles under the raster when the raster
@@ -12,13 +13,13 @@ use pgrx::prelude::*;
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
-use super::tin_type::{MeshSource, TinArg};
+use super::tin_type::{tin_level, MeshSource, TinArg};
 use std::sync::Arc;
 use tinmerge_core::io::raster::{self, Band, GeoTransform};
 use tinmerge_core::merge::raster::patch::{AnyLevel, Patch, RasterLevel, TinLevel};
 use tinmerge_core::merge::raster::stats::{is_data, paint, weighted_stats, zonal_stats};
 use tinmerge_core::merge::raster::{sweep, PixelGrid};
-use tinmerge_core::tin::{resolve_level, Tin};
+use tinmerge_core::tin::{resolve_level, Tin, TinError};
 
 /// ERROR unless the raster and the tin both have an SRID and it is the same.
 pub(super) fn check_raster_srid(raster_srid: i32, tin_srid: i32, func: &str) {
@@ -393,4 +394,127 @@ COMMENT ON FUNCTION _tin_validate_raster(tin, bytea, int, bytea) IS 'Internal: u
 "#,
     name = "tin_validate_raster_sql",
     requires = [_tin_validate_raster]
+);
+
+/// The largest raster `tin_as_raster` returns: a varlena holds at most 1 GB.
+const MAX_RASTER_BYTES: usize = (1 << 30) - (1 << 20);
+
+/// A core error about an argument, its message led by the SQL function's
+/// name.
+fn named(e: TinError, func: &str) -> TinError {
+    match e {
+        TinError::InvalidParameter(m) => TinError::InvalidParameter(format!("{func}: {m}")),
+        TinError::TooLarge(m) => TinError::TooLarge(format!("{func}: {m}")),
+        e => e,
+    }
+}
+
+/// `tin_as_raster`: the surface of a level at the pixel centres of the
+/// grid `gt`, as WKB raster bytes (the SQL wrapper makes them a raster).
+#[allow(clippy::too_many_arguments)]
+fn as_raster(
+    tin: &Tin,
+    l: usize,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    pixel_type: &str,
+    nodata: f64,
+    func: &str,
+) -> Vec<u8> {
+    let pt = raster::float_pixel_type(pixel_type).or_raise();
+    let size = if pt == 10 { 4 } else { 8 };
+    let n = width.saturating_mul(height);
+    if n.saturating_mul(size) > MAX_RASTER_BYTES {
+        raise(
+            PgSqlErrorCode::ERRCODE_PROGRAM_LIMIT_EXCEEDED,
+            format!(
+                "{func}: {width} x {height} pixels of {pixel_type} make {} MB, more than a value can hold (1 GB); use larger pixels, '32BF', or tiles: tin_as_raster(t, tile) over ST_MakeEmptyCoverage",
+                n.saturating_mul(size) >> 20
+            ),
+        );
+    }
+    memory::reserve(n.saturating_mul(8 + size), || {
+        format!("{func}: a {width} x {height} raster")
+    });
+    let z =
+        tinmerge_core::analysis::rasterize::rasterize(tin, l, gt, width, height, &mut interrupt)
+            .map_err(|e| named(e, func))
+            .or_raise();
+    raster::write_float(tin.srid, gt, width, height, pt, nodata, &z).or_raise()
+}
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_as_raster(
+    t: Option<TinArg>,
+    rast: Option<&[u8]>,
+    level: Option<i32>,
+    pixel_type: Option<&str>,
+    nodata: Option<f64>,
+) -> Option<Vec<u8>> {
+    let (t, rast, pixel_type, nodata) = (t?, rast?, pixel_type?, nodata?);
+    let head = raster::read(rast, None).or_raise();
+    check_raster_srid(head.srid, t.header().srid, "tin_as_raster");
+    let (tin, l) = tin_level(&t, level);
+    Some(as_raster(
+        &tin,
+        l,
+        &head.gt,
+        head.width,
+        head.height,
+        pixel_type,
+        nodata,
+        "tin_as_raster",
+    ))
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_as_raster(tin, bytea, int, text, float8) IS 'Internal: use tin_as_raster(tin, raster, int, text, float8).';
+"#,
+    name = "tin_as_raster_ref_sql",
+    requires = [_tin_as_raster]
+);
+
+#[pg_extern(immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn _tin_as_raster_sized(
+    t: Option<TinArg>,
+    pixel_size: Option<f64>,
+    level: Option<i32>,
+    pixel_type: Option<&str>,
+    nodata: Option<f64>,
+    gridx: Option<f64>,
+    gridy: Option<f64>,
+) -> Option<Vec<u8>> {
+    let (t, size, pixel_type, nodata) = (t?, pixel_size?, pixel_type?, nodata?);
+    let (gx, gy) = (gridx?, gridy?);
+    let (tin, l) = tin_level(&t, level);
+    let b = &tin.bbox;
+    let (gt, w, h) = tinmerge_core::analysis::rasterize::aligned_grid(
+        &[b.min_x, b.min_y, b.max_x, b.max_y],
+        size,
+        size,
+        gx,
+        gy,
+    )
+    .map_err(|e| named(e, "tin_as_raster"))
+    .or_raise();
+    Some(as_raster(
+        &tin,
+        l,
+        &gt,
+        w,
+        h,
+        pixel_type,
+        nodata,
+        "tin_as_raster",
+    ))
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION _tin_as_raster_sized(tin, float8, int, text, float8, float8, float8) IS 'Internal: use tin_as_raster(tin, float8, int, text, float8, float8, float8).';
+"#,
+    name = "tin_as_raster_sized_sql",
+    requires = [_tin_as_raster_sized]
 );

@@ -21,6 +21,7 @@ mod point;
 mod points_surface;
 mod quantized_mesh;
 mod raster;
+mod rasterize;
 mod render;
 mod sliced;
 mod storage;

@@ -227,6 +227,93 @@ pub fn read(b: &[u8], band: Option<usize>) -> Result<Raster, IoError> {
     Err(IoError::Raster("band not found".into()))
 }
 
+/// The float pixel types a raster can be written in, by their PostGIS
+/// names: `32BF` and `64BF`.
+pub fn float_pixel_type(name: &str) -> Result<u8, IoError> {
+    match name.trim().to_ascii_uppercase().as_str() {
+        "32BF" => Ok(10),
+        "64BF" => Ok(11),
+        _ => Err(IoError::Unsupported(format!(
+            "pixel type '{name}' is not supported here: use '32BF' or '64BF' (heights are written as floats; ST_Reclass or ST_MapAlgebra turn them into integers)"
+        ))),
+    }
+}
+
+/// WKB raster (little-endian) of one band of `values` (row-major, from the
+/// top row) in the float pixel type `pixel_type` ([`float_pixel_type`]),
+/// with `nodata` as its nodata value and written for every NaN. A raster
+/// with no pixels is written without bands, as `ST_MakeEmptyRaster` makes
+/// it. The reverse of [`read`]; `ST_RastFromWKB` takes it.
+pub fn write_float(
+    srid: i32,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    pixel_type: u8,
+    nodata: f64,
+    values: &[f64],
+) -> Result<Vec<u8>, IoError> {
+    let side =
+        |n: usize| {
+            u16::try_from(n).map_err(|_| IoError::Unsupported(format!(
+        "a raster of {width} x {height} pixels: PostGIS rasters have at most 65535 a side"
+    )))
+        };
+    let (w, h) = (side(width)?, side(height)?);
+    let size = match pixel_type {
+        10 => 4,
+        11 => 8,
+        t => {
+            return Err(IoError::Unsupported(format!(
+                "pixel type {t} is not a float type"
+            )));
+        }
+    };
+    let n = width * height;
+    if values.len() != n {
+        return Err(IoError::Raster(format!(
+            "{} values for {width} x {height} pixels",
+            values.len()
+        )));
+    }
+    if !nodata.is_finite() {
+        return Err(IoError::Unsupported(format!(
+            "nodata value {nodata}: it must be finite"
+        )));
+    }
+    let g = [
+        gt.scale_x, gt.scale_y, gt.ip_x, gt.ip_y, gt.skew_x, gt.skew_y,
+    ];
+    let mut b = Vec::with_capacity(61 + 1 + size + n * size);
+    b.push(1u8);
+    b.extend_from_slice(&0u16.to_le_bytes());
+    b.extend_from_slice(&u16::from(n > 0).to_le_bytes());
+    for v in g {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.extend_from_slice(&srid.to_le_bytes());
+    b.extend_from_slice(&w.to_le_bytes());
+    b.extend_from_slice(&h.to_le_bytes());
+    if n == 0 {
+        return Ok(b);
+    }
+    let all_nodata = values.iter().all(|v| v.is_nan());
+    b.push(pixel_type | 0x40 | if all_nodata { 0x20 } else { 0 });
+    if size == 4 {
+        let nd = nodata as f32;
+        b.extend_from_slice(&nd.to_le_bytes());
+        for &v in values {
+            b.extend_from_slice(&(if v.is_nan() { nd } else { v as f32 }).to_le_bytes());
+        }
+    } else {
+        b.extend_from_slice(&nodata.to_le_bytes());
+        for &v in values {
+            b.extend_from_slice(&(if v.is_nan() { nodata } else { v }).to_le_bytes());
+        }
+    }
+    Ok(b)
+}
+
 /// Heap needed to read one band of a `width` x `height` raster (values as
 /// f64) and hand its pixels to triangles.
 pub fn raster_bytes(width: usize, height: usize) -> usize {
@@ -239,6 +326,41 @@ pub fn raster_bytes(width: usize, height: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_written_float_raster_reads_back() {
+        let gt = GeoTransform {
+            scale_x: 2.5,
+            scale_y: -2.5,
+            ip_x: 100.25,
+            ip_y: 200.75,
+            skew_x: 0.0,
+            skew_y: 0.0,
+        };
+        let vals = [1.5, f64::NAN, -3.25, 1e6 + 0.1];
+        for t in [10u8, 11] {
+            let b = write_float(4326, &gt, 2, 2, t, -9999.0, &vals).unwrap();
+            let r = read(&b, Some(1)).unwrap();
+            assert_eq!((r.srid, r.width, r.height, r.gt), (4326, 2, 2, gt));
+            let band = r.band.unwrap();
+            assert_eq!(
+                (band.pixel_type, band.nodata, band.all_nodata),
+                (t, Some(-9999.0), false)
+            );
+            let want: Vec<f64> = if t == 11 {
+                vec![1.5, -9999.0, -3.25, 1e6 + 0.1]
+            } else {
+                vec![1.5, -9999.0, -3.25, f64::from((1e6 + 0.1) as f32)]
+            };
+            assert_eq!(band.values, want);
+        }
+        let empty = write_float(0, &gt, 0, 3, 11, 0.0, &[]).unwrap();
+        assert_eq!(read(&empty, None).unwrap().num_bands, 0);
+        assert!(write_float(0, &gt, 70000, 1, 11, 0.0, &[]).is_err());
+        assert!(write_float(0, &gt, 1, 1, 11, f64::NAN, &[0.0]).is_err());
+        assert!(float_pixel_type("16BSI").is_err());
+        assert_eq!(float_pixel_type("32bf").unwrap(), 10);
+    }
 
     fn sample(le: bool) -> Vec<u8> {
         // 2 x 2, 16BSI, nodata -1, values 1 2 -1 4

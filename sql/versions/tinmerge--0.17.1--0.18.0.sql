@@ -1,0 +1,50 @@
+-- tinmerge 0.17.1 -> 0.18.0. Stored values read and answer as before.
+-- New: tin_as_raster, the surface of a level as a PostGIS raster (two
+-- forms: on the grid of a reference raster, or at a pixel size).
+SELECT pg_catalog.set_config('search_path',
+    (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
+     FROM (SELECT s, pg_catalog.min(o) AS o
+           FROM (VALUES ('@extschema@'::regnamespace::text, 1),
+                        ((SELECT e.extnamespace::regnamespace::text
+                          FROM pg_catalog.pg_extension e WHERE e.extname = 'postgis'), 2)) v(s, o)
+           WHERE s IS NOT NULL GROUP BY s) d) || ', pg_temp',
+    true);
+CREATE  FUNCTION "_tin_as_raster"(
+	"t" tin,
+	"rast" bytea,
+	"level" INT,
+	"pixel_type" TEXT,
+	"nodata" double precision
+) RETURNS bytea
+IMMUTABLE PARALLEL SAFE COST 10000 
+LANGUAGE c
+AS 'MODULE_PATHNAME', '_tin_as_raster_wrapper';
+COMMENT ON FUNCTION _tin_as_raster(tin, bytea, int, text, float8) IS 'Internal: use tin_as_raster(tin, raster, int, text, float8).';
+CREATE  FUNCTION "_tin_as_raster_sized"(
+	"t" tin,
+	"pixel_size" double precision,
+	"level" INT,
+	"pixel_type" TEXT,
+	"nodata" double precision,
+	"gridx" double precision,
+	"gridy" double precision
+) RETURNS bytea
+IMMUTABLE PARALLEL SAFE COST 10000 
+LANGUAGE c
+AS 'MODULE_PATHNAME', '_tin_as_raster_sized_wrapper';
+COMMENT ON FUNCTION _tin_as_raster_sized(tin, float8, int, text, float8, float8, float8) IS 'Internal: use tin_as_raster(tin, float8, int, text, float8, float8, float8).';
+
+CREATE FUNCTION tin_as_raster(t tin, ref raster, level int DEFAULT NULL, pixel_type text DEFAULT '64BF', nodata float8 DEFAULT -9999)
+RETURNS raster AS
+$$ SELECT ST_RastFromWKB(@extschema@._tin_as_raster($1, $2::bytea, $3, $4, $5)) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_as_raster(tin, raster, int, text, float8) IS
+'The surface of a level (NULL = finest) as a one-band raster on the grid of ref (its size, georeference and SRID; its bands are ignored): the height at every pixel centre, bit for bit what tin_height gives at ST_PixelAsCentroid of that pixel, by one scanline sweep over the triangles (no point location per pixel). Pixels whose centre is off the domain (off the hull, in a hole or outside a build''s boundary) get nodata. pixel_type ''64BF'' (exact) or ''32BF''; nodata is the band''s nodata value. ST_HillShade, ST_Slope, ST_Aspect, ST_AsGDALRaster and gdaldem then work on the tin. ref must be north-up and have the tin''s SRID; for a large extent, one call per tile of ST_MakeEmptyCoverage. NULL for a NULL tin, raster, pixel_type or nodata.';
+CREATE FUNCTION tin_as_raster(t tin, pixel_size float8, level int DEFAULT NULL, pixel_type text DEFAULT '64BF', nodata float8 DEFAULT -9999, gridx float8 DEFAULT 0, gridy float8 DEFAULT 0)
+RETURNS raster AS
+$$ SELECT ST_RastFromWKB(@extschema@._tin_as_raster_sized($1, $2, $3, $4, $5, $6, $7)) $$
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
+SET search_path FROM CURRENT;
+COMMENT ON FUNCTION tin_as_raster(tin, float8, int, text, float8, float8, float8) IS
+'The surface of a level (NULL = finest) as a one-band north-up raster of square pixels pixel_size across (in the tin''s units), with the tin''s SRID: pixel edges on the lines gridx + k * pixel_size and gridy + k * pixel_size (as gdalwarp -tap), the fewest pixels covering the tin''s extent. Heights at pixel centres, nodata off the domain, as tin_as_raster(tin, raster). At most 65535 pixels a side and 1 GB; for the grid of an existing raster (the DEM the tin was built from), pass that raster instead. NULL for a NULL tin, pixel_size, pixel_type, nodata, gridx or gridy.';
