@@ -220,6 +220,26 @@ UNION ALL SELECT * FROM bench('tinmerge: tin_as_gltf(t, 4), binary glTF with nor
 UNION ALL SELECT * FROM bench('PostGIS: ST_AsX3D(tin_as_geometry(t, 4)), X3D text', 'SELECT length(ST_AsX3D(tin_as_geometry(t, 4))) FROM terrain', 3)
 UNION ALL SELECT * FROM bench('tinmerge: tin_as_gltf(t, 2, ST_HillShade(rast)), with a PNG texture', 'SELECT octet_length(tin_as_gltf(t, 2, ST_HillShade(d.rast))) FROM terrain, dem d', 3);
 SQL
+echo "== the surface as a raster: tin_as_raster (one sweep over the triangles) vs PostGIS ST_InterpolateRaster 'linear' (GDAL's Delaunay linear interpolation) of the level's vertices, same 10 m grid"
+q <<'SQL'
+CREATE TABLE ras_vertices AS
+SELECT l AS level, ST_Collect(DISTINCT p.geom) AS geom
+FROM terrain, generate_series(0, 4) l, ST_DumpPoints(tin_as_geometry(t, l)) p GROUP BY l;
+-- (ST_Force3D below: ST_InterpolateRaster of PostGIS 3.3.2 reads these stored,
+-- toasted MULTIPOINT Zs as without Z: an ERROR, or NULL)
+CREATE TABLE ras_grid AS SELECT ST_MakeEmptyRaster(tin_as_raster(t, 10.0, 0)) AS rast FROM terrain;
+SQL
+q -F ' | ' <<'SQL'
+SELECT l AS level, tin_num_triangles(t, l) AS triangles, ST_Width(g.rast) * ST_Height(g.rast) AS pixels,
+       b1.median_ms AS tin_as_raster_ms,
+       round(ST_Width(g.rast) * ST_Height(g.rast) / b1.median_ms / 1000, 1) AS mpx_per_s,
+       b2.median_ms AS postgis_interpolate_ms, round(b2.median_ms / b1.median_ms, 1) AS ratio
+FROM terrain, ras_grid g, generate_series(0, 2) l,
+     LATERAL bench('tin_as_raster', format('SELECT octet_length(_tin_as_raster(t, g.rast::bytea, %s, ''64BF'', -9999)) FROM terrain, ras_grid g', l), 5) b1,
+     LATERAL bench('interpolate', format($q$SELECT ST_Width(ST_InterpolateRaster(ST_Force3D(v.geom), 'linear', ST_AddBand(g.rast, '64BF'::text, 0, -9999))) FROM ras_vertices v, ras_grid g WHERE v.level = %s$q$, l), 1) b2
+ORDER BY 1;
+SELECT * FROM bench('tinmerge: tin_as_raster(t, 5.0, pixel_type => ''32BF''), the finest level, 41 M pixels, as a raster value', 'SELECT ST_Width(tin_as_raster(t, 5.0, pixel_type => ''32BF'')) FROM terrain', 3);
+SQL
 echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs/scaling.md)"
 cargo bench -p tinmerge-core --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"

@@ -62,6 +62,9 @@ def norm_default(d):
     d = re.sub(r"::[a-z ]+(\[\])*$", "", d)
     if d.startswith("(") and d.endswith(")"):
         d = d[1:-1]
+    # a negative number comes back quoted: '-9999'::double precision
+    if re.fullmatch(r"'-[0-9.]+'", d):
+        d = d[1:-1]
     return d
 
 
