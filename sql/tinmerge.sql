@@ -212,7 +212,8 @@ COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
 'tin_line_climb of a line given as text (WKT or EWKT, e.g. an untyped literal): the value for line::geometry.';
 
 -- Area merge: tin_area_triangles, tin_area_stats and tin_volume are Rust
--- functions (src/pg/area.rs: flags, cost, rows, comments) that take the
+-- functions (src/pg/area.rs, and src/pg/overlay.rs for tin_volume of two
+-- tins: flags, cost, rows, comments) that take the
 -- geometry itself. They pin this search_path, through which they find
 -- PostGIS's ST_IsValidReason (their validity verdict, called by OID) and,
 -- for the two that measure in the SRID's units and refuse a geographic
@@ -221,6 +222,7 @@ COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
 ALTER FUNCTION tin_area_triangles(tin, geometry, int, boolean) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_area_stats(tin, geometry, int) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_volume(tin, geometry, float8, int) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) SET search_path FROM CURRENT;
 -- tin_slope_aspect (src/pg/analysis.rs) refuses a geographic tin the same way
 ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
 -- the quantized-mesh functions (src/pg/serve.rs) find PostGIS's

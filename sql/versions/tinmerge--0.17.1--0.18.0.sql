@@ -1,6 +1,8 @@
 -- tinmerge 0.17.1 -> 0.18.0. Stored values read and answer as before.
 -- New: tin_as_raster, the surface of a level as a PostGIS raster (two
--- forms: on the grid of a reference raster, or at a pixel size).
+-- forms: on the grid of a reference raster, or at a pixel size); and
+-- tin_volume(a, b, area), cut and fill between two surfaces inside a
+-- polygon.
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -48,3 +50,24 @@ LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_as_raster(tin, float8, int, text, float8, float8, float8) IS
 'The surface of a level (NULL = finest) as a one-band north-up raster of square pixels pixel_size across (in the tin''s units), with the tin''s SRID: pixel edges on the lines gridx + k * pixel_size and gridy + k * pixel_size (as gdalwarp -tap), the fewest pixels covering the tin''s extent. Heights at pixel centres, nodata off the domain, as tin_as_raster(tin, raster). At most 65535 pixels a side and 1 GB; for the grid of an existing raster (the DEM the tin was built from), pass that raster instead. NULL for a NULL tin, pixel_size, pixel_type, nodata, gridx or gridy.';
+
+CREATE  FUNCTION "tin_volume"(
+	"a" tin,
+	"b" tin,
+	"area" geometry,
+	"level_a" INT DEFAULT NULL,
+	"level_b" INT DEFAULT NULL
+) RETURNS TABLE (
+	"cut" double precision, 
+	"fill" double precision, 
+	"area_cut" double precision, 
+	"area_fill" double precision, 
+	"area_unchanged" double precision 
+)
+IMMUTABLE PARALLEL SAFE SUPPORT "_tin_plan_support"  COST 10000 
+LANGUAGE c
+AS 'MODULE_PATHNAME', 'tin_volume_between_wrapper';
+ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) ROWS 1;
+COMMENT ON FUNCTION tin_volume(tin, tin, geometry, int, int) IS
+'Cut and fill between two surfaces inside a POLYGON or MULTIPOLYGON (holes count out), each at a level (NULL = finest): two epochs of a survey, or a design against the ground, as ArcGIS Surface Difference and Cut Fill. cut = volume where a is above b, fill = volume where a is below b, area_cut and area_fill the planar areas where it is so, area_unchanged where the two are one plane (their triangles'' planes agree within 1e-9 of the height, as tin_difference); exact for the linear surfaces, over the overlay of the two (tin_overlay) clipped to the polygon. Only the common domain counts: the three areas sum to the polygon''s part of it. The tins must share their SRID, a projected one; the polygon must have it too. No row for a NULL tin or polygon.';
+ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) SET search_path FROM CURRENT;

@@ -83,7 +83,7 @@ fn area_arg(g: Ewkb, validity: &dyn Fn() -> Option<String>, tin_srid: i32, func:
 
 /// A `geometry` argument read whole from PostGIS's serialisation, with
 /// PostGIS's validity verdict asked for only once it is known to be polygonal.
-fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Area {
+pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Area {
     area_arg(
         gserialized::read(g.bytes()).or_raise(),
         &|| Some(g.postgis_validity()),

@@ -1,15 +1,18 @@
 //! SQL functions of the TIN/TIN overlay: `tin_overlay`, `tin_overlay_tin`,
-//! `tin_difference`. Not STRICT (a NULL level means finest): a NULL tin
+//! `tin_difference`, and `tin_volume(a, b, area)` (cut and fill inside a
+//! polygon). Not STRICT (a NULL level means finest): a NULL tin
 //! gives no rows (NULL from `tin_overlay_tin`).
 
 use pgrx::prelude::*;
 
+use super::args::GeomArg;
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
 use super::tin_type::tin_level;
 use super::tin_type::{TinArg, TinOut};
 use tinmerge_core::io::ewkb;
+use tinmerge_core::merge::overlay::volume::volumes_in;
 use tinmerge_core::merge::overlay::{difference, mark_same, overlay, Overlay};
 use tinmerge_core::tin::build::from_triangles;
 
@@ -152,4 +155,56 @@ COMMENT ON FUNCTION _tin_difference(tin, tin, int, int) IS 'Internal: use tin_di
 "#,
     name = "tin_difference_sql",
     requires = [_tin_difference]
+);
+
+/// `tin_volume(a, b, area)`: cut and fill between two surfaces inside a
+/// polygon.
+#[allow(clippy::type_complexity)]
+#[pg_extern(name = "tin_volume", support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn tin_volume_between(
+    a: Option<TinArg>,
+    b: Option<TinArg>,
+    area: Option<GeomArg>,
+    level_a: default!(Option<i32>, "NULL"),
+    level_b: default!(Option<i32>, "NULL"),
+) -> TableIterator<
+    'static,
+    (
+        name!(cut, f64),
+        name!(fill, f64),
+        name!(area_cut, f64),
+        name!(area_fill, f64),
+        name!(area_unchanged, f64),
+    ),
+> {
+    let (Some(a), Some(b), Some(g)) = (a, b, area) else {
+        return TableIterator::new(Vec::new());
+    };
+    let func = "tin_volume";
+    let ta = a.tin();
+    super::area::refuse_geographic(None, ta.srid, &ta.bbox, func);
+    let area = super::area::geom_area(&g, ta.srid, func);
+    let (o, srid) = overlay_args(&a, level_a, &b, level_b, func, true);
+    memory::reserve(
+        tinmerge_core::tin::build::build_bytes(o.pts.len(), 1),
+        || format!("{func}: measuring {} overlay triangles", o.tris.len()),
+    );
+    let v = volumes_in(&o, &area, srid, &mut interrupt).or_raise();
+    TableIterator::new(vec![(
+        v.cut,
+        v.fill,
+        v.area_cut,
+        v.area_fill,
+        v.area_unchanged,
+    )])
+}
+
+extension_sql!(
+    r#"
+ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) ROWS 1;
+COMMENT ON FUNCTION tin_volume(tin, tin, geometry, int, int) IS
+'Cut and fill between two surfaces inside a POLYGON or MULTIPOLYGON (holes count out), each at a level (NULL = finest): two epochs of a survey, or a design against the ground, as ArcGIS Surface Difference and Cut Fill. cut = volume where a is above b, fill = volume where a is below b, area_cut and area_fill the planar areas where it is so, area_unchanged where the two are one plane (their triangles'' planes agree within 1e-9 of the height, as tin_difference); exact for the linear surfaces, over the overlay of the two (tin_overlay) clipped to the polygon. Only the common domain counts: the three areas sum to the polygon''s part of it. The tins must share their SRID, a projected one; the polygon must have it too. No row for a NULL tin or polygon.';
+"#,
+    name = "tin_volume_between_sql",
+    requires = [tin_volume_between]
 );

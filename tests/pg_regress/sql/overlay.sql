@@ -167,3 +167,62 @@ FROM o_tins a, o_tins f WHERE a.name = 'a' AND f.name = 'far';
 SELECT try($$SELECT count(*) FROM o_win w, o_tins a, tin_overlay(a.t, tin_from_raster(ST_SetSRID(w.rast, 32617), 4.0, 2)) WHERE a.name = 'a'$$);
 SELECT try($$SELECT count(*) FROM o_tins a, tin_overlay(a.t, a.t, 2) WHERE a.name = 'a'$$);
 SELECT try($$SELECT count(*) FROM o_tins a, tin_difference(a.t, a.t, 0, -1) WHERE a.name = 'a'$$);
+-- tin_volume(a, b, polygon) (issue 49): cut and fill between two surfaces
+-- inside polygons, against PostGIS: the polygon cut into triangles
+-- (ST_TriangulatePolygon: convex pieces), each cut by every triangle of a
+-- and of b it meets (ST_Intersection), and cut_fill (00_setup.sql) over
+-- each piece. The polygons, in the window's extent: an L with a hole, a
+-- rectangle reaching past the window, two pieces
+CREATE INDEX ON o_tri USING gist (geom);
+ANALYZE o_tri;
+CREATE TABLE o_polys AS
+SELECT name, ST_SetSRID(ST_Affine(g, ST_XMax(e) - ST_XMin(e), 0, 0, ST_YMax(e) - ST_YMin(e), ST_XMin(e), ST_YMin(e)), 32616) AS geom
+FROM (SELECT ST_Envelope(rast) AS e FROM o_win) w,
+     (VALUES ('L with a hole', ST_Difference('POLYGON((0.1 0.1, 0.8 0.1, 0.8 0.4, 0.45 0.4, 0.45 0.9, 0.1 0.9, 0.1 0.1))'::geometry,
+                                             'POLYGON((0.2 0.2, 0.35 0.2, 0.35 0.6, 0.2 0.6, 0.2 0.2))'::geometry)),
+             ('past the window', 'POLYGON((0.5 0.5, 1.3 0.5, 1.3 1.2, 0.5 1.2, 0.5 0.5))'::geometry),
+             ('two pieces', 'MULTIPOLYGON(((0.05 0.6, 0.3 0.6, 0.3 0.95, 0.05 0.95, 0.05 0.6)), ((0.6 0.05, 0.95 0.05, 0.7 0.3, 0.6 0.05)))'::geometry)) v(name, g);
+CREATE TABLE o_vol_exact AS
+  SELECT p.pair, q.name, sum(cf.cut) AS cut, sum(cf.fill) AS fill, count(*) AS pieces
+  FROM o_pairs p CROSS JOIN o_polys q
+  CROSS JOIN LATERAL (SELECT (ST_Dump(ST_TriangulatePolygon(q.geom))).geom AS tri) pt
+  JOIN o_tri ta ON ta.pair = p.pair AND ta.side = 'a' AND ST_Intersects(ta.geom, pt.tri)
+  JOIN o_tri tb ON tb.pair = p.pair AND tb.side = 'b' AND ST_Intersects(tb.geom, ta.geom) AND ST_Intersects(tb.geom, pt.tri)
+  CROSS JOIN LATERAL (SELECT (ST_Dump(ST_CollectionExtract(ST_Intersection(ST_Intersection(ST_Force2D(ta.geom), ST_Force2D(tb.geom)), pt.tri), 3))).geom AS piece) x
+  CROSS JOIN LATERAL cut_fill(x.piece, ta.geom, tb.geom) cf
+  WHERE p.pair IN ('a/b@1', 'a/c@0')
+  GROUP BY 1, 2;
+SELECT e.pair, e.name, e.pieces > 100 AS many_pieces, e.cut > 0 AND e.fill > 0 AS both_ways,
+       abs(v.cut - e.cut) <= 1e-9 * (e.cut + e.fill) AS cut_exact,
+       abs(v.fill - e.fill) <= 1e-9 * (e.cut + e.fill) AS fill_exact,
+       abs(v.area_cut + v.area_fill + v.area_unchanged - ST_Area(ST_Intersection(q.geom, d.geom))) <= 1e-9 * ST_Area(q.geom) AS areas_sum_to_the_domain_inside
+FROM o_vol_exact e JOIN o_pairs p USING (pair) JOIN o_polys q USING (name) JOIN o_dom d USING (pair),
+     tin_volume(p.ta, p.tb, q.geom, p.level, p.level) v
+ORDER BY 1, 2;
+-- a surface 1 m above another: cut is the area inside, all of it area_cut;
+-- a surface against itself: all of it unchanged
+SELECT q.name,
+       abs(v.cut - ST_Area(ST_Intersection(q.geom, ST_ConvexHull(tin_as_geometry(a.t))))) <= 1e-8 * ST_Area(q.geom) AS cut_is_area,
+       v.fill = 0 AS no_fill, abs(v.area_cut - v.cut) <= 1e-8 * v.cut AS area_cut_is_area,
+       s.cut = 0 AND s.fill = 0 AND s.area_cut = 0 AND s.area_fill = 0 AS itself_no_change,
+       abs(s.area_unchanged - v.area_cut) <= 1e-9 * v.area_cut AS itself_unchanged
+FROM o_polys q, o_tins r, o_tins a, tin_volume(r.t, a.t, q.geom) v, tin_volume(a.t, a.t, q.geom) s
+WHERE r.name = 'raised' AND a.name = 'a' ORDER BY 1;
+-- the whole common domain: tin_difference's cut, fill and changed area
+SELECT abs(v.cut - d.cut) <= 1e-9 * (d.cut + d.fill) AS cut_as_difference, abs(v.fill - d.fill) <= 1e-9 * (d.cut + d.fill) AS fill_as_difference,
+       abs(v.area_cut + v.area_fill - d.area_changed) <= 1e-9 * d.area_changed AS changed_as_difference
+FROM o_pairs p, tin_difference(p.ta, p.tb, p.level, p.level) d,
+     tin_volume(p.ta, p.tb, ST_Expand(tin_envelope(p.ta), 100), p.level, p.level) v
+WHERE p.pair = 'a/b@1';
+-- untyped literal, NULLs, bad input
+SELECT round(v.cut + v.fill) > 0 AS untyped
+FROM o_tins a, o_tins b, o_win w,
+     tin_volume(a.t, b.t, 'SRID=32616;POLYGON((741000 4056000, 743600 4056000, 743600 4058600, 741000 4056000))') v
+WHERE a.name = 'a' AND b.name = 'b';
+SELECT count(*) AS rows_for_null_polygon FROM o_tins a, tin_volume(a.t, a.t, NULL::geometry) WHERE a.name = 'a';
+SELECT count(*) AS rows_for_null_tin FROM o_polys q, tin_volume(NULL::tin, NULL::tin, q.geom);
+SELECT try($$SELECT * FROM o_tins a, o_polys q, tin_volume(a.t, a.t, ST_SetSRID(q.geom, 4326)) WHERE a.name = 'a' AND q.name = 'two pieces'$$);
+SELECT try($$SELECT * FROM o_tins a, o_polys q, tin_volume(a.t, a.t, ST_Boundary(q.geom)) WHERE a.name = 'a' AND q.name = 'two pieces'$$);
+SELECT try($$SELECT * FROM o_tins a, o_polys q, tin_volume(a.t, a.t, q.geom, 5) WHERE a.name = 'a' AND q.name = 'two pieces'$$);
+SELECT try($$SELECT * FROM o_win w, o_tins a, o_polys q, tin_volume(a.t, tin_from_raster(ST_SetSRID(w.rast, 32617), 4.0, 2), q.geom) WHERE a.name = 'a' AND q.name = 'two pieces'$$);
+SELECT try($$SELECT * FROM dem_geo d, tin_volume(tin_from_raster(d.rast, 8.0, 1), tin_from_raster(d.rast, 8.0, 1), ST_Envelope(d.rast))$$);

@@ -14,7 +14,7 @@
 //! use tinmerge_core::tin::build::build;
 //! use tinmerge_core::merge::area::{sweep, Method};
 //! use tinmerge_core::merge::area::polygon::Area;
-//! use tinmerge_core::merge::area::surface::{stats, volume};
+//! use tinmerge_core::merge::area::surface::{stats, volume, volume_parts};
 //! // the plane z = x on a 3 x 3 grid
 //! let mut pts = Vec::new();
 //! for i in 0..3 { for j in 0..3 { pts.push([i as f64, j as f64, i as f64]); } }
@@ -27,6 +27,8 @@
 //! assert!((st.max_slope - 45.0).abs() < 1e-9);
 //! let (cut, fill) = volume(&tin, &a, &s, 1.0, &mut || Ok(())).unwrap();
 //! assert!((cut - 0.125).abs() < 1e-12 && (fill - 0.125).abs() < 1e-12);
+//! let v = volume_parts(&tin, &a, &s, 1.0, &mut || Ok(())).unwrap();
+//! assert!((v.area_above - 0.5).abs() < 1e-12 && (v.area_below - 0.5).abs() < 1e-12);
 //! ```
 
 use crate::geom::P2;
@@ -208,7 +210,34 @@ pub fn volume<M: Mesh>(
 where
     TinError: From<M::Err>,
 {
-    let (mut cut, mut fill) = (0.0, 0.0);
+    let v = volume_parts(tin, area, s, base, interrupt)?;
+    Ok((v.cut, v.fill))
+}
+
+/// The parts of [`volume`]: both volumes and the planar areas where the
+/// surface is above and below the base.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VolumeParts {
+    pub cut: f64,
+    pub fill: f64,
+    /// Planar area where the surface is above the base.
+    pub area_above: f64,
+    /// Planar area where it is below.
+    pub area_below: f64,
+}
+
+/// [`volume`] with the areas on either side of the base.
+pub fn volume_parts<M: Mesh>(
+    tin: &M,
+    area: &Area,
+    s: &Sweep,
+    base: f64,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<VolumeParts, TinError>
+where
+    TinError: From<M::Err>,
+{
+    let mut out = VolumeParts::default();
     each_part(tin, s, interrupt, &mut |p| {
         let cs = p.corners;
         let c2: [P2; 3] = cs.map(|v| [v[0], v[1]]);
@@ -217,6 +246,10 @@ where
         for sign in [1.0, -1.0] {
             // h >= 0 where the surface is on this side of the base
             let h = |q: P2| sign * (z0 + gx * (q[0] - o[0]) + gy * (q[1] - o[1]) - base);
+            if cs.iter().all(|v| sign * (v[2] - base) <= 0.0) {
+                // wholly on the other side (or on the base): nothing here
+                continue;
+            }
             let side = if cs.iter().all(|v| sign * (v[2] - base) >= 0.0) {
                 c2.to_vec()
             } else {
@@ -234,12 +267,14 @@ where
             };
             let v = sign * m.linear(z0 - base, gx, gy);
             if sign > 0.0 {
-                cut += v.max(0.0);
+                out.cut += v.max(0.0);
+                out.area_above += m.a.max(0.0);
             } else {
-                fill += v.max(0.0);
+                out.fill += v.max(0.0);
+                out.area_below += m.a.max(0.0);
             }
         }
         Ok(())
     })?;
-    Ok((cut, fill))
+    Ok(out)
 }
