@@ -225,6 +225,9 @@ ALTER FUNCTION tin_volume(tin, geometry, float8, int) SET search_path FROM CURRE
 ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) SET search_path FROM CURRENT;
 -- tin_slope_aspect (src/pg/analysis.rs) refuses a geographic tin the same way
 ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
+-- tin_line_of_sight (src/pg/analysis.rs) reads spatial_ref_sys the same way
+-- (a geographic tin's degrees in metres, for the earth's curvature)
+ALTER FUNCTION tin_line_of_sight(tin, geometry, geometry, float8, float8, int, boolean, float8) SET search_path FROM CURRENT;
 -- the quantized-mesh functions (src/pg/serve.rs) find PostGIS's
 -- ST_Transform through it
 ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) SET search_path FROM CURRENT;

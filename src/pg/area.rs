@@ -116,7 +116,7 @@ thread_local! {
 /// no look-up), otherwise whether spatial_ref_sys describes the SRID as
 /// longitude/latitude (read once per SRID and backend, through the SQL
 /// wrapper's search_path).
-fn srid_is_geographic(given: Option<bool>, srid: i32, b: &Bbox) -> bool {
+pub(super) fn srid_is_geographic(given: Option<bool>, srid: i32, b: &Bbox) -> bool {
     if let Some(g) = given {
         return g;
     }

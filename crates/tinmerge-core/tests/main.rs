@@ -28,3 +28,4 @@ mod storage;
 mod surface;
 mod tiles;
 mod validate;
+mod visibility;

@@ -6,3 +6,4 @@
 pub mod contour;
 pub mod rasterize;
 pub mod slope;
+pub mod visibility;
