@@ -2,7 +2,7 @@
 -- New: tin_as_raster, the surface of a level as a PostGIS raster (two
 -- forms: on the grid of a reference raster, or at a pixel size); and
 -- tin_volume(a, b, area), cut and fill between two surfaces inside a
--- polygon.
+-- polygon; and tin_line_of_sight.
 SELECT pg_catalog.set_config('search_path',
     (SELECT pg_catalog.string_agg(s, ', ' ORDER BY o)
      FROM (SELECT s, pg_catalog.min(o) AS o
@@ -71,3 +71,26 @@ ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) ROWS 1;
 COMMENT ON FUNCTION tin_volume(tin, tin, geometry, int, int) IS
 'Cut and fill between two surfaces inside a POLYGON or MULTIPOLYGON (holes count out), each at a level (NULL = finest): two epochs of a survey, or a design against the ground, as ArcGIS Surface Difference and Cut Fill. cut = volume where a is above b, fill = volume where a is below b, area_cut and area_fill the planar areas where it is so, area_unchanged where the two are one plane (their triangles'' planes agree within 1e-9 of the height, as tin_difference); exact for the linear surfaces, over the overlay of the two (tin_overlay) clipped to the polygon. Only the common domain counts: the three areas sum to the polygon''s part of it. The tins must share their SRID, a projected one; the polygon must have it too. No row for a NULL tin or polygon.';
 ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) SET search_path FROM CURRENT;
+
+CREATE  FUNCTION "tin_line_of_sight"(
+	"t" tin,
+	"observer" geometry,
+	"target" geometry,
+	"observer_height" double precision DEFAULT 1.7,
+	"target_height" double precision DEFAULT 0,
+	"level" INT DEFAULT NULL,
+	"curvature" bool DEFAULT false,
+	"refraction" double precision DEFAULT 0.13
+) RETURNS TABLE (
+	"visible" bool, 
+	"obstruction" geometry, 
+	"distance" double precision, 
+	"clearance" double precision 
+)
+IMMUTABLE PARALLEL SAFE SUPPORT "_tin_plan_support" COST 500 
+LANGUAGE c
+AS 'MODULE_PATHNAME', 'tin_line_of_sight_wrapper';
+ALTER FUNCTION tin_line_of_sight(tin, geometry, geometry, float8, float8, int, boolean, float8) ROWS 1;
+COMMENT ON FUNCTION tin_line_of_sight(tin, geometry, geometry, float8, float8, int, boolean, float8) IS
+'Whether a target can be seen from an observer over the surface of a level (NULL = finest), exactly for its triangles: the straight sight line from the observer''s eye (a POINT: observer_height above the surface; a POINT Z: at that absolute height) to the target (target_height above the surface, or its Z) is cut at every triangle edge, and blocked where the surface rises above it. visible; obstruction, the first point where the surface meets the sight line, as a POINT Z on the surface (NULL when visible); distance, its horizontal distance from the observer in the tin''s units; clearance, the least height of the sight line above the surface strictly between the two (negative when blocked; NULL when the line crosses no edge). curvature: distant ground lowered by (1 - refraction) d^2 / (2 R), R = 6,371 km (as gdal_viewshed and r.viewshed), with d in metres (geographic tins: degrees converted along the line). Where the line leaves the domain nothing blocks. Points must have the tin''s SRID; a POINT off the surface needs a Z. No row for a NULL argument other than level.';
+ALTER FUNCTION tin_line_of_sight(tin, geometry, geometry, float8, float8, int, boolean, float8) SET search_path FROM CURRENT;

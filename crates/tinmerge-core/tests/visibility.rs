@@ -107,7 +107,7 @@ fn oracle(
 }
 
 /// Random eye and target pairs on the level's domain, eyes 0-30 m and
-/// targets 0-10 m above it (their heights from `tin_height`'s function:
+/// targets 0-10 m above it, every other target on it (their heights from `tin_height`'s function:
 /// input, not the answer).
 fn pairs(tin: &Tin, level: usize, n: usize, seed: u64) -> Vec<([f64; 3], [f64; 3])> {
     let mut rng = StdRng::seed_from_u64(seed);
@@ -119,12 +119,21 @@ fn pairs(tin: &Tin, level: usize, n: usize, seed: u64) -> Vec<([f64; 3], [f64; 3
             rng.random_range(b.min_y..b.max_y),
         );
         if let Some(z) = height(tin, level, x, y) {
-            return [x, y, z + rng.random_range(0.0..up)];
+            return [
+                x,
+                y,
+                if up > 0.0 {
+                    z + rng.random_range(0.0..up)
+                } else {
+                    z
+                },
+            ];
         }
     };
     while out.len() < n {
         let e = point(&mut rng, 30.0);
-        let t = point(&mut rng, 10.0);
+        // every other target on the ground (target_height 0, the default)
+        let t = point(&mut rng, if out.len() % 2 == 0 { 0.0 } else { 10.0 });
         out.push((e, t));
     }
     out
@@ -268,6 +277,31 @@ fn degenerate_and_bad_input() {
     )
     .unwrap();
     assert!(s.visible && s.clearance.is_none());
+    // a target on the ground in plain view: seen, whatever the last bits of
+    // its height (tin_line_of_sight's default target_height 0)
+    let mut seen = 0;
+    for k in 1..200 {
+        let (tx, ty) = (x + k as f64 * 7.3, y - k as f64 * 3.1);
+        let Some(tz) = height(&tin, 0, tx, ty) else {
+            continue;
+        };
+        let s = line_of_sight(
+            &tin,
+            0,
+            [x, y, z + 5000.0],
+            [tx, ty, tz],
+            Curvature::None,
+            &mut || Ok(()),
+        )
+        .unwrap();
+        assert!(
+            s.visible,
+            "from 5 km up, the ground at ({tx}, {ty}) is hidden at {:?}",
+            s.distance
+        );
+        seen += 1;
+    }
+    assert!(seen > 100);
     assert!(
         line_of_sight(
             &tin,

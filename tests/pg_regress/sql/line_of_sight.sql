@@ -14,13 +14,14 @@ CREATE TABLE los_tris AS SELECT a.name, a.level, tr.geom FROM los_tins a, tin_tr
 CREATE INDEX ON los_tris USING gist (geom);
 ANALYZE los_tris;
 -- pairs inside the middle of each DEM's extent (where it has data), eyes
--- 0-30 m above the ground, targets 0-10 m
+-- 0-30 m above the ground, targets 0-10 m, every other one on the ground
+-- (target_height 0, the default: it touches the sight line)
 CREATE TABLE los_pairs AS
 SELECT a.name, a.level, i, o, g, tin_height(a.t, o, a.level) + oh AS zo, tin_height(a.t, g, a.level) + th AS zt, oh, th
 FROM los_tins a, generate_series(1, 300) i,
      LATERAL (SELECT ST_XMin(e) + (0.15 + 0.7 * random()) * (ST_XMax(e) - ST_XMin(e)) AS x1, ST_YMin(e) + (0.15 + 0.7 * random()) * (ST_YMax(e) - ST_YMin(e)) AS y1,
                      ST_XMin(e) + (0.15 + 0.7 * random()) * (ST_XMax(e) - ST_XMin(e)) AS x2, ST_YMin(e) + (0.15 + 0.7 * random()) * (ST_YMax(e) - ST_YMin(e)) AS y2,
-                     30 * random() AS oh, 10 * random() AS th, i AS k
+                     30 * random() AS oh, CASE WHEN i % 2 = 0 THEN 0 ELSE 10 * random() END AS th, i AS k
               FROM (SELECT tin_envelope(a.t) AS e) e) r,
      LATERAL (SELECT ST_SetSRID(ST_MakePoint(x1, y1), ST_SRID(tin_envelope(a.t))) AS o, ST_SetSRID(ST_MakePoint(x2, y2), ST_SRID(tin_envelope(a.t))) AS g) p;
 CREATE TABLE los_oracle AS

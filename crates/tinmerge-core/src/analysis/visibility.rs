@@ -8,9 +8,10 @@
 //! quadratic: the ground at distance `d` looks lower by
 //! `(1 - k) d² / (2 R)` (R = 6,371,000 m, k the refraction coefficient),
 //! the textbook correction of `gdal_viewshed` and `r.viewshed`. The target
-//! is blocked where `g` goes below 0: the first such point, the
-//! *obstruction*, is found piece by piece in closed form, exact up to the
-//! rounding of the surface's heights. Where the track leaves the domain
+//! is blocked where `g` goes below 0 (by more than 1e-9 of the heights: a
+//! target on the ground touches the sight line): the first such point,
+//! the *obstruction*, is found piece by piece in closed form, exact up to
+//! the rounding of the surface's heights. Where the track leaves the domain
 //! (off the hull, over a hole) nothing blocks.
 //!
 //! ```
@@ -70,7 +71,9 @@ impl Curvature {
 /// What a line of sight finds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sight {
-    /// No point of the surface between the two is above the sight line.
+    /// No point of the surface between the two is above the sight line
+    /// (by more than 1e-9 of the heights: touching it, as a target on the
+    /// ground does, is seeing).
     pub visible: bool,
     /// Where the sight line first goes below the surface (x, y, z on the
     /// surface), and its horizontal distance from the observer.
@@ -137,6 +140,11 @@ pub fn line_of_sight(
     };
     let mut clear = f64::INFINITY;
     let inside = |d: f64| d > 0.0 && d < total;
+    // below the sight line by less than this is touching it: the heights
+    // of the eye, of the target and of the surface under them come from
+    // interpolations that differ in their last bits (a target on the
+    // ground, target_height 0, touches the sight line at its end)
+    let tol = 1e-9 * eye[2].abs().max(target[2].abs()).max(1.0);
     for p in &pieces {
         for k in 0..p.points.len().saturating_sub(1) {
             let (d0, d1) = (p.along[k], p.along[k + 1]);
@@ -166,15 +174,23 @@ pub fn line_of_sight(
             if out.obstruction.is_some() {
                 continue;
             }
-            // the first d in [d0, d1] where g < 0
-            let first = if g0 < 0.0 {
-                Some(d0)
-            } else if c == 0.0 {
-                (g1 < 0.0).then(|| d0 + (d1 - d0) * (g0 / (g0 - g1)))
+            // the first d in [d0, d1] where g < 0, on a piece where g goes
+            // below -tol
+            let first = if c == 0.0 {
+                (g0.min(g1) < -tol).then(|| {
+                    if g0 <= 0.0 {
+                        d0
+                    } else {
+                        d0 + (d1 - d0) * (g0 / (g0 - g1))
+                    }
+                })
             } else {
-                // g is convex here: below 0 somewhere iff at its least
+                // g is convex here: below -tol somewhere iff at its least
                 let dm = (-b / (2.0 * c)).clamp(d0, d1);
-                (g(dm) < 0.0).then(|| {
+                (g(dm) < -tol).then(|| {
+                    if g0 <= 0.0 {
+                        return d0;
+                    }
                     // the smaller root of c d² + b d + e in [d0, dm], by
                     // the cancellation-free formula
                     let e = g0 - c * d0 * d0 - b * d0;
@@ -188,11 +204,6 @@ pub fn line_of_sight(
                 })
             };
             if let Some(d) = first {
-                // the eye on or under the ground is not an obstruction of
-                // its own view unless the ground rises in front of it
-                if d >= total {
-                    continue;
-                }
                 let s = (d - d0) / (d1 - d0);
                 let xy = at(d);
                 out.visible = false;
