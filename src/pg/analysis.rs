@@ -92,38 +92,89 @@ COMMENT ON FUNCTION tin_slope_aspect(tin, int) IS
 /// height (its own Z, or the surface of the level plus `above`).
 fn sight_point(g: &GeomArg, tin: &Tin, l: usize, above: f64, what: &str) -> [f64; 3] {
     let func = "tin_line_of_sight";
-    let e = gserialized::read(g.bytes()).or_raise();
-    check_srid(e.srid, tin.srid, func, what, first_xy(&e.geom));
-    let p = match e.geom {
-        Geom::Point(Some(p)) => p,
-        Geom::Point(None) => raise(
-            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-            format!("{func}: the {what} is an empty point"),
-        ),
+    match sight_points(g, tin, l, above, what, func, false)[..] {
+        [p] => p,
         _ => raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
             format!("{func}: the {what} must be a POINT or POINT Z"),
         ),
-    };
-    tinmerge_core::tin::check_xy(format_args!("{func}: the {what}"), p[0], p[1]).or_raise();
-    if e.has_z {
-        if !p[2].is_finite() {
-            raise(
-                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                format!("{func}: the {what}'s Z must be finite"),
-            );
-        }
-        return [p[0], p[1], p[2]];
     }
-    match height(tin, l, p[0], p[1]) {
-        Some(z) => [p[0], p[1], z + above],
-        None => raise(
+}
+
+/// The points of a POINT (or, when `multi`, a MULTIPOINT) with their
+/// absolute heights: their own Z, or the surface of the level plus
+/// `above`. ERROR for another type, an empty one, the wrong SRID, or a
+/// point without Z off the surface.
+pub(super) fn sight_points(
+    g: &GeomArg,
+    tin: &Tin,
+    l: usize,
+    above: f64,
+    what: &str,
+    func: &str,
+    multi: bool,
+) -> Vec<[f64; 3]> {
+    let e = gserialized::read(g.bytes()).or_raise();
+    check_srid(e.srid, tin.srid, func, what, first_xy(&e.geom));
+    let wanted = if multi {
+        "a POINT or MULTIPOINT (with or without Z)"
+    } else {
+        "a POINT or POINT Z"
+    };
+    let empty = |kind: &str| -> ! {
+        raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-            format!(
-                "{func}: the {what} ({}, {}) is off the tin's surface at level {l}; give it a Z (an absolute height) to look from or at a point off the terrain",
-                p[0], p[1]
-            ),
+            format!("{func}: the {what} is an empty {kind}"),
+        )
+    };
+    let pts = match e.geom {
+        Geom::Point(Some(p)) => vec![p],
+        Geom::Point(None) => empty("point"),
+        Geom::MultiPoint(ps) if multi => {
+            if ps.is_empty() {
+                empty("MULTIPOINT")
+            }
+            ps
+        }
+        _ => raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("{func}: the {what} must be {wanted}"),
         ),
+    };
+    pts.into_iter()
+        .map(|p| {
+            tinmerge_core::tin::check_xy(format_args!("{func}: the {what}"), p[0], p[1]).or_raise();
+            if e.has_z {
+                if !p[2].is_finite() {
+                    raise(
+                        PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                        format!("{func}: the {what}'s Z must be finite"),
+                    );
+                }
+                return [p[0], p[1], p[2]];
+            }
+            match height(tin, l, p[0], p[1]) {
+                Some(z) => [p[0], p[1], z + above],
+                None => raise(
+                    PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                    format!(
+                        "{func}: the {what} ({}, {}) is off the tin's surface at level {l}; give it a Z (an absolute height) to look from or at a point off the terrain",
+                        p[0], p[1]
+                    ),
+                ),
+            }
+        })
+        .collect()
+}
+
+/// Metres per horizontal unit along x and y near latitude `lat` (degrees)
+/// for a geographic tin; 1, 1 for a projected one.
+pub(super) fn metres_per_unit(geographic: bool, lat: f64) -> [f64; 2] {
+    if geographic {
+        let m = 111_319.490_793_273_6;
+        [m * lat.to_radians().cos(), m]
+    } else {
+        [1.0, 1.0]
     }
 }
 
@@ -176,19 +227,14 @@ fn tin_line_of_sight(
     let aim = sight_point(&g, &tin, l, th, "target");
     let geographic = super::area::srid_is_geographic(None, tin.srid, &tin.bbox);
     let curvature = if curv {
-        let metres_per_unit = if geographic {
-            // degrees to metres along the sight line, at its middle latitude
-            let lat = (0.5 * (eye[1] + aim[1])).to_radians();
-            let (dx, dy) = (aim[0] - eye[0], aim[1] - eye[1]);
-            let len = dx.hypot(dy);
-            let m = 111_319.490_793_273_6;
-            if len > 0.0 {
-                m * (lat.cos() * dx).hypot(dy) / len
-            } else {
-                m
-            }
+        // metres per unit along the sight line, at its middle latitude
+        let [mx, my] = metres_per_unit(geographic, 0.5 * (eye[1] + aim[1]));
+        let (dx, dy) = (aim[0] - eye[0], aim[1] - eye[1]);
+        let len = dx.hypot(dy);
+        let metres_per_unit = if len > 0.0 {
+            (mx * dx).hypot(my * dy) / len
         } else {
-            1.0
+            my
         };
         Curvature::Earth {
             refraction: k,

@@ -110,6 +110,7 @@ mod table_tiles;
 mod threads;
 mod tin_type;
 mod varlena;
+mod viewshed;
 
 ::pgrx::pg_module_magic!(name, version);
 

@@ -397,11 +397,11 @@ COMMENT ON FUNCTION _tin_validate_raster(tin, bytea, int, bytea) IS 'Internal: u
 );
 
 /// The largest raster `tin_as_raster` returns: a varlena holds at most 1 GB.
-const MAX_RASTER_BYTES: usize = (1 << 30) - (1 << 20);
+pub(super) const MAX_RASTER_BYTES: usize = (1 << 30) - (1 << 20);
 
 /// A core error about an argument, its message led by the SQL function's
 /// name.
-fn named(e: TinError, func: &str) -> TinError {
+pub(super) fn named(e: TinError, func: &str) -> TinError {
     match e {
         TinError::InvalidParameter(m) => TinError::InvalidParameter(format!("{func}: {m}")),
         TinError::TooLarge(m) => TinError::TooLarge(format!("{func}: {m}")),

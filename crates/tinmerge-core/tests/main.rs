@@ -28,4 +28,5 @@ mod storage;
 mod surface;
 mod tiles;
 mod validate;
+mod viewshed;
 mod visibility;

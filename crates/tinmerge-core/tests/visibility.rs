@@ -24,6 +24,20 @@ fn oracle(
     target: [f64; 3],
     c: f64,
 ) -> (bool, Option<f64>, f64) {
+    let all: Vec<u32> = (0..tin.levels[level].num_domain() as u32).collect();
+    oracle_in(tin, level, &all, eye, target, c)
+}
+
+/// [`oracle`] over the domain triangles `tris` of the level (a caller that
+/// knows which triangles can meet its sight lines passes only those).
+pub(crate) fn oracle_in(
+    tin: &Tin,
+    level: usize,
+    tris: &[u32],
+    eye: [f64; 3],
+    target: [f64; 3],
+    c: f64,
+) -> (bool, Option<f64>, f64) {
     let total = (target[0] - eye[0]).hypot(target[1] - eye[1]);
     let zt = target[2] - c * total * total;
     let xy = |d: f64| {
@@ -35,10 +49,9 @@ fn oracle(
     };
     let (bx0, bx1) = (eye[0].min(target[0]), eye[0].max(target[0]));
     let (by0, by1) = (eye[1].min(target[1]), eye[1].max(target[1]));
-    let lv = &tin.levels[level];
     let mut first: Option<f64> = None;
     let mut graze = f64::INFINITY;
-    for t in 0..lv.num_domain() as u32 {
+    for &t in tris {
         let co = tin.corners(level, t);
         if co.iter().all(|v| v[0] < bx0)
             || co.iter().all(|v| v[0] > bx1)
@@ -88,7 +101,10 @@ fn oracle(
                 graze = graze.min(g(d).abs());
             }
         }
-        if g(dmin) < 0.0 && dmin < total {
+        // below by more than 1e-9 of the heights (the function's promise:
+        // a target on the ground touches the sight line)
+        let tol = 1e-9 * eye[2].abs().max(target[2].abs()).max(1.0);
+        if g(dmin) < -tol && dmin < total {
             // bisection from the clip's start (or the start itself)
             let d = if ga < 0.0 {
                 d0

@@ -6,4 +6,5 @@
 pub mod contour;
 pub mod rasterize;
 pub mod slope;
+pub mod viewshed;
 pub mod visibility;

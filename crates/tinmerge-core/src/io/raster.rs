@@ -253,13 +253,7 @@ pub fn write_float(
     nodata: f64,
     values: &[f64],
 ) -> Result<Vec<u8>, IoError> {
-    let side =
-        |n: usize| {
-            u16::try_from(n).map_err(|_| IoError::Unsupported(format!(
-        "a raster of {width} x {height} pixels: PostGIS rasters have at most 65535 a side"
-    )))
-        };
-    let (w, h) = (side(width)?, side(height)?);
+    let (w, h) = sides(width, height)?;
     let size = match pixel_type {
         10 => 4,
         11 => 8,
@@ -281,19 +275,8 @@ pub fn write_float(
             "nodata value {nodata}: it must be finite"
         )));
     }
-    let g = [
-        gt.scale_x, gt.scale_y, gt.ip_x, gt.ip_y, gt.skew_x, gt.skew_y,
-    ];
     let mut b = Vec::with_capacity(61 + 1 + size + n * size);
-    b.push(1u8);
-    b.extend_from_slice(&0u16.to_le_bytes());
-    b.extend_from_slice(&u16::from(n > 0).to_le_bytes());
-    for v in g {
-        b.extend_from_slice(&v.to_le_bytes());
-    }
-    b.extend_from_slice(&srid.to_le_bytes());
-    b.extend_from_slice(&w.to_le_bytes());
-    b.extend_from_slice(&h.to_le_bytes());
+    header(&mut b, srid, gt, w, h, n > 0);
     if n == 0 {
         return Ok(b);
     }
@@ -312,6 +295,85 @@ pub fn write_float(
         }
     }
     Ok(b)
+}
+
+/// WKB raster (little-endian) of one band of unsigned counts (row-major,
+/// from the top row), `nodata` where a value is [`u16::MAX`]: in `8BUI`
+/// (nodata 255) when `byte` (every other value must then be below 255),
+/// else in `16BUI` (nodata 65535). As [`write_float`] otherwise.
+pub fn write_counts(
+    srid: i32,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    byte: bool,
+    values: &[u16],
+) -> Result<Vec<u8>, IoError> {
+    let (w, h) = sides(width, height)?;
+    let n = width * height;
+    if values.len() != n {
+        return Err(IoError::Raster(format!(
+            "{} values for {width} x {height} pixels",
+            values.len()
+        )));
+    }
+    if byte && values.iter().any(|&v| v != u16::MAX && v > 254) {
+        return Err(IoError::Unsupported(
+            "a count above 254 does not fit in 8BUI".into(),
+        ));
+    }
+    let size = if byte { 1 } else { 2 };
+    let mut b = Vec::with_capacity(61 + 1 + size + n * size);
+    header(&mut b, srid, gt, w, h, n > 0);
+    if n == 0 {
+        return Ok(b);
+    }
+    let all_nodata = values.iter().all(|&v| v == u16::MAX);
+    let flags = 0x40 | if all_nodata { 0x20 } else { 0 };
+    if byte {
+        b.push(4 | flags);
+        b.push(255);
+        b.extend(
+            values
+                .iter()
+                .map(|&v| if v == u16::MAX { 255 } else { v as u8 }),
+        );
+    } else {
+        b.push(6 | flags);
+        b.extend_from_slice(&u16::MAX.to_le_bytes());
+        for &v in values {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    Ok(b)
+}
+
+/// A raster's width and height as its header's 16-bit fields.
+fn sides(width: usize, height: usize) -> Result<(u16, u16), IoError> {
+    let side = |n: usize| {
+        u16::try_from(n).map_err(|_| {
+            IoError::Unsupported(format!(
+                "a raster of {width} x {height} pixels: PostGIS rasters have at most 65535 a side"
+            ))
+        })
+    };
+    Ok((side(width)?, side(height)?))
+}
+
+/// The WKB raster header: endianness, version, band count, georeference,
+/// SRID and size.
+fn header(b: &mut Vec<u8>, srid: i32, gt: &GeoTransform, w: u16, h: u16, band: bool) {
+    b.push(1u8);
+    b.extend_from_slice(&0u16.to_le_bytes());
+    b.extend_from_slice(&u16::from(band).to_le_bytes());
+    for v in [
+        gt.scale_x, gt.scale_y, gt.ip_x, gt.ip_y, gt.skew_x, gt.skew_y,
+    ] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.extend_from_slice(&srid.to_le_bytes());
+    b.extend_from_slice(&w.to_le_bytes());
+    b.extend_from_slice(&h.to_le_bytes());
 }
 
 /// Heap needed to read one band of a `width` x `height` raster (values as

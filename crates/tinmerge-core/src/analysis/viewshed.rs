@@ -1,0 +1,926 @@
+//! Viewsheds over the surface of a level (`tin_viewshed`): which cells of a
+//! grid an observer sees, for one observer or, counted, for several.
+//!
+//! A cell is *visible* when the sight line from the observer's eye to the
+//! point `target_height` above the surface at the cell's centre does not
+//! go below the surface (the verdict of
+//! [`line_of_sight`](super::visibility::line_of_sight), with the same
+//! earth's curvature). Written as angles: with `f(u) = (z(u) - c u² - z₀)
+//! / u` the elevation of the ground at distance `u` along the cell's ray
+//! (`z₀` the eye's height), the cell at distance `d` with target elevation
+//! `A` is visible when `max f(u), 0 < u < d` is at most `A` (up to
+//! 1e-9 of the heights over `d`: touching is seeing).
+//!
+//! **How, without a line of sight per cell.** A fan of rays leaves the
+//! eye, spaced at most half a cell apart at the farthest cell. Each ray is
+//! walked once through the hierarchy ([`RayWalk`]): a coarse triangle whose
+//! whole stretch of ray cannot raise the ray's running horizon (its plane
+//! plus the most the level's surface rises above it, [`Bounds`]) is skipped
+//! whole, without visiting its descendants; the rest are descended into
+//! down to the level's triangles, where the surface along the ray is
+//! linear and the running maximum of `f` exact. The running horizon is
+//! kept at every half cell along the ray. Each cell lies in the wedge of
+//! two neighbouring rays; where both rays' horizons at the cell's distance
+//! are below its target elevation it is visible, where both are above it
+//! is hidden, and where they disagree (the cell is near the edge of what
+//! is seen) its own ray is walked exactly, pruned the same way against its
+//! own target. So the fan's walks cost about eight ray samples a cell,
+//! most of the hidden ground is skipped at coarse levels, and the exact
+//! walks are few.
+//!
+//! ```
+//! use tinmerge_core::analysis::rasterize::aligned_grid;
+//! use tinmerge_core::analysis::viewshed::{viewshed, Eye, HIDDEN, NODATA, VISIBLE};
+//! use tinmerge_core::tin::build::build;
+//! // flat ground at 0 with a wall 10 m high along x = 50
+//! let mut pts = vec![[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0], [0.0, 100.0, 0.0]];
+//! pts.extend([[49.0, 0.0, 0.0], [49.0, 100.0, 0.0], [50.0, 0.0, 10.0], [50.0, 100.0, 10.0],
+//!             [51.0, 0.0, 0.0], [51.0, 100.0, 0.0]]);
+//! let tin = build(pts, &[0.0], 0, &mut || Ok(())).unwrap();
+//! let (gt, w, h) = aligned_grid(&[0.0, 0.0, 100.0, 100.0], 10.0, 10.0, 0.0, 0.0).unwrap();
+//! let eye = Eye { x: 25.0, y: 55.0, z: 1.7, curvature: None };
+//! let v = viewshed(&tin, 0, &[eye], 0.0, 1000.0, &gt, w, h, &mut || Ok(())).unwrap();
+//! // row 4 (centres at y = 55): the ground before the wall is seen, behind it hidden
+//! let row: Vec<u16> = v.counts[4 * w..5 * w].to_vec();
+//! assert_eq!(&row[..5], &[VISIBLE; 5]);
+//! assert_eq!(&row[5..], &[HIDDEN; 5]);
+//! // nothing is past a radius of 1 km, and every cell is on the surface
+//! assert!(!v.counts.contains(&NODATA));
+//! ```
+
+use crate::analysis::rasterize::rasterize;
+use crate::analysis::visibility::EARTH_RADIUS;
+use crate::error::TinError;
+use crate::interrupt::{Interrupt, Ticker};
+use crate::io::raster::GeoTransform;
+use crate::tin::{NONE, Tin, interpolate, locate};
+
+/// A cell seen (by one observer: with several, the count of observers).
+pub const VISIBLE: u16 = 1;
+/// A cell hidden from every observer.
+pub const HIDDEN: u16 = 0;
+/// A cell off the surface (off the domain, on a void triangle) or past
+/// the radius of every observer.
+pub const NODATA: u16 = u16::MAX;
+
+/// Most observers one call counts (their count must stay below
+/// [`NODATA`]).
+pub const MAX_OBSERVERS: usize = 65_534;
+
+/// An observer: the eye's position and absolute height, and the earth's
+/// curvature as seen from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Eye {
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+    /// `Some((refraction, [mx, my]))`: distant ground lowered by
+    /// `(1 - refraction) d² / (2 R)`, with `d` in metres: `mx`, `my` metres
+    /// per horizontal unit along x and y (1, 1 for a projected SRID in
+    /// metres; for degrees, `mx` shrinks with the cosine of the latitude).
+    pub curvature: Option<(f64, [f64; 2])>,
+}
+
+impl Eye {
+    /// The drop per squared horizontal unit along the unit direction `dir`.
+    fn drop(&self, dir: [f64; 2]) -> f64 {
+        match self.curvature {
+            None => 0.0,
+            Some((k, [mx, my])) => {
+                let m2 = (mx * dir[0]).powi(2) + (my * dir[1]).powi(2);
+                (1.0 - k) * m2 / (2.0 * EARTH_RADIUS)
+            }
+        }
+    }
+}
+
+/// What [`viewshed`] found, and how much work it took.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Viewshed {
+    /// Per cell, row-major from the top row: how many observers see it
+    /// ([`VISIBLE`] or [`HIDDEN`] for one), or [`NODATA`].
+    pub counts: Vec<u16>,
+    /// Rays of the fans walked, over all observers.
+    pub rays: u64,
+    /// Stretches of ray crossing a triangle of the level itself (the finest
+    /// work).
+    pub fine_pieces: u64,
+    /// Coarse triangles skipped whole (their stretch could not raise the
+    /// horizon, or could not block the cell checked).
+    pub pruned: u64,
+    /// Cells whose two rays disagreed, walked exactly on their own ray.
+    pub exact_cells: u64,
+    /// Cells seen past the terrain behind them, whose last stretch was
+    /// walked on their own ray.
+    pub local_cells: u64,
+    /// Cells decided (in reach of an observer and on the surface), over
+    /// all observers.
+    pub cells: u64,
+}
+
+/// Per coarse triangle, the most the surface of the target level rises
+/// above the triangle's plane anywhere in it: `up[l][t]` for levels
+/// `l < level` (exact for piecewise linear surfaces nested in the
+/// triangle: the largest difference is at a vertex).
+pub struct Bounds {
+    up: Vec<Vec<f64>>,
+}
+
+impl Bounds {
+    /// The bounds of every level coarser than `level`, from the finest up.
+    pub fn new(tin: &Tin, level: usize, interrupt: &mut Interrupt<'_>) -> Result<Bounds, TinError> {
+        let mut up: Vec<Vec<f64>> = vec![Vec::new(); level];
+        let mut ticker = Ticker::new(interrupt);
+        let zscale = tin.bbox.max_z.abs().max(tin.bbox.min_z.abs()).max(1.0);
+        for l in (0..level).rev() {
+            let lv = &tin.levels[l];
+            let mut b = vec![0.0f64; lv.num_triangles()];
+            for (t, bt) in b.iter_mut().enumerate().take(lv.num_domain()) {
+                ticker.tick()?;
+                let co = tin.corners(l, t as u32);
+                let (c0, c1) = (lv.child_start[t], lv.child_start[t + 1]);
+                let mut m = 0.0f64;
+                for c in c0..c1 {
+                    let extra = if l + 1 < level {
+                        up[l + 1][c as usize]
+                    } else {
+                        0.0
+                    };
+                    for v in tin.levels[l + 1].tris[c as usize] {
+                        let p = tin.verts[v as usize];
+                        m = m.max(p[2] + extra - interpolate(&co, p[0], p[1]));
+                    }
+                }
+                // the rounding of the planes' interpolations
+                *bt = m + 1e-9 * zscale;
+            }
+            up[l] = b;
+        }
+        Ok(Bounds { up })
+    }
+}
+
+/// The most of `f(u) = (z(u) - c u² - z₀) / u` over `[a, b]` (`0 < a <= b`)
+/// for `z` linear from `za` at `a` to `zb` at `b`: at an end, or where
+/// `f' = 0` inside.
+#[inline]
+fn fmax(a: f64, b: f64, za: f64, zb: f64, c: f64, z0: f64) -> f64 {
+    let f = |u: f64, z: f64| (z - c * u * u - z0) / u;
+    let mut m = f(a, za).max(f(b, zb));
+    if c > 0.0 && b > a {
+        // z(u) = p + s u, f = s - c u + (p - z0) / u, f' = 0 at u² = (z0 - p) / c
+        let s = (zb - za) / (b - a);
+        let p = za - s * a;
+        let q = (z0 - p) / c;
+        if q > 0.0 {
+            let u = q.sqrt();
+            if u > a && u < b {
+                m = m.max(f(u, p + s * u));
+            }
+        }
+    }
+    m
+}
+
+/// What a ray walk reports, in order of distance along the ray.
+trait RaySink {
+    /// Whether a coarse stretch `[a, b]` (`a > 0`) whose surface is at most
+    /// `za`..`zb` (linear) can be skipped; if so it is taken as skipped.
+    fn skip(&mut self, a: f64, b: f64, za: f64, zb: f64) -> bool;
+    /// A stretch `[a, b]` of the level's surface, linear from `za` to `zb`.
+    fn piece(&mut self, a: f64, b: f64, za: f64, zb: f64);
+    /// Whether the walk may stop here.
+    fn done(&self) -> bool;
+}
+
+/// One ray from the eye, walked through the hierarchy.
+struct RayWalk<'a> {
+    tin: &'a Tin,
+    level: usize,
+    bounds: &'a Bounds,
+    o: [f64; 2],
+    dir: [f64; 2],
+    len: f64,
+    /// Distances below this are the eye's own point (no elevation there).
+    near: f64,
+    pieces: u64,
+    pruned: u64,
+}
+
+impl RayWalk<'_> {
+    /// The stretch `[lo, hi]` of the ray inside triangle `t` of level `l`
+    /// (closed, counter-clockwise half-planes); empty when `hi <= lo`.
+    #[inline]
+    fn interval(&self, l: usize, t: u32) -> (f64, f64, usize) {
+        let co = self.tin.corners(l, t);
+        let (mut lo, mut hi, mut exit) = (f64::NEG_INFINITY, f64::INFINITY, 0);
+        for j in 0..3 {
+            // edge opposite corner j: from corner j+1 to corner j+2
+            let (p, q) = (co[(j + 1) % 3], co[(j + 2) % 3]);
+            let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
+            let s0 = ex * (self.o[1] - p[1]) - ey * (self.o[0] - p[0]);
+            let s1 = ex * self.dir[1] - ey * self.dir[0];
+            if s1 > 0.0 {
+                lo = lo.max(-s0 / s1);
+            } else if s1 < 0.0 {
+                let u = -s0 / s1;
+                if u < hi {
+                    hi = u;
+                    exit = j;
+                }
+            } else if s0 < 0.0 {
+                return (0.0, -1.0, 0);
+            }
+        }
+        (lo, hi, exit)
+    }
+
+    #[inline]
+    fn z_at(&self, l: usize, t: u32, u: f64) -> f64 {
+        let co = self.tin.corners(l, t);
+        interpolate(
+            &co,
+            self.o[0] + u * self.dir[0],
+            self.o[1] + u * self.dir[1],
+        )
+    }
+
+    /// Walk the ray from the eye to `len` (or off the hull), reporting to
+    /// `sink`.
+    fn run(&mut self, from: f64, sink: &mut dyn RaySink) {
+        let Some(mut t) = locate::locate_hull(
+            self.tin,
+            0,
+            self.o[0] + from * self.dir[0],
+            self.o[1] + from * self.dir[1],
+        ) else {
+            return;
+        };
+        let mut u = from;
+        let mut guard = 0usize;
+        let max_steps = 4 * self.tin.levels[0].num_triangles() + 16;
+        while u < self.len && !sink.done() && guard < max_steps {
+            guard += 1;
+            let (lo, hi, exit) = self.interval(0, t);
+            let (a, b) = (lo.max(u), hi.min(self.len));
+            if b > a {
+                self.descend(0, t, a, b, sink);
+                u = b;
+            } else if hi < u - 1e-9 * (1.0 + u) || lo > u + 1e-9 * (1.0 + u) {
+                // lost (rounding at a vertex): find the triangle ahead again
+                let s = u + 1e-7 * (1.0 + u);
+                match locate::locate_hull(
+                    self.tin,
+                    0,
+                    self.o[0] + s * self.dir[0],
+                    self.o[1] + s * self.dir[1],
+                ) {
+                    Some(n) if n != t => {
+                        t = n;
+                        continue;
+                    }
+                    _ => return,
+                }
+            }
+            if u >= self.len {
+                return;
+            }
+            let n = self.tin.levels[0].nbrs[t as usize][exit];
+            if n == NONE {
+                return;
+            }
+            t = n;
+        }
+    }
+
+    fn descend(&mut self, l: usize, t: u32, a: f64, b: f64, sink: &mut dyn RaySink) {
+        if sink.done() || self.tin.levels[l].is_void(t) {
+            return;
+        }
+        if b <= self.near {
+            return;
+        }
+        let a = a.max(self.near);
+        let (za, zb) = (self.z_at(l, t, a), self.z_at(l, t, b));
+        if l == self.level {
+            self.pieces += 1;
+            sink.piece(a, b, za, zb);
+            return;
+        }
+        let up = self.bounds.up[l][t as usize];
+        if sink.skip(a, b, za + up, zb + up) {
+            self.pruned += 1;
+            return;
+        }
+        let lv = &self.tin.levels[l];
+        let (c0, c1) = (lv.child_start[t as usize], lv.child_start[t as usize + 1]);
+        let mut kids: smallvec_like::Stack = smallvec_like::Stack::default();
+        for c in c0..c1 {
+            let (lo, hi, _) = self.interval(l + 1, c);
+            let (x, y) = (lo.max(a), hi.min(b));
+            if y > x {
+                kids.push((x, y, c));
+            }
+        }
+        kids.sort();
+        for &(x, y, c) in kids.as_slice() {
+            self.descend(l + 1, c, x, y, sink);
+        }
+    }
+}
+
+/// A few children's stretches without a heap allocation for the usual
+/// count.
+mod smallvec_like {
+    #[derive(Default)]
+    pub struct Stack {
+        n: usize,
+        inline: [(f64, f64, u32); 16],
+        more: Vec<(f64, f64, u32)>,
+    }
+
+    impl Stack {
+        pub fn push(&mut self, v: (f64, f64, u32)) {
+            if self.n < 16 {
+                self.inline[self.n] = v;
+            } else {
+                if self.n == 16 {
+                    self.more.extend_from_slice(&self.inline);
+                }
+                self.more.push(v);
+            }
+            self.n += 1;
+        }
+
+        pub fn as_slice(&self) -> &[(f64, f64, u32)] {
+            if self.n <= 16 {
+                &self.inline[..self.n]
+            } else {
+                &self.more
+            }
+        }
+
+        pub fn sort(&mut self) {
+            let by = |p: &(f64, f64, u32), q: &(f64, f64, u32)| p.0.total_cmp(&q.0);
+            if self.n <= 16 {
+                self.inline[..self.n].sort_unstable_by(by);
+            } else {
+                self.more.sort_unstable_by(by);
+            }
+        }
+    }
+}
+
+/// The running horizon of one ray, kept every `step` along it:
+/// `at[j]` = the most of `f` over `(0, j step]`.
+struct Profile<'a> {
+    at: &'a mut [f64],
+    step: f64,
+    c: f64,
+    z0: f64,
+    /// The running maximum so far, and up to where.
+    m: f64,
+    /// The next sample to write.
+    next: usize,
+}
+
+impl Profile<'_> {
+    /// Write the samples up to distance `b` with the running maximum over
+    /// `[a, b]` of a linear stretch (`None`: nothing there can raise it).
+    fn advance(&mut self, a: f64, b: f64, lin: Option<(f64, f64)>) {
+        let mut from = a;
+        while self.next < self.at.len() {
+            let s = self.next as f64 * self.step;
+            if s > b {
+                break;
+            }
+            if let Some((za, zb)) = lin
+                && s > from
+            {
+                let zs = za + (zb - za) * ((s - a) / (b - a));
+                let zf = za + (zb - za) * ((from - a) / (b - a));
+                self.m = self.m.max(fmax(from, s, zf, zs, self.c, self.z0));
+                from = s;
+            }
+            self.at[self.next] = self.m;
+            self.next += 1;
+        }
+        if let Some((za, zb)) = lin
+            && b > from
+        {
+            let zf = za + (zb - za) * ((from - a) / (b - a));
+            self.m = self.m.max(fmax(from, b, zf, zb, self.c, self.z0));
+        }
+    }
+
+    /// The samples left after the walk: nothing more rises.
+    fn finish(&mut self) {
+        for v in &mut self.at[self.next..] {
+            *v = self.m;
+        }
+        self.next = self.at.len();
+    }
+}
+
+impl RaySink for Profile<'_> {
+    fn skip(&mut self, a: f64, b: f64, za: f64, zb: f64) -> bool {
+        if fmax(a, b, za, zb, self.c, self.z0) <= self.m {
+            self.advance(a, b, None);
+            true
+        } else {
+            false
+        }
+    }
+
+    fn piece(&mut self, a: f64, b: f64, za: f64, zb: f64) {
+        self.advance(a, b, Some((za, zb)));
+    }
+
+    fn done(&self) -> bool {
+        self.next >= self.at.len()
+    }
+}
+
+/// The exact check of one cell: blocked once `f` goes above `limit`.
+struct Check {
+    c: f64,
+    z0: f64,
+    limit: f64,
+    blocked: bool,
+}
+
+impl RaySink for Check {
+    fn skip(&mut self, a: f64, b: f64, za: f64, zb: f64) -> bool {
+        fmax(a, b, za, zb, self.c, self.z0) <= self.limit
+    }
+
+    fn piece(&mut self, a: f64, b: f64, za: f64, zb: f64) {
+        if fmax(a, b, za, zb, self.c, self.z0) > self.limit {
+            self.blocked = true;
+        }
+    }
+
+    fn done(&self) -> bool {
+        self.blocked
+    }
+}
+
+/// The viewshed of `eyes` over `level` on the `width` x `height` north-up
+/// grid `gt`: for each cell, how many eyes see the point `target_height`
+/// above the surface at its centre within `radius` (horizontal, in the
+/// tin's units) of them; [`NODATA`] off the surface or out of every eye's
+/// reach. The eyes must be over the tin's hull.
+#[allow(clippy::too_many_arguments)]
+pub fn viewshed(
+    tin: &Tin,
+    level: usize,
+    eyes: &[Eye],
+    target_height: f64,
+    radius: f64,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Viewshed, TinError> {
+    viewshed_with(
+        tin,
+        level,
+        eyes,
+        target_height,
+        radius,
+        gt,
+        width,
+        height,
+        true,
+        interrupt,
+    )
+}
+
+/// [`viewshed`], with the coarse levels' pruning turned off when `prune` is
+/// false (to measure what it saves; the answer is the same).
+#[allow(clippy::too_many_arguments)]
+pub fn viewshed_with(
+    tin: &Tin,
+    level: usize,
+    eyes: &[Eye],
+    target_height: f64,
+    radius: f64,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    prune: bool,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Viewshed, TinError> {
+    if level >= tin.levels.len() {
+        return Err(TinError::LevelOutOfRange {
+            level: level as i64,
+            num_levels: tin.levels.len(),
+        });
+    }
+    if eyes.len() > MAX_OBSERVERS {
+        return Err(TinError::InvalidParameter(format!(
+            "viewshed: {} observers, at most {MAX_OBSERVERS} are counted",
+            eyes.len()
+        )));
+    }
+    if !(target_height.is_finite() && radius.is_finite() && radius > 0.0) {
+        return Err(TinError::InvalidParameter(format!(
+            "viewshed: target height must be finite and radius positive and finite, not {target_height} and {radius}"
+        )));
+    }
+    if gt.skew_x != 0.0 || gt.skew_y != 0.0 {
+        return Err(TinError::InvalidParameter(
+            "viewshed: rotated or skewed grids are not supported".into(),
+        ));
+    }
+    let z = rasterize(tin, level, gt, width, height, interrupt)?;
+    let mut counts = vec![NODATA; z.len()];
+    let mut out = Viewshed::default();
+    let bounds = if prune {
+        Bounds::new(tin, level, interrupt)?
+    } else {
+        // nothing rises above +inf: nothing is ever skipped
+        Bounds {
+            up: (0..level)
+                .map(|l| vec![f64::INFINITY; tin.levels[l].num_triangles()])
+                .collect(),
+        }
+    };
+    for e in eyes {
+        if ![e.x, e.y, e.z].iter().all(|v| v.is_finite()) {
+            return Err(TinError::InvalidParameter(
+                "viewshed: the observer must be finite".into(),
+            ));
+        }
+        if locate::locate_hull(tin, 0, e.x, e.y).is_none() {
+            return Err(TinError::InvalidParameter(format!(
+                "viewshed: the observer ({}, {}) is off the tin's hull",
+                e.x, e.y
+            )));
+        }
+        one_eye(
+            tin,
+            level,
+            &bounds,
+            e,
+            target_height,
+            radius,
+            gt,
+            width,
+            height,
+            &z,
+            &mut counts,
+            &mut out,
+            interrupt,
+        )?;
+    }
+    out.counts = counts;
+    Ok(out)
+}
+
+/// What one eye's wedges found: the cells seen (their indices) and the
+/// work done.
+#[derive(Default)]
+struct Found {
+    seen: Vec<u32>,
+    stats: Viewshed,
+}
+
+/// One eye's view of the grid: what every wedge of the fan needs.
+struct Fan<'a> {
+    tin: &'a Tin,
+    level: usize,
+    bounds: &'a Bounds,
+    e: Eye,
+    th: f64,
+    radius: f64,
+    gt: &'a GeoTransform,
+    width: usize,
+    height: usize,
+    z: &'a [f64],
+    /// Horizontal distance covered by the rays.
+    reach: f64,
+    /// Rays in the fan, the angle between two, and the first one's.
+    k: usize,
+    dtheta: f64,
+    offset: f64,
+    /// Spacing of the running horizon's samples along a ray.
+    step: f64,
+    samples: usize,
+    /// The last stretch before a cell walked on its own ray.
+    behind: f64,
+    near: f64,
+    tol: f64,
+}
+
+impl Fan<'_> {
+    fn dir(&self, i: usize) -> [f64; 2] {
+        let a = self.offset + (i % self.k) as f64 * self.dtheta;
+        [a.cos(), a.sin()]
+    }
+
+    fn cx(&self, c: usize) -> f64 {
+        self.gt.ip_x + (c as f64 + 0.5) * self.gt.scale_x
+    }
+
+    fn cy(&self, r: usize) -> f64 {
+        self.gt.ip_y + (r as f64 + 0.5) * self.gt.scale_y
+    }
+
+    fn walk(&self, d: [f64; 2], from: f64, len: f64, sink: &mut dyn RaySink, st: &mut Viewshed) {
+        let mut w = RayWalk {
+            tin: self.tin,
+            level: self.level,
+            bounds: self.bounds,
+            o: [self.e.x, self.e.y],
+            dir: d,
+            len,
+            near: self.near,
+            pieces: 0,
+            pruned: 0,
+        };
+        w.run(from, sink);
+        st.fine_pieces += w.pieces;
+        st.pruned += w.pruned;
+    }
+
+    /// The running horizon of the ray along `d`, into `at`.
+    fn profile(&self, d: [f64; 2], at: &mut [f64], st: &mut Viewshed) {
+        let mut p = Profile {
+            at,
+            step: self.step,
+            c: self.e.drop(d),
+            z0: self.e.z,
+            m: f64::NEG_INFINITY,
+            next: 0,
+        };
+        self.walk(d, 0.0, self.reach + self.step, &mut p, st);
+        p.finish();
+        st.rays += 1;
+    }
+
+    /// Whether the surface stays below `limit` (in `f`) along `u` from
+    /// `from` to `len`: the exact walk of one cell's own ray.
+    fn clear(&self, u: [f64; 2], from: f64, len: f64, limit: f64, st: &mut Viewshed) -> bool {
+        let mut chk = Check {
+            c: self.e.drop(u),
+            z0: self.e.z,
+            limit,
+            blocked: false,
+        };
+        self.walk(u, from, len, &mut chk, st);
+        !chk.blocked
+    }
+
+    /// The rows (columns) whose centres lie between the coordinates `a`
+    /// and `b`, a hair wider (the wedge test decides), within `0..n`.
+    fn between(a: f64, b: f64, ip: f64, scale: f64, n: usize) -> (i64, i64) {
+        let (pa, pb) = ((a - ip) / scale - 0.5, (b - ip) / scale - 0.5);
+        let (lo, hi) = (pa.min(pb) - 1e-6, pa.max(pb) + 1e-6);
+        // ceil and floor of numbers >= -1 by truncation (faster than the
+        // library calls on the baseline x86-64 target)
+        let (lo, hi) = (lo.max(-1.0) + 1.0, hi.clamp(-1.0, n as f64) + 1.0);
+        let lo_i = lo as i64 + i64::from(lo.fract() > 0.0);
+        (lo_i - 1, hi as i64 - 1)
+    }
+
+    /// The cells whose centres are in the wedge from ray `d0` (included)
+    /// to ray `d1` (excluded) and within the radius: index, distance,
+    /// offset from the eye.
+    fn wedge_cells(&self, d0: [f64; 2], d1: [f64; 2], cells: &mut Vec<(usize, f64, f64, f64)>) {
+        cells.clear();
+        let (e, gt) = (&self.e, self.gt);
+        let (w, h) = (self.width, self.height);
+        let cross = |d: [f64; 2], vx: f64, vy: f64| d[0] * vy - d[1] * vx;
+        let mut consider = |c: i64, r: i64| {
+            if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
+                return;
+            }
+            let (c, r) = (c as usize, r as usize);
+            let (vx, vy) = (self.cx(c) - e.x, self.cy(r) - e.y);
+            if cross(d0, vx, vy) >= 0.0 && cross(d1, vx, vy) < 0.0 {
+                let dist = (vx * vx + vy * vy).sqrt();
+                if dist <= self.radius {
+                    cells.push((r * w + c, dist, vx, vy));
+                }
+            }
+        };
+        let mid = [d0[0] + d1[0], d0[1] + d1[1]];
+        let (sx, sy) = (gt.scale_x.abs(), gt.scale_y.abs());
+        if mid[0].abs() >= mid[1].abs() {
+            // x-major: the columns on the wedge's side, in each the rows
+            // between the two rays
+            let sgn = mid[0].signum();
+            let (c0, c1) = Self::between(
+                e.x - sgn * sx,
+                e.x + sgn * (self.reach + sx),
+                gt.ip_x,
+                gt.scale_x,
+                w,
+            );
+            for c in c0.max(0)..=c1.min(w as i64 - 1) {
+                let dx = self.cx(c as usize) - e.x;
+                if dx * sgn < 0.0 {
+                    continue;
+                }
+                let (ya, yb) = (e.y + dx * d0[1] / d0[0], e.y + dx * d1[1] / d1[0]);
+                let (r0, r1) = Self::between(ya, yb, gt.ip_y, gt.scale_y, h);
+                for r in r0..=r1 {
+                    consider(c, r);
+                }
+            }
+        } else {
+            let sgn = mid[1].signum();
+            let (r0, r1) = Self::between(
+                e.y - sgn * sy,
+                e.y + sgn * (self.reach + sy),
+                gt.ip_y,
+                gt.scale_y,
+                h,
+            );
+            for r in r0.max(0)..=r1.min(h as i64 - 1) {
+                let dy = self.cy(r as usize) - e.y;
+                if dy * sgn < 0.0 {
+                    continue;
+                }
+                let (xa, xb) = (e.x + dy * d0[0] / d0[1], e.x + dy * d1[0] / d1[1]);
+                let (c0, c1) = Self::between(xa, xb, gt.ip_x, gt.scale_x, w);
+                for c in c0..=c1 {
+                    consider(c, r);
+                }
+            }
+        }
+    }
+
+    /// The wedges `i0..i1` of the fan: the cells they see.
+    fn wedges(&self, i0: usize, i1: usize) -> Found {
+        let mut f = Found::default();
+        let st = &mut f.stats;
+        let mut cur = vec![f64::NEG_INFINITY; self.samples];
+        let mut nxt = vec![f64::NEG_INFINITY; self.samples];
+        let mut cells = Vec::new();
+        self.profile(self.dir(i0), &mut cur, st);
+        for i in i0..i1 {
+            let (d0, d1) = (self.dir(i), self.dir(i + 1));
+            self.profile(d1, &mut nxt, st);
+            self.wedge_cells(d0, d1, &mut cells);
+            for &(idx, dist, vx, vy) in &cells {
+                let zc = self.z[idx];
+                if zc.is_nan() {
+                    continue;
+                }
+                st.cells += 1;
+                let u = [vx / dist, vy / dist];
+                let c = self.e.drop(u);
+                let a = (zc + self.th - c * dist * dist - self.e.z) / dist;
+                let limit = a + self.tol / dist;
+                // the horizon of the terrain more than `behind` before the
+                // cell, from its two rays (at most half a cell apart
+                // there): decided where both agree by more than they
+                // differ; the last `behind` walked exactly on the cell's
+                // own ray
+                let far = dist - self.behind;
+                let seen = if far <= self.step {
+                    st.exact_cells += 1;
+                    self.clear(u, 0.0, dist, limit, st)
+                } else {
+                    // far > step > 0: truncation is the floor
+                    let j = ((far / self.step) as usize).min(self.samples - 1);
+                    let (ha, hb) = (cur[j], nxt[j]);
+                    let band = (ha - hb).abs();
+                    if limit < ha.min(hb) - band {
+                        false
+                    } else if limit >= ha.max(hb) + band {
+                        st.local_cells += 1;
+                        self.clear(u, far, dist, limit, st)
+                    } else {
+                        st.exact_cells += 1;
+                        self.clear(u, 0.0, dist, limit, st)
+                    }
+                };
+                if seen {
+                    f.seen.push(idx as u32);
+                }
+            }
+            std::mem::swap(&mut cur, &mut nxt);
+        }
+        f
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn one_eye(
+    tin: &Tin,
+    level: usize,
+    bounds: &Bounds,
+    e: &Eye,
+    th: f64,
+    radius: f64,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    z: &[f64],
+    counts: &mut [u16],
+    out: &mut Viewshed,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(), TinError> {
+    if width == 0 || height == 0 {
+        return Ok(());
+    }
+    let (sx, sy) = (gt.scale_x.abs(), gt.scale_y.abs());
+    let cell = sx.min(sy);
+    let cx = |c: usize| gt.ip_x + (c as f64 + 0.5) * gt.scale_x;
+    let cy = |r: usize| gt.ip_y + (r as f64 + 0.5) * gt.scale_y;
+    // every cell on the surface and in reach is hidden until seen; the
+    // farthest one is how far the rays go
+    let mut reach = 0.0f64;
+    let mut ticker = Ticker::new(interrupt);
+    for r in 0..height {
+        ticker.check()?;
+        let dy = cy(r) - e.y;
+        for c in 0..width {
+            let dx = cx(c) - e.x;
+            let d2 = dx * dx + dy * dy;
+            let i = r * width + c;
+            if d2 <= radius * radius && !z[i].is_nan() {
+                reach = reach.max(d2);
+                if counts[i] == NODATA {
+                    counts[i] = HIDDEN;
+                }
+            }
+        }
+    }
+    let reach = reach.sqrt();
+    let zscale = tin
+        .bbox
+        .max_z
+        .abs()
+        .max(tin.bbox.min_z.abs())
+        .max(e.z.abs())
+        .max(1.0);
+    let step = 0.5 * cell;
+    // rays at most half a cell apart at the farthest cell
+    let k = ((std::f64::consts::TAU * reach / (0.5 * cell)).ceil() as usize).max(16);
+    let dtheta = std::f64::consts::TAU / k as f64;
+    let fan = Fan {
+        tin,
+        level,
+        bounds,
+        e: *e,
+        th,
+        radius,
+        gt,
+        width,
+        height,
+        z,
+        reach,
+        k,
+        dtheta,
+        // off the axes and the diagonals, where grid vertices line up
+        offset: 0.381_966_011_250_105 * dtheta,
+        step,
+        samples: (reach / step).ceil() as usize + 2,
+        behind: 4.0 * cell,
+        near: 1e-9 * cell,
+        tol: 1e-9 * (zscale + th.abs()),
+    };
+    // the wedges in chunks, on the pool
+    let per = 64usize;
+    let chunks: Vec<(usize, usize)> = (0..k).step_by(per).map(|i| (i, (i + per).min(k))).collect();
+    let mut seen_total = Vec::new();
+    crate::par::map_batched(
+        &chunks,
+        |&(i0, i1)| fan.wedges(i0, i1),
+        ticker.callback(),
+        &mut |f: Found| {
+            seen_total.push(f.seen);
+            let s = f.stats;
+            out.rays += s.rays;
+            out.fine_pieces += s.fine_pieces;
+            out.pruned += s.pruned;
+            out.exact_cells += s.exact_cells;
+            out.local_cells += s.local_cells;
+            out.cells += s.cells;
+            Ok(())
+        },
+    )?;
+    for list in seen_total {
+        for i in list {
+            counts[i as usize] += 1;
+        }
+    }
+    // the cell under the eye, in no wedge: seen
+    let (c, r) = (
+        ((e.x - gt.ip_x) / gt.scale_x).floor(),
+        ((e.y - gt.ip_y) / gt.scale_y).floor(),
+    );
+    if c >= 0.0 && r >= 0.0 && (c as usize) < width && (r as usize) < height {
+        let (c, r) = (c as usize, r as usize);
+        let i = r * width + c;
+        if cx(c) == e.x && cy(r) == e.y && !z[i].is_nan() {
+            out.cells += 1;
+            counts[i] += 1;
+        }
+    }
+    Ok(())
+}
