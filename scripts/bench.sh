@@ -240,6 +240,8 @@ FROM terrain, ras_grid g, generate_series(0, 2) l,
 ORDER BY 1;
 SELECT * FROM bench('tinmerge: tin_as_raster(t, 5.0, pixel_type => ''32BF''), the finest level, 41 M pixels, as a raster value', 'SELECT ST_Width(tin_as_raster(t, 5.0, pixel_type => ''32BF'')) FROM terrain', 3);
 SQL
+echo "== viewsheds: tin_viewshed (a fan of rays through the hierarchy) vs gdal_viewshed on the DEM, same observer, 10 km, the DEM's 90 m grid"
+scripts/viewshed-compare.sh tinmerge_bench
 echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs/scaling.md)"
 cargo bench -p tinmerge-core --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"

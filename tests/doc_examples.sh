@@ -27,6 +27,7 @@ CREATE TABLE terrain AS SELECT tin_from_raster(rast, 8.0, 4) AS t FROM dem;
 CREATE TABLE wells AS
   SELECT i AS id, ST_SetSRID(ST_MakePoint(735000 + i * 2300, 4040000 + i * 2100), 32616) AS geom
   FROM generate_series(1, 10) i;
+CREATE TABLE towers AS SELECT i AS id, ST_SetSRID(ST_MakePoint(x, y), 32616) AS geom FROM (VALUES (1, 744034, 4050191), (2, 741210, 4058004), (3, 752500, 4061000)) v(i, x, y);
 CREATE TABLE roads AS
   SELECT i AS id, ST_SetSRID(ST_MakeLine(ST_MakePoint(734000 + i * 1000, 4040000), ST_MakePoint(736000 + i * 1500, 4065000)), 32616) AS geom
   FROM generate_series(1, 8) i;

@@ -180,6 +180,22 @@ fn _tin_viewshed(
             format!("{FUNC}: no observer is within the radius of the tin's extent"),
         );
     }
+    if !(cell.is_finite() && cell > 0.0) {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("{FUNC}: cell_size must be positive and finite, got {cell}"),
+        );
+    }
+    let side = |lo: f64, hi: f64, g: f64| ((hi - g) / cell).ceil() - ((lo - g) / cell).floor();
+    let (w, h) = (side(win[0], win[2], gx), side(win[1], win[3], gy));
+    if !(w <= 65535.0 && h <= 65535.0) {
+        raise(
+            PgSqlErrorCode::ERRCODE_PROGRAM_LIMIT_EXCEEDED,
+            format!(
+                "{FUNC}: cells of {cell} over the observers' reach make a raster of {w} x {h} cells; a PostGIS raster has at most 65535 a side: use larger cells or a smaller radius"
+            ),
+        );
+    }
     let (gt, w, h) = aligned_grid(&win, cell, cell, gx, gy)
         .map_err(|e| named(e, FUNC))
         .or_raise();

@@ -519,18 +519,18 @@ pub fn viewshed_with(
     }
     if eyes.len() > MAX_OBSERVERS {
         return Err(TinError::InvalidParameter(format!(
-            "viewshed: {} observers, at most {MAX_OBSERVERS} are counted",
+            "{} observers, at most {MAX_OBSERVERS} are counted",
             eyes.len()
         )));
     }
     if !(target_height.is_finite() && radius.is_finite() && radius > 0.0) {
         return Err(TinError::InvalidParameter(format!(
-            "viewshed: target height must be finite and radius positive and finite, not {target_height} and {radius}"
+            "target height must be finite and radius positive and finite, not {target_height} and {radius}"
         )));
     }
     if gt.skew_x != 0.0 || gt.skew_y != 0.0 {
         return Err(TinError::InvalidParameter(
-            "viewshed: rotated or skewed grids are not supported".into(),
+            "the grid must be north-up: rotated or skewed grids are not supported".into(),
         ));
     }
     let z = rasterize(tin, level, gt, width, height, interrupt)?;
@@ -549,12 +549,12 @@ pub fn viewshed_with(
     for e in eyes {
         if ![e.x, e.y, e.z].iter().all(|v| v.is_finite()) {
             return Err(TinError::InvalidParameter(
-                "viewshed: the observer must be finite".into(),
+                "the observer must be finite".into(),
             ));
         }
         if locate::locate_hull(tin, 0, e.x, e.y).is_none() {
             return Err(TinError::InvalidParameter(format!(
-                "viewshed: the observer ({}, {}) is off the tin's hull",
+                "the observer ({}, {}) is off the tin's hull",
                 e.x, e.y
             )));
         }
