@@ -420,10 +420,10 @@ fn as_raster(
     height: usize,
     pixel_type: &str,
     nodata: f64,
-    func: &str,
 ) -> Vec<u8> {
+    let func = "tin_as_raster";
     let pt = raster::float_pixel_type(pixel_type).or_raise();
-    let size = if pt == 10 { 4 } else { 8 };
+    let size = raster::pixel_type(pt).map_or(8, |(_, size)| size);
     let n = width.saturating_mul(height);
     if n.saturating_mul(size) > MAX_RASTER_BYTES {
         raise(
@@ -464,7 +464,6 @@ fn _tin_as_raster(
         head.height,
         pixel_type,
         nodata,
-        "tin_as_raster",
     ))
 }
 
@@ -499,16 +498,7 @@ fn _tin_as_raster_sized(
     )
     .map_err(|e| named(e, "tin_as_raster"))
     .or_raise();
-    Some(as_raster(
-        &tin,
-        l,
-        &gt,
-        w,
-        h,
-        pixel_type,
-        nodata,
-        "tin_as_raster",
-    ))
+    Some(as_raster(&tin, l, &gt, w, h, pixel_type, nodata))
 }
 
 extension_sql!(

@@ -319,31 +319,23 @@ fn viewshed_with_the_earths_curvature() {
             h,
             &mut tally,
         );
-        let curved = viewshed(
-            &tin,
-            level,
-            &[eye],
-            0.0,
-            15_000.0,
-            &gt,
-            w,
-            h,
-            &mut || Ok(()),
-        )
-        .unwrap();
+        let run = |eye: Eye| {
+            viewshed(
+                &tin,
+                level,
+                &[eye],
+                0.0,
+                15_000.0,
+                &gt,
+                w,
+                h,
+                &mut || Ok(()),
+            )
+            .unwrap()
+        };
+        let curved = run(eye);
         eye.curvature = None;
-        let flat = viewshed(
-            &tin,
-            level,
-            &[eye],
-            0.0,
-            15_000.0,
-            &gt,
-            w,
-            h,
-            &mut || Ok(()),
-        )
-        .unwrap();
+        let flat = run(eye);
         flat_differs += curved
             .counts
             .iter()

@@ -705,48 +705,38 @@ impl Fan<'_> {
                 }
             }
         };
+        // along the wedge's major axis a (0: x, the columns; 1: y, the
+        // rows) on its side of the eye, and in each column (row) the cells
+        // between the two rays along the other axis b
         let mid = [d0[0] + d1[0], d0[1] + d1[1]];
-        let (sx, sy) = (gt.scale_x.abs(), gt.scale_y.abs());
-        if mid[0].abs() >= mid[1].abs() {
-            // x-major: the columns on the wedge's side, in each the rows
-            // between the two rays
-            let sgn = mid[0].signum();
-            let (c0, c1) = Self::between(
-                e.x - sgn * sx,
-                e.x + sgn * (self.reach + sx),
-                gt.ip_x,
-                gt.scale_x,
-                w,
-            );
-            for c in c0.max(0)..=c1.min(w as i64 - 1) {
-                let dx = self.cx(c as usize) - e.x;
-                if dx * sgn < 0.0 {
-                    continue;
-                }
-                let (ya, yb) = (e.y + dx * d0[1] / d0[0], e.y + dx * d1[1] / d1[0]);
-                let (r0, r1) = Self::between(ya, yb, gt.ip_y, gt.scale_y, h);
-                for r in r0..=r1 {
-                    consider(c, r);
-                }
+        let a = usize::from(mid[0].abs() < mid[1].abs());
+        let b = 1 - a;
+        let (eye, ip, sc, n) = (
+            [e.x, e.y],
+            [gt.ip_x, gt.ip_y],
+            [gt.scale_x, gt.scale_y],
+            [w, h],
+        );
+        let sgn = mid[a].signum();
+        let (i0, i1) = Self::between(
+            eye[a] - sgn * sc[a].abs(),
+            eye[a] + sgn * (self.reach + sc[a].abs()),
+            ip[a],
+            sc[a],
+            n[a],
+        );
+        for i in i0.max(0)..=i1.min(n[a] as i64 - 1) {
+            let da = ip[a] + (i as f64 + 0.5) * sc[a] - eye[a];
+            if da * sgn < 0.0 {
+                continue;
             }
-        } else {
-            let sgn = mid[1].signum();
-            let (r0, r1) = Self::between(
-                e.y - sgn * sy,
-                e.y + sgn * (self.reach + sy),
-                gt.ip_y,
-                gt.scale_y,
-                h,
-            );
-            for r in r0.max(0)..=r1.min(h as i64 - 1) {
-                let dy = self.cy(r as usize) - e.y;
-                if dy * sgn < 0.0 {
-                    continue;
-                }
-                let (xa, xb) = (e.x + dy * d0[0] / d0[1], e.x + dy * d1[0] / d1[1]);
-                let (c0, c1) = Self::between(xa, xb, gt.ip_x, gt.scale_x, w);
-                for c in c0..=c1 {
-                    consider(c, r);
+            let (pa, pb) = (eye[b] + da * d0[b] / d0[a], eye[b] + da * d1[b] / d1[a]);
+            let (j0, j1) = Self::between(pa, pb, ip[b], sc[b], n[b]);
+            for j in j0..=j1 {
+                if a == 0 {
+                    consider(i, j)
+                } else {
+                    consider(j, i)
                 }
             }
         }

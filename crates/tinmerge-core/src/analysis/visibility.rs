@@ -163,7 +163,7 @@ pub fn line_of_sight(
                     clear = clear.min(gv);
                 }
             }
-            // g = a d² + b d + e on the piece; its least value inside
+            // g = c d² + b d + e on the piece (c the curvature's drop); its least value inside
             let b = (z_target - eye[2]) / total - (z1 - z0) / (d1 - d0);
             if c > 0.0 {
                 let dm = -b / (2.0 * c);

@@ -49,6 +49,11 @@ pub struct Raster {
     pub band: Option<Band>,
 }
 
+/// The size in bytes of a known pixel type (0 for an unknown one).
+fn pixel_type_size(t: u8) -> usize {
+    pixel_type(t).map_or(0, |(_, size)| size)
+}
+
 /// Pixel type name and size in bytes, as PostGIS numbers them.
 pub fn pixel_type(t: u8) -> Option<(&'static str, usize)> {
     Some(match t {
@@ -255,8 +260,7 @@ pub fn write_float(
 ) -> Result<Vec<u8>, IoError> {
     let (w, h) = sides(width, height)?;
     let size = match pixel_type {
-        10 => 4,
-        11 => 8,
+        10 | 11 => pixel_type_size(pixel_type),
         t => {
             return Err(IoError::Unsupported(format!(
                 "pixel type {t} is not a float type"
