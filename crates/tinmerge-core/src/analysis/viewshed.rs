@@ -20,13 +20,15 @@
 //! down to the level's triangles, where the surface along the ray is
 //! linear and the running maximum of `f` exact. The running horizon is
 //! kept at every half cell along the ray. Each cell lies in the wedge of
-//! two neighbouring rays; where both rays' horizons at the cell's distance
-//! are below its target elevation it is visible, where both are above it
-//! is hidden, and where they disagree (the cell is near the edge of what
-//! is seen) its own ray is walked exactly, pruned the same way against its
-//! own target. So the fan's walks cost about eight ray samples a cell,
-//! most of the hidden ground is skipped at coarse levels, and the exact
-//! walks are few.
+//! two neighbouring rays. The rays' horizons four cells before the cell
+//! decide the terrain behind it: where both are above its target
+//! elevation (by more than they differ) it is hidden; where both are below
+//! it, the last four cells of its own ray are walked exactly (the rays'
+//! own nearby ground, half a cell to the side, is not the cell's); where
+//! they disagree (the cell is near the edge of what is seen) its whole ray
+//! is walked exactly, pruned the same way against its own target. So the
+//! fan's walks cost about eight ray samples a cell, most of the hidden
+//! ground is skipped at coarse levels, and the exact walks are few.
 //!
 //! ```
 //! use tinmerge_core::analysis::rasterize::aligned_grid;
