@@ -230,11 +230,11 @@ ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_line_of_sight(tin, geometry, geometry, float8, float8, int, boolean, float8) SET search_path FROM CURRENT;
 -- the quantized-mesh functions (src/pg/serve.rs) find PostGIS's
 -- ST_Transform through it
-ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8, geometry, boolean) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8, geometry, boolean) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text, boolean, boolean) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8, geometry, boolean) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text, boolean, boolean) SET search_path FROM CURRENT;
 
 CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
 RETURNS float8 AS

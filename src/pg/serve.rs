@@ -9,6 +9,7 @@
 use pgrx::prelude::*;
 
 use super::args::postgis_transform;
+use super::args::GeomArg;
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
@@ -17,11 +18,15 @@ use pgrx::datum::Array;
 use pgrx::Json;
 use std::rc::Rc;
 use std::sync::Arc;
+use tinmerge_core::io::ewkb::Geom;
+use tinmerge_core::io::gserialized;
 use tinmerge_core::serve::quantized_mesh::{
-    encode_many, hull, needed, needed_in, split_length, tile_bytes, NeedOptions, Needed, Source,
-    TileOptions,
+    encode_with, hull, needed, needed_in, split_length, tile_bytes, Extras, NeedOptions, Needed,
+    Source, TileOptions, WaterPolygon,
 };
-use tinmerge_core::serve::tiling::{layer_json, level_for_zoom, tile_bounds, TileBounds};
+use tinmerge_core::serve::tiling::{
+    layer_json, level_for_zoom, tile_bounds, tile_metadata, LayerOptions, TileBounds,
+};
 use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{resolve_level, Bbox, Tin};
 
@@ -158,13 +163,29 @@ fn extent(pts: impl IntoIterator<Item = [f64; 2]>, margin: f64) -> [f64; 4] {
     [e[0] - margin, e[1] - margin, e[2] + margin, e[3] + margin]
 }
 
-/// The geographic extent `[west, south, east, north]` of level `l`: its
-/// hull's vertices and the points splitting its long edges in degrees
-/// (the tiles' triangles are straight between those, so this holds them
-/// all).
-fn geo_bounds(tin: &Tin, l: usize, max_len: Option<f64>) -> [f64; 4] {
-    let hull = hull(tin, l, max_len);
-    extent(points_to_degrees(tin.srid, hull.points()), 0.0)
+/// The geographic extent `[west, south, east, north]` of the finest level
+/// of the tins (the layer's bounds): each one's hull vertices and the
+/// points splitting its long edges in degrees (the tiles' triangles are
+/// straight between those, so this holds them all).
+fn terrain_bounds(tins: &[Served]) -> [f64; 4] {
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for tin in tins {
+        let finest = tin.max_errors().len().saturating_sub(1);
+        let hull = tin.hull(finest, max_edge(tin.srid(), &tin.bbox()));
+        let g = extent(points_to_degrees(tin.srid(), hull.points()), 0.0);
+        b = [
+            b[0].min(g[0]),
+            b[1].min(g[1]),
+            b[2].max(g[2]),
+            b[3].max(g[3]),
+        ];
+    }
+    b
 }
 
 /// A geographic extent holding the whole tin, cheaply: its bounding box's
@@ -218,19 +239,103 @@ fn footprint(srid: i32, bbox: &Bbox, tb: &TileBounds, b: &[f64; 4]) -> [f64; 4] 
     }
 }
 
+/// What a tile carries besides its mesh, as the SQL call asks.
+struct Asked {
+    normals: bool,
+    fill: Option<f64>,
+    /// The water polygons in degrees (None: no water mask extension).
+    water: Option<Vec<WaterPolygon>>,
+    /// The metadata extension with the tile's availability.
+    metadata: bool,
+}
+
+impl Asked {
+    fn new(
+        normals: Option<bool>,
+        fill: Option<f64>,
+        water: Option<GeomArg>,
+        metadata: Option<bool>,
+    ) -> Asked {
+        Asked {
+            normals: normals.unwrap_or(false),
+            fill,
+            water: water.map(|g| water_polygons(&g)),
+            metadata: metadata.unwrap_or(false),
+        }
+    }
+}
+
+/// The polygons of the `water` argument in longitude/latitude: a POLYGON,
+/// MULTIPOLYGON or a collection of them (`ST_Collect` of a table's lakes);
+/// its vertices transformed to EPSG:4326 by PostGIS when in another SRID
+/// (edges are then straight in degrees, as `ST_Transform` makes them).
+fn water_polygons(g: &GeomArg) -> Vec<WaterPolygon> {
+    const FUNC: &str = "tin_quantized_mesh";
+    let e = gserialized::read(g.bytes()).or_raise();
+    fn collect(g: Geom, out: &mut Vec<Vec<Vec<[f64; 2]>>>) -> Result<(), &'static str> {
+        let ring =
+            |r: Vec<tinmerge_core::io::ewkb::Coord3>| r.into_iter().map(|c| [c[0], c[1]]).collect();
+        match g {
+            Geom::Polygon(p) => out.push(p.into_iter().map(ring).collect()),
+            Geom::MultiPolygon(ps) => {
+                out.extend(ps.into_iter().map(|p| p.into_iter().map(ring).collect()))
+            }
+            Geom::Collection(gs) => {
+                for g in gs {
+                    collect(g, out)?;
+                }
+            }
+            other => return Err(other.type_name()),
+        }
+        Ok(())
+    }
+    let mut polys = Vec::new();
+    if let Err(t) = collect(e.geom, &mut polys) {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("{FUNC}: water takes polygons (a POLYGON, MULTIPOLYGON or a collection of them), got a {t}"),
+        );
+    }
+    // POLYGON EMPTY and empty rings are no water
+    for p in polys.iter_mut() {
+        p.retain(|r| !r.is_empty());
+    }
+    polys.retain(|p| !p.is_empty());
+    if polys.is_empty() {
+        return polys;
+    }
+    if e.srid == 0 {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!("{FUNC}: the water polygons have no SRID (0); give them one with ST_SetSRID (4326 for longitude/latitude)"),
+        );
+    }
+    for c in polys.iter().flatten().flatten() {
+        tinmerge_core::tin::check_xy(format_args!("{FUNC}: a water polygon"), c[0], c[1])
+            .or_raise();
+    }
+    if e.srid != WGS84 {
+        let flat: Vec<[f64; 2]> = polys.iter().flatten().flatten().copied().collect();
+        let mut deg = postgis_transform(&flat, e.srid, WGS84).into_iter();
+        for c in polys.iter_mut().flatten().flatten() {
+            if let Some(d) = deg.next() {
+                *c = d;
+            }
+        }
+    }
+    polys
+}
+
 /// One tile of the terrain made of `tins` (one tin, or the tins of a
 /// tiled terrain sharing their seams), at `level` (None: the level the
 /// zoom chooses from the largest error of each level over the tins).
-#[allow(clippy::too_many_arguments)]
 fn tile(
     tins: &[Served],
     level: Option<Option<i32>>,
-    z: i32,
-    x: i32,
-    y: i32,
-    normals: bool,
-    fill: Option<f64>,
+    (z, x, y): (i32, i32, i32),
+    asked: &Asked,
 ) -> Option<Vec<u8>> {
+    let Asked { normals, fill, .. } = *asked;
     let tb = tile_bounds(z, x, y).or_raise();
     if let Some(h) = fill {
         if !h.is_finite() {
@@ -243,7 +348,15 @@ fn tile(
     let Some(first) = tins.first() else {
         // no tin: off the terrain
         let empty = Vec::new();
-        return encode_many(&empty, &tb, TileOptions { normals, fill }, &mut interrupt).or_raise();
+        let metadata = asked
+            .metadata
+            .then(|| tile_metadata(z, x.into(), y.into(), &[0.0; 4], &[], fill.is_some()));
+        let extras = Extras {
+            water: asked.water.as_deref(),
+            metadata: metadata.as_deref(),
+        };
+        let opts = TileOptions { normals, fill };
+        return encode_with(&empty, &tb, opts, extras, &mut interrupt).or_raise();
     };
     let errors: Vec<Vec<f64>> = tins.iter().map(Served::max_errors).collect();
     for (tin, e) in tins.iter().zip(&errors) {
@@ -300,7 +413,31 @@ fn tile(
         .iter()
         .map(|(need, geo)| Source { need, geo })
         .collect();
-    encode_many(&sources, &tb, TileOptions { normals, fill }, &mut interrupt).or_raise()
+    // the tile's availability below it: the layer's ranges (from the same
+    // bounds and errors tin_quantized_mesh_layer uses) cut to the tile
+    let metadata = asked.metadata.then(|| {
+        let b = terrain_bounds(tins);
+        tile_metadata(
+            z,
+            x.into(),
+            y.into(),
+            &b,
+            &max_errors(&errors),
+            fill.is_some(),
+        )
+    });
+    let extras = Extras {
+        water: asked.water.as_deref(),
+        metadata: metadata.as_deref(),
+    };
+    encode_with(
+        &sources,
+        &tb,
+        TileOptions { normals, fill },
+        extras,
+        &mut interrupt,
+    )
+    .or_raise()
 }
 
 /// Each level's largest measured error over the tins (each tin's errors
@@ -323,6 +460,7 @@ fn tins_of(ts: &Array<'_, TinArg>) -> Vec<Arc<Tin>> {
 }
 
 #[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh", requires = ["tin_type"])]
+#[allow(clippy::too_many_arguments)] // the SQL signature
 fn tin_quantized_mesh_tiles(
     ts: Option<Array<'_, TinArg>>,
     z: Option<i32>,
@@ -330,13 +468,21 @@ fn tin_quantized_mesh_tiles(
     y: Option<i32>,
     normals: default!(Option<bool>, "false"),
     fill: default!(Option<f64>, "NULL"),
+    water: default!(Option<GeomArg>, "NULL"),
+    metadata: default!(Option<bool>, "false"),
 ) -> Option<Vec<u8>> {
     let (ts, z, x, y) = (ts?, z?, x?, y?);
     let tins: Vec<Served> = tins_of(&ts).into_iter().map(Served::Decoded).collect();
-    tile(&tins, None, z, x, y, normals.unwrap_or(false), fill)
+    tile(
+        &tins,
+        None,
+        (z, x, y),
+        &Asked::new(normals, fill, water, metadata),
+    )
 }
 
 #[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 5000, requires = ["tin_type"])]
+#[allow(clippy::too_many_arguments)] // the SQL signature
 fn tin_quantized_mesh(
     t: Option<TinArg>,
     z: Option<i32>,
@@ -344,13 +490,18 @@ fn tin_quantized_mesh(
     y: Option<i32>,
     normals: default!(Option<bool>, "false"),
     fill: default!(Option<f64>, "NULL"),
+    water: default!(Option<GeomArg>, "NULL"),
+    metadata: default!(Option<bool>, "false"),
 ) -> Option<Vec<u8>> {
     let (t, z, x, y) = (t?, z?, x?, y?);
-    let served = [Served::of(&t, fill.is_some())];
-    tile(&served, None, z, x, y, normals.unwrap_or(false), fill)
+    let asked = Asked::new(normals, fill, water, metadata);
+    // the metadata's availability needs the finest level's whole outline
+    let served = [Served::of(&t, fill.is_some() || asked.metadata)];
+    tile(&served, None, (z, x, y), &asked)
 }
 
 #[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 5000, name = "tin_quantized_mesh", requires = ["tin_type"])]
+#[allow(clippy::too_many_arguments)] // the SQL signature
 fn tin_quantized_mesh_level(
     t: Option<TinArg>,
     level: Option<i32>,
@@ -359,26 +510,22 @@ fn tin_quantized_mesh_level(
     y: Option<i32>,
     normals: default!(Option<bool>, "false"),
     fill: default!(Option<f64>, "NULL"),
+    water: default!(Option<GeomArg>, "NULL"),
+    metadata: default!(Option<bool>, "false"),
 ) -> Option<Vec<u8>> {
     let (t, z, x, y) = (t?, z?, x?, y?);
-    tile(
-        &[Served::of(&t, fill.is_some())],
-        Some(level),
-        z,
-        x,
-        y,
-        normals.unwrap_or(false),
-        fill,
-    )
+    let asked = Asked::new(normals, fill, water, metadata);
+    let served = [Served::of(&t, fill.is_some() || asked.metadata)];
+    tile(&served, Some(level), (z, x, y), &asked)
 }
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8) IS
-'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose measured error is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
-COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8) IS
+COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8, geometry, boolean) IS
+'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose measured error is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). water (polygons in any SRID, e.g. ST_Collect of the lakes meeting the tile) adds the water mask extension: 256 x 256 cells, water where the cell''s centre is in a polygon, or one byte when the tile is all land or all water. metadata adds the metadata extension: the tile''s availability for the 10 zooms below it, as tin_quantized_mesh_layer lists it. Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
+COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8, geometry, boolean) IS
 'tin_quantized_mesh of a given level (NULL = finest) instead of the one the zoom chooses: tin_quantized_mesh(t, level, z, x, y).';
-COMMENT ON FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8) IS
+COMMENT ON FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8, geometry, boolean) IS
 'tin_quantized_mesh of a terrain stored as tiles (tins sharing their seams: tin_tiles, or tin_from_raster with keep_border): one tile from every tin given, as one mesh (seam vertices one vertex, normals summed over the tins, no wall along a seam), at the level the zoom chooses from each level''s largest error over the tins. Pass the tins whose extent meets the tile, e.g. array_agg(t) over the tile table with a GiST index on the tins'' extent in degrees (docs/serving.md). The tins must share their SRID and number of levels. An empty array is off the terrain.';
 "#,
     name = "tin_quantized_mesh_sql",
@@ -395,8 +542,26 @@ fn tin_quantized_mesh_layer(
     normals: default!(Option<bool>, "false"),
     fill: default!(Option<bool>, "false"),
     name: default!(Option<String>, "'terrain'"),
+    water: default!(Option<bool>, "false"),
+    metadata: default!(Option<bool>, "false"),
 ) -> Option<Json> {
-    layer(&[t?.tin()], normals, fill, name)
+    let opts = layer_options(normals, fill, water, metadata);
+    layer(&[t?.tin()], opts, name)
+}
+
+/// The layer's extensions and fill as the SQL call gives them (NULL: false).
+fn layer_options(
+    normals: Option<bool>,
+    fill: Option<bool>,
+    water: Option<bool>,
+    metadata: Option<bool>,
+) -> LayerOptions {
+    LayerOptions {
+        normals: normals.unwrap_or(false),
+        fill: fill.unwrap_or(false),
+        water: water.unwrap_or(false),
+        metadata: metadata.unwrap_or(false),
+    }
 }
 
 #[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, name = "tin_quantized_mesh_layer", requires = ["tin_type"])]
@@ -405,36 +570,22 @@ fn tin_quantized_mesh_layer_tiles(
     normals: default!(Option<bool>, "false"),
     fill: default!(Option<bool>, "false"),
     name: default!(Option<String>, "'terrain'"),
+    water: default!(Option<bool>, "false"),
+    metadata: default!(Option<bool>, "false"),
 ) -> Option<Json> {
     let tins = tins_of(&ts?);
     if tins.is_empty() {
         return None;
     }
-    layer(&tins, normals, fill, name)
+    layer(&tins, layer_options(normals, fill, water, metadata), name)
 }
 
-fn layer(
-    tins: &[Arc<Tin>],
-    normals: Option<bool>,
-    fill: Option<bool>,
-    name: Option<String>,
-) -> Option<Json> {
-    let mut b = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
+fn layer(tins: &[Arc<Tin>], opts: LayerOptions, name: Option<String>) -> Option<Json> {
     for tin in tins {
         check_srid(tin.srid, "tin_quantized_mesh_layer");
-        let g = geo_bounds(tin, tin.levels.len() - 1, max_edge(tin.srid, &tin.bbox));
-        b = [
-            b[0].min(g[0]),
-            b[1].min(g[1]),
-            b[2].max(g[2]),
-            b[3].max(g[3]),
-        ];
     }
+    let served: Vec<Served> = tins.iter().cloned().map(Served::Decoded).collect();
+    let b = terrain_bounds(&served);
     let s = layer_json(
         name.as_deref().unwrap_or("terrain"),
         &b,
@@ -444,8 +595,7 @@ fn layer(
                 .map(|t| t.levels.iter().map(|l| l.max_error).collect())
                 .collect::<Vec<_>>(),
         ),
-        normals.unwrap_or(false),
-        fill.unwrap_or(false),
+        opts,
     );
     match serde_json::from_str(&s) {
         Ok(v) => Some(Json(v)),
@@ -458,9 +608,9 @@ fn layer(
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text) IS
-'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and octvertexnormals when normals is true.';
-COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text) IS
+COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text, boolean, boolean) IS
+'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and in extensions octvertexnormals when normals is true, watermask when water is true, metadata when metadata is true (the available list stays whole: no metadataAvailability).';
+COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text, boolean, boolean) IS
 'tin_quantized_mesh_layer of a terrain stored as tiles: the bounds of all the tins, the levels'' largest errors over them.';
 "#,
     name = "tin_quantized_mesh_layer_sql",

@@ -10,7 +10,12 @@
 //    surface over half a position step, measured around the point);
 //  - neighbouring tiles have the same vertices on their shared side;
 //  - the level is the one the documented rule gives; off-terrain tiles are
-//    NULL, and with fill every tile of zoom 0 is a full tile.
+//    NULL, and with fill every tile of zoom 0 is a full tile;
+//  - the water mask extension (loaders.gl's decoding) against PostGIS's
+//    ST_Intersects at every mask cell's centre, for lakes with an island
+//    (one overlapping another) in the tin's UTM SRID; the metadata
+//    extension (walked by its own lengths) against layer.json's available
+//    tiles cut to the tile.
 import { createRequire } from 'node:module';
 const require = createRequire(new URL('../../web/package.json', import.meta.url));
 const pg = require('pg');
@@ -163,6 +168,77 @@ for (const [name, table, stored] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrai
   // the western one holds the terrain and the fill around it
   const w = decodeTile(fw, tileBounds(0, 0, 0));
   check(Math.abs(w.area - 180 * 180) < 1e-6, `${name}: the filled western root tile covers ${w.area} deg²`);
+}
+
+// water and metadata, on the UTM tin (one tin) and the same lakes over the tiled terrain
+await q(`DROP TABLE IF EXISTS qm_lakes`);
+await q(`CREATE TABLE qm_lakes AS
+  SELECT ST_Difference(ST_Buffer(c, 2500, 64), ST_Buffer(ST_Translate(c, 300, 200), 500, 16)) AS g FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) s
+  UNION ALL SELECT ST_Buffer(ST_Translate(c, 2200, -1000), 450, 8) FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) s`);
+const [{ lw, ls, le, ln }] = await q(`SELECT ST_XMin(e) AS lw, ST_YMin(e) AS ls, ST_XMax(e) AS le, ST_YMax(e) AS ln
+  FROM (SELECT ST_Extent(ST_Transform(g, 4326))::geometry AS e FROM qm_lakes) s`);
+for (const [name, table] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrain) s'], ['utm tiled', '(SELECT array_agg(t ORDER BY ty, tx) AS ts FROM qm_tiles) s']]) {
+  const [{ layer }] = await q(`SELECT tin_quantized_mesh_layer(ts, water => true, metadata => true) AS layer FROM ${table}`);
+  check(['watermask', 'metadata'].every((e) => layer.extensions.includes(e)), `${name}: layer.json extensions ${layer.extensions}`);
+  let cells = 0, wrong = 0, grazing = 0, full = 0, single = [0, 0], metas = 0;
+  for (const [z, block] of [[13, null], [15, 4]]) {
+    const s = 180 / 2 ** z;
+    let [x0, x1] = [Math.floor((lw + 180) / s), Math.floor((le + 180) / s)];
+    let [y0, y1] = [Math.floor((ls + 90) / s), Math.floor((ln + 90) / s)];
+    if (block) { const cx = (x0 + x1) >> 1, cy = (y0 + y1) >> 1; [x0, x1, y0, y1] = [cx - block, cx - 1, cy - block, cy - 1]; }
+    for (let x = x0; x <= x1; x++) {
+      for (let y = y0; y <= y1; y++) {
+        const [{ plain, tile }] = await q(`SELECT tin_quantized_mesh(ts, $1::int, $2::int, $3::int) AS plain,
+            tin_quantized_mesh(ts, $1::int, $2::int, $3::int, water => (SELECT ST_Collect(g) FROM qm_lakes), metadata => true) AS tile FROM ${table}`, [z, x, y]);
+        if (tile === null) { check(plain === null, `${name} ${z}/${x}/${y}: NULL with water, not without`); continue; }
+        const b = tileBounds(z, x, y);
+        const mask = new Uint8Array(decodeTile(tile, b).d.extensions.waterMask || new ArrayBuffer(0));
+        check(mask.length === 1 || mask.length === 65536, `${name} ${z}/${x}/${y}: a water mask of ${mask.length} bytes`);
+        // PostGIS: every cell centre in any lake (each lake on its own, so the overlap is plainly water)
+        const [{ bits, near }] = await q(`
+          WITH l AS (SELECT ST_Transform(g, 4326) AS g FROM qm_lakes),
+               b AS (SELECT $1::float8 AS w, $2::float8 AS s, $3::float8 AS e, $4::float8 AS n),
+               c AS (SELECT i, j, ST_SetSRID(ST_MakePoint(w + (j + 0.5) * (e - w) / 256, n - (i + 0.5) * (n - s) / 256), 4326) AS p
+                     FROM b, generate_series(0, 255) i, generate_series(0, 255) j)
+          SELECT string_agg(CASE WHEN EXISTS (SELECT FROM l WHERE ST_Intersects(l.g, p)) THEN '1' ELSE '0' END, '' ORDER BY i, j) AS bits,
+                 array_agg(i * 256 + j) FILTER (WHERE EXISTS (SELECT FROM l WHERE ST_DWithin(ST_Boundary(l.g), p, 1e-9))) AS near
+          FROM c`, b);
+        const nearSet = new Set(near || []);
+        for (let k = 0; k < 65536; k++) {
+          const got = mask.length === 1 ? mask[0] : mask[k];
+          const want = bits[k] === '1' ? 255 : 0;
+          cells++;
+          if (got !== want) { if (nearSet.has(k)) grazing++; else { wrong++; if (wrong <= 5) check(false, `${name} ${z}/${x}/${y}: cell ${k >> 8}, ${k & 255} is ${got}, PostGIS says ${want}`); } }
+        }
+        if (mask.length === 1) single[mask[0] ? 1 : 0]++; else full++;
+        // the extensions after the plain tile: water (2), then metadata (4) by their lengths
+        const ext = tile.subarray(plain.length);
+        const dv = new DataView(ext.buffer, ext.byteOffset, ext.byteLength);
+        let pos = 0, meta = null;
+        while (pos < ext.length) {
+          const id = dv.getUint8(pos), len = dv.getUint32(pos + 1, true);
+          if (id === 4) meta = JSON.parse(Buffer.from(ext.subarray(pos + 9, pos + 9 + dv.getUint32(pos + 5, true))).toString());
+          pos += 5 + len;
+        }
+        check(pos === ext.length, `${name} ${z}/${x}/${y}: the extensions' lengths overrun the tile`);
+        // what layer.json says of the 10 zooms below, cut to this tile
+        const want = [];
+        for (let k = 1; k <= 10 && z + k <= layer.maxzoom; k++) {
+          const r = layer.available[z + k][0];
+          const c = { startX: Math.max(r.startX, x * 2 ** k), startY: Math.max(r.startY, y * 2 ** k),
+                      endX: Math.min(r.endX, (x + 1) * 2 ** k - 1), endY: Math.min(r.endY, (y + 1) * 2 ** k - 1) };
+          want.push(c.startX <= c.endX && c.startY <= c.endY ? [c] : []);
+        }
+        check(meta && JSON.stringify(meta.available.map((l) => l.map((r) => [r.startX, r.startY, r.endX, r.endY])))
+                      === JSON.stringify(want.map((l) => l.map((r) => [r.startX, r.startY, r.endX, r.endY]))),
+              `${name} ${z}/${x}/${y}: metadata ${JSON.stringify(meta)}, layer.json cut to the tile ${JSON.stringify(want)}`);
+        metas++;
+      }
+    }
+  }
+  check(full > 0 && single[0] + single[1] > 0, `${name}: ${full} mixed masks, ${single[0]} all land, ${single[1]} all water: not every form seen`);
+  check(wrong === 0, `${name}: ${wrong} of ${cells} water mask cells differ from PostGIS away from a lake's edge`);
+  console.log(`  ${name} water: ${cells} mask cells in ${full} mixed tiles and ${single[0]} + ${single[1]} one-byte (land + water): ${wrong} differ from PostGIS, ${grazing} on an edge; metadata of ${metas} tiles = layer.json`);
 }
 await client.end();
 if (fail.length) {

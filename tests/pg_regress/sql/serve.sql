@@ -73,6 +73,30 @@ SELECT tin_quantized_mesh('{}'::tin[], 13, 4357, 5760) IS NULL AS empty_is_off, 
        tin_quantized_mesh(NULL::tin[], 13, 4357, 5760) IS NULL AS null_array, tin_quantized_mesh_layer('{}'::tin[]) IS NULL AS empty_layer;
 SELECT try($$SELECT tin_quantized_mesh(ARRAY[(SELECT t FROM terrain), (SELECT t FROM qm_win LIMIT 1)], 13, 4357, 5760)$$);
 DROP TABLE qm_win;
+-- the water mask and metadata extensions (tests/properties/check_quantized_mesh.mjs
+-- checks the mask against PostGIS cell by cell and the metadata against
+-- layer.json): the tile without them is the start of the tile with them,
+-- then the extension's id and the mask (65,536 cells, or one byte when the
+-- tile is all land or all water); NULL water and false metadata are none;
+-- the polygons in the tin's SRID or in degrees give the same bytes
+CREATE TABLE qm_water AS
+SELECT ST_Buffer(ST_Centroid(tin_envelope(t)), 2500, 32) AS g, ST_Transform(ST_Centroid(tin_envelope(t)), 4326) AS c FROM terrain;
+WITH k AS (SELECT z, floor((ST_X(c) + 180) / (180 / 2 ^ z))::int AS x, floor((ST_Y(c) + 90) / (180 / 2 ^ z))::int AS y
+           FROM qm_water, generate_series(12, 15) z)
+SELECT z, substr(w, 1, length(p)) = p AS prefix, get_byte(w, length(p)) AS ext_id, length(w) - length(p) - 5 AS mask_bytes,
+       get_byte(w, length(w) - 1) AS last_cell,
+       tin_quantized_mesh(t, z, x, y, water => NULL, metadata => false) = p AS none_is_none,
+       tin_quantized_mesh(t, z, x, y, water => (SELECT ST_Transform(g, 4326) FROM qm_water)) = w AS degrees_same,
+       length(tin_quantized_mesh(t, z, x, y, water => 'POLYGON EMPTY')) - length(p) AS empty_water_bytes,
+       convert_from(substr(m, length(p) + 10), 'UTF8')::json->'available'->0 AS metadata_next_zoom
+FROM terrain, k,
+     LATERAL (SELECT tin_quantized_mesh(t, z, x, y) AS p, tin_quantized_mesh(t, z, x, y, water => (SELECT g FROM qm_water)) AS w,
+                     tin_quantized_mesh(t, z, x, y, metadata => true) AS m) q
+ORDER BY z;
+SELECT tin_quantized_mesh_layer(t, normals => true, water => true, metadata => true)->'extensions' AS all_three,
+       tin_quantized_mesh_layer(t, metadata => true)->'extensions' AS metadata_only,
+       (tin_quantized_mesh_layer(t, metadata => true)->'available')::jsonb = (tin_quantized_mesh_layer(t)->'available')::jsonb AS same_available
+FROM terrain;
 -- bad input, one per line
 SELECT try($$SELECT tin_quantized_mesh(t, 25, 0, 0) FROM terrain$$);
 SELECT try($$SELECT tin_quantized_mesh(t, -1, 0, 0) FROM terrain$$);
@@ -84,4 +108,9 @@ SELECT try($$SELECT tin_quantized_mesh(t, 0, 0, 0, fill => 'NaN') FROM terrain$$
 SELECT try($$SELECT tin_quantized_mesh(t, 0, 0, 0, fill => 'Infinity') FROM terrain$$);
 SELECT try($$SELECT tin_quantized_mesh(tin_from_points('MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3, 10 10 4)'::geometry, 1.0, 1), 0, 0, 0)$$);
 SELECT try($$SELECT tin_quantized_mesh_layer(tin_from_points('MULTIPOINT Z (0 0 1, 10 0 2, 0 10 3, 10 10 4)'::geometry, 1.0, 1))$$);
-DROP TABLE qm_layer;
+SELECT try($$SELECT tin_quantized_mesh(t, 12, 2178, 2880, water => 'LINESTRING(0 0, 1 1)') FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 12, 2178, 2880, water => 'POLYGON((0 0, 1 0, 1 1, 0 0))') FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 12, 2178, 2880, water => 'SRID=4326;GEOMETRYCOLLECTION(POLYGON((0 0, 1 0, 1 1, 0 0)), POINT(0 0))') FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 12, 2178, 2880, water => 'SRID=4326;POLYGON((0 0, 1e300 0, 1 1, 0 0))') FROM terrain$$);
+SELECT try($$SELECT tin_quantized_mesh(t, 12, 2178, 2880, water => 'SRID=32616;POLYGON((0 0, 1e30 0, 1 1e30, 0 0))') FROM terrain$$);
+DROP TABLE qm_layer, qm_water;

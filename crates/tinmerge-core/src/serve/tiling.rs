@@ -120,35 +120,105 @@ pub fn tile_range(z: i32, b: &[f64; 4]) -> (i64, i64, i64, i64) {
     (col(b[0]), row(b[1]), col(b[2]), row(b[3]))
 }
 
+/// The zooms of availability a tile's metadata extension carries: those
+/// of its descendants down to this many zooms deeper (Cesium World
+/// Terrain's `metadataAvailability`).
+pub const METADATA_ZOOMS: i32 = 10;
+
+/// What a layer announces and its tiles carry besides the mesh.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LayerOptions {
+    /// The oct-encoded vertex normals extension (`octvertexnormals`).
+    pub normals: bool,
+    /// Tiles off the terrain are served flat: both tiles of zoom 0 are
+    /// available.
+    pub fill: bool,
+    /// The water mask extension (`watermask`).
+    pub water: bool,
+    /// The metadata extension (`metadata`): each tile's availability below
+    /// it ([`tile_metadata`]).
+    pub metadata: bool,
+}
+
+/// The available tiles `(x0, y0, x1, y1)` (inclusive, TMS) at each zoom
+/// from 0 to the layer's deepest, of a terrain with geographic extent
+/// `bounds` and level errors `max_errors` (with `fill` both tiles of zoom 0).
+pub fn available(bounds: &[f64; 4], max_errors: &[f64], fill: bool) -> Vec<(i64, i64, i64, i64)> {
+    let top = max_zoom(max_errors, 0);
+    (0..=top)
+        .map(|z| {
+            if z == 0 && fill {
+                (0, 0, 1, 0)
+            } else {
+                tile_range(z, bounds)
+            }
+        })
+        .collect()
+}
+
+/// The metadata extension's JSON of tile `(z, x, y)`: `{"available": [...]}`
+/// with, for each of the [`METADATA_ZOOMS`] zooms below it (to the
+/// layer's deepest), the ranges of its descendants the layer makes
+/// available ([`available`] cut to the tile; an empty list where none
+/// is), as Cesium reads it.
+///
+/// ```
+/// use tinmerge_core::serve::tiling::tile_metadata;
+/// // a terrain of a few kilometres near 84°W 36°N, levels 30 m to 2 m
+/// let b = [-84.1, 35.9, -84.0, 36.0];
+/// let j: serde_json::Value = serde_json::from_str(&tile_metadata(0, 0, 0, &b, &[30.0, 2.0], false)).unwrap();
+/// let zoom1 = &j["available"][0][0];
+/// // zoom 1 has 90° tiles: the terrain is in column 1 (90°W..0°), row 1 (0°..90°N)
+/// assert_eq!((zoom1["startX"].as_i64(), zoom1["startY"].as_i64()), (Some(1), Some(1)));
+/// ```
+pub fn tile_metadata(
+    z: i32,
+    x: i64,
+    y: i64,
+    bounds: &[f64; 4],
+    max_errors: &[f64],
+    fill: bool,
+) -> String {
+    let avail = available(bounds, max_errors, fill);
+    let mut levels = Vec::new();
+    for k in 1..=METADATA_ZOOMS {
+        let Some(&(x0, y0, x1, y1)) = avail.get((z + k) as usize) else {
+            break;
+        };
+        let (dx0, dy0) = (x << k, y << k);
+        let (dx1, dy1) = (((x + 1) << k) - 1, ((y + 1) << k) - 1);
+        let r = (x0.max(dx0), y0.max(dy0), x1.min(dx1), y1.min(dy1));
+        levels.push(if r.0 <= r.2 && r.1 <= r.3 {
+            serde_json::json!([{ "startX": r.0, "startY": r.1, "endX": r.2, "endY": r.3 }])
+        } else {
+            serde_json::json!([])
+        });
+    }
+    serde_json::json!({ "available": levels }).to_string()
+}
+
 /// The `layer.json` of a terrain with geographic extent `bounds`
 /// (`[west, south, east, north]`, degrees) whose levels have errors
 /// `max_errors`: tiles `{z}/{x}/{y}.terrain`, the TMS scheme, the
-/// available tiles per zoom, and `octvertexnormals` when `normals`. With
-/// `fill` every tile of zoom 0 is available too (tiles off the terrain
-/// are then served flat), so Cesium draws the whole globe.
-pub fn layer_json(
-    name: &str,
-    bounds: &[f64; 4],
-    max_errors: &[f64],
-    normals: bool,
-    fill: bool,
-) -> String {
-    // the zoom where the terrain is smaller than one tile: always served
+/// available tiles per zoom ([`available`]), and the extensions `opts`
+/// asks for (`octvertexnormals`, `watermask`, `metadata`). The full
+/// `available` list stays even with `metadata` (no `metadataAvailability`):
+/// Cesium then knows every tile from the start and adds what the tiles'
+/// metadata says (the same ranges, cut to each tile).
+pub fn layer_json(name: &str, bounds: &[f64; 4], max_errors: &[f64], opts: LayerOptions) -> String {
     let top = max_zoom(max_errors, 0);
-    let mut available = Vec::new();
-    for z in 0..=top {
-        let (x0, y0, x1, y1) = if z == 0 && fill {
-            (0, 0, 1, 0)
-        } else {
-            tile_range(z, bounds)
-        };
-        available.push(serde_json::json!([{ "startX": x0, "startY": y0, "endX": x1, "endY": y1 }]));
-    }
-    let extensions: Vec<&str> = if normals {
-        vec!["octvertexnormals"]
-    } else {
-        vec![]
-    };
+    let available: Vec<serde_json::Value> = available(bounds, max_errors, opts.fill)
+        .into_iter()
+        .map(|(x0, y0, x1, y1)| serde_json::json!([{ "startX": x0, "startY": y0, "endX": x1, "endY": y1 }]))
+        .collect();
+    let extensions: Vec<&str> = [
+        (opts.normals, "octvertexnormals"),
+        (opts.water, "watermask"),
+        (opts.metadata, "metadata"),
+    ]
+    .into_iter()
+    .filter_map(|(on, name)| on.then_some(name))
+    .collect();
     let v = serde_json::json!({
         "tilejson": "2.1.0",
         "name": name,

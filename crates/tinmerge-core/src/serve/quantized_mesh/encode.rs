@@ -6,6 +6,7 @@ use rustc_hash::FxHashMap;
 use super::clip::{Kind, Source, Tile};
 use super::mesh::{A, B, TileMesh, cross, dot, ecef, norm, sub, tile_mesh, tiles_of};
 use super::needed::NeedOptions;
+use super::water::{WaterPolygon, water_mask};
 use crate::interrupt::Interrupt;
 use crate::serve::tiling::TileBounds;
 use crate::tin::TinError;
@@ -277,6 +278,29 @@ pub fn encode_many(
     opts: TileOptions,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<Vec<u8>>, TinError> {
+    encode_with(sources, tile, opts, Extras::default(), interrupt)
+}
+
+/// The extensions after the vertex normals, each written when given.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Extras<'a> {
+    /// The water mask extension (id 2) of these polygons in
+    /// longitude/latitude ([`water_mask`]; none: no extension, an empty
+    /// slice: the one-byte all-land mask).
+    pub water: Option<&'a [WaterPolygon]>,
+    /// The metadata extension (id 4): this JSON text, e.g. the tile's
+    /// availability from [`tile_metadata`](crate::serve::tiling::tile_metadata).
+    pub metadata: Option<&'a str>,
+}
+
+/// [`encode_many`] with the water mask and metadata extensions of `extras`.
+pub fn encode_with(
+    sources: &[Source],
+    tile: &TileBounds,
+    opts: TileOptions,
+    extras: Extras<'_>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Option<Vec<u8>>, TinError> {
     let TileOptions {
         normals: with_normals,
         fill,
@@ -375,6 +399,18 @@ pub fn encode_many(
         for &s in &seq {
             out.extend_from_slice(&oct_encode(ns[s as usize]));
         }
+    }
+    if let Some(polys) = extras.water {
+        let mask = water_mask(tile, polys, interrupt)?;
+        out.push(2);
+        out.extend_from_slice(&(mask.len() as u32).to_le_bytes());
+        out.extend_from_slice(&mask);
+    }
+    if let Some(json) = extras.metadata {
+        out.push(4);
+        out.extend_from_slice(&((json.len() + 4) as u32).to_le_bytes());
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(json.as_bytes());
     }
     Ok(Some(out))
 }

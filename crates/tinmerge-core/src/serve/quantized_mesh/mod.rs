@@ -50,7 +50,10 @@
 //! area-weighted sum of the ECEF normals of the level's triangles around
 //! it (all of them, also those outside the tile, so normals agree across
 //! tile sides), around an edge for a crossing, the triangle's for a tile
-//! corner; the ellipsoid's normal for fill corners.
+//! corner; the ellipsoid's normal for fill corners; the water mask
+//! extension (id 2, [`water_mask`]) and the metadata extension (id 4, a
+//! JSON text: the tile's availability, [`tile_metadata`](crate::serve::tiling::tile_metadata))
+//! when given ([`encode_with`]).
 //!
 //! ```
 //! use tinmerge_core::serve::quantized_mesh::{Source, TileOptions, encode, needed};
@@ -76,14 +79,17 @@
 //!
 //! The parts: `needed` (what a tile needs from a level), `clip` (a
 //! triangle cut to the tile), `mesh` (the tile's vertices and triangles,
-//! with the fill off the terrain), `encode` (the bytes).
+//! with the fill off the terrain), `water` (the water mask), `encode` (the
+//! bytes).
 
 mod clip;
 mod encode;
 mod mesh;
 mod needed;
+mod water;
 
 pub use clip::Source;
-pub use encode::{TileOptions, encode, encode_many, tile_bytes};
+pub use encode::{Extras, TileOptions, encode, encode_many, encode_with, tile_bytes};
 pub use mesh::{TileMesh, ecef};
 pub use needed::{NeedOptions, Needed, Split, hull, needed, needed_in, split_length};
+pub use water::{MASK_SIZE, WaterPolygon, water_mask};
