@@ -10,7 +10,13 @@
 //    the steepest nearby gradient times a position step);
 //  - the server answered every tile Cesium asked for;
 //  - the same for the DEM window stored as 16 tin_tiles, served as one
-//    terrain (the array form, tins picked by their extent in degrees).
+//    terrain (the array form, tins picked by their extent in degrees);
+//  - the picture: the camera frames the terrain obliquely, draped with its
+//    hillshade; at least half of the frame is terrain (hillshade pixels);
+//  - water: two lakes (one with an island) served as the tiles' water
+//    mask; Cesium's water effect (the frame with it against the same frame
+//    without) changes the pixels whose ground (globe.pick) PostGIS puts
+//    inside a lake and not those outside, away from the shores.
 import fs from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
@@ -35,12 +41,12 @@ const fail = [];
 
 // One terrain on the globe: `tins` is SQL giving its tins (one row each),
 // `tiled` serves them with the array form.
-async function run(label, table, tiled, shot) {
+async function run(label, table, tiled, shot, water) {
   const tins = `SELECT t FROM ${table}`;
   const [{ zmin, tol }] = (await db.query(`SELECT min((tin_info(t)->'z_range'->>0)::float8) AS zmin,
       max((tin_info(t)->'levels'->-1->>'tolerance')::float8) AS tol FROM (${tins}) s`)).rows;
   const fill = Number.isFinite(zmin) ? Math.floor(zmin) : 0;
-  const server = await start({ port: 0, table, fill, tiled });
+  const server = await start({ port: 0, table, fill, tiled, water });
   const page = await browser.newPage();
   try {
     await page.setViewport({ width: 1200, height: 800 });
@@ -55,6 +61,29 @@ async function run(label, table, tiled, shot) {
     if (!view.settled) fail.push(`${label}: the view never settled (tiles still loading after a minute)`);
     if (view.drawn < 0.25 * view.width * view.height) fail.push(`${label}: only ${view.drawn} pixels drawn`);
     if (view.shades < 30) fail.push(`${label}: only ${view.shades} shades: the relief is not lit`);
+    const share = await page.evaluate(() => window.terrainShare());
+    console.log(`  ${label}: ${(100 * share).toFixed(1)} % of the frame is terrain (hillshade)`);
+    if (share < 0.5) fail.push(`${label}: only ${(100 * share).toFixed(1)} % of the frame is terrain`);
+    if (water) {
+      const px = await page.evaluate(() => window.waterPixels(8));
+      // PostGIS: inside a lake or not, and how far from its shore (metres)
+      const rows = (await db.query(`
+        WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[]) WITH ORDINALITY AS p(lon, lat, i))
+        SELECT i, EXISTS (SELECT FROM ${water} l WHERE ST_Intersects(l.geom, ST_Transform(ST_SetSRID(ST_MakePoint(lon, lat), 4326), ST_SRID(l.geom)))) AS inside,
+               (SELECT min(ST_Distance(ST_Boundary(l.geom), ST_Transform(ST_SetSRID(ST_MakePoint(lon, lat), 4326), ST_SRID(l.geom)))) FROM ${water} l) AS shore
+        FROM p ORDER BY i`, [px.map((p) => p[2]), px.map((p) => p[3])])).rows;
+      const margin = 60;
+      let [wet, wetDrawn, dry, dryDrawn] = [0, 0, 0, 0];
+      rows.forEach((r, k) => {
+        if (r.shore < margin) return;
+        if (r.inside) { wet++; if (px[k][4]) wetDrawn++; } else { dry++; if (px[k][4]) dryDrawn++; }
+      });
+      console.log(`  ${label}: water drawn at ${wetDrawn} of ${wet} sampled pixels over the lakes, ${dryDrawn} of ${dry} over land (${margin} m from a shore or more)`);
+      if (wet < 50) fail.push(`${label}: only ${wet} sampled pixels over the lakes: the lakes are not in view`);
+      if (wetDrawn < 0.95 * wet) fail.push(`${label}: water drawn at only ${wetDrawn} of ${wet} pixels over the lakes`);
+      if (dryDrawn > 0.01 * dry) fail.push(`${label}: water drawn at ${dryDrawn} of ${dry} pixels over land`);
+      if (server.stats.water === 0) fail.push(`${label}: Cesium asked for no water mask`);
+    }
     // 100 points inside the terrain, their heights from tin_height (of any
     // tin holding the point: on a seam all give the same)
     const pts = (await db.query(`
@@ -109,9 +138,14 @@ async function run(label, table, tiled, shot) {
 }
 
 try {
-  await run('one tin', 'terrain', false, 'globe.png');
+  // two lakes at the terrain's centre, in its UTM SRID: one with an island
+  await db.query(`DROP TABLE IF EXISTS globe_lakes`);
+  await db.query(`CREATE TABLE globe_lakes AS
+    SELECT ST_Difference(ST_Buffer(c, 2500, 64), ST_Buffer(ST_Translate(c, 300, 200), 600, 16)) AS geom FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) s
+    UNION ALL SELECT ST_Buffer(ST_Translate(c, -3500, 4000), 1200, 32) FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) s`);
+  await run('one tin', 'terrain', false, 'globe.png', 'globe_lakes');
   // the DEM window as 16 tin_tiles (made by check_quantized_mesh.mjs)
-  await run('16 tiles', 'qm_tiles', true, 'globe-tiled.png');
+  await run('16 tiles', 'qm_tiles', true, 'globe-tiled.png', null);
 } finally {
   await browser.close();
   await db.end();

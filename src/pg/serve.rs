@@ -609,7 +609,7 @@ fn layer(tins: &[Arc<Tin>], opts: LayerOptions, name: Option<String>) -> Option<
 extension_sql!(
     r#"
 COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text, boolean, boolean) IS
-'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and in extensions octvertexnormals when normals is true, watermask when water is true, metadata when metadata is true (the available list stays whole: no metadataAvailability).';
+'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and in extensions octvertexnormals when normals is true, watermask when water is true, metadata when metadata is true (then metadataAvailability 10: Cesium learns availability from the tiles and takes both root tiles as available, so serve them with fill; the available list stays whole for other readers).';
 COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text, boolean, boolean) IS
 'tin_quantized_mesh_layer of a terrain stored as tiles: the bounds of all the tins, the levels'' largest errors over them.';
 "#,

@@ -173,10 +173,10 @@ for (const [name, table, stored] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrai
 // water and metadata, on the UTM tin (one tin) and the same lakes over the tiled terrain
 await q(`DROP TABLE IF EXISTS qm_lakes`);
 await q(`CREATE TABLE qm_lakes AS
-  SELECT ST_Difference(ST_Buffer(c, 2500, 64), ST_Buffer(ST_Translate(c, 300, 200), 500, 16)) AS g FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) s
+  SELECT ST_Difference(ST_Buffer(c, 2500, 64), ST_Buffer(ST_Translate(c, 300, 200), 500, 16)) AS geom FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) s
   UNION ALL SELECT ST_Buffer(ST_Translate(c, 2200, -1000), 450, 8) FROM (SELECT ST_Centroid(tin_envelope(t)) AS c FROM terrain) s`);
 const [{ lw, ls, le, ln }] = await q(`SELECT ST_XMin(e) AS lw, ST_YMin(e) AS ls, ST_XMax(e) AS le, ST_YMax(e) AS ln
-  FROM (SELECT ST_Extent(ST_Transform(g, 4326))::geometry AS e FROM qm_lakes) s`);
+  FROM (SELECT ST_Extent(ST_Transform(geom, 4326))::geometry AS e FROM qm_lakes) s`);
 for (const [name, table] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrain) s'], ['utm tiled', '(SELECT array_agg(t ORDER BY ty, tx) AS ts FROM qm_tiles) s']]) {
   const [{ layer }] = await q(`SELECT tin_quantized_mesh_layer(ts, water => true, metadata => true) AS layer FROM ${table}`);
   check(['watermask', 'metadata'].every((e) => layer.extensions.includes(e)), `${name}: layer.json extensions ${layer.extensions}`);
@@ -189,14 +189,14 @@ for (const [name, table] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrain) s'], 
     for (let x = x0; x <= x1; x++) {
       for (let y = y0; y <= y1; y++) {
         const [{ plain, tile }] = await q(`SELECT tin_quantized_mesh(ts, $1::int, $2::int, $3::int) AS plain,
-            tin_quantized_mesh(ts, $1::int, $2::int, $3::int, water => (SELECT ST_Collect(g) FROM qm_lakes), metadata => true) AS tile FROM ${table}`, [z, x, y]);
+            tin_quantized_mesh(ts, $1::int, $2::int, $3::int, water => (SELECT ST_Collect(geom) FROM qm_lakes), metadata => true) AS tile FROM ${table}`, [z, x, y]);
         if (tile === null) { check(plain === null, `${name} ${z}/${x}/${y}: NULL with water, not without`); continue; }
         const b = tileBounds(z, x, y);
         const mask = new Uint8Array(decodeTile(tile, b).d.extensions.waterMask || new ArrayBuffer(0));
         check(mask.length === 1 || mask.length === 65536, `${name} ${z}/${x}/${y}: a water mask of ${mask.length} bytes`);
         // PostGIS: every cell centre in any lake (each lake on its own, so the overlap is plainly water)
         const [{ bits, near }] = await q(`
-          WITH l AS (SELECT ST_Transform(g, 4326) AS g FROM qm_lakes),
+          WITH l AS (SELECT ST_Transform(geom, 4326) AS g FROM qm_lakes),
                b AS (SELECT $1::float8 AS w, $2::float8 AS s, $3::float8 AS e, $4::float8 AS n),
                c AS (SELECT i, j, ST_SetSRID(ST_MakePoint(w + (j + 0.5) * (e - w) / 256, n - (i + 0.5) * (n - s) / 256), 4326) AS p
                      FROM b, generate_series(0, 255) i, generate_series(0, 255) j)

@@ -201,10 +201,12 @@ pub fn tile_metadata(
 /// (`[west, south, east, north]`, degrees) whose levels have errors
 /// `max_errors`: tiles `{z}/{x}/{y}.terrain`, the TMS scheme, the
 /// available tiles per zoom ([`available`]), and the extensions `opts`
-/// asks for (`octvertexnormals`, `watermask`, `metadata`). The full
-/// `available` list stays even with `metadata` (no `metadataAvailability`):
-/// Cesium then knows every tile from the start and adds what the tiles'
-/// metadata says (the same ranges, cut to each tile).
+/// asks for (`octvertexnormals`, `watermask`, `metadata`). With
+/// `metadata`, `metadataAvailability` is [`METADATA_ZOOMS`]: Cesium then
+/// takes both tiles of zoom 0 as available and learns the rest from the
+/// tiles' metadata (it needs the field to read the extension at all), so
+/// serve both root tiles (`fill`). The full `available` list stays for
+/// other readers (Cesium ignores it then).
 pub fn layer_json(name: &str, bounds: &[f64; 4], max_errors: &[f64], opts: LayerOptions) -> String {
     let top = max_zoom(max_errors, 0);
     let available: Vec<serde_json::Value> = available(bounds, max_errors, opts.fill)
@@ -219,7 +221,7 @@ pub fn layer_json(name: &str, bounds: &[f64; 4], max_errors: &[f64], opts: Layer
     .into_iter()
     .filter_map(|(on, name)| on.then_some(name))
     .collect();
-    let v = serde_json::json!({
+    let mut v = serde_json::json!({
         "tilejson": "2.1.0",
         "name": name,
         "description": "a tinmerge terrain served by tin_quantized_mesh",
@@ -235,5 +237,8 @@ pub fn layer_json(name: &str, bounds: &[f64; 4], max_errors: &[f64], opts: Layer
         "available": available,
         "extensions": extensions,
     });
+    if opts.metadata {
+        v["metadataAvailability"] = serde_json::json!(METADATA_ZOOMS);
+    }
     v.to_string()
 }
