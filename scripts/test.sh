@@ -116,6 +116,8 @@ step "point builds between their samples against their Delaunay triangulation (i
 scripts/python.sh tests/properties/check_points_between.py
 step "coverage-weighted raster statistics against exactextract"
 scripts/python.sh tests/properties/check_raster_exactextract.py
+step "line of sight: 100,000 sight lines against an oracle from tin_triangles (numpy)"
+scripts/python.sh tests/properties/check_line_of_sight.py
 step "done"
 echo "== step times"
 printf '%s' "$TIMES"
