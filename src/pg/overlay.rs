@@ -14,7 +14,7 @@ use super::tin_type::{TinArg, TinOut};
 use tinmerge_core::io::ewkb;
 use tinmerge_core::merge::overlay::volume::volumes_in;
 use tinmerge_core::merge::overlay::{difference, mark_same, overlay, Overlay};
-use tinmerge_core::tin::build::from_triangles;
+use tinmerge_core::tin::build::from_triangles_void;
 
 /// The overlay of two tin arguments at their levels, SRIDs checked, with
 /// the SRID of the result.
@@ -101,7 +101,8 @@ fn _tin_overlay_tin(
 ) -> Option<TinOut> {
     let (a, b) = (a?, b?);
     let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay_tin", false);
-    if o.tris.is_empty() {
+    // no output triangle where both have data: the domains do not overlap
+    if o.domain().next().is_none() {
         return None;
     }
     let verts: Vec<[f64; 3]> = o
@@ -119,7 +120,9 @@ fn _tin_overlay_tin(
             )
         },
     );
-    let tin = from_triangles(verts, o.tris, srid, &mut interrupt).or_raise();
+    // the output triangles in a void triangle of a or b are void in the
+    // result too (a hole of either is a hole of the overlay)
+    let tin = from_triangles_void(verts, o.tris, o.void, srid, &mut interrupt).or_raise();
     Some(TinOut::from_tin(&tin))
 }
 

@@ -226,3 +226,20 @@ SELECT try($$SELECT * FROM o_tins a, o_polys q, tin_volume(a.t, a.t, ST_Boundary
 SELECT try($$SELECT * FROM o_tins a, o_polys q, tin_volume(a.t, a.t, q.geom, 5) WHERE a.name = 'a' AND q.name = 'two pieces'$$);
 SELECT try($$SELECT * FROM o_win w, o_tins a, o_polys q, tin_volume(a.t, tin_from_raster(ST_SetSRID(w.rast, 32617), 4.0, 2), q.geom) WHERE a.name = 'a' AND q.name = 'two pieces'$$);
 SELECT try($$SELECT * FROM dem_geo d, tin_volume(tin_from_raster(d.rast, 8.0, 1), tin_from_raster(d.rast, 8.0, 1), ST_Envelope(d.rast))$$);
+-- tin_overlay_tin keeps the holes of either tin (0.19.0 and before filled
+-- them: the overlay's triangles inside a void triangle were stored as
+-- surface, so tin_height answered in the hole): a tin with a square hole
+-- over one without, shifted; the area against PostGIS's intersection of
+-- the two domains, NULL in the hole, a's heights elsewhere
+CREATE TABLE o_hole AS
+WITH p AS (SELECT ST_SetSRID(ST_Collect(ST_MakePoint(x, y, (x * 7 + y * 3) % 11)), 32616) AS g
+           FROM generate_series(0, 100, 10) x, generate_series(0, 100, 10) y)
+SELECT tin_from_points(g, 0.0, 1, boundary => ST_SetSRID('POLYGON((0 0, 100 0, 100 100, 0 100, 0 0), (40 40, 60 40, 60 60, 40 60, 40 40))'::geometry, 32616)) AS a,
+       tin_from_points(ST_Translate(g, 5, 3), 0.0, 1) AS b FROM p;
+SELECT round((SELECT sum(ST_Area(geom)) FROM tin_triangles(o))::numeric, 6) AS overlay_area,
+       ST_Area(ST_Intersection(ST_SetSRID('POLYGON((0 0, 100 0, 100 100, 0 100, 0 0), (40 40, 60 40, 60 60, 40 60, 40 40))'::geometry, 32616),
+                               ST_SetSRID('POLYGON((5 3, 105 3, 105 103, 5 103, 5 3))'::geometry, 32616))) AS postgis_area,
+       tin_height(o, 'SRID=32616;POINT(50 50)') IS NULL AS hole_is_null,
+       abs(tin_height(o, 'SRID=32616;POINT(21 33)') - tin_height(a, 'SRID=32616;POINT(21 33)')) < 1e-9 AS height_of_a,
+       (SELECT round(sum(ST_Area(geom))::numeric, 6) FROM tin_triangles(tin_overlay_tin(a, a))) AS itself_area
+FROM o_hole, tin_overlay_tin(a, b) o;

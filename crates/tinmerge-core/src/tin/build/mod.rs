@@ -500,7 +500,7 @@ pub fn from_triangles(
 
 /// [`from_triangles`] with the triangles that are void (`void[t]`; empty:
 /// none): the overlay of tins with void triangles.
-pub(crate) fn from_triangles_void(
+pub fn from_triangles_void(
     verts: Vec<[f64; 3]>,
     tris: Vec<[u32; 3]>,
     void: Vec<bool>,
