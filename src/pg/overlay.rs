@@ -102,9 +102,7 @@ fn _tin_overlay_tin(
     let (a, b) = (a?, b?);
     let (o, srid) = overlay_args(&a, level_a, &b, level_b, "tin_overlay_tin", false);
     // no output triangle where both have data: the domains do not overlap
-    if o.domain().next().is_none() {
-        return None;
-    }
+    o.domain().next()?;
     let verts: Vec<[f64; 3]> = o
         .pts
         .iter()
