@@ -18,7 +18,9 @@ ANALYZE los_tris;
 -- (target_height 0, the default: it touches the sight line)
 CREATE TABLE los_pairs AS
 SELECT a.name, a.level, i, o, g, tin_height(a.t, o, a.level) + oh AS zo, tin_height(a.t, g, a.level) + th AS zt, oh, th
-FROM los_tins a, generate_series(1, 300) i,
+-- (the tins in a fixed order and the pairs LATERAL to them: random() is
+-- drawn in the same order whatever plan the statistics give)
+FROM (SELECT * FROM los_tins ORDER BY name, level) a, LATERAL generate_series(1, 300) i,
      LATERAL (SELECT ST_XMin(e) + (0.15 + 0.7 * random()) * (ST_XMax(e) - ST_XMin(e)) AS x1, ST_YMin(e) + (0.15 + 0.7 * random()) * (ST_YMax(e) - ST_YMin(e)) AS y1,
                      ST_XMin(e) + (0.15 + 0.7 * random()) * (ST_XMax(e) - ST_XMin(e)) AS x2, ST_YMin(e) + (0.15 + 0.7 * random()) * (ST_YMax(e) - ST_YMin(e)) AS y2,
                      30 * random() AS oh, CASE WHEN i % 2 = 0 THEN 0 ELSE 10 * random() END AS th, i AS k
