@@ -195,7 +195,15 @@ pub fn viewshed_with(
     let mut counts = vec![NODATA; z.len()];
     let mut out = Viewshed::default();
     let bounds = if prune {
-        Bounds::new(tin, level, interrupt)?
+        // only where the eyes' rays go: no farther than the radius and a
+        // step (half a cell) past the farthest cell, so boxes of the radius
+        // and two cells
+        let r = radius + 2.0 * gt.scale_x.abs().max(gt.scale_y.abs());
+        let boxes: Vec<[f64; 4]> = eyes
+            .iter()
+            .map(|e| [e.x - r, e.y - r, e.x + r, e.y + r])
+            .collect();
+        Bounds::new(tin, level, Some(&boxes), interrupt)?
     } else {
         // nothing rises above +inf: nothing is ever skipped
         Bounds {

@@ -16,15 +16,67 @@ pub struct Bounds {
 }
 
 impl Bounds {
-    /// The bounds of every level coarser than `level`, from the finest up.
-    pub fn new(tin: &Tin, level: usize, interrupt: &mut Interrupt<'_>) -> Result<Bounds, TinError> {
+    /// The bounds of every level coarser than `level`, from the finest up:
+    /// of every triangle, or (`within`) only of the level-0 triangles whose
+    /// box meets one of the rectangles `[min x, min y, max x, max y]` and
+    /// of all their descendants (a walk within them descends into no
+    /// other; the others' bounds are +inf, which never skips).
+    pub fn new(
+        tin: &Tin,
+        level: usize,
+        within: Option<&[[f64; 4]]>,
+        interrupt: &mut Interrupt<'_>,
+    ) -> Result<Bounds, TinError> {
         let mut up: Vec<Vec<f64>> = vec![Vec::new(); level];
         let mut ticker = Ticker::new(interrupt);
+        // which triangles' bounds are needed, from level 0 down
+        let mut need: Vec<Vec<bool>> = Vec::with_capacity(level);
+        for l in 0..level {
+            let lv = &tin.levels[l];
+            let n = lv.num_domain();
+            let mut nd = vec![false; lv.num_triangles()];
+            if l == 0 {
+                for (t, x) in nd.iter_mut().enumerate().take(n) {
+                    ticker.tick()?;
+                    *x = match within {
+                        None => true,
+                        Some(boxes) => {
+                            let co = tin.corners(0, t as u32);
+                            let (x0, x1) = (
+                                co[0][0].min(co[1][0]).min(co[2][0]),
+                                co[0][0].max(co[1][0]).max(co[2][0]),
+                            );
+                            let (y0, y1) = (
+                                co[0][1].min(co[1][1]).min(co[2][1]),
+                                co[0][1].max(co[1][1]).max(co[2][1]),
+                            );
+                            boxes
+                                .iter()
+                                .any(|b| x0 <= b[2] && x1 >= b[0] && y0 <= b[3] && y1 >= b[1])
+                        }
+                    };
+                }
+            } else {
+                let (plv, pn) = (&tin.levels[l - 1], &need[l - 1]);
+                for t in 0..plv.num_domain() {
+                    if pn[t] {
+                        for c in plv.child_start[t]..plv.child_start[t + 1] {
+                            nd[c as usize] = (c as usize) < n;
+                        }
+                    }
+                }
+            }
+            need.push(nd);
+        }
         let zscale = tin.bbox.max_z.abs().max(tin.bbox.min_z.abs()).max(1.0);
         for l in (0..level).rev() {
             let lv = &tin.levels[l];
             let mut b = vec![0.0f64; lv.num_triangles()];
             for (t, bt) in b.iter_mut().enumerate().take(lv.num_domain()) {
+                if !need[l][t] {
+                    *bt = f64::INFINITY;
+                    continue;
+                }
                 ticker.tick()?;
                 let co = tin.corners(l, t as u32);
                 let (c0, c1) = (lv.child_start[t], lv.child_start[t + 1]);

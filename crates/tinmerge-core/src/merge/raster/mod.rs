@@ -384,7 +384,13 @@ impl<'a, L: RasterLevel> Events<'a, L> {
             let ylo = cs[0][1].min(cs[1][1]).min(cs[2][1]);
             let yhi = cs[0][1].max(cs[1][1]).max(cs[2][1]);
             let (r0, r1) = g.ys.range(ylo, yhi);
-            if r0 < r1 {
+            // a triangle whose x range holds no column's centre owns no
+            // pixel: left out, so a window of a large level sweeps only the
+            // triangles over it, not its whole band of rows
+            let xlo = cs[0][0].min(cs[1][0]).min(cs[2][0]);
+            let xhi = cs[0][0].max(cs[1][0]).max(cs[2][0]);
+            let (c0, c1) = g.xs.range(xlo, xhi);
+            if r0 < r1 && c0 < c1 {
                 first[r0] += 1;
                 span_of.push((t, r0 as u32, r1 as u32));
             }
