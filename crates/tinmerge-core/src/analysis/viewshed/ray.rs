@@ -58,11 +58,10 @@ impl Bounds {
                 }
             } else {
                 let (plv, pn) = (&tin.levels[l - 1], &need[l - 1]);
-                for t in 0..plv.num_domain() {
-                    if pn[t] {
-                        for c in plv.child_start[t]..plv.child_start[t + 1] {
-                            nd[c as usize] = (c as usize) < n;
-                        }
+                let needed = pn.iter().enumerate().take(plv.num_domain());
+                for (t, _) in needed.filter(|p| *p.1) {
+                    for c in plv.child_start[t]..plv.child_start[t + 1] {
+                        nd[c as usize] = (c as usize) < n;
                     }
                 }
             }
