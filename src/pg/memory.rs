@@ -76,17 +76,58 @@ pub fn reserve(bytes: usize, what: impl FnOnce() -> String) {
     }
 }
 
+/// Private resident bytes of the backend that are not the current call's
+/// work, taken when the work's heap first passes a quarter of the limit
+/// (usize::MAX: not taken since the heap was last below it).
+static BESIDE: AtomicUsize = AtomicUsize::new(usize::MAX);
+
 /// The running check (from every interrupt check): Err once the work of
-/// this call has passed the limit.
+/// this call has passed the limit. The backend holds more than the counted
+/// heap: what the allocator keeps of freed memory (a white-noise build's
+/// resident memory was up to 1.66x its live heap), PostgreSQL's own memory,
+/// and what is allocated between two checks. So once the heap is past a
+/// quarter of the limit, the check also reads the process's private
+/// resident memory and stops the call when its growth (past what the
+/// backend held beside the work, [`BESIDE`]) passes seven eighths of the
+/// limit: the last eighth is for what grows between two checks.
 pub fn check() -> Result<(), TinError> {
     let Some(limit) = limit() else { return Ok(()) };
     let used = working();
+    let resident = if used > limit / 4 {
+        memory::private_resident().and_then(|r| {
+            // what the backend held beside this work when the heap first
+            // passed a quarter of the limit (PostgreSQL's own memory, the
+            // cached values): the call's part is what grew past it
+            let base = match BESIDE.load(Relaxed) {
+                usize::MAX => {
+                    let b = r.saturating_sub(used);
+                    BESIDE.store(b, Relaxed);
+                    b
+                }
+                b => b,
+            };
+            Some(r.saturating_sub(base)).filter(|&r| r > limit / 8 * 7)
+        })
+    } else {
+        BESIDE.store(usize::MAX, Relaxed);
+        None
+    };
+    let raise_to = |b: usize| mb(b.saturating_mul(2)).next_multiple_of(64);
     if used > limit {
         return Err(TinError::MemoryLimit(format!(
             "this call has used {} MB, more than tinmerge.max_memory ({} MB) allows; raise it (SET tinmerge.max_memory = '{}MB') or use a coarser level",
             mb(used),
             mb(limit),
-            mb(used.saturating_mul(2)).next_multiple_of(64)
+            raise_to(used)
+        )));
+    }
+    if let Some(r) = resident {
+        return Err(TinError::MemoryLimit(format!(
+            "this call has used {} MB of heap and grown the backend by {} MB (private resident memory), past seven eighths of tinmerge.max_memory ({} MB); raise it (SET tinmerge.max_memory = '{}MB') or use a coarser level",
+            mb(used),
+            mb(r),
+            mb(limit),
+            raise_to(r)
         )));
     }
     Ok(())

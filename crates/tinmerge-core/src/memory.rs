@@ -140,6 +140,21 @@ pub fn peak() -> usize {
     PEAK.load(Relaxed)
 }
 
+/// This process's private resident memory in bytes (resident minus shared
+/// pages, `/proc/self/statm`): the heap with what the allocator holds
+/// beside it, without the shared buffers and files a PostgreSQL backend
+/// maps. None where there is no `/proc`.
+pub fn private_resident() -> Option<usize> {
+    let s = std::fs::read_to_string("/proc/self/statm").ok()?;
+    let mut f = s.split_ascii_whitespace().skip(1);
+    let resident: usize = f.next()?.parse().ok()?;
+    let shared: usize = f.next()?.parse().ok()?;
+    // SAFETY: sysconf reads a constant of the system.
+    let page = unsafe { libc::sysconf(libc::_SC_PAGESIZE) };
+    let page = usize::try_from(page).ok().filter(|&p| p > 0)?;
+    Some(resident.saturating_sub(shared).saturating_mul(page))
+}
+
 /// Start measuring a new peak from the current [`live`].
 pub fn reset_peak() {
     PEAK.store(live(), Relaxed);

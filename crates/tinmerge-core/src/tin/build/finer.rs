@@ -63,6 +63,9 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
             return Err(TinError::Degenerate("internal: no level to refine".into()));
         };
         let level = Parents::new(spec, prev, &numbering, tol)?;
+        // the memory limit sees what the level set up, and what merging
+        // its children adds, as it grows
+        interrupt()?;
         let mut out = Children::default();
         let all: Vec<usize> = (0..prev.tris.len()).collect();
         if spec.reference.is_none() {
@@ -73,7 +76,12 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                 Ok(())
             })?;
         } else {
-            for o in level.refine_forced(spec.border.get(li), interrupt)? {
+            let outs = level.refine_forced(spec.border.get(li), interrupt)?;
+            for (i, o) in outs.into_iter().enumerate() {
+                // (a parent's children are up to thousands of triangles)
+                if i % 64 == 63 {
+                    interrupt()?;
+                }
                 numbering.merge(spec.src, o, &mut out);
             }
         }
@@ -435,6 +443,9 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
         }
         let all: Vec<usize> = (0..self.prev.len()).collect();
         let mut outs: Vec<ParentOut> = Vec::with_capacity(self.prev.len());
+        // (counted as soon as it is reserved, before it is written: the
+        // memory limit refuses it here)
+        interrupt()?;
         // which parents are refined as a last resort
         let mut resort = vec![false; self.prev.len()];
         self.run(&all, &forced, &resort, interrupt, &mut |o| {

@@ -1,0 +1,7 @@
+-- tinmerge 0.20.0 -> 0.20.1. No catalog change; stored values read as
+-- before. tinmerge.max_memory's running check also reads the backend's
+-- private resident memory once a call's heap is past a quarter of the
+-- limit, and stops the call when that has grown past seven eighths of the
+-- limit: the backend's peak now stays within the limit (0.20.0 let it pass
+-- by up to a third). Calls near the limit may now be stopped where 0.20.0
+-- finished them; raise tinmerge.max_memory for those (docs/upgrading.md).
