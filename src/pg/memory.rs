@@ -1,10 +1,12 @@
-//! `tinmerge.max_memory`: the most Rust heap one call may use, in MB
-//! (-1: no limit). Requests whose size is known up front (a build from N
-//! samples, decoding a stored value, reading a raster band, an overlay's
-//! least output) are refused before they allocate; the rest (output that
-//! grows with the data, such as an overlay's crossings) is checked at every
-//! interrupt check. Decoded values kept by the per-backend cache are bounded
-//! by `tinmerge.cache_size` instead and do not count.
+//! `tinmerge.max_memory`: the most memory one call may use, in MB (-1: no
+//! limit). Requests whose size is known up front (a build from N samples,
+//! decoding a stored value, reading a raster band, an overlay's least
+//! output) are refused before they allocate; the rest (output that grows
+//! with the data, such as an overlay's crossings) is checked at every
+//! interrupt check, by the Rust heap and, for large calls, by the
+//! backend's private resident memory ([`check`]). Decoded values kept by
+//! the per-backend cache are bounded by `tinmerge.cache_size` instead and
+//! do not count.
 
 use pgrx::prelude::*;
 use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
@@ -21,7 +23,7 @@ pub fn define_guc() {
     GucRegistry::define_int_guc(
         c"tinmerge.max_memory",
         c"Most memory (MB) one tinmerge call may use for its work; -1 means no limit.",
-        c"A build, merge or decode that would need more raises an ERROR (SQLSTATE 53400) before allocating, or as soon as its growing output passes the limit. Decoded values in the cache are bounded by tinmerge.cache_size instead.",
+        c"A build, merge or decode that would need more raises an ERROR (SQLSTATE 53400) before allocating, or as soon as its growing output passes the limit or the backend's private resident memory grows past seven eighths of it. Decoded values in the cache are bounded by tinmerge.cache_size instead.",
         &MAX_MEMORY_MB,
         -1,
         i32::MAX,
