@@ -33,6 +33,9 @@ q -d $db -c "SELECT setseed(0.25)" -c "CREATE TABLE noise AS SELECT ST_SetValues
     1, 1, 1, (SELECT array_agg(v ORDER BY r) FROM (SELECT r, array_agg(300 + 50 * random() ORDER BY c) AS v
               FROM generate_series(1, 1000) r, generate_series(1, 1000) c GROUP BY r) s)) AS rast"
 
+# a small build: two levels of a 100 x 100 window of the noise
+small='tin_num_levels(tin_from_raster(ST_Clip(rast, ST_MakeEnvelope(700000, 4059800, 700200, 4060000, 32616)), 5.0, 2)) FROM noise'
+
 # one session: the backend's VmHWM before, the query, VmHWM after, then
 # what follows in the same session (kB; psql's \! runs on this machine,
 # where the server is)
@@ -42,7 +45,7 @@ session() {
 SELECT pg_backend_pid() AS pid \\gset
 -- the libraries loaded (tinmerge, PostGIS, GDAL, PROJ: their pages are
 -- resident once used) before the peak is read
-SELECT tin_num_levels(tin_from_raster(ST_Clip(rast, ST_MakeEnvelope(700000, 4059800, 700200, 4060000, 32616)), 5.0, 2)) FROM noise \\g /dev/null
+SELECT $small \\g /dev/null
 \\setenv BPID :pid
 \\! echo "before \$(grep VmHWM /proc/\$BPID/status | tr -s ' \t' ' ' | cut -d' ' -f2)"
 $sql
@@ -64,7 +67,7 @@ echo "-- white noise past a 256 MB limit"
 out=$(session "SET tinmerge.max_memory = '256MB';
 \\set VERBOSITY verbose
 SELECT tin_num_vertices(tin_from_raster(rast, 2.0, 5)) FROM noise;" \
-    "SELECT 'again', tin_num_levels(tin_from_raster(ST_Clip(rast, ST_MakeEnvelope(700000, 4059800, 700200, 4060000, 32616)), 5.0, 2)) FROM noise;")
+    "SELECT 'again', $small;")
 echo "$out"
 grep -Eq 'ERROR:  53400: this call has used [0-9]+ MB (of heap and grown the backend by [0-9]+ MB .private resident memory., past seven eighths of|, more than) tinmerge.max_memory .256 MB.' <<<"$out" \
     || { echo "FAIL: the noise build was not stopped by the running check"; exit 1; }

@@ -95,25 +95,6 @@ static BESIDE: AtomicUsize = AtomicUsize::new(usize::MAX);
 pub fn check() -> Result<(), TinError> {
     let Some(limit) = limit() else { return Ok(()) };
     let used = working();
-    let resident = if used > limit / 4 {
-        memory::private_resident().and_then(|r| {
-            // what the backend held beside this work when the heap first
-            // passed a quarter of the limit (PostgreSQL's own memory, the
-            // cached values): the call's part is what grew past it
-            let base = match BESIDE.load(Relaxed) {
-                usize::MAX => {
-                    let b = r.saturating_sub(used);
-                    BESIDE.store(b, Relaxed);
-                    b
-                }
-                b => b,
-            };
-            Some(r.saturating_sub(base)).filter(|&r| r > limit / 8 * 7)
-        })
-    } else {
-        BESIDE.store(usize::MAX, Relaxed);
-        None
-    };
     let raise_to = |b: usize| mb(b.saturating_mul(2)).next_multiple_of(64);
     if used > limit {
         return Err(TinError::MemoryLimit(format!(
@@ -123,13 +104,32 @@ pub fn check() -> Result<(), TinError> {
             raise_to(used)
         )));
     }
-    if let Some(r) = resident {
+    if used <= limit / 4 {
+        BESIDE.store(usize::MAX, Relaxed);
+        return Ok(());
+    }
+    let Some(resident) = memory::private_resident() else {
+        return Ok(());
+    };
+    // what the backend held beside this work when the heap first passed a
+    // quarter of the limit (PostgreSQL's own memory, the cached values):
+    // the call's part is what grew past it
+    let base = match BESIDE.load(Relaxed) {
+        usize::MAX => {
+            let b = resident.saturating_sub(used);
+            BESIDE.store(b, Relaxed);
+            b
+        }
+        b => b,
+    };
+    let grown = resident.saturating_sub(base);
+    if grown > limit / 8 * 7 {
         return Err(TinError::MemoryLimit(format!(
             "this call has used {} MB of heap and grown the backend by {} MB (private resident memory), past seven eighths of tinmerge.max_memory ({} MB); raise it (SET tinmerge.max_memory = '{}MB') or use a coarser level",
             mb(used),
-            mb(r),
+            mb(grown),
             mb(limit),
-            raise_to(r)
+            raise_to(grown)
         )));
     }
     Ok(())
