@@ -45,6 +45,11 @@ struct TableTiles {
     asked: Vec<tinmerge_core::tin::tiles::Wanted>,
     round: usize,
     planning: bool,
+    /// The rows of tiles returned (the slice's own, `slice_rows`) and
+    /// the rows planned with (theirs and the halo): the tiles outside
+    /// `plan` are left out as if the table had none there.
+    own: std::ops::Range<usize>,
+    plan: std::ops::Range<usize>,
 }
 
 /// The table's name as a `FROM` item and the raster column quoted, after
@@ -123,12 +128,25 @@ fn tile_headers(from: &str, quoted: &str, band: i32) -> (Vec<String>, Vec<TileSi
 }
 
 impl TableTiles {
-    fn open(tab: pg_sys::Oid, column: &str, tolerance: f64, levels: i32, band: i32) -> TableTiles {
-        use tinmerge_core::tin::tiles::place_tiles;
+    fn open(
+        tab: pg_sys::Oid,
+        column: &str,
+        tolerance: f64,
+        levels: i32,
+        band: i32,
+        (slice, slices): (i32, i32),
+    ) -> TableTiles {
+        use tinmerge_core::tin::tiles::{place_tiles, slice_rows};
         if band < 1 {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
                 format!("tin_tiles_from_table: band must be 1 or more (bands are numbered from 1), got {band}"),
+            );
+        }
+        if slices < 1 || !(0..slices).contains(&slice) {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                format!("tin_tiles_from_table: slice must be from 0 to slices - 1 and slices at least 1, got slice {slice} of {slices}"),
             );
         }
         let tols = default_tolerances(tolerance, levels).or_raise();
@@ -165,13 +183,14 @@ impl TableTiles {
                 )
             })
         };
-        let mut order: Vec<usize> = (0..grid.tiles.len()).collect();
+        let (own, plan) = slice_rows(grid.counts().1, slice as usize, slices as usize);
+        let mut order: Vec<usize> = (0..grid.tiles.len())
+            .filter(|&k| plan.contains(&grid.tiles[k].ty))
+            .collect();
         order.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
-        let at = grid
-            .tiles
+        let at = order
             .iter()
-            .enumerate()
-            .map(|(k, p)| ((p.tx, p.ty), k))
+            .map(|&k| ((grid.tiles[k].tx, grid.tiles[k].ty), k))
             .collect();
         super::threads::apply();
         TableTiles {
@@ -191,6 +210,8 @@ impl TableTiles {
             asked: Vec::new(),
             round: 0,
             planning: true,
+            own,
+            plan,
         }
     }
 
@@ -214,8 +235,11 @@ impl TableTiles {
         self.round += 1;
         let grid = &self.grid;
         if again.is_empty() || self.round >= SEAM_ROUNDS {
+            // the tiles to return: the slice's own rows
             self.planning = false;
-            again = (0..grid.tiles.len()).collect();
+            again = (0..grid.tiles.len())
+                .filter(|&k| self.own.contains(&grid.tiles[k].ty))
+                .collect();
         }
         again.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
         again.dedup();
@@ -231,7 +255,10 @@ impl TableTiles {
         self.loaded
             .retain(|&k, _| grid.tiles[k].ty >= *rows.start());
         let want: Vec<usize> = (0..grid.tiles.len())
-            .filter(|&k| rows.contains(&grid.tiles[k].ty) && !self.loaded.contains_key(&k))
+            .filter(|&k| {
+                let ty = grid.tiles[k].ty;
+                rows.contains(&ty) && self.plan.contains(&ty) && !self.loaded.contains_key(&k)
+            })
             .collect();
         if want.is_empty() {
             return;
@@ -407,8 +434,9 @@ impl Iterator for TableTiles {
     }
 }
 
-/// `tin_tiles_from_table(tiles regclass, tolerance, levels, rast_column, band)`:
-/// every raster tile of a table built as a tin with its neighbours' border
+/// `tin_tiles_from_table(tiles regclass, tolerance, levels, rast_column, band,
+/// slice, slices)`: every raster tile of a table (of slice `slice` of
+/// `slices`: its rows of tiles) built as a tin with its neighbours' border
 /// pixels (the SQL wrapper passes the table's OID and the column's name).
 #[pg_extern(stable, strict, parallel_restricted, cost = 100000, requires = ["tin_type"])]
 fn _tin_tiles_table(
@@ -417,14 +445,23 @@ fn _tin_tiles_table(
     tolerance: f64,
     levels: i32,
     band: i32,
+    slice: i32,
+    slices: i32,
 ) -> TableIterator<'static, (name!(tx, i32), name!(ty, i32), name!(t, TinOut))> {
-    TableIterator::new(TableTiles::open(tab, column, tolerance, levels, band))
+    TableIterator::new(TableTiles::open(
+        tab,
+        column,
+        tolerance,
+        levels,
+        band,
+        (slice, slices),
+    ))
 }
 
 extension_sql!(
     r#"
-ALTER FUNCTION _tin_tiles_table(oid, text, float8, int, int) ROWS 100;
-COMMENT ON FUNCTION _tin_tiles_table(oid, text, float8, int, int) IS 'Internal: use tin_tiles_from_table(regclass, float8, int, name, int).';
+ALTER FUNCTION _tin_tiles_table(oid, text, float8, int, int, int, int) ROWS 100;
+COMMENT ON FUNCTION _tin_tiles_table(oid, text, float8, int, int, int, int) IS 'Internal: use tin_tiles_from_table(regclass, float8, int, name, int, int, int).';
 "#,
     name = "tin_tiles_table_sql",
     requires = [_tin_tiles_table]

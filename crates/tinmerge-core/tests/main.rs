@@ -24,6 +24,7 @@ mod raster;
 mod rasterize;
 mod render;
 mod sliced;
+mod slices;
 mod storage;
 mod surface;
 mod tiles;

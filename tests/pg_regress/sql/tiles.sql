@@ -330,6 +330,21 @@ UNION ALL
 SELECT 'geographic', count(*), count(w.t), count(*) FILTER (WHERE f.t::text = w.t::text)
 FROM tin_tiles_from_table('geo_cut', 4.0, 2) f
 LEFT JOIN (SELECT w.* FROM dem_geo, tin_tiles(rast, 90, 4.0, 2) w) w USING (tx, ty);
+-- slices (0.21.0): the DEM in 8 x 8 tiles (43 x 46, nodata corners) built
+-- whole and as three slices of tile rows, each planned with its halo: every
+-- tile once, byte for byte the whole build's
+CREATE TEMP TABLE dem_cut8 AS SELECT t AS rast FROM dem, ST_Tile(rast, 8, 8) t;
+CREATE TEMP TABLE whole8 AS SELECT * FROM tin_tiles_from_table('dem_cut8', 4.0, 2);
+CREATE TEMP TABLE sliced8 AS
+SELECT k, f.* FROM generate_series(0, 2) k, tin_tiles_from_table('dem_cut8', 4.0, 2, slice => k, slices => 3) f;
+SELECT (SELECT count(*) FROM whole8) AS tiles, count(*) AS sliced, count(DISTINCT (tx, ty)) AS distinct_tiles,
+       count(*) FILTER (WHERE s.t::text = w.t::text) AS same_bytes,
+       array_agg(DISTINCT k ORDER BY k) AS slices_with_tiles,
+       bool_and(s.ty >= k * 46 / 3 AND s.ty < (k + 1) * 46 / 3) AS rows_of_their_slice
+FROM sliced8 s LEFT JOIN whole8 w USING (tx, ty);
+SELECT count(*) FROM tin_tiles_from_table('dem_cut8', 4.0, 2, slice => 3, slices => 3);
+SELECT count(*) FROM tin_tiles_from_table('dem_cut8', 4.0, 2, slice => 0, slices => 0);
+SELECT count(*) FROM tin_tiles_from_table('dem_cut8', 4.0, 2, slice => -1, slices => 2);
 -- a tile missing: every other tile is still built, its neighbours without
 -- its border pixels (the left neighbour's tin spans its own 64 columns,
 -- 63 pixels from first to last centre)

@@ -198,6 +198,40 @@ pub fn build_tiles<R: Send>(
 /// tile beside them asked for ([`build_tiles`]).
 pub const SEAM_ROUNDS: usize = 8;
 
+/// Rows of tiles above and below a slice that its build plans with
+/// ([`slice_rows`]).
+///
+/// A tile's build reads only the seam samples kept in its window (its own
+/// pixels and its neighbours' first column and row), and asks only for
+/// samples there; a sample there is held by the tile and by the one before
+/// it. So what a round keeps can differ from the whole table's only one row
+/// of tiles further in than the round before: a row missing beyond the
+/// halo's edge (a tile built without its neighbour, or a neighbour that
+/// never asks) reaches at most [`SEAM_ROUNDS`] rows in, plus the row whose
+/// first pixel row a tile of the slice holds. Two more rows than the rounds
+/// keep every tile of the slice, and every sample its window holds, as the
+/// whole table's build makes them, bit for bit.
+pub const SLICE_HALO: usize = SEAM_ROUNDS + 2;
+
+/// Slice `k` of `n` of a grid of `rows` rows of tiles: its own rows
+/// (`k * rows / n ..` up to the next slice's), which it returns, and the
+/// rows it plans the seams with (its own and [`SLICE_HALO`] more on each
+/// side, within the grid). The slices `0..n` hold every row once.
+///
+/// ```
+/// use tinmerge_core::tin::tiles::{slice_rows, SLICE_HALO};
+/// assert_eq!(slice_rows(100, 1, 4), (25..50, 25 - SLICE_HALO..50 + SLICE_HALO));
+/// assert_eq!(slice_rows(100, 0, 4).1, 0..25 + SLICE_HALO);
+/// assert_eq!(slice_rows(7, 3, 4).0, 5..7);
+/// ```
+pub fn slice_rows(rows: usize, k: usize, n: usize) -> (Range<usize>, Range<usize>) {
+    let n = n.max(1);
+    let k = k.min(n - 1);
+    let own = k * rows / n..(k + 1) * rows / n;
+    let plan = own.start.saturating_sub(SLICE_HALO)..(own.end + SLICE_HALO).min(rows);
+    (own, plan)
+}
+
 /// The tiles (columns, or rows) whose window holds pixel column (or row)
 /// `c` of `n` tiles of `tile_px` pixels: its own, and the one before when
 /// it is that tile's added first column.
