@@ -24,6 +24,7 @@ bench:
 	scripts/bench.sh
 	scripts/bench-joins.sh
 	scripts/bench-build.sh
+	scripts/bench-slices.sh
 	scripts/bench-big.sh
 
 clean:
