@@ -92,24 +92,9 @@ fn slices_of_a_table_build_the_whole_tables_tiles() {
         ("geographic", "jacksboro_fault_dem.tif", 0.00002, 4326),
     ] {
         let d = common::read_dem(file);
-        let lat = d.lattice();
         let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
         let tols = default_tolerances(tol, 3).unwrap();
-        let mut table: Vec<(Lattice, usize, usize, Vec<f64>)> = Vec::new();
-        for r0 in (0..d.height).step_by(n) {
-            for c0 in (0..d.width).step_by(n) {
-                let (w, h) = (n.min(d.width - c0), n.min(d.height - r0));
-                let own = Lattice {
-                    ip_x: lat.ip_x + c0 as f64 * lat.scale_x + r0 as f64 * lat.skew_x,
-                    ip_y: lat.ip_y + c0 as f64 * lat.skew_y + r0 as f64 * lat.scale_y,
-                    ..lat
-                };
-                let vals = (r0..r0 + h)
-                    .flat_map(|r| d.values[r * d.width + c0..r * d.width + c0 + w].to_vec())
-                    .collect();
-                table.push((own, w, h, vals));
-            }
-        }
+        let table = common::table_of(&d, n);
         let metas: Vec<(Lattice, usize, usize)> = table.iter().map(|t| (t.0, t.1, t.2)).collect();
         let grid = place_tiles(&metas).unwrap();
         let blocks: Vec<Block> = grid

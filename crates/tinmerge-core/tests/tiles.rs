@@ -382,21 +382,7 @@ fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
             .map(|(tx, ty, t)| (tx, ty, tinmerge_core::tin::layout::encode(&t)))
             .collect();
         // the table: (own lattice, width, height, values), shuffled
-        let mut table: Vec<(Lattice, usize, usize, Vec<f64>)> = Vec::new();
-        for r0 in (0..d.height).step_by(n) {
-            for c0 in (0..d.width).step_by(n) {
-                let (w, h) = (n.min(d.width - c0), n.min(d.height - r0));
-                let own = Lattice {
-                    ip_x: lat.ip_x + c0 as f64 * lat.scale_x + r0 as f64 * lat.skew_x,
-                    ip_y: lat.ip_y + c0 as f64 * lat.skew_y + r0 as f64 * lat.scale_y,
-                    ..lat
-                };
-                let vals = (r0..r0 + h)
-                    .flat_map(|r| d.values[r * d.width + c0..r * d.width + c0 + w].to_vec())
-                    .collect();
-                table.push((own, w, h, vals));
-            }
-        }
+        let mut table = common::table_of(&d, n);
         table.shuffle(&mut rand::rngs::StdRng::seed_from_u64(25));
         let metas: Vec<(Lattice, usize, usize)> = table.iter().map(|t| (t.0, t.1, t.2)).collect();
         let grid = place_tiles(&metas).unwrap();

@@ -249,6 +249,33 @@ pub fn data_tin(name: &str, srid: i32, tolerance: f64) -> tinmerge_core::tin::Ti
 /// A DEM cut into `n`-pixel tiles with `build_tiles` (each tile's tin with
 /// its neighbours' border samples, keep_border), as (tx, ty, tin) in the
 /// order built.
+/// The DEM cut as `raster2pgsql -t n x n` cuts it (row by row, each tile
+/// its own origin, the last column and row narrower): each tile's own
+/// lattice, width, height and values.
+#[allow(dead_code)]
+pub fn table_of(
+    d: &Dem,
+    n: usize,
+) -> Vec<(tinmerge_core::tin::lattice::Lattice, usize, usize, Vec<f64>)> {
+    let lat = d.lattice();
+    let mut table = Vec::new();
+    for r0 in (0..d.height).step_by(n) {
+        for c0 in (0..d.width).step_by(n) {
+            let (w, h) = (n.min(d.width - c0), n.min(d.height - r0));
+            let own = tinmerge_core::tin::lattice::Lattice {
+                ip_x: lat.ip_x + c0 as f64 * lat.scale_x + r0 as f64 * lat.skew_x,
+                ip_y: lat.ip_y + c0 as f64 * lat.skew_y + r0 as f64 * lat.scale_y,
+                ..lat
+            };
+            let vals = (r0..r0 + h)
+                .flat_map(|r| d.values[r * d.width + c0..r * d.width + c0 + w].to_vec())
+                .collect();
+            table.push((own, w, h, vals));
+        }
+    }
+    table
+}
+
 #[allow(dead_code)]
 pub fn tiles_of(
     d: &Dem,
