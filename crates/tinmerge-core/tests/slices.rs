@@ -7,82 +7,7 @@
 use crate::common;
 use tinmerge_core::tin::build::default_tolerances;
 use tinmerge_core::tin::lattice::Lattice;
-use tinmerge_core::tin::tiles::{
-    Block, SEAM_ROUNDS, SLICE_HALO, Seams, TableGrid, build_tile_kept, keep_border_samples,
-    place_tiles, slice_rows,
-};
-
-/// The planning rounds of `tin_tiles_from_table` over the tiles whose row
-/// is in `plan` (tiles outside are not there: as a table without them),
-/// then the encoded tins of the tiles in `own` rows, by (tx, ty).
-fn build_rows(
-    grid: &TableGrid,
-    blocks: &[Block],
-    tols: &[f64],
-    srid: i32,
-    plan: std::ops::Range<usize>,
-    own: std::ops::Range<usize>,
-) -> Vec<((usize, usize), Vec<u8>)> {
-    let local: Vec<usize> = (0..blocks.len())
-        .filter(|&k| plan.contains(&blocks[k].place.ty))
-        .collect();
-    let index: std::collections::HashMap<(usize, usize), usize> = local
-        .iter()
-        .map(|&k| ((blocks[k].place.tx, blocks[k].place.ty), k))
-        .collect();
-    let at = |tx: usize, ty: usize| index.get(&(tx, ty)).map(|&k| &blocks[k]);
-    let build = |k: usize, seams: &Seams| {
-        let b = &blocks[k];
-        let (tx, ty, p) = (b.place.tx, b.place.ty, b.place);
-        let s = keep_border_samples(b, at(tx + 1, ty), at(tx, ty + 1), at(tx + 1, ty + 1));
-        let keep = seams.border(
-            p.col..p.col + p.width as i64 + 1,
-            p.row..p.row + p.height as i64 + 1,
-        );
-        build_tile_kept(
-            s,
-            &grid.lattice,
-            (p.col, p.row),
-            tols,
-            srid,
-            &keep,
-            &mut || Ok(()),
-        )
-        .unwrap()
-    };
-    let mut seams = Seams::default();
-    let mut todo = local.clone();
-    for _ in 0..SEAM_ROUNDS {
-        let asked: Vec<_> = todo
-            .iter()
-            .filter_map(|&k| build(k, &seams).map(|(_, w)| w))
-            .collect();
-        let mut again: Vec<usize> = Vec::new();
-        for w in &asked {
-            for (c, r) in seams.add(w) {
-                for t in grid.tiles_holding(c, r) {
-                    again.extend(index.get(&t).copied());
-                }
-            }
-        }
-        again.sort_by_key(|&k| (blocks[k].place.ty, blocks[k].place.tx));
-        again.dedup();
-        if again.is_empty() {
-            break;
-        }
-        todo = again;
-    }
-    let mut out: Vec<((usize, usize), Vec<u8>)> = local
-        .iter()
-        .filter(|&&k| own.contains(&blocks[k].place.ty))
-        .filter_map(|&k| {
-            let p = blocks[k].place;
-            build(k, &seams).map(|(t, _)| ((p.tx, p.ty), tinmerge_core::tin::layout::encode(&t)))
-        })
-        .collect();
-    out.sort_by_key(|o| o.0);
-    out
-}
+use tinmerge_core::tin::tiles::{Block, SLICE_HALO, place_tiles, slice_rows};
 
 #[test]
 fn slices_of_a_table_build_the_whole_tables_tiles() {
@@ -108,14 +33,28 @@ fn slices_of_a_table_build_the_whole_tables_tiles() {
             })
             .collect();
         let rows = grid.counts().1;
-        let whole = build_rows(&grid, &blocks, &tols, srid, 0..rows, 0..rows);
+        let whole = common::table_build(&grid, &blocks, &tols, srid, 0..rows, 0..rows);
         let slices = 4;
         let (mut sliced, mut unhaloed) = (Vec::new(), Vec::new());
         for k in 0..slices {
             let (own, plan) = slice_rows(rows, k, slices);
             assert!(plan.start + SLICE_HALO <= own.start || plan.start == 0);
-            sliced.extend(build_rows(&grid, &blocks, &tols, srid, plan, own.clone()));
-            unhaloed.extend(build_rows(&grid, &blocks, &tols, srid, own.clone(), own));
+            sliced.extend(common::table_build(
+                &grid,
+                &blocks,
+                &tols,
+                srid,
+                plan,
+                own.clone(),
+            ));
+            unhaloed.extend(common::table_build(
+                &grid,
+                &blocks,
+                &tols,
+                srid,
+                own.clone(),
+                own,
+            ));
         }
         sliced.sort_by_key(|o| o.0);
         unhaloed.sort_by_key(|o| o.0);
