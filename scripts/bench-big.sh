@@ -16,9 +16,21 @@
 # planar length; and (TINMERGE_BIG_WHOLE=1, the test-sized run) the tiles
 # are bit for bit those tin_tiles builds from the raster as one value.
 #
+# With TINMERGE_BIG_SLICES=N it also builds the tiles again in N slices on N
+# backends at once (slice => k, slices => N; one thread each, the default
+# tinmerge.max_memory), reports each backend's peak memory and checks that
+# the slices' tiles are byte for byte the one-backend build's. With
+# TINMERGE_BIG_SERVE=1 it times one quantized-mesh tile at the terrain's
+# centre at zoom 0, 8 and the finest, through the index of docs/serving.md,
+# with the number of tins each reads.
+#
 # usage: scripts/bench-big.sh [FACTOR [POINTS LINES POLYGONS]]
-#   make bench:  FACTOR 29, 1,000,000 points, 1,000 lines, 1,000 polygons
-#   make test:   tests/big.sh runs FACTOR 6 (4.5 million pixels), fewer features
+#   make bench:  FACTOR 29, 1,000,000 points, 1,000 lines, 1,000 polygons;
+#                scripts/bench-giga.sh: FACTOR 89 (a billion pixels), with
+#                slices and serving
+#   make test:   tests/big.sh runs FACTOR 6 (4.5 million pixels), fewer
+#                features, with serving (the slices are checked by
+#                pg_regress tiles)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 FACTOR="${1:-29}"
@@ -40,7 +52,13 @@ dir=target/big
 mkdir -p "$dir"
 echo "== the DEM: the bundled one x$FACTOR with fractal detail (scripts/make-big-dem.py)"
 t0=$(date +%s.%N)
-scripts/python.sh scripts/make-big-dem.py "$FACTOR" "$dir/dem$FACTOR.vrt"
+# TINMERGE_BIG_REUSE=1: keep a DEM made before (the VRT is written after the
+# raw rows, so a VRT newer than them marks a finished one)
+if [ "${TINMERGE_BIG_REUSE:-0}" = 1 ] && [ "$dir/dem$FACTOR.vrt" -nt "$dir/dem$FACTOR.raw" ]; then
+  echo "(the DEM made before, reused: make_s is 0)"
+else
+  scripts/python.sh scripts/make-big-dem.py "$FACTOR" "$dir/dem$FACTOR.vrt"
+fi
 t1=$(date +%s.%N)
 raster2pgsql -s 32616 -N -9999 -t ${TILE}x${TILE} -I -Y "$dir/dem$FACTOR.vrt" public.big_tiles 2>/dev/null \
   | scripts/cluster.sh psql -q -d "$DB" >/dev/null
@@ -87,6 +105,38 @@ SELECT 'build memory' AS what,
        CASE WHEN $peak < 0 THEN NULL ELSE round($peak::numeric / $valid, 2) END AS bytes_per_sample_of_raster,
        round($hwm / 1024.0, 1) AS backend_peak_rss_mb;
 SQL
+
+if [ "${TINMERGE_BIG_SLICES:-0}" -gt 0 ]; then
+  N=$TINMERGE_BIG_SLICES
+  echo "== build in $N slices at once, one backend each (tin_tiles_from_table(..., slice => k, slices => $N), tinmerge.threads = 1, default tinmerge.max_memory)"
+  pids=()
+  s0=$(date +%s.%N)
+  for k in $(seq 0 $((N - 1))); do
+    q -c "DROP TABLE IF EXISTS big_slice_$k" \
+      -c "SET tinmerge.threads = 1" \
+      -c "CREATE TABLE big_slice_$k AS SELECT tx, ty, t FROM tin_tiles_from_table('big_tiles', $TOL, $LEVELS, slice => $k, slices => $N)" \
+      -c "SELECT extract(epoch FROM clock_timestamp()), (regexp_match(pg_read_file('/proc/self/status'), 'VmHWM:\s+(\d+) kB'))[1]" \
+      > "$dir/slice$k.txt" &
+    pids+=($!)
+  done
+  for p in "${pids[@]}"; do wait "$p"; done
+  slices_sql=$(for k in $(seq 0 $((N - 1))); do
+    read -r end hwm_k <<<"$(tr '|' ' ' < "$dir/slice$k.txt")"
+    echo "SELECT $k AS k, $end - $s0 AS s, $hwm_k AS hwm UNION ALL"
+  done)
+  q -F ' | ' <<SQL
+SELECT 'slices' AS what, $N AS backends, round(max(s)::numeric, 1) AS wall_s,
+       string_agg(round(s::numeric, 1)::text, ', ' ORDER BY k) AS each_s,
+       string_agg(round(hwm / 1024.0, 1)::text, ', ' ORDER BY k) AS backend_peak_rss_mb
+FROM ($slices_sql SELECT NULL, NULL, NULL) s WHERE k IS NOT NULL;
+CREATE TABLE big_sliced AS $(for k in $(seq 0 $((N - 1))); do echo "SELECT * FROM big_slice_$k UNION ALL"; done) SELECT * FROM big_slice_0 WHERE false;
+CREATE TABLE slice_check AS
+SELECT count(*) AS tiles, count(a.t) AS one_backend, count(b.t) AS sliced,
+       count(*) FILTER (WHERE a.t::text = b.t::text) AS same_bytes
+FROM big_tins a FULL JOIN big_sliced b USING (tx, ty);
+SELECT 'slices = one backend' AS check, * FROM slice_check;
+SQL
+fi
 
 echo "== features: $NPTS random points, $NLINES lines of 1 km, $NPOLYS polygons (circles of 100 m radius) and $((NPOLYS / 10)) of 1 km², seeded"
 q <<SQL
@@ -206,10 +256,28 @@ SELECT 'lines: planar length of the pieces = ST_Length inside the domains' AS ch
        count(*) FILTER (WHERE len2d < 999.999) AS through_nodata, count(*) FILTER (WHERE differ) AS differ
 FROM line_check;
 SQL
+if [ "${TINMERGE_BIG_SERVE:-0}" = 1 ]; then
+  echo "== serving: one quantized-mesh tile at the terrain's centre at zoom 0, 8 and the finest, through the index of docs/serving.md (cold | warm median, ms)"
+  q -c "CREATE INDEX big_tins_deg ON big_tins USING gist (ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326)); ANALYZE big_tins"
+  read -r lon lat top <<<"$(q -F ' ' -c "SELECT ST_X(c), ST_Y(c), (tin_quantized_mesh_layer(array_agg(t))::json ->> 'maxzoom')::int FROM big_tins, (SELECT ST_Transform(ST_SetSRID(ST_Centroid(ST_Extent(tin_envelope(t))), 32616), 4326) c FROM big_tins) s GROUP BY c")"
+  for z in 0 8 "$top"; do
+    read -r x y <<<"$(q -F ' ' -c "SELECT floor(($lon + 180) / (180 / 2 ^ $z))::int, floor(($lat + 90) / (180 / 2 ^ $z))::int")"
+    env="ST_MakeEnvelope(-180 + $x * 180 / 2 ^ $z, -90 + $y * 180 / 2 ^ $z, -180 + ($x + 1) * 180 / 2 ^ $z, -90 + ($y + 1) * 180 / 2 ^ $z, 4326)"
+    tile="SELECT tin_quantized_mesh(array_agg(t), $z, $x, $y) AS m FROM big_tins WHERE ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326) && $env"
+    scripts/cluster.sh psql -qAt -F ' | ' -d "$DB" \
+      -c "SET client_min_messages = warning" \
+      -c "CREATE TEMP TABLE r AS SELECT median_ms AS cold FROM bench('', \$q\$SELECT length(m) FROM ($tile) s\$q\$, 1)" \
+      -c "SELECT 'zoom $z tile $x/$y' AS tile, (SELECT count(*) FROM big_tins WHERE ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326) && $env) AS tins_read,
+                 (SELECT length(m) FROM ($tile) s) AS bytes, (SELECT cold FROM r) AS cold_ms, median_ms AS warm_ms
+          FROM bench('', \$q\$SELECT length(m) FROM ($tile) s\$q\$, 3)" \
+      -c "SELECT 'backend peak RSS after the tiles, MB', round((regexp_match(pg_read_file('/proc/self/status'), 'VmHWM:\s+(\d+) kB'))[1]::numeric / 1024, 1)"
+  done
+fi
 fail=$(q <<SQL
 SELECT (SELECT count(*) FROM centre_check WHERE unanswered OR beyond IS NOT FALSE)
      + (SELECT count(*) FROM seam_check WHERE disagree)
-     + (SELECT count(*) FROM line_check WHERE differ) + (SELECT CASE WHEN count(*) = $NLINES THEN 0 ELSE 1 END FROM line_check)
+     + (SELECT count(*) FROM line_check WHERE differ)
+     + $( [ "${TINMERGE_BIG_SLICES:-0}" -gt 0 ] && echo "(SELECT tiles - same_bytes + CASE WHEN tiles = one_backend AND tiles = sliced THEN 0 ELSE 1 END FROM slice_check)" || echo 0) + (SELECT CASE WHEN count(*) = $NLINES THEN 0 ELSE 1 END FROM line_check)
      + (SELECT CASE WHEN count(*) FILTER (WHERE tiles >= 2) = 0 OR (SELECT count(*) FROM centre_check) = 0 THEN 1 ELSE 0 END FROM seam_check);
 SQL
 )

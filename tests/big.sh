@@ -9,4 +9,4 @@
 # are not checked. Needs the running test cluster and the installed extension.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-TINMERGE_BIG_WHOLE=1 scripts/bench-big.sh 6 20000 50 50
+TINMERGE_BIG_WHOLE=1 TINMERGE_BIG_SERVE=1 scripts/bench-big.sh 6 20000 50 50
