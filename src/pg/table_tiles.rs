@@ -28,7 +28,12 @@ struct TableTiles {
     tols: Vec<f64>,
     srid: i32,
     grid: tinmerge_core::tin::tiles::TableGrid,
+    /// Each tile's `ctid` (when `by_ctid`), lattice and size, and how
+    /// messages name it (its `ctid`, or its upper-left corner).
     ctids: Vec<String>,
+    by_ctid: bool,
+    metas: Vec<TileSize>,
+    names: Vec<String>,
     /// Tiles in (ty, tx) order, and the next to build.
     order: Vec<usize>,
     next: usize,
@@ -53,12 +58,17 @@ struct TableTiles {
 }
 
 /// The table's name as a `FROM` item and the raster column quoted, after
-/// checking that the column exists and is a raster.
-fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String) {
-    let (from, quoted, is_raster) = Spi::connect(|c| {
+/// checking that the column exists and is a raster; and whether its rows
+/// can be read again by `ctid` (a table or materialized view without
+/// children: a `ctid` names one row). Partitioned tables, tables with
+/// inheritance children, foreign tables and views are read by place
+/// instead ([`TableTiles::load_rows`]): their `ctid`s repeat between
+/// partitions, or they have none.
+fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String, bool) {
+    let (from, quoted, is_raster, by_ctid) = Spi::connect(|c| {
         let r = c
             .select(
-                "SELECT $1::regclass::text, quote_ident($2), (SELECT a.atttypid = 'raster'::regtype FROM pg_attribute a WHERE a.attrelid = $1 AND a.attname = $2 AND a.attnum > 0 AND NOT a.attisdropped)",
+                "SELECT $1::regclass::text, quote_ident($2), (SELECT a.atttypid = 'raster'::regtype FROM pg_attribute a WHERE a.attrelid = $1 AND a.attname = $2 AND a.attnum > 0 AND NOT a.attisdropped), (SELECT k.relkind IN ('r', 'm') AND NOT EXISTS (SELECT 1 FROM pg_inherits i WHERE i.inhparent = k.oid) FROM pg_class k WHERE k.oid = $1)",
                 None,
                 &[tab.into(), column.into()],
             )?
@@ -67,6 +77,7 @@ fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String) {
             r.get::<String>(1)?.unwrap_or_default(),
             r.get::<String>(2)?.unwrap_or_default(),
             r.get::<bool>(3)?,
+            r.get::<bool>(4)?.unwrap_or(false),
         ))
     })
     .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_UNDEFINED_TABLE, format!("tin_tiles_from_table: {e}")));
@@ -81,7 +92,7 @@ fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String) {
         ),
         Some(true) => {}
     }
-    (from, quoted)
+    (from, quoted, by_ctid)
 }
 
 /// A tile's pixel lattice, width and height.
@@ -89,10 +100,16 @@ type TileSize = (Lattice, usize, usize);
 
 /// Every tile's ctid, lattice and size (PostGIS reads the headers only)
 /// and SRID, refusing a tile without band `band`.
-fn tile_headers(from: &str, quoted: &str, band: i32) -> (Vec<String>, Vec<TileSize>, Vec<i32>) {
+fn tile_headers(
+    from: &str,
+    quoted: &str,
+    band: i32,
+    by_ctid: bool,
+) -> (Vec<String>, Vec<TileSize>, Vec<i32>) {
     // every tile's geotransform and size (PostGIS reads the header only)
+    let ctid = if by_ctid { "ctid" } else { "NULL::tid" };
     let q = format!(
-        "SELECT ctid::text, (m).upperleftx, (m).upperlefty, (m).width, (m).height, (m).scalex, (m).scaley, (m).skewx, (m).skewy, (m).srid, (m).numbands FROM (SELECT ctid, ST_MetaData({quoted}) AS m FROM {from} WHERE {quoted} IS NOT NULL) s"
+        "SELECT {ctid}::text, (m).upperleftx, (m).upperlefty, (m).width, (m).height, (m).scalex, (m).scaley, (m).skewx, (m).skewy, (m).srid, (m).numbands FROM (SELECT {ctid}, ST_MetaData({quoted}) AS m FROM {from} WHERE {quoted} IS NOT NULL) s"
     );
     let mut ctids = Vec::new();
     let mut metas = Vec::new();
@@ -114,7 +131,10 @@ fn tile_headers(from: &str, quoted: &str, band: i32) -> (Vec<String>, Vec<TileSi
             if nb < band {
                 raise(
                     PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                    format!("tin_tiles_from_table: the tile at {ctid} of {from} has {nb} band(s), no band {band}"),
+                    format!(
+                        "tin_tiles_from_table: the tile at {} of {from} has {nb} band(s), no band {band}",
+                        if by_ctid { ctid.clone() } else { format!("upper-left ({}, {})", lattice.ip_x, lattice.ip_y) }
+                    ),
                 );
             }
             metas.push((lattice, w.max(0) as usize, h.max(0) as usize));
@@ -150,14 +170,22 @@ impl TableTiles {
             );
         }
         let tols = default_tolerances(tolerance, levels).or_raise();
-        let (from, quoted) = raster_column(tab, column);
-        let (ctids, metas, srids) = tile_headers(&from, &quoted, band);
+        let (from, quoted, by_ctid) = raster_column(tab, column);
+        let (ctids, metas, srids) = tile_headers(&from, &quoted, band, by_ctid);
+        let names: Vec<String> = if by_ctid {
+            ctids.clone()
+        } else {
+            metas
+                .iter()
+                .map(|(l, _, _)| format!("upper-left ({}, {})", l.ip_x, l.ip_y))
+                .collect()
+        };
         if let Some(k) = srids.iter().position(|&s| s != srids[0]) {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
                 format!(
                     "tin_tiles_from_table: the tiles of {from} have different SRIDs ({} at {}, {} at {})",
-                    srids[0], ctids[0], srids[k], ctids[k]
+                    srids[0], names[0], srids[k], names[k]
                 ),
             );
         }
@@ -201,6 +229,9 @@ impl TableTiles {
             srid: srids.first().copied().unwrap_or(0),
             grid,
             ctids,
+            by_ctid,
+            metas,
+            names,
             order,
             next: 0,
             at,
@@ -274,19 +305,76 @@ impl TableTiles {
                 self.from
             )
         });
-        let by_ctid: std::collections::HashMap<&str, usize> =
-            want.iter().map(|&k| (self.ctids[k].as_str(), k)).collect();
-        let ctids: Vec<String> = want.iter().map(|&k| self.ctids[k].clone()).collect();
-        let q = format!(
-            "SELECT ctid::text, {c}::bytea FROM {f} WHERE ctid = ANY($1::text[]::tid[])",
-            c = self.column,
-            f = self.from
-        );
+        // the wanted tiles by the key each row read gives: its ctid, or its
+        // upper-left corner (bit for bit the header's: the same raster's)
+        let key = |k: usize| {
+            if self.by_ctid {
+                self.ctids[k].clone()
+            } else {
+                let l = &self.metas[k].0;
+                format!("{:016x}{:016x}", l.ip_x.to_bits(), l.ip_y.to_bits())
+            }
+        };
+        let wanted: std::collections::HashMap<String, usize> =
+            want.iter().map(|&k| (key(k), k)).collect();
+        let (q, args): (String, Vec<pgrx::datum::DatumWithOid>) = if self.by_ctid {
+            let ctids: Vec<String> = want.iter().map(|&k| self.ctids[k].clone()).collect();
+            (
+                format!(
+                    "SELECT ctid::text, {c}::bytea FROM {f} WHERE ctid = ANY($1::text[]::tid[])",
+                    c = self.column,
+                    f = self.from
+                ),
+                vec![ctids.into()],
+            )
+        } else {
+            // the box of the wanted tiles, a quarter pixel inside on a
+            // north-up grid (so tiles that only touch it are not read;
+            // rows of a skewed grid's other tiles met are passed over)
+            let mut b = [
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+            ];
+            for &k in &want {
+                let (l, w, h) = self.metas[k];
+                for (c, r) in [
+                    (0.0, 0.0),
+                    (w as f64, 0.0),
+                    (0.0, h as f64),
+                    (w as f64, h as f64),
+                ] {
+                    let (x, y) = (
+                        l.ip_x + c * l.scale_x + r * l.skew_x,
+                        l.ip_y + c * l.skew_y + r * l.scale_y,
+                    );
+                    b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+                }
+            }
+            let l = &self.grid.lattice;
+            if l.skew_x == 0.0 && l.skew_y == 0.0 {
+                let (qx, qy) = (0.25 * l.scale_x.abs(), 0.25 * l.scale_y.abs());
+                b = [b[0] + qx, b[1] + qy, b[2] - qx, b[3] - qy];
+            }
+            (
+                format!(
+                    "SELECT encode(float8send((m).upperleftx), 'hex') || encode(float8send((m).upperlefty), 'hex'), r FROM (SELECT ST_MetaData({c}) AS m, {c}::bytea AS r FROM {f} WHERE {c} && ST_MakeEnvelope($1, $2, $3, $4, $5)) s",
+                    c = self.column,
+                    f = self.from
+                ),
+                vec![b[0].into(), b[1].into(), b[2].into(), b[3].into(), self.srid.into()],
+            )
+        };
         let mut got = Vec::with_capacity(want.len());
+        let mut read = std::collections::HashSet::with_capacity(want.len());
         Spi::connect(|c| {
-            let mut table = c.select(&q, None, &[ctids.into()])?;
+            let mut table = c.select(&q, None, &args)?;
             while table.next().is_some() {
-                let ctid = table.get::<String>(1)?.unwrap_or_default();
+                let name = table.get::<String>(1)?.unwrap_or_default();
+                let Some(&k) = wanted.get(name.as_str()) else {
+                    continue;
+                };
                 // The raw datum, detoasted here in SPI's own memory context
                 // (freed by SPI_finish at the end of this batch): `get::<&[u8]>`
                 // would copy every tile's bytes into the parent context,
@@ -302,20 +390,27 @@ impl TableTiles {
                         datum.cast_mut_ptr(),
                     ))
                 };
-                let Some(&k) = by_ctid.get(ctid.as_str()) else { continue };
                 let (r, b) = raster_band(bytes, self.band);
                 let p = &self.grid.tiles[k];
-                if (r.width, r.height) != (p.width, p.height) {
+                if (r.width, r.height) != (p.width, p.height) || !read.insert(k) {
                     raise(
                         PgSqlErrorCode::ERRCODE_OBJECT_NOT_IN_PREREQUISITE_STATE,
-                        format!("tin_tiles_from_table: the tile at {ctid} of {} changed during the build", self.from),
+                        format!(
+                            "tin_tiles_from_table: the tile at {} of {} changed during the build",
+                            self.names[k], self.from
+                        ),
                     );
                 }
                 got.push((k, b));
             }
             Ok::<_, pgrx::spi::Error>(())
         })
-        .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: reading {}: {e}", self.from)));
+        .unwrap_or_else(|e| {
+            raise(
+                PgSqlErrorCode::ERRCODE_INTERNAL_ERROR,
+                format!("tin_tiles_from_table: reading {}: {e}", self.from),
+            )
+        });
         if got.len() != want.len() {
             raise(
                 PgSqlErrorCode::ERRCODE_OBJECT_NOT_IN_PREREQUISITE_STATE,

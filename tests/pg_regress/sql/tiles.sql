@@ -330,6 +330,32 @@ UNION ALL
 SELECT 'geographic', count(*), count(w.t), count(*) FILTER (WHERE f.t::text = w.t::text)
 FROM tin_tiles_from_table('geo_cut', 4.0, 2) f
 LEFT JOIN (SELECT w.* FROM dem_geo, tin_tiles(rast, 90, 4.0, 2) w) w USING (tx, ty);
+-- the same tiles from a partitioned table (the tiles dealt to two partitions
+-- in turn, so the ctids repeat between them), a table with an inheritance
+-- child, and a view: they are read by their tiles' places, not by ctid;
+-- byte for byte the plain table's tiles
+CREATE TABLE dem_parts (half int, rast raster) PARTITION BY LIST (half);
+CREATE TABLE dem_parts_0 PARTITION OF dem_parts FOR VALUES IN (0);
+CREATE TABLE dem_parts_1 PARTITION OF dem_parts FOR VALUES IN (1);
+INSERT INTO dem_parts SELECT (row_number() OVER () % 2)::int, rast FROM dem_cut;
+CREATE TABLE dem_inh (rast raster);
+CREATE TABLE dem_inh_child () INHERITS (dem_inh);
+INSERT INTO dem_inh SELECT rast FROM dem_cut WHERE ST_UpperLeftY(rast) > (SELECT ST_UpperLeftY(rast) FROM dem) + 128 * ST_ScaleY(rast);
+INSERT INTO dem_inh_child SELECT rast FROM dem_cut WHERE ST_UpperLeftY(rast) <= (SELECT ST_UpperLeftY(rast) FROM dem) + 128 * ST_ScaleY(rast);
+CREATE VIEW dem_view AS SELECT rast FROM dem_cut;
+CREATE TEMP TABLE plain AS SELECT * FROM tin_tiles_from_table('dem_cut', 4.0, 2);
+SELECT 'partitioned' AS source, (SELECT count(*) FROM dem_parts_0) AS first_part, (SELECT count(*) FROM dem_parts_1) AS second_part,
+       count(*) AS tiles, count(*) FILTER (WHERE f.t::text = p.t::text) AS same_bytes
+FROM tin_tiles_from_table('dem_parts', 4.0, 2) f LEFT JOIN plain p USING (tx, ty)
+UNION ALL
+SELECT 'inheritance', (SELECT count(*) FROM ONLY dem_inh), (SELECT count(*) FROM dem_inh_child), count(*), count(*) FILTER (WHERE f.t::text = p.t::text)
+FROM tin_tiles_from_table('dem_inh', 4.0, 2) f LEFT JOIN plain p USING (tx, ty)
+UNION ALL
+SELECT 'view', (SELECT count(*) FROM dem_view), NULL, count(*), count(*) FILTER (WHERE f.t::text = p.t::text)
+FROM tin_tiles_from_table('dem_view', 4.0, 2) f LEFT JOIN plain p USING (tx, ty);
+SELECT (SELECT count(*) FROM plain) AS plain_tiles;
+DROP VIEW dem_view;
+DROP TABLE dem_parts, dem_inh_child, dem_inh, plain;
 -- slices (0.21.0): the DEM in 8 x 8 tiles (43 x 46, nodata corners) built
 -- whole and as three slices of tile rows, each planned with its halo: every
 -- tile once, byte for byte the whole build's
