@@ -11,9 +11,12 @@
 # calls to the shards (checked in EXPLAIN VERBOSE: the Remote SQL of every
 # foreign partition calls the merge inside an aggregate the shard computes).
 # Every per-row result must equal the single-node run on the coordinator's
-# own copy of the same data. Timings are one run each, for orientation only:
+# own copy of the same data. Then a tiled terrain is built on the shards,
+# each node its own band of raster tile rows (the halo rows read from its
+# neighbours), and must be byte for byte the single-node build. Timings
+# are one run each, for orientation only:
 # the three "nodes" share this machine's two cores.
-# Usage: tests/sharding.sh (part of make test; about 2 minutes).
+# Usage: tests/sharding.sh (part of make test; about a minute).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=/usr/lib/postgresql/15/bin
@@ -172,5 +175,103 @@ for k in 0 3; do
   n 0 -d $DB -c "$settings" -c "EXPLAIN (VERBOSE, COSTS OFF) $(per_shard "${sharded[$k]}" "${hashes[$k]}")" | grep -v "^ *Output:"
   echo
 done
+
+# A tiled terrain built on the shards (issue 48): the DEM's raster tiles
+# (ST_Tile, 16 x 16 pixels: 23 rows of tiles) are partitioned by band of
+# tile rows, shard k holding rows k * 23 / 3 .. (k + 1) * 23 / 3, as
+# tin_tiles_from_table's slices cut them. On every node `rtiles` is a
+# partitioned table: its own band local, the other two foreign. Each node
+# builds its slice (slice => k, slices => 3) into a local table at the same
+# time; the halo rows its seam planning needs come from its neighbours
+# through postgres_fdw (read by place: raster && box, shipped). The tiles
+# must be byte for byte the single-node build's, and points on the seams
+# between shards get the same height from the tiles on both sides.
+echo
+echo "== a tiled terrain built on the shards: each node its own band of tile rows, the halo read from its neighbours"
+for i in 0 1 2; do
+  others=""
+  for j in 0 1 2; do
+    [ "$j" = "$i" ] && continue
+    if [ "$i" != 0 ]; then
+      others+="CREATE SERVER node$j FOREIGN DATA WRAPPER postgres_fdw OPTIONS (host '127.0.0.1', port '${PORTS[$j]}', dbname '$DB', extensions 'postgis,postgis_raster,tinmerge', fdw_tuple_cost '1');
+CREATE USER MAPPING FOR postgres SERVER node$j OPTIONS (user 'postgres');
+"
+    else
+      others+="ALTER SERVER node$j OPTIONS (SET extensions 'postgis,postgis_raster,tinmerge');
+"
+    fi
+    others+="CREATE FOREIGN TABLE rtiles_$j PARTITION OF rtiles FOR VALUES IN ($j) SERVER node$j OPTIONS (table_name 'rtiles_$j');
+"
+  done
+  n "$i" -d $DB <<SQL
+$( [ "$i" != 0 ] && echo "CREATE EXTENSION IF NOT EXISTS postgres_fdw;" )
+CREATE TABLE rtiles (shard int NOT NULL, rast raster) PARTITION BY LIST (shard);
+CREATE TABLE rtiles_$i PARTITION OF rtiles FOR VALUES IN ($i);
+CREATE INDEX ON rtiles_$i USING gist (ST_ConvexHull(rast));
+$others
+SQL
+done
+n 0 -d $DB <<'SQL'
+CREATE TABLE rtiles_all AS
+SELECT k AS shard, t AS rast
+FROM dem, ST_Tile(rast, 16, 16) t,
+     LATERAL (SELECT round((ST_UpperLeftY(dem.rast) - ST_UpperLeftY(t)) / (16 * abs(ST_ScaleY(t))))::int AS ty,
+                     ceil(ST_Height(dem.rast) / 16.0)::int AS rows_) r,
+     LATERAL (SELECT k FROM generate_series(0, 2) k WHERE r.ty >= k * r.rows_ / 3 AND r.ty < (k + 1) * r.rows_ / 3) s;
+INSERT INTO rtiles SELECT shard, rast FROM rtiles_all;
+SQL
+for i in 0 1 2; do n "$i" -d $DB -c "ANALYZE rtiles_$i"; done
+echo "raster tiles per shard: $(n 0 -d $DB -c "SELECT string_agg(c::text, ', ' ORDER BY shard) FROM (SELECT shard, count(*) c FROM rtiles GROUP BY shard) s") (node 0 through its partitioned table)"
+# what a node asks its neighbours (tin_tiles_from_table's two reads, in
+# the form it sends them): the headers, one aggregate per partition, and
+# the rasters of a box; both must be computed on the remote node (a plain
+# select of the headers would fetch every raster whole)
+remote=$(n 1 -d $DB -c "EXPLAIN (VERBOSE, COSTS OFF) SELECT NULL::text, u.* FROM (SELECT array_agg(ST_UpperLeftX(rast)) AS a0, array_agg(ST_NumBands(rast)) AS a1 FROM rtiles_0 WHERE rast IS NOT NULL) s, unnest(s.a0, s.a1) u" \
+  -c "EXPLAIN (VERBOSE, COSTS OFF) SELECT ST_MetaData(rast) AS m, rast::bytea AS r FROM rtiles WHERE rast && ST_MakeEnvelope(0, 0, 1, 1, 32616)" | grep "Remote SQL")
+echo "$remote" | sed 's/^ */  /'
+if [ "$(echo "$remote" | grep -c "array_agg(public.st_upperleftx")" != 1 ] || [ "$(echo "$remote" | grep -c "OPERATOR(public.&&)")" != 2 ]; then
+  echo "sharding: a node's reads of its neighbours' raster tiles are not computed on the neighbours"
+  fail=1
+fi
+t0=$(date +%s%N)
+pids=()
+for i in 0 1 2; do
+  n "$i" -d $DB -c "SET tinmerge.threads = 1" \
+    -c "CREATE TABLE tins_$i (shard int NOT NULL, tx int, ty int, t tin)" \
+    -c "INSERT INTO tins_$i SELECT $i, tx, ty, t FROM tin_tiles_from_table('rtiles', 2.0, 5, slice => $i, slices => 3)" &
+  pids+=($!)
+done
+for p in "${pids[@]}"; do wait "$p"; done
+t1=$(date +%s%N)
+n 0 -d $DB <<SQL
+CREATE TABLE tins (shard int NOT NULL, tx int, ty int, t tin) PARTITION BY LIST (shard);
+ALTER TABLE tins ATTACH PARTITION tins_0 FOR VALUES IN (0);
+CREATE FOREIGN TABLE tins_1 PARTITION OF tins FOR VALUES IN (1) SERVER node1 OPTIONS (table_name 'tins_1');
+CREATE FOREIGN TABLE tins_2 PARTITION OF tins FOR VALUES IN (2) SERVER node2 OPTIONS (table_name 'tins_2');
+CREATE TABLE tins_single AS SELECT tx, ty, t FROM tin_tiles_from_table('rtiles_all', 2.0, 5);
+SQL
+t2=$(date +%s%N)
+built=$(n 0 -d $DB -F ' ' -c "SELECT count(*), count(s.t), count(*) FILTER (WHERE a.t::text = s.t::text), count(*) FILTER (WHERE NOT (a.ty >= a.shard * 23 / 3 AND a.ty < (a.shard + 1) * 23 / 3)) FROM tins a FULL JOIN tins_single s USING (tx, ty)")
+read -r tiles matched same foreign_rows <<<"$built"
+# the seams between shards: points along the bottom edge of each shard's
+# last row of tins, heights from every tin holding them
+seams=$(n 0 -d $DB -F ' ' <<'SQL'
+CREATE TEMP TABLE edge AS
+SELECT ST_SetSRID(ST_MakePoint(ST_XMin(e) + f * (ST_XMax(e) - ST_XMin(e)), ST_YMin(e)), 32616) AS geom
+FROM (SELECT tin_envelope(t)::box2d e FROM tins a WHERE a.shard < 2 AND a.ty = (SELECT max(ty) FROM tins b WHERE b.shard = a.shard)) s,
+     (SELECT i / 17.0 AS f FROM generate_series(1, 16) i) g;
+SELECT count(*), count(*) FILTER (WHERE shards = 2), count(*) FILTER (WHERE spread > 1e-9), coalesce(max(spread), 0)
+FROM (SELECT e.geom, count(DISTINCT a.shard) AS shards, max(z) - min(z) AS spread
+      FROM edge e JOIN tins a ON tin_envelope(a.t) && e.geom, LATERAL (SELECT tin_height(a.t, e.geom) z) h
+      WHERE z IS NOT NULL GROUP BY e.geom) s;
+SQL
+)
+read -r seam_pts two_shards disagree worst <<<"$seams"
+echo "| tiles on 3 shards | single node | byte for byte the same | tiles outside their shard's rows | seam points | on tins of 2 shards | heights differ (> 1e-9 m) | worst | shards ms | single node ms |"
+echo "| $tiles | $matched | $same | $foreign_rows | $seam_pts | $two_shards | $disagree | $worst | $(( (t1 - t0) / 1000000 )) | $(( (t2 - t1) / 1000000 )) |"
+if [ "$tiles" != "$matched" ] || [ "$tiles" != "$same" ] || [ "$foreign_rows" != 0 ] || [ "$disagree" != 0 ] || [ "$two_shards" -lt 100 ]; then
+  echo "sharding: the tiles built on the shards differ from the single-node build, or their seams disagree"
+  fail=1
+fi
 [ $fail -eq 0 ] || { echo "sharding: results differ from the single-node run, or a merge was not pushed down"; exit 1; }
-echo "sharding: point, line and area merges on 3 nodes give the single-node answers, computed on the shards"
+echo "sharding: point, line and area merges on 3 nodes give the single-node answers, computed on the shards; the tiled terrain built on the shards is the single-node build, byte for byte"

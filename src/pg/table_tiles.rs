@@ -98,19 +98,79 @@ fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String, bool) {
 /// A tile's pixel lattice, width and height.
 type TileSize = (Lattice, usize, usize);
 
+/// The relations of `tab`'s tree that hold rows (itself, or its
+/// partitions and inheritance children, recursively), as `FROM` items.
+fn leaves(tab: pg_sys::Oid) -> Vec<String> {
+    Spi::connect(|c| {
+        let mut out = Vec::new();
+        for row in c.select(
+            "WITH RECURSIVE t(r) AS (SELECT $1::oid UNION ALL SELECT i.inhrelid FROM pg_inherits i JOIN t ON i.inhparent = t.r) \
+             SELECT CASE WHEN EXISTS (SELECT 1 FROM pg_inherits i WHERE i.inhparent = t.r) THEN 'ONLY ' ELSE '' END || t.r::regclass::text \
+             FROM t JOIN pg_class k ON k.oid = t.r WHERE k.relkind <> 'p'",
+            None,
+            &[tab.into()],
+        )? {
+            out.push(row.get::<String>(1)?.unwrap_or_default());
+        }
+        Ok::<_, pgrx::spi::Error>(out)
+    })
+    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: {e}")))
+}
+
 /// Every tile's ctid, lattice and size (PostGIS reads the headers only)
-/// and SRID, refusing a tile without band `band`.
+/// and SRID, refusing a tile without band `band`. Read by place
+/// (`!by_ctid`), the headers come from each relation holding rows in
+/// arrays, one aggregate each: postgres_fdw computes such an aggregate on
+/// the remote node (with `postgis_raster` in the server's `extensions`),
+/// where a plain select would fetch every raster whole.
 fn tile_headers(
+    tab: pg_sys::Oid,
     from: &str,
     quoted: &str,
     band: i32,
     by_ctid: bool,
 ) -> (Vec<String>, Vec<TileSize>, Vec<i32>) {
     // every tile's geotransform and size (PostGIS reads the header only)
-    let ctid = if by_ctid { "ctid" } else { "NULL::tid" };
-    let q = format!(
-        "SELECT {ctid}::text, (m).upperleftx, (m).upperlefty, (m).width, (m).height, (m).scalex, (m).scaley, (m).skewx, (m).skewy, (m).srid, (m).numbands FROM (SELECT {ctid}, ST_MetaData({quoted}) AS m FROM {from} WHERE {quoted} IS NOT NULL) s"
-    );
+    let q = if by_ctid {
+        format!(
+            "SELECT ctid::text, (m).upperleftx, (m).upperlefty, (m).width, (m).height, (m).scalex, (m).scaley, (m).skewx, (m).skewy, (m).srid, (m).numbands FROM (SELECT ctid, ST_MetaData({quoted}) AS m FROM {from} WHERE {quoted} IS NOT NULL) s"
+        )
+    } else {
+        let fs = [
+            "ST_UpperLeftX",
+            "ST_UpperLeftY",
+            "ST_Width",
+            "ST_Height",
+            "ST_ScaleX",
+            "ST_ScaleY",
+            "ST_SkewX",
+            "ST_SkewY",
+            "ST_SRID",
+            "ST_NumBands",
+        ];
+        let aggs: Vec<String> = fs
+            .iter()
+            .enumerate()
+            .map(|(i, f)| format!("array_agg({f}({quoted})) AS a{i}"))
+            .collect();
+        let cols: Vec<String> = (0..fs.len()).map(|i| format!("s.a{i}")).collect();
+        let leaves = leaves(tab);
+        if leaves.is_empty() {
+            // a partitioned table without partitions: no tiles
+            return (Vec::new(), Vec::new(), Vec::new());
+        }
+        leaves
+            .iter()
+            .map(|leaf| {
+                format!(
+                    "SELECT NULL::text, u.* FROM (SELECT {} FROM {leaf} WHERE {quoted} IS NOT NULL) s, unnest({}) u",
+                    aggs.join(", "),
+                    cols.join(", ")
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(" UNION ALL ")
+    };
     let mut ctids = Vec::new();
     let mut metas = Vec::new();
     let mut srids = Vec::new();
@@ -171,7 +231,7 @@ impl TableTiles {
         }
         let tols = default_tolerances(tolerance, levels).or_raise();
         let (from, quoted, by_ctid) = raster_column(tab, column);
-        let (ctids, metas, srids) = tile_headers(&from, &quoted, band, by_ctid);
+        let (ctids, metas, srids) = tile_headers(tab, &from, &quoted, band, by_ctid);
         let names: Vec<String> = if by_ctid {
             ctids.clone()
         } else {
