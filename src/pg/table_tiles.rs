@@ -104,7 +104,7 @@ fn leaves(tab: pg_sys::Oid) -> Vec<String> {
     Spi::connect(|c| {
         let mut out = Vec::new();
         for row in c.select(
-            "WITH RECURSIVE t(r) AS (SELECT $1::oid UNION ALL SELECT i.inhrelid FROM pg_inherits i JOIN t ON i.inhparent = t.r) \
+            "WITH RECURSIVE t(r) AS (SELECT $1::oid UNION SELECT i.inhrelid FROM pg_inherits i JOIN t ON i.inhparent = t.r) \
              SELECT CASE WHEN EXISTS (SELECT 1 FROM pg_inherits i WHERE i.inhparent = t.r) THEN 'ONLY ' ELSE '' END || t.r::regclass::text \
              FROM t JOIN pg_class k ON k.oid = t.r WHERE k.relkind <> 'p'",
             None,

@@ -1,0 +1,10 @@
+-- tinmerge 0.21.0 -> 0.21.1. No catalog change; stored values read as
+-- before, and built values are the same. tin_tiles_from_table reads a
+-- partitioned table, a table with inheritance children, a foreign table or
+-- a view of raster tiles by each tile's place (one aggregate of the tiles'
+-- headers per partition, then rast && box a row of tiles at a time), where
+-- 0.21.0 read rows back by ctid: a partitioned table failed with "tiles ...
+-- changed during the build" and a view with an internal error. Through
+-- postgres_fdw both reads run on the remote node, so a terrain's tiles can
+-- be built on shards that each hold a band of the raster tiles
+-- (docs/scaling.md, "A tiled terrain built on the shards").
