@@ -15,8 +15,10 @@ cd "$(dirname "$0")/.."
 FACTOR="${1:-89}"
 export TINMERGE_BIG_SLICES="${2:-2}" TINMERGE_BIG_SERVE=1
 t0=$(date +%s)
-scripts/bench-big.sh "$FACTOR" 1000000 1000 1000
+rc=0
+scripts/bench-big.sh "$FACTOR" 1000000 1000 1000 || rc=$?
 echo "== disk: the generated raster and the cluster after the run"
 du -sh "target/big/dem$FACTOR.raw" target/pg 2>/dev/null || true
 scripts/cluster.sh psql -qAt -d tinmerge_big -F ' | ' -c "SELECT 'database', pg_size_pretty(pg_database_size('tinmerge_big'))"
 echo "== bench-giga: $(( $(date +%s) - t0 )) s in all"
+exit "$rc"
