@@ -8,3 +8,7 @@
 -- postgres_fdw both reads run on the remote node, so a terrain's tiles can
 -- be built on shards that each hold a band of the raster tiles
 -- (docs/scaling.md, "A tiled terrain built on the shards").
+-- tin_height answers a point off the domain by a rounding (at most 16 ulps
+-- of its larger coordinate) with the height of the nearest point of the
+-- domain: pixel centres on the edge of the data computed from another
+-- raster tile's origin than the tin's had no height in 0.21.0.

@@ -70,7 +70,7 @@ COMMENT ON FUNCTION tin_height(tin, geometry, int) IS 'Height of the surface of 
 pub(crate) fn height_at(t: &TinArg, level: Option<i32>, pt: &GeomArg, func: &str) -> Option<f64> {
     with_mesh!(t, level, |m, l, srid| {
         let [x, y] = pt.point_xy(srid, func)?;
-        point::height_in(m, l, x, y)
+        point::height_near_in(m, l, x, y)
             .map_err(TinError::from)
             .or_raise()
     })

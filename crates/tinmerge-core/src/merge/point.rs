@@ -60,6 +60,24 @@ pub fn height_in<M: Indexed>(m: &M, level: usize, x: f64, y: f64) -> Result<Opti
     })
 }
 
+/// [`height_in`], and for a point off the domain by a rounding (at most
+/// [`locate::NEAR_ULPS`] units in the last place), the height of the
+/// nearest point of the domain ([`locate::locate_near_in`]): what
+/// `tin_height` answers, so that a pixel centre on the edge of the data
+/// has its height however its coordinates were rounded. The line and area
+/// merges clip to the exact domain.
+pub fn height_near_in<M: Indexed>(
+    m: &M,
+    level: usize,
+    x: f64,
+    y: f64,
+) -> Result<Option<f64>, M::Err> {
+    Ok(match locate::locate_near_in(m, level, x, y)? {
+        Some((t, qx, qy)) => Some(interpolate(&m.corners(level, t)?, qx, qy)),
+        None => None,
+    })
+}
+
 /// A rectangle `width` across and `length` along the direction `angle`
 /// (degrees clockwise from north), centred on (cx, cy).
 #[derive(Clone, Copy, Debug, PartialEq)]

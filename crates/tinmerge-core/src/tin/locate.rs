@@ -265,6 +265,77 @@ pub fn locate_in<M: Indexed>(m: &M, level: usize, x: f64, y: f64) -> Result<Opti
     Ok(locate_hull_in(m, level, x, y)?.filter(|&t| !m.is_void(level, t)))
 }
 
+/// How far off a domain's hull [`locate_near_in`] still finds a point, in
+/// units in the last place of its larger coordinate.
+pub const NEAR_ULPS: f64 = 16.0;
+
+/// [`locate_in`], and for a point off the domain by at most [`NEAR_ULPS`]
+/// units in the last place of its larger coordinate, a triangle holding
+/// the nearest point of the domain, with that point: `Some((t, qx, qy))`.
+/// The same pixel centre computed from two origins differs by about that
+/// much: PostGIS's `ST_PixelAsCentroids` of a raster tile starts from the
+/// tile's own upper-left corner, a tiled tin from its table's top-left
+/// tile, and a centre on the edge of the data can lie an ulp outside the
+/// tin's hull. Farther off, or on a void triangle, None.
+///
+/// ```
+/// use tinmerge_core::tin::build::build;
+/// use tinmerge_core::tin::locate::{locate, locate_near_in};
+/// let tin = build(vec![[0.0, 0.0, 0.0], [760863.208229844, 0.0, 1.0], [0.0, 10.0, 2.0]],
+///                 &[0.0], 0, &mut || Ok(())).unwrap();
+/// let x = f64::from_bits(760863.208229844_f64.to_bits() + 1); // one ulp east of the corner
+/// assert_eq!(locate(&tin, 0, x, 0.0), None);
+/// let (t, qx, _) = locate_near_in(&tin, 0, x, 0.0).unwrap().unwrap();
+/// assert_eq!((t, qx), (0, 760863.208229844));
+/// assert_eq!(locate_near_in(&tin, 0, 760863.21, 0.0).unwrap(), None); // 2 mm off: off
+/// ```
+pub fn locate_near_in<M: Indexed>(
+    m: &M,
+    level: usize,
+    x: f64,
+    y: f64,
+) -> Result<Option<(u32, f64, f64)>, M::Err> {
+    if let Some(t) = locate_in(m, level, x, y)? {
+        return Ok(Some((t, x, y)));
+    }
+    if !(x.is_finite() && y.is_finite()) {
+        return Ok(None);
+    }
+    let eps = NEAR_ULPS * f64::EPSILON * x.abs().max(y.abs());
+    let b = m.bbox();
+    if x < b.min_x - eps || x > b.max_x + eps || y < b.min_y - eps || y > b.max_y + eps {
+        return Ok(None);
+    }
+    // into the box first (a point beside a side of the box), then onto the
+    // hull edge the walk stops at
+    let (cx, cy) = (x.clamp(b.min_x, b.max_x), y.clamp(b.min_y, b.max_y));
+    let s = start_in(m, level, cx, cy)?;
+    let (t, q) = match walk_strict(m, level, s, cx, cy)?.0 {
+        Walk::Inside(t) => (t, [cx, cy]),
+        Walk::Outside(t) => {
+            let c = m.corners(level, t)?;
+            let nbrs = m.nbrs(level, t)?;
+            let mut best: Option<(f64, [f64; 2])> = None;
+            for j in 0..3 {
+                if nbrs[j] != NONE {
+                    continue;
+                }
+                let (a, e) = (xy(&c[(j + 1) % 3]), xy(&c[(j + 2) % 3]));
+                let (d, f) = point_segment_nearest([x, y], a, e);
+                let q = [a[0] + f * (e[0] - a[0]), a[1] + f * (e[1] - a[1])];
+                if best.is_none_or(|(bd, _)| d < bd) {
+                    best = Some((d, q));
+                }
+            }
+            match best {
+                Some((d, q)) if d <= eps => (t, q),
+                _ => return Ok(None),
+            }
+        }
+    };
+    Ok((!m.is_void(level, t)).then_some((t, q[0], q[1])))
+}
+
 /// [`locate_hull_in`] on a decoded tin.
 pub(crate) fn locate_hull(tin: &Tin, level: usize, x: f64, y: f64) -> Option<u32> {
     infallible(locate_hull_in(tin, level, x, y))
