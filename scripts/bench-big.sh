@@ -47,6 +47,8 @@ scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS $DB" -c "CREA
 q -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
 q -f scripts/bench-fn.sql
 peak_fn=$(q -c "SELECT count(*) FROM pg_proc WHERE proname = '_tin_heap_peak'")
+# the backend's peak resident memory in kB (its own /proc status, as text)
+HWM_KB="(regexp_match(pg_read_file('/proc/self/status'), 'VmHWM:\\s+(\\d+) kB'))[1]"
 
 dir=target/big
 mkdir -p "$dir"
@@ -85,7 +87,7 @@ CREATE TABLE big_tins AS SELECT tx, ty, t FROM tin_tiles_from_table('big_tiles',
 SELECT extract(epoch FROM clock_timestamp());
 $peak_read;
 SELECT current_setting('tinmerge.threads');
-SELECT (regexp_match(pg_read_file('/proc/self/status'), 'VmHWM:\s+(\d+) kB'))[1];
+SELECT $HWM_KB;
 SQL
 )
 read -r _ b0 b1 peak threads hwm <<<"$(echo $out)"
@@ -115,7 +117,7 @@ if [ "${TINMERGE_BIG_SLICES:-0}" -gt 0 ]; then
     q -c "DROP TABLE IF EXISTS big_slice_$k" \
       -c "SET tinmerge.threads = 1" \
       -c "CREATE TABLE big_slice_$k AS SELECT tx, ty, t FROM tin_tiles_from_table('big_tiles', $TOL, $LEVELS, slice => $k, slices => $N)" \
-      -c "SELECT extract(epoch FROM clock_timestamp()), (regexp_match(pg_read_file('/proc/self/status'), 'VmHWM:\s+(\d+) kB'))[1]" \
+      -c "SELECT extract(epoch FROM clock_timestamp()), $HWM_KB" \
       > "$dir/slice$k.txt" &
     pids+=($!)
   done
@@ -270,7 +272,7 @@ if [ "${TINMERGE_BIG_SERVE:-0}" = 1 ]; then
       -c "SELECT 'zoom $z tile $x/$y' AS tile, (SELECT count(*) FROM big_tins WHERE ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326) && $env) AS tins_read,
                  (SELECT length(m) FROM ($tile) s) AS bytes, (SELECT cold FROM r) AS cold_ms, median_ms AS warm_ms
           FROM bench('', \$q\$SELECT length(m) FROM ($tile) s\$q\$, 3)" \
-      -c "SELECT 'backend peak RSS after the tiles, MB', round((regexp_match(pg_read_file('/proc/self/status'), 'VmHWM:\s+(\d+) kB'))[1]::numeric / 1024, 1)"
+      -c "SELECT 'backend peak RSS after the tiles, MB', round($HWM_KB::numeric / 1024, 1)"
   done
 fi
 fail=$(q <<SQL

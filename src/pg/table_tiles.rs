@@ -28,12 +28,11 @@ struct TableTiles {
     tols: Vec<f64>,
     srid: i32,
     grid: tinmerge_core::tin::tiles::TableGrid,
-    /// Each tile's `ctid` (when `by_ctid`), lattice and size, and how
-    /// messages name it (its `ctid`, or its upper-left corner).
-    ctids: Vec<String>,
+    /// Each tile's name (its `ctid` when `by_ctid`, which reads it back
+    /// by that; otherwise its upper-left corner), lattice and size.
+    names: Vec<String>,
     by_ctid: bool,
     metas: Vec<TileSize>,
-    names: Vec<String>,
     /// Tiles in (ty, tx) order, and the next to build.
     order: Vec<usize>,
     next: usize,
@@ -117,8 +116,8 @@ fn leaves(tab: pg_sys::Oid) -> Vec<String> {
     .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: {e}")))
 }
 
-/// Every tile's ctid, lattice and size (PostGIS reads the headers only)
-/// and SRID, refusing a tile without band `band`. Read by place
+/// Every tile's name ([`TableTiles::names`]), lattice and size (PostGIS
+/// reads the headers only) and SRID, refusing a tile without band `band`. Read by place
 /// (`!by_ctid`), the headers come from each relation holding rows in
 /// arrays, one aggregate each: postgres_fdw computes such an aggregate on
 /// the remote node (with `postgis_raster` in the server's `extensions`),
@@ -171,7 +170,7 @@ fn tile_headers(
             .collect::<Vec<_>>()
             .join(" UNION ALL ")
     };
-    let mut ctids = Vec::new();
+    let mut names = Vec::new();
     let mut metas = Vec::new();
     let mut srids = Vec::new();
     Spi::connect(|c| {
@@ -188,23 +187,25 @@ fn tile_headers(
                 skew_y: f(9)?,
             };
             let (w, h, nb) = (n(4)?, n(5)?, n(11)?);
+            let name = if by_ctid {
+                ctid
+            } else {
+                format!("upper-left ({}, {})", lattice.ip_x, lattice.ip_y)
+            };
             if nb < band {
                 raise(
                     PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                    format!(
-                        "tin_tiles_from_table: the tile at {} of {from} has {nb} band(s), no band {band}",
-                        if by_ctid { ctid.clone() } else { format!("upper-left ({}, {})", lattice.ip_x, lattice.ip_y) }
-                    ),
+                    format!("tin_tiles_from_table: the tile at {name} of {from} has {nb} band(s), no band {band}"),
                 );
             }
             metas.push((lattice, w.max(0) as usize, h.max(0) as usize));
             srids.push(n(10)?);
-            ctids.push(ctid);
+            names.push(name);
         }
         Ok::<_, pgrx::spi::Error>(())
     })
     .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: reading {from}: {e}")));
-    (ctids, metas, srids)
+    (names, metas, srids)
 }
 
 impl TableTiles {
@@ -231,15 +232,7 @@ impl TableTiles {
         }
         let tols = default_tolerances(tolerance, levels).or_raise();
         let (from, quoted, by_ctid) = raster_column(tab, column);
-        let (ctids, metas, srids) = tile_headers(tab, &from, &quoted, band, by_ctid);
-        let names: Vec<String> = if by_ctid {
-            ctids.clone()
-        } else {
-            metas
-                .iter()
-                .map(|(l, _, _)| format!("upper-left ({}, {})", l.ip_x, l.ip_y))
-                .collect()
-        };
+        let (names, metas, srids) = tile_headers(tab, &from, &quoted, band, by_ctid);
         if let Some(k) = srids.iter().position(|&s| s != srids[0]) {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
@@ -288,10 +281,9 @@ impl TableTiles {
             tols,
             srid: srids.first().copied().unwrap_or(0),
             grid,
-            ctids,
+            names,
             by_ctid,
             metas,
-            names,
             order,
             next: 0,
             at,
@@ -369,7 +361,7 @@ impl TableTiles {
         // upper-left corner (bit for bit the header's: the same raster's)
         let key = |k: usize| {
             if self.by_ctid {
-                self.ctids[k].clone()
+                self.names[k].clone()
             } else {
                 let l = &self.metas[k].0;
                 format!("{:016x}{:016x}", l.ip_x.to_bits(), l.ip_y.to_bits())
@@ -378,7 +370,7 @@ impl TableTiles {
         let wanted: std::collections::HashMap<String, usize> =
             want.iter().map(|&k| (key(k), k)).collect();
         let (q, args): (String, Vec<pgrx::datum::DatumWithOid>) = if self.by_ctid {
-            let ctids: Vec<String> = want.iter().map(|&k| self.ctids[k].clone()).collect();
+            let ctids: Vec<String> = want.iter().map(|&k| self.names[k].clone()).collect();
             (
                 format!(
                     "SELECT ctid::text, {c}::bytea FROM {f} WHERE ctid = ANY($1::text[]::tid[])",
@@ -399,16 +391,9 @@ impl TableTiles {
             ];
             for &k in &want {
                 let (l, w, h) = self.metas[k];
-                for (c, r) in [
-                    (0.0, 0.0),
-                    (w as f64, 0.0),
-                    (0.0, h as f64),
-                    (w as f64, h as f64),
-                ] {
-                    let (x, y) = (
-                        l.ip_x + c * l.scale_x + r * l.skew_x,
-                        l.ip_y + c * l.skew_y + r * l.scale_y,
-                    );
+                // the tile's corners: pixel centres half a pixel back
+                for (c, r) in [(0, 0), (w, 0), (0, h), (w, h)] {
+                    let (x, y) = l.centre(c as f64 - 0.5, r as f64 - 0.5);
                     b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
                 }
             }
