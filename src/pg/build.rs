@@ -502,6 +502,7 @@ fn _tin_tiles(
         &lattice,
         tile_px as usize,
         &tols,
+        true,
         r.srid,
         &mut interrupt,
         &|tx, ty, tin| (tx as i32, ty as i32, TinOut::from_tin_on(&tin, &lattice)),

@@ -277,6 +277,7 @@ fn tiles(d: &common::Dem) {
                 &lat,
                 n,
                 &tols,
+                true,
                 32616,
                 &mut || Ok(()),
                 &|_, _, t| {

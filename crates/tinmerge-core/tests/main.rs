@@ -27,6 +27,7 @@ mod sliced;
 mod slices;
 mod storage;
 mod surface;
+mod tile_domain;
 mod tiles;
 mod validate;
 mod viewshed;

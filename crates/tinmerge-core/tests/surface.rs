@@ -1032,8 +1032,11 @@ fn over_tolerance_finds_values_built_at_the_samples_only() {
 /// `tin_tiles` builds them: keep_border, decided in each tile's own frame,
 /// seam samples the tiles beside ask for kept by both), each within its
 /// tolerances on its own pixels, between the samples and in the one-pixel
-/// strips along its seams too ([`check_between`]). The number of tiles.
-fn check_tiles(what: &str, r: &Raster, n: usize, tols: &[f64]) -> usize {
+/// strips along its seams too ([`check_between`]). Over the valid pixels'
+/// squares only unless `fill_gaps` (`tin_tiles(..., fill_gaps => false)`:
+/// vertices also where the squares' sides cross the grid lines). The
+/// number of tiles.
+fn check_tiles(what: &str, r: &Raster, n: usize, tols: &[f64], fill_gaps: bool) -> usize {
     let mut tiles = Vec::new();
     tinmerge_core::tin::tiles::build_tiles(
         &r.z,
@@ -1043,6 +1046,7 @@ fn check_tiles(what: &str, r: &Raster, n: usize, tols: &[f64]) -> usize {
         &r.lat,
         n,
         tols,
+        fill_gaps,
         0,
         &mut || Ok(()),
         &|tx, ty, t| (tx, ty, t),
@@ -1071,15 +1075,19 @@ fn check_tiles(what: &str, r: &Raster, n: usize, tols: &[f64]) -> usize {
 /// tiles, where the strips along the seams were up to 2.5x the tolerance
 /// before the tiles kept the seam samples their neighbours ask for; the UTM
 /// one in 128-pixel tiles) and on generated grids with nodata holes,
-/// fractional origins and both row directions, in small tiles (many seams).
+/// fractional origins and both row directions, in small tiles (many seams);
+/// the UTM DEM and the grids over their data only too (`fill_gaps =>
+/// false`: the strips along the seams were up to 1.6x the tolerance before
+/// those tiles asked for seam samples too).
 #[test]
 fn tiles_between_samples() {
     let r = Raster::of_dem(&common::read_dem("jacksboro_fault_dem.tif"));
     let tols = default_tolerances(2.0, 3).unwrap();
-    assert!(check_tiles("geographic DEM", &r, 97, &tols) > 6);
+    assert!(check_tiles("geographic DEM", &r, 97, &tols, true) > 6);
     let r = Raster::of_dem(&common::read_dem("jacksboro_fault_dem_utm16n.tif"));
     let tols = default_tolerances(2.0, 4).unwrap();
-    assert!(check_tiles("UTM DEM", &r, 128, &tols) > 6);
+    assert!(check_tiles("UTM DEM", &r, 128, &tols, true) > 6);
+    assert!(check_tiles("UTM DEM over its data", &r, 128, &tols, false) > 6);
     use rand::SeedableRng;
     let mut rng = rand::rngs::StdRng::seed_from_u64(4343);
     for k in 0..8 {
@@ -1092,6 +1100,7 @@ fn tiles_between_samples() {
         };
         let tols = default_tolerances(70.0 / 40.0, 3).unwrap();
         let n = 9 + 4 * k;
-        check_tiles(&format!("{} in {n}-pixel tiles", g.name), &r, n, &tols);
+        check_tiles(&format!("{} in {n}-pixel tiles", g.name), &r, n, &tols, true);
+        check_tiles(&format!("{} in {n}-pixel tiles over its data", g.name), &r, n, &tols, false);
     }
 }

@@ -33,6 +33,7 @@ pub mod samples;
 pub mod sides;
 pub mod sliced;
 pub mod surface;
+pub mod tile_domain;
 pub mod tiles;
 
 /// Marks "no triangle" in neighbour and parent arrays.

@@ -29,7 +29,7 @@
 //! assert_eq!(tile_window(5, 4, 2, 1, 0), (2..5, 0..3)); // its own 2 columns, then the neighbours'
 //! assert_eq!(tile_window(5, 4, 2, 2, 1), (4..5, 2..4)); // the last column and row: nothing to add
 //! let mut tiles = Vec::new();
-//! build_tiles(&values, 5, 4, &|_| true, &lat, 2, &[0.0], 0, &mut || Ok(()),
+//! build_tiles(&values, 5, 4, &|_| true, &lat, 2, &[0.0], true, 0, &mut || Ok(()),
 //!             &|tx, ty, tin| (tx, ty, tin.levels[0].tris.len()), &mut |t| { tiles.push(t); Ok(()) }).unwrap();
 //! // the last column of tiles is one pixel wide plus nothing: too thin to
 //! // triangulate, so it gives no tin
@@ -43,6 +43,7 @@ use super::build::{Border, BuildOptions, build_lattice_window_kept};
 use super::dense::Dense;
 use super::lattice::Lattice;
 use super::surface::{GridReference, Reference};
+use super::tile_domain::build_tile_over_data;
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
 use crate::par;
@@ -77,7 +78,8 @@ pub fn tile_window(
 
 /// Build every tile of a band (`values` row-major, `width x height`,
 /// `valid` telling data from nodata) on `lattice`, with `tolerances` per
-/// level and keep_border. Every tile holds its tolerances between the
+/// level and keep_border; over the valid pixels' squares only unless
+/// `fill_gaps` ([`super::tile_domain`]). Every tile holds its tolerances between the
 /// samples, the one-pixel strips along its seams included: the seam samples
 /// a tile asks for ([`Wanted`]) are kept by both tiles of the seam, which
 /// are built again, for up to [`SEAM_ROUNDS`] rounds ([`Seams`]).
@@ -97,6 +99,7 @@ pub fn build_tiles<R: Send>(
     lattice: &Lattice,
     tile_px: usize,
     tolerances: &[f64],
+    fill_gaps: bool,
     srid: i32,
     interrupt: &mut Interrupt<'_>,
     each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
@@ -136,16 +139,22 @@ pub fn build_tiles<R: Send>(
                 cols.start as i64..cols.end as i64,
                 rows.start as i64..rows.end as i64,
             );
-            Ok(build_tile_kept(
-                samples,
-                lattice,
-                origin,
-                tolerances,
-                srid,
-                &keep,
-                &mut || Ok(()),
-            )?
-            .map(|(tin, wanted)| (each(tx, ty, tin), wanted)))
+            let size = (cols.len(), rows.len());
+            let built = if fill_gaps {
+                build_tile_kept(samples, lattice, origin, tolerances, srid, &keep, &mut || Ok(()))?
+            } else {
+                build_tile_over_data(
+                    samples,
+                    lattice,
+                    origin,
+                    size,
+                    tolerances,
+                    srid,
+                    &keep,
+                    &mut || Ok(()),
+                )?
+            };
+            Ok(built.map(|(tin, wanted)| (each(tx, ty, tin), wanted)))
         };
     let mut results: Vec<Option<R>> = (0..tiles.len()).map(|_| None).collect();
     let mut seams = Seams::default();
@@ -396,7 +405,7 @@ fn window_heights(samples: &[[f64; 3]], origin: (i64, i64)) -> Option<Dense> {
 /// [`super::check::over_tolerance`] does on every edge with an end within
 /// 1.5 pixel of the hull (an edge crossing a grid segment of the strip
 /// inside it ends in the strip or on the hull).
-fn strip_wanted(tin: &Tin, d: &Dense, origin: (i64, i64)) -> Wanted {
+pub(crate) fn strip_wanted(tin: &Tin, d: &Dense, origin: (i64, i64)) -> Wanted {
     // the build's own hull of the window's samples
     let hull: Vec<(i64, i64)> = super::build::dense_hull(d)
         .into_iter()
@@ -434,7 +443,9 @@ fn strip_wanted(tin: &Tin, d: &Dense, origin: (i64, i64)) -> Wanted {
     for lv in &tin.levels {
         let limit = lv.tolerance * (1.0 + 1e-10);
         let mut want: Vec<(i64, i64)> = Vec::new();
-        for (t, (tri, nb)) in lv.tris.iter().zip(&lv.nbrs).enumerate() {
+        // (a tile over its data: its domain's triangles)
+        let domain = lv.num_domain();
+        for (t, (tri, nb)) in lv.tris[..domain].iter().zip(&lv.nbrs).enumerate() {
             for j in 0..3 {
                 if nb[j] != NONE && (nb[j] as usize) < t {
                     continue;

@@ -381,6 +381,7 @@ pub fn tiles_and_seams_of(
         &d.lattice(),
         n,
         tols,
+        true,
         srid,
         &mut || Ok(()),
         &|tx, ty, t| (tx, ty, t),

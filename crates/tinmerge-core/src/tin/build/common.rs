@@ -232,6 +232,28 @@ impl Border {
     }
 }
 
+/// The seam lines of a tile built over its data only
+/// ([`crate::tin::tiles`], `fill_gaps => false`), in its window's frame:
+/// columns `0` and `last[0]`, rows `0` and `last[1]`. A soft segment of the
+/// boundary lying on one is a seam: its profile is its samples alone, in
+/// canonical order, with the [`Border`] the tiles agreed on, so the tile
+/// beside it (built the same way, or on the lattice with keep_border, whose
+/// hull side is then the same samples) chooses the same vertices on it.
+/// `height` gives a point on a seam line its height from the samples of that
+/// line alone.
+pub struct SeamLines<'a> {
+    pub last: [f64; 2],
+    pub height: &'a dyn Fn(f64, f64) -> Option<f64>,
+}
+
+impl SeamLines<'_> {
+    /// Whether the segment `a`-`b` lies on a seam line.
+    pub fn holds(&self, a: &[f64; 3], b: &[f64; 3]) -> bool {
+        let on = |u: f64, last: f64| u == 0.0 || u == last;
+        (a[0] == b[0] && on(a[0], self.last[0])) || (a[1] == b[1] && on(a[1], self.last[1]))
+    }
+}
+
 /// One level of the build before [`assemble`](super::assemble::assemble).
 pub(super) struct RawLevel {
     pub(super) tolerance: f64,

@@ -33,6 +33,8 @@ pub(super) struct Spec<'a> {
     pub(super) reference: Option<&'a dyn Reference>,
     /// the seam samples each level keeps
     pub(super) border: &'a Border,
+    /// a tile over its data only: the boundary's segments on its seams
+    pub(super) seams: Option<&'a SeamLines<'a>>,
 }
 
 impl<'a> Spec<'a> {
@@ -48,6 +50,7 @@ impl<'a> Spec<'a> {
             on_lattice: false,
             reference: None,
             border: NO_BORDER,
+            seams: None,
         }
     }
 }
@@ -71,10 +74,11 @@ pub(super) fn build_inner(
         on_lattice,
         reference,
         border,
+        seams,
     } = *spec;
     check_tolerances(tolerances)?;
     let constrained = !lines.is_empty() || !boundaries.is_empty();
-    if constrained && (on_lattice || opts.keep_border) {
+    if constrained && (on_lattice || (opts.keep_border && seams.is_none())) {
         return Err(TinError::InvalidParameter(
             "internal: breaklines are built on scattered samples without keep_border".into(),
         ));
@@ -96,7 +100,8 @@ pub(super) fn build_inner(
     let mut profiles = Vec::new();
     if constrained && pts.len() >= 3 {
         let tol = *tolerances.last().unwrap_or(&0.0);
-        (pts, net, profiles) = with_breaklines(pts, lines, boundaries, tol, reference, interrupt)?;
+        (pts, net, profiles) =
+            with_breaklines(pts, lines, boundaries, tol, reference, seams, interrupt)?;
     }
     if !boundaries.is_empty() && net.segs.is_empty() && pts.len() < 3 {
         return Err(no_domain());
@@ -137,29 +142,39 @@ pub(super) fn build_inner(
                 if prof.is_empty() {
                     return Some(Vec::new());
                 }
-                let mut side = vec![find(&net.verts[s[0] as usize])?];
+                let (a, b) = (&net.verts[s[0] as usize], &net.verts[s[1] as usize]);
+                let mut side = vec![find(a)?];
                 for p in prof {
                     side.push(find(p)?);
                 }
-                side.push(find(&net.verts[s[1] as usize])?);
+                side.push(find(b)?);
+                // a seam's samples in the order the tile beside it takes
+                // them (a lattice side's)
+                if seams.is_some_and(|sl| sl.holds(a, b)) && (b[0], b[1]) < (a[0], a[1]) {
+                    side.reverse();
+                }
                 Some(side)
             })
             .collect::<Option<Vec<Vec<usize>>>>()
             .ok_or_else(|| TinError::Degenerate("internal: a profile sample was lost".into()))?;
         drop(profiles);
         let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, true, reference)?;
-        add_network(&mut b, &net, &segment_sides, tolerances[0], &|x, y| {
+        let kept = if seams.is_some() { border.at(0) } else { &[] };
+        add_network(&mut b, &net, &segment_sides, tolerances[0], kept, &|x, y| {
             grid.find(x, y)
         })?;
         let sides: Vec<Vec<usize>> = segment_sides
             .into_iter()
             .filter(|s| !s.is_empty())
             .collect();
-        let unbordered = Spec {
-            border: &Border::default(),
+        // a tile's seams keep what the tiles agreed on; other lines no
+        // border
+        let no_border = Border::default();
+        let segments = Spec {
+            border: if seams.is_some() { border } else { &no_border },
             ..*spec
         };
-        build_levels(b, &grid, &sides, &unbordered, interrupt)?
+        build_levels(b, &grid, &sides, &segments, interrupt)?
     };
     drop(grid);
     // on a lattice the grid indexes are built once, by `Lattice::to_world`

@@ -99,6 +99,7 @@ pub(super) fn with_breaklines(
     boundaries: &[&Area],
     tol: f64,
     reference: Option<&dyn Reference>,
+    seams: Option<&SeamLines<'_>>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<WithBreaklines, TinError> {
     let hull: Vec<[f64; 3]> = convex_hull(&pts).into_iter().map(|k| pts[k]).collect();
@@ -122,8 +123,9 @@ pub(super) fn with_breaklines(
     // heights along soft lines: the reference's where it has them (the
     // samples' whole Delaunay triangulation), else the samples around
     let height = |x: f64, y: f64| {
-        reference
-            .and_then(|r| r.height_at(x, y))
+        seams
+            .and_then(|s| (s.height)(x, y))
+            .or_else(|| reference.and_then(|r| r.height_at(x, y)))
             .or_else(|| sample_height(&grid, x, y))
     };
     let net = network(&lines, tol, &height, interrupt)?;
@@ -139,12 +141,13 @@ pub(super) fn with_breaklines(
         }
     }
     let (mut dropped, on_segment) =
-        samples_on_segments(&grid, &net, reference.is_some(), interrupt)?;
+        samples_on_segments(&grid, &net, reference.is_some() || seams.is_some(), interrupt)?;
     let profiles = soft_profiles(
         &net,
         grid.cell_area().sqrt(),
         &height,
         reference,
+        seams,
         on_segment,
         interrupt,
     )?;
@@ -223,6 +226,7 @@ fn soft_profiles(
     step: f64,
     height: &dyn Fn(f64, f64) -> Option<f64>,
     reference: Option<&dyn Reference>,
+    seams: Option<&SeamLines<'_>>,
     mut on_segment: Vec<Vec<[f64; 3]>>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<Vec<[f64; 3]>>, TinError> {
@@ -230,10 +234,17 @@ fn soft_profiles(
     let mut total = 0usize;
     for (k, s) in net.segs.iter().enumerate() {
         interrupt()?;
+        let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
         let prof = if net.hard[k] {
             Vec::new()
+        } else if seams.is_some_and(|sl| sl.holds(&a, &b)) {
+            // a tile's seam: its samples alone, as the tile beside it
+            // sees them (on an axis, so exactly on it)
+            let mut on = std::mem::take(&mut on_segment[k]);
+            let along = |p: &[f64; 3]| (p[0] - a[0]).abs() + (p[1] - a[1]).abs();
+            on.sort_by(|p, q| along(p).total_cmp(&along(q)));
+            on
         } else {
-            let (a, b) = (net.verts[s[0] as usize], net.verts[s[1] as usize]);
             let even = profile(&a, &b, step, height, interrupt)?;
             match reference {
                 Some(r) => {
@@ -302,7 +313,8 @@ pub(super) fn with_crossings(
 /// Level 0's constraint edges: the network's vertices inserted (they are
 /// samples of `b`'s grid), then each segment with a profile (`sides[k]`:
 /// its samples from end to end, or empty) split at the profile samples
-/// [`choose_border`] picks at `tol` (inserted before the constraints, so
+/// [`choose_border`] picks at `tol` after the `kept` positions (a tile's
+/// seam samples, [`Border`]) (inserted before the constraints, so
 /// each piece is an edge of its own: they lie on the segment only up to
 /// rounding), and every piece added as a constraint.
 pub(super) fn add_network<S: Samples>(
@@ -310,8 +322,13 @@ pub(super) fn add_network<S: Samples>(
     net: &Network,
     sides: &[Vec<usize>],
     tol: f64,
+    kept: &[[f64; 2]],
     find: &dyn Fn(f64, f64) -> Option<usize>,
 ) -> Result<(), TinError> {
+    let kept: rustc_hash::FxHashSet<(u64, u64)> = kept
+        .iter()
+        .map(|p| (p[0].to_bits(), p[1].to_bits()))
+        .collect();
     let mut ends = Vec::with_capacity(net.verts.len());
     let mut handle: rustc_hash::FxHashMap<usize, FixedVertexHandle> = Default::default();
     let mut hint = None;
@@ -330,11 +347,18 @@ pub(super) fn add_network<S: Samples>(
         }
         let chain: Vec<usize> = match sides.get(k) {
             Some(side) if side.len() > 2 => {
-                let mut chosen: Vec<bool> = (0..side.len())
-                    .map(|j| j == 0 || j + 1 == side.len())
-                    .collect();
                 let grid = b.grid;
                 let mut new = Vec::new();
+                let mut chosen: Vec<bool> = (0..side.len())
+                    .map(|j| {
+                        let p = grid.point(side[j]);
+                        let keep = kept.contains(&(p[0].to_bits(), p[1].to_bits()));
+                        if keep && j > 0 && j + 1 < side.len() {
+                            new.push(side[j]);
+                        }
+                        j == 0 || j + 1 == side.len() || keep
+                    })
+                    .collect();
                 choose_border(&|i| grid.point(i), side, &mut chosen, tol, &mut new);
                 for i in new {
                     let h = b.insert_sample(i, handle.get(&p).copied())?;

@@ -1,0 +1,155 @@
+//! A window of a raster (a tile) built over its valid cells only: the
+//! tiles of `tin_tiles(..., fill_gaps => false)` whose data does not fill
+//! the hull of their samples ([`crate::tin::tiles`]).
+
+use super::common::*;
+use super::levels::*;
+use crate::interrupt::Interrupt;
+use crate::polygon::Area;
+use crate::tin::dense::Dense;
+use crate::tin::lattice::Lattice;
+use crate::tin::surface::GridReference;
+use crate::tin::{Tin, TinError};
+
+/// The height of `(x, y)` on a line of the window `d` (its frame): a column
+/// `x` or a row `y`, from that line's samples alone. A sample's own height;
+/// between two valid neighbours on the line, linear between them; else the
+/// height of the valid pixel whose square holds the point (the end of a run
+/// of data, half a pixel past its last sample: what `ST_Value` answers
+/// there). None off the line or without data there.
+pub(crate) fn line_height(d: &Dense, x: f64, y: f64, on_column: bool) -> Option<f64> {
+    let (fixed, t) = if on_column { (x, y) } else { (y, x) };
+    if fixed != fixed.trunc() {
+        return None;
+    }
+    let at = |u: f64| -> Option<f64> {
+        let (c, r) = if on_column { (fixed, u) } else { (u, fixed) };
+        let (c, r) = (c as i64 - d.c0, r as i64 - d.r0);
+        if c < 0 || r < 0 || c as usize >= d.width || r as usize >= d.height {
+            return None;
+        }
+        let z = d.z[r as usize * d.width + c as usize];
+        (!z.is_nan()).then_some(z)
+    };
+    let lo = t.floor();
+    if t == lo {
+        return at(t);
+    }
+    match (at(lo), at(lo + 1.0)) {
+        (Some(a), Some(b)) => Some(a + (t - lo) * (b - a)),
+        (Some(a), None) if t - lo <= 0.5 => Some(a),
+        (None, Some(b)) if t - lo >= 0.5 => Some(b),
+        _ => None,
+    }
+}
+
+/// Build a window of a raster over its valid cells only: `samples` (column,
+/// row, value on `lattice`) of the window of `size` pixels whose first pixel
+/// is `origin`, as scattered samples in the window's own frame, with
+/// `boundary` (in that frame: the valid pixels' squares clipped to the
+/// window's outer pixel centres) as the domain, measured between the
+/// samples on their grid. The boundary's segments on the window's outer
+/// columns and rows are its seams ([`SeamLines`]): chosen from their
+/// samples alone, keeping `keep` (positions on `lattice`), as a tile beside
+/// it built either way chooses them. `local` sees the tin in the frame
+/// before it is put on the lattice.
+#[allow(clippy::too_many_arguments)]
+pub fn build_lattice_window_domain(
+    samples: Vec<[f64; 3]>,
+    lattice: &Lattice,
+    origin: (i64, i64),
+    size: (usize, usize),
+    boundary: &Area,
+    tolerances: &[f64],
+    srid: i32,
+    keep: &Border,
+    local: &mut dyn FnMut(&Tin) -> Result<(), TinError>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
+    let (w, h) = size;
+    if !(c0.abs() <= 1e9 && r0.abs() <= 1e9) || w < 1 || h < 1 || w.saturating_mul(h) > 1 << 28
+    {
+        return Err(TinError::InvalidParameter(format!(
+            "window at ({}, {}) of {w} x {h} pixels is out of range",
+            origin.0, origin.1
+        )));
+    }
+    if !lattice.is_valid() {
+        return Err(TinError::InvalidParameter(format!(
+            "raster georeference is degenerate or not finite (scale {} x {}, skew {} x {})",
+            lattice.scale_x, lattice.scale_y, lattice.skew_x, lattice.skew_y
+        )));
+    }
+    let mut d = Dense {
+        c0: 0,
+        r0: 0,
+        width: w,
+        height: h,
+        z: vec![f64::NAN; w * h],
+    };
+    let mut local_samples = Vec::with_capacity(samples.len());
+    for p in &samples {
+        let (c, r) = (p[0] - c0, p[1] - r0);
+        let inside = c == c.trunc() && r == r.trunc() && c >= 0.0 && r >= 0.0;
+        if !(inside && (c as usize) < w && (r as usize) < h && p[2].is_finite()) {
+            return Err(TinError::InvalidParameter(format!(
+                "window sample ({}, {}, {}) is not a pixel of the window",
+                p[0], p[1], p[2]
+            )));
+        }
+        d.z[r as usize * w + c as usize] = p[2];
+        local_samples.push([c, r, p[2]]);
+    }
+    drop(samples);
+    let last = [(w - 1) as f64, (h - 1) as f64];
+    let height = |x: f64, y: f64| {
+        if x == 0.0 || x == last[0] {
+            if let Some(z) = line_height(&d, x, y, true) {
+                return Some(z);
+            }
+        }
+        if y == 0.0 || y == last[1] {
+            return line_height(&d, x, y, false);
+        }
+        None
+    };
+    let seams = SeamLines {
+        last,
+        height: &height,
+    };
+    let reference = GridReference::on_lattice(&d);
+    let keep = Border {
+        levels: keep
+            .levels
+            .iter()
+            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
+            .collect(),
+    };
+    let boundaries = [boundary];
+    let spec = Spec {
+        boundaries: &boundaries,
+        reference: Some(&reference),
+        border: &keep,
+        seams: Some(&seams),
+        ..Spec::new(
+            tolerances,
+            srid,
+            BuildOptions {
+                keep_border: true,
+                between_samples: true,
+            },
+        )
+    };
+    let mut tin = build_inner(local_samples, &spec, interrupt)?;
+    local(&tin)?;
+    for v in &mut tin.verts {
+        v[0] += c0;
+        v[1] += r0;
+    }
+    let tin = lattice.to_world(tin);
+    for v in &tin.verts {
+        crate::tin::check_xy("a pixel centre", v[0], v[1])?;
+    }
+    Ok(tin)
+}
