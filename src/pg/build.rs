@@ -462,7 +462,8 @@ COMMENT ON FUNCTION _tin_from_raster_tolerances(bytea, float8[], int, boolean) I
 
 /// `tin_tiles`: the raster cut into tiles of `tile_px` pixels that share
 /// their border column and row of samples, each built with keep_border
-/// (`tin::tiles`), on `tinmerge.threads` threads.
+/// (`tin::tiles`), over the valid pixels' squares only unless `fill_gaps`
+/// (`tin::tile_domain`), on `tinmerge.threads` threads.
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn _tin_tiles(
     rast: &[u8],
@@ -470,6 +471,7 @@ fn _tin_tiles(
     tolerance: f64,
     levels: i32,
     band: i32,
+    fill_gaps: bool,
 ) -> TableIterator<'static, (name!(tx, i32), name!(ty, i32), name!(t, TinOut))> {
     if !(2..=65535).contains(&tile_px) {
         raise(
@@ -502,7 +504,7 @@ fn _tin_tiles(
         &lattice,
         tile_px as usize,
         &tols,
-        true,
+        fill_gaps,
         r.srid,
         &mut interrupt,
         &|tx, ty, tin| (tx as i32, ty as i32, TinOut::from_tin_on(&tin, &lattice)),
@@ -517,8 +519,8 @@ fn _tin_tiles(
 
 extension_sql!(
     r#"
-ALTER FUNCTION _tin_tiles(bytea, int, float8, int, int) ROWS 100;
-COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int) IS 'Internal: use tin_tiles(raster, int, float8, int, int).';
+ALTER FUNCTION _tin_tiles(bytea, int, float8, int, int, boolean) ROWS 100;
+COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int, boolean) IS 'Internal: use tin_tiles(raster, int, float8, int, int, boolean).';
 "#,
     name = "tin_tiles_sql",
     requires = [_tin_tiles]

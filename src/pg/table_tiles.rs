@@ -54,6 +54,9 @@ struct TableTiles {
     /// `plan` are left out as if the table had none there.
     own: std::ops::Range<usize>,
     plan: std::ops::Range<usize>,
+    /// Tiles over the hull of their samples (true), or over their valid
+    /// pixels' squares only (`tin::tile_domain`).
+    fill_gaps: bool,
 }
 
 /// The table's name as a `FROM` item and the raster column quoted, after
@@ -216,6 +219,7 @@ impl TableTiles {
         levels: i32,
         band: i32,
         (slice, slices): (i32, i32),
+        fill_gaps: bool,
     ) -> TableTiles {
         use tinmerge_core::tin::tiles::{place_tiles, slice_rows};
         if band < 1 {
@@ -295,6 +299,7 @@ impl TableTiles {
             planning: true,
             own,
             plan,
+            fill_gaps,
         }
     }
 
@@ -472,7 +477,10 @@ impl TableTiles {
 
     /// Build the next batch of tiles (one per thread) into `ready`.
     fn build_batch(&mut self) {
-        use tinmerge_core::tin::tiles::{build_tile_kept, keep_border_samples, Block};
+        use tinmerge_core::tin::tile_domain::build_tile_over_data;
+        use tinmerge_core::tin::tiles::{
+            build_tile_kept, keep_border_samples, keep_border_window, Block,
+        };
         let threads = tinmerge_core::tin::par::threads().max(1);
         let batch: Vec<usize> =
             self.order[self.next..(self.next + threads).min(self.order.len())].to_vec();
@@ -509,25 +517,30 @@ impl TableTiles {
             })
         };
         let (lattice, tols, srid) = (self.grid.lattice, &self.tols, self.srid);
-        let (seams, planning) = (&self.seams, self.planning);
+        let (seams, planning, fill_gaps) = (&self.seams, self.planning, self.fill_gaps);
         let built = tinmerge_core::tin::par::map(&batch, |&k| {
             let p = self.grid.tiles[k];
             let own = block(p.tx, p.ty)?;
+            let (right, below) = (block(p.tx + 1, p.ty), block(p.tx, p.ty + 1));
             let s = keep_border_samples(
                 &own,
-                block(p.tx + 1, p.ty).as_ref(),
-                block(p.tx, p.ty + 1).as_ref(),
+                right.as_ref(),
+                below.as_ref(),
                 block(p.tx + 1, p.ty + 1).as_ref(),
             );
             let keep = seams.border(
                 p.col..p.col + p.width as i64 + 1,
                 p.row..p.row + p.height as i64 + 1,
             );
+            let origin = (p.col, p.row);
+            let tile = if fill_gaps {
+                build_tile_kept(s, &lattice, origin, tols, srid, &keep, &mut || Ok(()))
+            } else {
+                let size = keep_border_window(&own, right.as_ref(), below.as_ref());
+                build_tile_over_data(s, &lattice, origin, size, tols, srid, &keep, &mut || Ok(()))
+            };
             Some(
-                build_tile_kept(s, &lattice, (p.col, p.row), tols, srid, &keep, &mut || {
-                    Ok(())
-                })
-                .map(|t| {
+                tile.map(|t| {
                     t.map(|(t, wanted)| {
                         if planning {
                             (None, wanted)
@@ -575,7 +588,7 @@ impl Iterator for TableTiles {
 }
 
 /// `tin_tiles_from_table(tiles regclass, tolerance, levels, rast_column, band,
-/// slice, slices)`: every raster tile of a table (of slice `slice` of
+/// slice, slices, fill_gaps)`: every raster tile of a table (of slice `slice` of
 /// `slices`: its rows of tiles) built as a tin with its neighbours' border
 /// pixels (the SQL wrapper passes the table's OID and the column's name).
 #[pg_extern(stable, strict, parallel_restricted, cost = 100000, requires = ["tin_type"])]
@@ -587,6 +600,7 @@ fn _tin_tiles_table(
     band: i32,
     slice: i32,
     slices: i32,
+    fill_gaps: bool,
 ) -> TableIterator<'static, (name!(tx, i32), name!(ty, i32), name!(t, TinOut))> {
     TableIterator::new(TableTiles::open(
         tab,
@@ -595,13 +609,14 @@ fn _tin_tiles_table(
         levels,
         band,
         (slice, slices),
+        fill_gaps,
     ))
 }
 
 extension_sql!(
     r#"
-ALTER FUNCTION _tin_tiles_table(oid, text, float8, int, int, int, int) ROWS 100;
-COMMENT ON FUNCTION _tin_tiles_table(oid, text, float8, int, int, int, int) IS 'Internal: use tin_tiles_from_table(regclass, float8, int, name, int, int, int).';
+ALTER FUNCTION _tin_tiles_table(oid, text, float8, int, int, int, int, boolean) ROWS 100;
+COMMENT ON FUNCTION _tin_tiles_table(oid, text, float8, int, int, int, int, boolean) IS 'Internal: use tin_tiles_from_table(regclass, float8, int, name, int, int, int, boolean).';
 "#,
     name = "tin_tiles_table_sql",
     requires = [_tin_tiles_table]

@@ -702,3 +702,17 @@ pub fn keep_border_samples(
     }
     out
 }
+
+/// The window [`keep_border_samples`] takes a tile's samples from, in
+/// pixels: its own, one column more with a tile to its right and one row
+/// more with one below (when they adjoin it).
+pub fn keep_border_window(own: &Block, right: Option<&Block>, below: Option<&Block>) -> (usize, usize) {
+    let p = own.place;
+    let adjoins = |b: &&Block, dc: usize, dr: usize| {
+        b.place.col == p.col + dc as i64 && b.place.row == p.row + dr as i64
+    };
+    (
+        p.width + usize::from(right.filter(|b| adjoins(b, p.width, 0)).is_some()),
+        p.height + usize::from(below.filter(|b| adjoins(b, 0, p.height)).is_some()),
+    )
+}
