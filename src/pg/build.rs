@@ -21,6 +21,7 @@ use tinmerge_core::tin::build::{
 use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
+use tinmerge_core::tin::tile_domain::build_tile_over_data;
 use tinmerge_core::tin::tiles::build_tiles;
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
@@ -406,10 +407,33 @@ fn build_raster_constrained(
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
-        raise(
-            PgSqlErrorCode::ERRCODE_FEATURE_NOT_SUPPORTED,
-            "tin_from_raster: keep_border => true over a raster whose nodata pixels cut into the hull of its valid ones needs fill_gaps => true (tiles over the valid pixels only are not built yet)",
-        );
+        // a tile over its data, as tin_tiles builds it (its seams chosen
+        // from their samples alone)
+        drop(pts);
+        let samples: Vec<[f64; 3]> = (0..w * h)
+            .filter(|&i| !z[i].is_nan())
+            .map(|i| [(i % w) as f64, (i / w) as f64, z[i]])
+            .collect();
+        drop(z);
+        reserve_build("tin_from_raster", samples.len(), tols.len(), true);
+        let tile = build_tile_over_data(
+            samples,
+            &lattice,
+            (0, 0),
+            (w, h),
+            tols,
+            srid,
+            &Default::default(),
+            &mut interrupt,
+        )
+        .or_raise();
+        let Some((tin, _)) = tile else {
+            raise(
+                PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+                "tin_from_raster: the raster has fewer than three valid pixels that are not on one line",
+            );
+        };
+        return TinOut::from_tin_on(&tin, &lattice);
     }
     let areas: Vec<&Area> = areas.iter().collect();
     reserve_build_bytes(

@@ -539,18 +539,16 @@ impl TableTiles {
                 let size = keep_border_window(&own, right.as_ref(), below.as_ref());
                 build_tile_over_data(s, &lattice, origin, size, tols, srid, &keep, &mut || Ok(()))
             };
-            Some(
-                tile.map(|t| {
-                    t.map(|(t, wanted)| {
-                        if planning {
-                            (None, wanted)
-                        } else {
-                            let out = TinOut::from_tin_on(&t, &lattice);
-                            (Some((p.tx as i32, p.ty as i32, out)), Vec::new())
-                        }
-                    })
-                }),
-            )
+            Some(tile.map(|t| {
+                t.map(|(t, wanted)| {
+                    if planning {
+                        (None, wanted)
+                    } else {
+                        let out = TinOut::from_tin_on(&t, &lattice);
+                        (Some((p.tx as i32, p.ty as i32, out)), Vec::new())
+                    }
+                })
+            }))
         });
         for r in built {
             let Some(r) = r else {

@@ -1100,7 +1100,19 @@ fn tiles_between_samples() {
         };
         let tols = default_tolerances(70.0 / 40.0, 3).unwrap();
         let n = 9 + 4 * k;
-        check_tiles(&format!("{} in {n}-pixel tiles", g.name), &r, n, &tols, true);
-        check_tiles(&format!("{} in {n}-pixel tiles over its data", g.name), &r, n, &tols, false);
+        check_tiles(
+            &format!("{} in {n}-pixel tiles", g.name),
+            &r,
+            n,
+            &tols,
+            true,
+        );
+        check_tiles(
+            &format!("{} in {n}-pixel tiles over its data", g.name),
+            &r,
+            n,
+            &tols,
+            false,
+        );
     }
 }

@@ -284,7 +284,10 @@ fn tiles_over_the_data_cover_the_valid_squares_and_agree_on_their_seams() {
             tiles.len()
         );
         assert!(cut > 3, "{name}: {cut} tiles with nodata");
-        assert_eq!(one_sided, 0, "{name}: seam points answered by one tile only");
+        assert_eq!(
+            one_sided, 0,
+            "{name}: seam points answered by one tile only"
+        );
         assert!(points > 1000, "{name}: {points} seam points");
         assert!(worst <= 1e-9, "{name}: seams differ by {worst}");
     }

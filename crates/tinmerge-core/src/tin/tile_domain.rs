@@ -98,8 +98,14 @@ pub fn data_cuts_hull(d: &Dense) -> bool {
         })
         .sum();
     let s: i128 = if area2 > 0 { 1 } else { -1 };
-    let (x0, x1) = (hull.iter().map(|p| p.0).min(), hull.iter().map(|p| p.0).max());
-    let (y0, y1) = (hull.iter().map(|p| p.1).min(), hull.iter().map(|p| p.1).max());
+    let (x0, x1) = (
+        hull.iter().map(|p| p.0).min(),
+        hull.iter().map(|p| p.0).max(),
+    );
+    let (y0, y1) = (
+        hull.iter().map(|p| p.1).min(),
+        hull.iter().map(|p| p.1).max(),
+    );
     let (Some(x0), Some(x1), Some(y0), Some(y1)) = (x0, x1, y0, y1) else {
         return false;
     };

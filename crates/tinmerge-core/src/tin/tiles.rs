@@ -141,7 +141,15 @@ pub fn build_tiles<R: Send>(
             );
             let size = (cols.len(), rows.len());
             let built = if fill_gaps {
-                build_tile_kept(samples, lattice, origin, tolerances, srid, &keep, &mut || Ok(()))?
+                build_tile_kept(
+                    samples,
+                    lattice,
+                    origin,
+                    tolerances,
+                    srid,
+                    &keep,
+                    &mut || Ok(()),
+                )?
             } else {
                 build_tile_over_data(
                     samples,
@@ -706,7 +714,11 @@ pub fn keep_border_samples(
 /// The window [`keep_border_samples`] takes a tile's samples from, in
 /// pixels: its own, one column more with a tile to its right and one row
 /// more with one below (when they adjoin it).
-pub fn keep_border_window(own: &Block, right: Option<&Block>, below: Option<&Block>) -> (usize, usize) {
+pub fn keep_border_window(
+    own: &Block,
+    right: Option<&Block>,
+    below: Option<&Block>,
+) -> (usize, usize) {
     let p = own.place;
     let adjoins = |b: &&Block, dc: usize, dr: usize| {
         b.place.col == p.col + dc as i64 && b.place.row == p.row + dr as i64

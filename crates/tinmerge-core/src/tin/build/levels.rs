@@ -160,9 +160,14 @@ pub(super) fn build_inner(
         drop(profiles);
         let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, true, reference)?;
         let kept = if seams.is_some() { border.at(0) } else { &[] };
-        add_network(&mut b, &net, &segment_sides, tolerances[0], kept, &|x, y| {
-            grid.find(x, y)
-        })?;
+        add_network(
+            &mut b,
+            &net,
+            &segment_sides,
+            tolerances[0],
+            kept,
+            &|x, y| grid.find(x, y),
+        )?;
         let sides: Vec<Vec<usize>> = segment_sides
             .into_iter()
             .filter(|s| !s.is_empty())

@@ -140,8 +140,12 @@ pub(super) fn with_breaklines(
             )));
         }
     }
-    let (mut dropped, on_segment) =
-        samples_on_segments(&grid, &net, reference.is_some() || seams.is_some(), interrupt)?;
+    let (mut dropped, on_segment) = samples_on_segments(
+        &grid,
+        &net,
+        reference.is_some() || seams.is_some(),
+        interrupt,
+    )?;
     let profiles = soft_profiles(
         &net,
         grid.cell_area().sqrt(),

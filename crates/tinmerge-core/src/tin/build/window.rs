@@ -68,8 +68,7 @@ pub fn build_lattice_window_domain(
 ) -> Result<Tin, TinError> {
     let (c0, r0) = (origin.0 as f64, origin.1 as f64);
     let (w, h) = size;
-    if !(c0.abs() <= 1e9 && r0.abs() <= 1e9) || w < 1 || h < 1 || w.saturating_mul(h) > 1 << 28
-    {
+    if !(c0.abs() <= 1e9 && r0.abs() <= 1e9) || w < 1 || h < 1 || w.saturating_mul(h) > 1 << 28 {
         return Err(TinError::InvalidParameter(format!(
             "window at ({}, {}) of {w} x {h} pixels is out of range",
             origin.0, origin.1
