@@ -589,6 +589,7 @@ impl Iterator for TableTiles {
 /// slice, slices, fill_gaps)`: every raster tile of a table (of slice `slice` of
 /// `slices`: its rows of tiles) built as a tin with its neighbours' border
 /// pixels (the SQL wrapper passes the table's OID and the column's name).
+#[allow(clippy::too_many_arguments)]
 #[pg_extern(stable, strict, parallel_restricted, cost = 100000, requires = ["tin_type"])]
 fn _tin_tiles_table(
     tab: pg_sys::Oid,

@@ -115,8 +115,9 @@ pub fn data_cuts_hull(d: &Dense) -> bool {
         }
         let (c, r) = d.col_row(i);
         let (cx, cy) = (2 * c, 2 * r);
-        // the square's own axes
-        if cx + 1 <= x0 || cx - 1 >= x1 || cy + 1 <= y0 || cy - 1 >= y1 {
+        // the square's own axes (it spans cx - 1 ..= cx + 1: separated when
+        // cx + 1 <= x0, that is cx < x0 in whole half pixels)
+        if cx < x0 || cx > x1 || cy < y0 || cy > y1 {
             return false;
         }
         let corners = [

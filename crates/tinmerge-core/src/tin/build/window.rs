@@ -103,10 +103,10 @@ pub fn build_lattice_window_domain(
     drop(samples);
     let last = [(w - 1) as f64, (h - 1) as f64];
     let height = |x: f64, y: f64| {
-        if x == 0.0 || x == last[0] {
-            if let Some(z) = line_height(&d, x, y, true) {
-                return Some(z);
-            }
+        if (x == 0.0 || x == last[0])
+            && let Some(z) = line_height(&d, x, y, true)
+        {
+            return Some(z);
         }
         if y == 0.0 || y == last[1] {
             return line_height(&d, x, y, false);
