@@ -448,12 +448,7 @@ pub fn build_lattice_window_kept(
         s[0] -= c0;
         s[1] -= r0;
     }
-    if !lattice.is_valid() {
-        return Err(TinError::InvalidParameter(format!(
-            "raster georeference is degenerate or not finite (scale {} x {}, skew {} x {})",
-            lattice.scale_x, lattice.scale_y, lattice.skew_x, lattice.skew_y
-        )));
-    }
+    window::check_lattice(lattice)?;
     if let Some(p) = samples.iter().find(|p| {
         p[0] != p[0].trunc() || p[1] != p[1].trunc() || p[0].abs() > 1e9 || p[1].abs() > 1e9
     }) {
@@ -463,29 +458,15 @@ pub fn build_lattice_window_kept(
             p[1] + r0
         )));
     }
-    let keep = Border {
-        levels: keep
-            .levels
-            .iter()
-            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
-            .collect(),
-    };
+    let keep = window::in_frame(keep, origin);
     let spec = Spec {
         on_lattice: true,
         border: &keep,
         ..Spec::new(tolerances, srid, opts)
     };
-    let mut tin = build_inner(samples, &spec, interrupt)?;
+    let tin = build_inner(samples, &spec, interrupt)?;
     local(&tin)?;
-    for v in &mut tin.verts {
-        v[0] += c0;
-        v[1] += r0;
-    }
-    let tin = lattice.to_world(tin);
-    for v in &tin.verts {
-        super::check_xy("a pixel centre", v[0], v[1])?;
-    }
-    Ok(tin)
+    window::on_lattice(tin, lattice, origin)
 }
 
 /// A single-level tin from a triangulation given as vertices and

@@ -74,12 +74,7 @@ pub fn build_lattice_window_domain(
             origin.0, origin.1
         )));
     }
-    if !lattice.is_valid() {
-        return Err(TinError::InvalidParameter(format!(
-            "raster georeference is degenerate or not finite (scale {} x {}, skew {} x {})",
-            lattice.scale_x, lattice.scale_y, lattice.skew_x, lattice.skew_y
-        )));
-    }
+    check_lattice(lattice)?;
     let mut d = Dense {
         c0: 0,
         r0: 0,
@@ -118,13 +113,7 @@ pub fn build_lattice_window_domain(
         height: &height,
     };
     let reference = GridReference::on_lattice(&d);
-    let keep = Border {
-        levels: keep
-            .levels
-            .iter()
-            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
-            .collect(),
-    };
+    let keep = in_frame(keep, origin);
     let boundaries = [boundary];
     let spec = Spec {
         boundaries: &boundaries,
@@ -140,8 +129,44 @@ pub fn build_lattice_window_domain(
             },
         )
     };
-    let mut tin = build_inner(local_samples, &spec, interrupt)?;
+    let tin = build_inner(local_samples, &spec, interrupt)?;
     local(&tin)?;
+    on_lattice(tin, lattice, origin)
+}
+
+/// An error for a lattice that cannot place a build (degenerate or not
+/// finite).
+pub(super) fn check_lattice(lattice: &Lattice) -> Result<(), TinError> {
+    if lattice.is_valid() {
+        return Ok(());
+    }
+    Err(TinError::InvalidParameter(format!(
+        "raster georeference is degenerate or not finite (scale {} x {}, skew {} x {})",
+        lattice.scale_x, lattice.scale_y, lattice.skew_x, lattice.skew_y
+    )))
+}
+
+/// The kept seam samples (on the lattice) in a window's frame (`origin`
+/// its first pixel).
+pub(super) fn in_frame(keep: &Border, origin: (i64, i64)) -> Border {
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
+    Border {
+        levels: keep
+            .levels
+            .iter()
+            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
+            .collect(),
+    }
+}
+
+/// A tin built in a window's frame put on the lattice: its vertices moved
+/// by `origin` (whole pixels: exact) and mapped to world coordinates.
+pub(super) fn on_lattice(
+    mut tin: Tin,
+    lattice: &Lattice,
+    origin: (i64, i64),
+) -> Result<Tin, TinError> {
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
     for v in &mut tin.verts {
         v[0] += c0;
         v[1] += r0;
