@@ -21,7 +21,7 @@ use tinmerge_core::tin::build::{
 use tinmerge_core::tin::dense::Dense;
 use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
-use tinmerge_core::tin::tile_domain::build_tile_over_data;
+use tinmerge_core::tin::tile_domain::build_tile_window;
 use tinmerge_core::tin::tiles::build_tiles;
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
@@ -416,7 +416,7 @@ fn build_raster_constrained(
             .collect();
         drop(z);
         reserve_build("tin_from_raster", samples.len(), tols.len(), true);
-        let tile = build_tile_over_data(
+        let tile = build_tile_window(
             samples,
             &lattice,
             (0, 0),
@@ -424,6 +424,7 @@ fn build_raster_constrained(
             tols,
             srid,
             &Default::default(),
+            false,
             &mut interrupt,
         )
         .or_raise();

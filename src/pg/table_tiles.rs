@@ -477,10 +477,8 @@ impl TableTiles {
 
     /// Build the next batch of tiles (one per thread) into `ready`.
     fn build_batch(&mut self) {
-        use tinmerge_core::tin::tile_domain::build_tile_over_data;
-        use tinmerge_core::tin::tiles::{
-            build_tile_kept, keep_border_samples, keep_border_window, Block,
-        };
+        use tinmerge_core::tin::tile_domain::build_tile_window;
+        use tinmerge_core::tin::tiles::{keep_border_samples, keep_border_window, Block};
         let threads = tinmerge_core::tin::par::threads().max(1);
         let batch: Vec<usize> =
             self.order[self.next..(self.next + threads).min(self.order.len())].to_vec();
@@ -532,13 +530,18 @@ impl TableTiles {
                 p.col..p.col + p.width as i64 + 1,
                 p.row..p.row + p.height as i64 + 1,
             );
-            let origin = (p.col, p.row);
-            let tile = if fill_gaps {
-                build_tile_kept(s, &lattice, origin, tols, srid, &keep, &mut || Ok(()))
-            } else {
-                let size = keep_border_window(&own, right.as_ref(), below.as_ref());
-                build_tile_over_data(s, &lattice, origin, size, tols, srid, &keep, &mut || Ok(()))
-            };
+            let size = keep_border_window(&own, right.as_ref(), below.as_ref());
+            let tile = build_tile_window(
+                s,
+                &lattice,
+                (p.col, p.row),
+                size,
+                tols,
+                srid,
+                &keep,
+                fill_gaps,
+                &mut || Ok(()),
+            );
             Some(tile.map(|t| {
                 t.map(|(t, wanted)| {
                     if planning {

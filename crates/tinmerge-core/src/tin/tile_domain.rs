@@ -135,17 +135,18 @@ pub fn data_cuts_hull(d: &Dense) -> bool {
     })
 }
 
-/// A tile over its data only: `samples` (column, row, value on `lattice`)
-/// of its window of `size` pixels whose first pixel is `origin`, keeping
-/// the seam samples `keep`, as [`build_tile_kept`] builds it but with the
-/// domain the valid pixels' squares within the hull of its samples. A
-/// window whose data fills that hull is [`build_tile_kept`]'s tile. The
-/// tile asks of its seams what [`build_tile_kept`]'s would: the seam
-/// samples at the ends of the grid segments of the strip along its hull
-/// where an edge of its domain crosses them over the tolerance. `Ok(None)`
-/// when the samples cannot be triangulated.
+/// A tile of a grid (`tin_tiles`, `tin_tiles_from_table`): `samples`
+/// (column, row, value on `lattice`) of its window of `size` pixels whose
+/// first pixel is `origin`, keeping the seam samples `keep`. With
+/// `fill_gaps`, or when its data fills the hull of its samples,
+/// [`build_tile_kept`]'s tile; otherwise over its data only: the domain the
+/// valid pixels' squares within that hull, and the tile asks of its seams
+/// what [`build_tile_kept`]'s would (the seam samples at the ends of the
+/// grid segments of the strip along its hull where an edge of its domain
+/// crosses them over the tolerance). `Ok(None)` when the samples cannot be
+/// triangulated.
 #[allow(clippy::too_many_arguments)]
-pub fn build_tile_over_data(
+pub fn build_tile_window(
     samples: Vec<[f64; 3]>,
     lattice: &Lattice,
     origin: (i64, i64),
@@ -153,8 +154,12 @@ pub fn build_tile_over_data(
     tolerances: &[f64],
     srid: i32,
     keep: &Border,
+    fill_gaps: bool,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Option<(Tin, Wanted)>, TinError> {
+    if fill_gaps {
+        return build_tile_kept(samples, lattice, origin, tolerances, srid, keep, interrupt);
+    }
     let (w, h) = size;
     if samples.len() < 3 || w < 2 || h < 2 || w.saturating_mul(h) > 1 << 28 {
         return Ok(None);
@@ -168,9 +173,15 @@ pub fn build_tile_over_data(
     };
     for p in &samples {
         let (c, r) = (p[0] as i64 - origin.0, p[1] as i64 - origin.1);
-        if c < 0 || r < 0 || c as usize >= w || r as usize >= h {
+        if c < 0
+            || r < 0
+            || c as usize >= w
+            || r as usize >= h
+            || p[0] != p[0].trunc()
+            || p[1] != p[1].trunc()
+        {
             return Err(TinError::InvalidParameter(format!(
-                "sample ({}, {}) is outside its tile's window",
+                "sample ({}, {}) is not a pixel of its tile's window",
                 p[0], p[1]
             )));
         }
@@ -179,14 +190,14 @@ pub fn build_tile_over_data(
     if !data_cuts_hull(&d) {
         return build_tile_kept(samples, lattice, origin, tolerances, srid, keep, interrupt);
     }
+    drop(samples);
     let rings = window_outline(w, h, &|c, r| !d.z[r * w + c].is_nan());
     let boundary = Area::new(rings.into_iter().map(|r| vec![r]).collect());
     let mut wanted = Vec::new();
     match build_lattice_window_domain(
-        samples,
+        &d,
         lattice,
         origin,
-        size,
         &boundary,
         tolerances,
         srid,

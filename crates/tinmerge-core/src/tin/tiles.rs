@@ -43,7 +43,7 @@ use super::build::{Border, BuildOptions, build_lattice_window_kept};
 use super::dense::Dense;
 use super::lattice::Lattice;
 use super::surface::{GridReference, Reference};
-use super::tile_domain::build_tile_over_data;
+use super::tile_domain::build_tile_window;
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
 use crate::par;
@@ -140,28 +140,17 @@ pub fn build_tiles<R: Send>(
                 rows.start as i64..rows.end as i64,
             );
             let size = (cols.len(), rows.len());
-            let built = if fill_gaps {
-                build_tile_kept(
-                    samples,
-                    lattice,
-                    origin,
-                    tolerances,
-                    srid,
-                    &keep,
-                    &mut || Ok(()),
-                )?
-            } else {
-                build_tile_over_data(
-                    samples,
-                    lattice,
-                    origin,
-                    size,
-                    tolerances,
-                    srid,
-                    &keep,
-                    &mut || Ok(()),
-                )?
-            };
+            let built = build_tile_window(
+                samples,
+                lattice,
+                origin,
+                size,
+                tolerances,
+                srid,
+                &keep,
+                fill_gaps,
+                &mut || Ok(()),
+            )?;
             Ok(built.map(|(tin, wanted)| (each(tx, ty, tin), wanted)))
         };
     let mut results: Vec<Option<R>> = (0..tiles.len()).map(|_| None).collect();

@@ -43,9 +43,9 @@ pub(crate) fn line_height(d: &Dense, x: f64, y: f64, on_column: bool) -> Option<
     }
 }
 
-/// Build a window of a raster over its valid cells only: `samples` (column,
-/// row, value on `lattice`) of the window of `size` pixels whose first pixel
-/// is `origin`, as scattered samples in the window's own frame, with
+/// Build a window of a raster over its valid cells only: its `heights`
+/// (in the window's own frame, `c0 = r0 = 0`, NaN without data; its first
+/// pixel is `origin` on `lattice`) as scattered samples in that frame, with
 /// `boundary` (in that frame: the valid pixels' squares clipped to the
 /// window's outer pixel centres) as the domain, measured between the
 /// samples on their grid. The boundary's segments on the window's outer
@@ -55,10 +55,9 @@ pub(crate) fn line_height(d: &Dense, x: f64, y: f64, on_column: bool) -> Option<
 /// before it is put on the lattice.
 #[allow(clippy::too_many_arguments)]
 pub fn build_lattice_window_domain(
-    samples: Vec<[f64; 3]>,
+    heights: &Dense,
     lattice: &Lattice,
     origin: (i64, i64),
-    size: (usize, usize),
     boundary: &Area,
     tolerances: &[f64],
     srid: i32,
@@ -66,45 +65,41 @@ pub fn build_lattice_window_domain(
     local: &mut dyn FnMut(&Tin) -> Result<(), TinError>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
-    let (w, h) = size;
-    if !(c0.abs() <= 1e9 && r0.abs() <= 1e9) || w < 1 || h < 1 || w.saturating_mul(h) > 1 << 28 {
+    let d = heights;
+    let (w, h) = (d.width, d.height);
+    let framed = d.c0 == 0 && d.r0 == 0 && d.z.len() == w.saturating_mul(h);
+    if !framed || origin.0.abs() > 1_000_000_000 || origin.1.abs() > 1_000_000_000 || w < 1 || h < 1
+    {
         return Err(TinError::InvalidParameter(format!(
             "window at ({}, {}) of {w} x {h} pixels is out of range",
             origin.0, origin.1
         )));
     }
     check_lattice(lattice)?;
-    let mut d = Dense {
-        c0: 0,
-        r0: 0,
-        width: w,
-        height: h,
-        z: vec![f64::NAN; w * h],
-    };
-    let mut local_samples = Vec::with_capacity(samples.len());
-    for p in &samples {
-        let (c, r) = (p[0] - c0, p[1] - r0);
-        let inside = c == c.trunc() && r == r.trunc() && c >= 0.0 && r >= 0.0;
-        if !(inside && (c as usize) < w && (r as usize) < h && p[2].is_finite()) {
+    let mut local_samples = Vec::new();
+    for (i, &z) in d.z.iter().enumerate() {
+        if z.is_nan() {
+            continue;
+        }
+        let (c, r) = ((i % w) as f64, (i / w) as f64);
+        if !z.is_finite() {
             return Err(TinError::InvalidParameter(format!(
-                "window sample ({}, {}, {}) is not a pixel of the window",
-                p[0], p[1], p[2]
+                "window sample ({}, {}, {z}) is not finite",
+                c + origin.0 as f64,
+                r + origin.1 as f64
             )));
         }
-        d.z[r as usize * w + c as usize] = p[2];
-        local_samples.push([c, r, p[2]]);
+        local_samples.push([c, r, z]);
     }
-    drop(samples);
     let last = [(w - 1) as f64, (h - 1) as f64];
     let height = |x: f64, y: f64| {
         if (x == 0.0 || x == last[0])
-            && let Some(z) = line_height(&d, x, y, true)
+            && let Some(z) = line_height(d, x, y, true)
         {
             return Some(z);
         }
         if y == 0.0 || y == last[1] {
-            return line_height(&d, x, y, false);
+            return line_height(d, x, y, false);
         }
         None
     };
@@ -112,7 +107,7 @@ pub fn build_lattice_window_domain(
         last,
         height: &height,
     };
-    let reference = GridReference::on_lattice(&d);
+    let reference = GridReference::on_lattice(d);
     let keep = in_frame(keep, origin);
     let boundaries = [boundary];
     let spec = Spec {
