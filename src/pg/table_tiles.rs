@@ -46,7 +46,7 @@ struct TableTiles {
     /// samples and keep only what they ask for (`asked`), as `tin_tiles`
     /// does; then every tile is built once more, with them, and returned.
     seams: tinmerge_core::tin::tiles::Seams,
-    asked: Vec<tinmerge_core::tin::tiles::Wanted>,
+    asked: Vec<tinmerge_core::tin::tile::Wanted>,
     round: usize,
     planning: bool,
     /// The rows of tiles returned (the slice's own, `slice_rows`) and

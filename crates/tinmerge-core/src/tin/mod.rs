@@ -33,6 +33,7 @@ pub mod samples;
 pub mod sides;
 pub mod sliced;
 pub mod surface;
+pub mod tile;
 pub mod tile_domain;
 pub mod tiles;
 

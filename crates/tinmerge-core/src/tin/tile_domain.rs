@@ -27,7 +27,7 @@ use super::build::{Border, build_lattice_window_domain};
 use super::dense::Dense;
 use super::domain::cell_outline;
 use super::lattice::Lattice;
-use super::tiles::{Wanted, build_tile_kept, strip_wanted};
+use super::tile::{Wanted, build_tile_kept, strip_wanted};
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
 use crate::polygon::Area;

@@ -288,7 +288,8 @@ pub fn table_build(
     plan: std::ops::Range<usize>,
     own: std::ops::Range<usize>,
 ) -> Vec<((usize, usize), Vec<u8>)> {
-    use tinmerge_core::tin::tiles::{SEAM_ROUNDS, Seams, build_tile_kept, keep_border_samples};
+    use tinmerge_core::tin::tile::build_tile_kept;
+    use tinmerge_core::tin::tiles::{SEAM_ROUNDS, Seams, keep_border_samples};
     let local: Vec<usize> = (0..blocks.len())
         .filter(|&k| plan.contains(&blocks[k].place.ty))
         .collect();
