@@ -100,6 +100,7 @@ mod line;
 mod linetree;
 mod memory;
 mod overlay;
+mod overviews;
 mod planner;
 mod point;
 mod points_agg;

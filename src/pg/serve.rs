@@ -69,11 +69,20 @@ impl<'a> Served<'a> {
         }
     }
 
-    /// Each level's measured error.
-    fn max_errors(&self) -> Vec<f64> {
+    /// Each level's error bound ([`level_bound`]).
+    fn bounds(&self) -> Vec<f64> {
         match self {
-            Served::Decoded(t) => t.levels.iter().map(|l| l.max_error).collect(),
-            Served::Sliced(s, _) => s.header().levels.iter().map(|l| l.max_error).collect(),
+            Served::Decoded(t) => t
+                .levels
+                .iter()
+                .map(|l| level_bound(l.tolerance, l.max_error))
+                .collect(),
+            Served::Sliced(s, _) => s
+                .header()
+                .levels
+                .iter()
+                .map(|l| level_bound(l.tolerance, l.max_error))
+                .collect(),
         }
     }
 
@@ -175,7 +184,7 @@ fn terrain_bounds(tins: &[Served]) -> [f64; 4] {
         f64::NEG_INFINITY,
     ];
     for tin in tins {
-        let finest = tin.max_errors().len().saturating_sub(1);
+        let finest = tin.bounds().len().saturating_sub(1);
         let hull = tin.hull(finest, max_edge(tin.srid(), &tin.bbox()));
         let g = extent(points_to_degrees(tin.srid(), hull.points()), 0.0);
         b = [
@@ -328,7 +337,7 @@ fn water_polygons(g: &GeomArg) -> Vec<WaterPolygon> {
 
 /// One tile of the terrain made of `tins` (one tin, or the tins of a
 /// tiled terrain sharing their seams), at `level` (None: the level the
-/// zoom chooses from the largest error of each level over the tins).
+/// zoom chooses from the largest bound of each level over the tins).
 fn tile(
     tins: &[Served],
     level: Option<Option<i32>>,
@@ -358,7 +367,7 @@ fn tile(
         let opts = TileOptions { normals, fill };
         return encode_with(&empty, &tb, opts, extras, &mut interrupt).or_raise();
     };
-    let errors: Vec<Vec<f64>> = tins.iter().map(Served::max_errors).collect();
+    let errors: Vec<Vec<f64>> = tins.iter().map(Served::bounds).collect();
     for (tin, e) in tins.iter().zip(&errors) {
         check_srid(tin.srid(), "tin_quantized_mesh");
         if tin.srid() != first.srid() || e.len() != errors[0].len() {
@@ -375,7 +384,7 @@ fn tile(
         }
     }
     let l = match level {
-        None => level_for_zoom(&max_errors(&errors), z),
+        None => level_for_zoom(&largest(&errors), z),
         Some(lv) => resolve_level(lv, errors[0].len()).or_raise(),
     };
     let mut parts = Vec::with_capacity(tins.len());
@@ -417,14 +426,7 @@ fn tile(
     // bounds and errors tin_quantized_mesh_layer uses) cut to the tile
     let metadata = asked.metadata.then(|| {
         let b = terrain_bounds(tins);
-        tile_metadata(
-            z,
-            x.into(),
-            y.into(),
-            &b,
-            &max_errors(&errors),
-            fill.is_some(),
-        )
+        tile_metadata(z, x.into(), y.into(), &b, &largest(&errors), fill.is_some())
     });
     let extras = Extras {
         water: asked.water.as_deref(),
@@ -440,9 +442,19 @@ fn tile(
     .or_raise()
 }
 
-/// Each level's largest measured error over the tins (each tin's errors
-/// by level).
-fn max_errors(errors: &[Vec<f64>]) -> Vec<f64> {
+/// A level's error bound, what a zoom chooses it by: its tolerance (the
+/// same in every tin built with the same tolerance and levels), or its
+/// measured error where that is larger (hard breaklines keep their own
+/// heights). Not the measured error alone: that differs from tin to tin,
+/// so two tiles of one zoom given different tins of a tiled terrain
+/// (each the tins its index finds) would choose different levels and
+/// not meet along their shared side.
+fn level_bound(tolerance: f64, max_error: f64) -> f64 {
+    tolerance.max(max_error)
+}
+
+/// Each level's largest bound over the tins (each tin's bounds by level).
+fn largest(errors: &[Vec<f64>]) -> Vec<f64> {
     let n = errors.iter().map(Vec::len).max().unwrap_or(0);
     (0..n)
         .map(|i| {
@@ -522,11 +534,11 @@ fn tin_quantized_mesh_level(
 extension_sql!(
     r#"
 COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8, geometry, boolean) IS
-'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose measured error is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). water (polygons in any SRID, e.g. ST_Collect of the lakes meeting the tile) adds the water mask extension: 256 x 256 cells, water where the cell''s centre is in a polygon, or one byte when the tile is all land or all water. metadata adds the metadata extension: the tile''s availability for the 10 zooms below it, as tin_quantized_mesh_layer lists it. Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
+'One Cesium quantized-mesh 1.0 tile (z, x, y in Cesium''s geographic TMS scheme: EPSG:4326, two root tiles, y from the south) of the terrain, from the coarsest level whose error bound (its tolerance, or its measured error where larger) is at most the tile''s geometric error (77,067 m / 2^z, Cesium''s own estimate; since 0.23.0 the bound, before the measured error), as bytea: triangles clipped exactly to the tile (neighbouring tiles share their side vertices), edge vertex lists for skirts, the oct-encoded vertex normals extension when normals is true. Positions go to longitude/latitude through PostGIS''s ST_Transform. NULL for a tile off the terrain, unless fill gives a height for the part of a tile off the terrain (then every tile is a tile, and Cesium draws a whole globe). water (polygons in any SRID, e.g. ST_Collect of the lakes meeting the tile) adds the water mask extension: 256 x 256 cells, water where the cell''s centre is in a polygon, or one byte when the tile is all land or all water. metadata adds the metadata extension: the tile''s availability for the 10 zooms below it, as tin_quantized_mesh_layer lists it. Serve with Content-Type application/vnd.quantized-mesh (see docs/serving.md).';
 COMMENT ON FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8, geometry, boolean) IS
 'tin_quantized_mesh of a given level (NULL = finest) instead of the one the zoom chooses: tin_quantized_mesh(t, level, z, x, y).';
 COMMENT ON FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8, geometry, boolean) IS
-'tin_quantized_mesh of a terrain stored as tiles (tins sharing their seams: tin_tiles, or tin_from_raster with keep_border): one tile from every tin given, as one mesh (seam vertices one vertex, normals summed over the tins, no wall along a seam), at the level the zoom chooses from each level''s largest error over the tins. Pass the tins whose extent meets the tile, e.g. array_agg(t) over the tile table with a GiST index on the tins'' extent in degrees (docs/serving.md). The tins must share their SRID and number of levels. An empty array is off the terrain.';
+'tin_quantized_mesh of a terrain stored as tiles (tins sharing their seams: tin_tiles, or tin_from_raster with keep_border): one tile from every tin given, as one mesh (seam vertices one vertex, normals summed over the tins, no wall along a seam), at the level the zoom chooses from each level''s largest error bound over the tins (its tolerance, or its measured error where larger: the same for every tin built with the same tolerance and levels, so every tile of a zoom has the same level whichever tins its index finds). Pass the tins whose extent meets the tile, e.g. array_agg(t) over the tile table with a GiST index on the tins'' extent in degrees (docs/serving.md). The tins must share their SRID and number of levels. An empty array is off the terrain.';
 "#,
     name = "tin_quantized_mesh_sql",
     requires = [
@@ -589,12 +601,7 @@ fn layer(tins: &[Arc<Tin>], opts: LayerOptions, name: Option<String>) -> Option<
     let s = layer_json(
         name.as_deref().unwrap_or("terrain"),
         &b,
-        &max_errors(
-            &tins
-                .iter()
-                .map(|t| t.levels.iter().map(|l| l.max_error).collect())
-                .collect::<Vec<_>>(),
-        ),
+        &largest(&served.iter().map(Served::bounds).collect::<Vec<_>>()),
         opts,
     );
     match serde_json::from_str(&s) {
@@ -611,7 +618,7 @@ extension_sql!(
 COMMENT ON FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text, boolean, boolean) IS
 'The layer.json Cesium''s CesiumTerrainProvider reads for the tiles of tin_quantized_mesh: format quantized-mesh-1.0, scheme tms, projection EPSG:4326, the terrain''s bounds in degrees, maxzoom (the first zoom served from the finest level; Cesium refines deeper by upsampling), the available tiles per zoom (those over the terrain; with fill both root tiles too), and in extensions octvertexnormals when normals is true, watermask when water is true, metadata when metadata is true (then metadataAvailability 10: Cesium learns availability from the tiles and takes both root tiles as available, so serve them with fill; the available list stays whole for other readers).';
 COMMENT ON FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text, boolean, boolean) IS
-'tin_quantized_mesh_layer of a terrain stored as tiles: the bounds of all the tins, the levels'' largest errors over them.';
+'tin_quantized_mesh_layer of a terrain stored as tiles: the bounds of all the tins, the levels'' largest error bounds over them (as tin_quantized_mesh(tin[], ...) chooses a level).';
 "#,
     name = "tin_quantized_mesh_layer_sql",
     requires = [tin_quantized_mesh_layer, tin_quantized_mesh_layer_tiles]

@@ -20,7 +20,7 @@ use tinmerge_core::tin::lattice::Lattice;
 /// and each result is handed out before the next batch is built, so the
 /// call's memory is bounded by two rows of tiles and one batch of builds,
 /// whatever the table's size.
-struct TableTiles {
+pub(super) struct TableTiles {
     /// `FROM` item and column, quoted.
     from: String,
     column: String,
@@ -212,7 +212,22 @@ fn tile_headers(
 }
 
 impl TableTiles {
-    fn open(
+    /// The table's tiles placed on their common lattice.
+    pub(super) fn grid(&self) -> &tinmerge_core::tin::tiles::TableGrid {
+        &self.grid
+    }
+
+    /// The tiles' SRID (0 without tiles).
+    pub(super) fn srid(&self) -> i32 {
+        self.srid
+    }
+
+    /// The table as a `FROM` item.
+    pub(super) fn from(&self) -> &str {
+        &self.from
+    }
+
+    pub(super) fn open(
         tab: pg_sys::Oid,
         column: &str,
         tolerance: f64,

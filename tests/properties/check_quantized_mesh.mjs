@@ -64,7 +64,7 @@ function decodeTile(buf, b) {
 for (const [name, table, stored] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrain) s', 'terrain'], ['geographic', '(SELECT ARRAY[t] AS ts FROM qm_geo) s', 'qm_geo'],
                              ['utm tiled', '(SELECT array_agg(t ORDER BY ty, tx) AS ts FROM qm_tiles) s', 'qm_tiles']]) {
   const [{ errors, layer, srid }] = await q(`SELECT tin_quantized_mesh_layer(ts) AS layer, tin_srid(ts[1]) AS srid,
-      (SELECT array_agg(m ORDER BY lv) FROM (SELECT (l->>'level')::int AS lv, max((l->>'max_error')::float8) AS m
+      (SELECT array_agg(m ORDER BY lv) FROM (SELECT (l->>'level')::int AS lv, max(greatest((l->>'tolerance')::float8, (l->>'max_error')::float8)) AS m
          FROM unnest(ts) t, jsonb_array_elements(tin_info(t)->'levels') l GROUP BY 1) x) AS errors FROM ${table}`);
   const levelFor = (z) => { const e = LEVEL0 / 2 ** z; const i = errors.findIndex((m) => m <= e); return i < 0 ? errors.length - 1 : i; };
   const top = layer.maxzoom;

@@ -329,7 +329,12 @@ fn bounds(tris: &[[[f64; 3]; 3]]) -> [f64; 4] {
 #[test]
 fn tiles_cover_the_level_and_hold_its_heights() {
     for c in cases() {
-        let errors: Vec<f64> = c.tin.levels.iter().map(|l| l.max_error).collect();
+        let errors: Vec<f64> = c
+            .tin
+            .levels
+            .iter()
+            .map(|l| l.tolerance.max(l.max_error))
+            .collect();
         let top = max_zoom(&errors, 0);
         // every zoom from the root tiles to a few dozen tiles over the terrain
         for z in 0..=12 {
@@ -937,4 +942,48 @@ fn tiled_terrain_is_one_mesh() {
             );
         }
     }
+}
+
+/// `pyramid_zooms` against its rule checked zoom by zoom (brute force):
+/// zoom `z` is served by the coarsest layer, among those coarser than the
+/// one below them, whose pixels are at most `180 / 2^z / 64` degrees, or
+/// by the finest when none is; every zoom by exactly one layer.
+#[test]
+fn pyramid_zooms_serve_each_zoom_from_the_coarsest_fine_enough_layer() {
+    use rand::{Rng, SeedableRng};
+    use tinmerge_core::serve::tiling::{MAX_ZOOM, pyramid_zooms};
+    let mut rng = rand::rngs::StdRng::seed_from_u64(48);
+    let mut served_by_overview = 0;
+    for case in 0..2000 {
+        let n = rng.random_range(1..6);
+        // pixel sizes from 1e-9 to 0.1 degrees, coarser layers after,
+        // some repeating the one below
+        let mut p = vec![10f64.powf(rng.random_range(-9.0..-1.0))];
+        for _ in 1..n {
+            let last = *p.last().unwrap();
+            p.push(if rng.random_bool(0.15) {
+                last
+            } else {
+                last * rng.random_range(1.01..20.0)
+            });
+        }
+        let got = pyramid_zooms(&p);
+        assert_eq!(got.len(), n);
+        for z in 0..=MAX_ZOOM {
+            let spacing = 180.0 / 2f64.powi(z) / 64.0;
+            let want = (1..n)
+                .rev()
+                .find(|&i| p[i] > p[i - 1] && p[i] <= spacing)
+                .unwrap_or(0);
+            let serving: Vec<usize> = (0..n)
+                .filter(|&i| got[i].is_some_and(|(lo, hi)| (lo..=hi).contains(&z)))
+                .collect();
+            assert_eq!(serving, [want], "case {case}: zoom {z}: {p:?} -> {got:?}");
+            served_by_overview += usize::from(want > 0);
+        }
+    }
+    assert!(
+        served_by_overview > 1000,
+        "overviews served only {served_by_overview} zooms"
+    );
 }

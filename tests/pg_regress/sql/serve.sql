@@ -18,9 +18,10 @@ FROM (SELECT (j->'bounds'->>0)::float8 w, (j->'bounds'->>1)::float8 s, (j->'boun
 SELECT z, (a->0->>'startX')::int AS x0, (a->0->>'endX')::int AS x1, (a->0->>'startY')::int AS y0, (a->0->>'endY')::int AS y1
 FROM qm_layer, json_array_elements(j->'available') WITH ORDINALITY e(a, n), LATERAL (SELECT n - 1 AS z) zz
 WHERE z IN (1, 8, 12);
--- the level a zoom chooses: the coarsest whose error is at most the tile's
--- geometric error, 77067.34 m / 2^z
-WITH lv AS (SELECT (l->>'level')::int AS level, (l->>'max_error')::float8 AS e FROM terrain, jsonb_array_elements(tin_info(t)->'levels') l),
+-- the level a zoom chooses: the coarsest whose error bound (its tolerance,
+-- or its measured error where larger) is at most the tile's geometric
+-- error, 77067.34 m / 2^z
+WITH lv AS (SELECT (l->>'level')::int AS level, greatest((l->>'tolerance')::float8, (l->>'max_error')::float8) AS e FROM terrain, jsonb_array_elements(tin_info(t)->'levels') l),
      z AS (SELECT z, coalesce((SELECT min(level) FROM lv WHERE e <= 6378137 * 2 * pi() * 0.25 / 130 / 2 ^ z), (SELECT max(level) FROM lv)) AS level
            FROM generate_series(10, 15) z),
      tile AS (SELECT z.z, z.level, x, y FROM z, qm_layer,

@@ -88,8 +88,9 @@ pub fn geometric_error(z: i32) -> f64 {
     LEVEL0_ERROR / f64::powi(2.0, z)
 }
 
-/// The coarsest level whose measured error (`max_errors`, coarsest first)
-/// is at most the tile's geometric error; the finest when none is.
+/// The coarsest level whose error bound (`max_errors`, coarsest first: the
+/// SQL layer passes each level's tolerance, or its measured error where
+/// larger) is at most the tile's geometric error; the finest when none is.
 pub fn level_for_zoom(max_errors: &[f64], z: i32) -> usize {
     let e = geometric_error(z);
     max_errors
@@ -107,6 +108,62 @@ pub fn max_zoom(max_errors: &[f64], min: i32) -> i32 {
         .find(|&z| level_for_zoom(max_errors, z) == finest)
         .unwrap_or(MAX_ZOOM)
         .clamp(min.min(MAX_ZOOM), MAX_ZOOM)
+}
+
+/// The zooms each layer of a pyramid serves: the layers are one terrain
+/// as tiled terrains of ever coarser pixels (`tin_overviews`: the table
+/// of raster tiles and its PostGIS overviews, each built as tins sharing
+/// their seams), `pixel_deg[i]` the size of layer `i`'s pixels in
+/// degrees (the larger of their width and height), finest layer first.
+///
+/// Cesium's error model takes a tile of zoom `z` to be a heightmap of 65
+/// x 65 samples ([`LEVEL0_ERROR`]): its spacing, `180 / 2^z / 64`
+/// degrees, is the detail the zoom asks for. A zoom is served by the
+/// coarsest layer whose pixels are no larger than that, or by the finest
+/// when no coarser layer's are (the finest serves up to [`MAX_ZOOM`]). So
+/// a tile is at most 128 pixels of the
+/// next coarser layer wide, and meets at most 2 x 2 tins of its layer
+/// when they are at least 128 pixels a side. `None` for a layer whose
+/// pixels are no smaller than the next coarser one's (it serves no zoom).
+///
+/// ```
+/// use tinmerge_core::serve::tiling::{pyramid_zooms, MAX_ZOOM};
+/// // pixels of 1e-4° (about 10 m), and overviews of 4 and 16 times that:
+/// // zoom 14's spacing is 1.7e-4°, zoom 12's 6.9e-4°, zoom 10's 2.7e-3°
+/// assert_eq!(pyramid_zooms(&[1e-4, 4e-4, 16e-4]),
+///            [Some((13, MAX_ZOOM)), Some((11, 12)), Some((0, 10))]);
+/// // an overview no coarser than the layer below it serves nothing
+/// assert_eq!(pyramid_zooms(&[1e-4, 1e-4, 4e-4]), [Some((13, MAX_ZOOM)), None, Some((0, 12))]);
+/// assert_eq!(pyramid_zooms(&[1e-4]), [Some((0, MAX_ZOOM))]);
+/// ```
+pub fn pyramid_zooms(pixel_deg: &[f64]) -> Vec<Option<(i32, i32)>> {
+    // the deepest zoom layer i's pixels are fine enough for
+    let fine_to = |p: f64| -> i32 {
+        if p > 0.0 && p.is_finite() {
+            ((180.0 / 64.0 / p).log2().floor()).clamp(-1.0, MAX_ZOOM as f64) as i32
+        } else {
+            MAX_ZOOM
+        }
+    };
+    let n = pixel_deg.len();
+    let mut out = vec![None; n];
+    // from the coarsest: each layer serves from the zoom after the next
+    // coarser one's last
+    let mut next = 0;
+    for i in (0..n).rev() {
+        let hi = if i == 0 {
+            MAX_ZOOM
+        } else {
+            fine_to(pixel_deg[i])
+        };
+        // (not coarser than the layer below it: that one serves its zooms)
+        let coarser = i == 0 || pixel_deg[i] > pixel_deg[i - 1];
+        if hi >= next && coarser {
+            out[i] = Some((next, hi));
+            next = hi + 1;
+        }
+    }
+    out
 }
 
 /// The range of tiles `(x0, y0, x1, y1)` (inclusive) at zoom `z` that meet

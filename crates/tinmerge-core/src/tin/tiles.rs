@@ -340,6 +340,25 @@ impl TableGrid {
         (nx, ny)
     }
 
+    /// The extent `[xmin, ymin, xmax, ymax]` of the tiles' pixels (their
+    /// squares' corners) in the lattice's coordinates; None without tiles.
+    pub fn extent(&self) -> Option<[f64; 4]> {
+        let mut b: Option<[f64; 4]> = None;
+        for p in &self.tiles {
+            for (c, r) in [(0, 0), (p.width, 0), (0, p.height), (p.width, p.height)] {
+                let (x, y) = self.lattice.centre(
+                    (p.col + c as i64) as f64 - 0.5,
+                    (p.row + r as i64) as f64 - 0.5,
+                );
+                b = Some(match b {
+                    None => [x, y, x, y],
+                    Some(b) => [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)],
+                });
+            }
+        }
+        b
+    }
+
     /// The places (tile column, row) whose window ([`keep_border_samples`]:
     /// own pixels, the next tile's first column and row) holds pixel
     /// `(c, r)` of the common lattice: the tiles a seam sample kept there
