@@ -147,6 +147,7 @@ fn _tin_overviews(
     sources.extend(overviews_of(tab, column));
     for (oid, col, factor) in sources {
         let layer = TableTiles::open(
+            "tin_overviews",
             oid,
             &col,
             tolerance,

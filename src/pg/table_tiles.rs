@@ -57,6 +57,8 @@ pub(super) struct TableTiles {
     /// Tiles over the hull of their samples (true), or over their valid
     /// pixels' squares only (`tin::tile_domain`).
     fill_gaps: bool,
+    /// The SQL function building, for its messages.
+    func: &'static str,
 }
 
 /// The table's name as a `FROM` item and the raster column quoted, after
@@ -66,7 +68,7 @@ pub(super) struct TableTiles {
 /// inheritance children, foreign tables and views are read by place
 /// instead ([`TableTiles::load_rows`]): their `ctid`s repeat between
 /// partitions, or they have none.
-fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String, bool) {
+fn raster_column(func: &str, tab: pg_sys::Oid, column: &str) -> (String, String, bool) {
     let (from, quoted, is_raster, by_ctid) = Spi::connect(|c| {
         let r = c
             .select(
@@ -82,15 +84,15 @@ fn raster_column(tab: pg_sys::Oid, column: &str) -> (String, String, bool) {
             r.get::<bool>(4)?.unwrap_or(false),
         ))
     })
-    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_UNDEFINED_TABLE, format!("tin_tiles_from_table: {e}")));
+    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_UNDEFINED_TABLE, format!("{func}: {e}")));
     match is_raster {
         None => raise(
             PgSqlErrorCode::ERRCODE_UNDEFINED_COLUMN,
-            format!("tin_tiles_from_table: column \"{column}\" of relation {from} does not exist"),
+            format!("{func}: column \"{column}\" of relation {from} does not exist"),
         ),
         Some(false) => raise(
             PgSqlErrorCode::ERRCODE_DATATYPE_MISMATCH,
-            format!("tin_tiles_from_table: column \"{column}\" of relation {from} is not of type raster"),
+            format!("{func}: column \"{column}\" of relation {from} is not of type raster"),
         ),
         Some(true) => {}
     }
@@ -102,7 +104,7 @@ type TileSize = (Lattice, usize, usize);
 
 /// The relations of `tab`'s tree that hold rows (itself, or its
 /// partitions and inheritance children, recursively), as `FROM` items.
-fn leaves(tab: pg_sys::Oid) -> Vec<String> {
+fn leaves(func: &str, tab: pg_sys::Oid) -> Vec<String> {
     Spi::connect(|c| {
         let mut out = Vec::new();
         for row in c.select(
@@ -116,7 +118,7 @@ fn leaves(tab: pg_sys::Oid) -> Vec<String> {
         }
         Ok::<_, pgrx::spi::Error>(out)
     })
-    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: {e}")))
+    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("{func}: {e}")))
 }
 
 /// Every tile's name ([`TableTiles::names`]), lattice and size (PostGIS
@@ -126,6 +128,7 @@ fn leaves(tab: pg_sys::Oid) -> Vec<String> {
 /// the remote node (with `postgis_raster` in the server's `extensions`),
 /// where a plain select would fetch every raster whole.
 fn tile_headers(
+    func: &str,
     tab: pg_sys::Oid,
     from: &str,
     quoted: &str,
@@ -156,7 +159,7 @@ fn tile_headers(
             .map(|(i, f)| format!("array_agg({f}({quoted})) AS a{i}"))
             .collect();
         let cols: Vec<String> = (0..fs.len()).map(|i| format!("s.a{i}")).collect();
-        let leaves = leaves(tab);
+        let leaves = leaves(func, tab);
         if leaves.is_empty() {
             // a partitioned table without partitions: no tiles
             return (Vec::new(), Vec::new(), Vec::new());
@@ -198,7 +201,9 @@ fn tile_headers(
             if nb < band {
                 raise(
                     PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                    format!("tin_tiles_from_table: the tile at {name} of {from} has {nb} band(s), no band {band}"),
+                    format!(
+                        "{func}: the tile at {name} of {from} has {nb} band(s), no band {band}"
+                    ),
                 );
             }
             metas.push((lattice, w.max(0) as usize, h.max(0) as usize));
@@ -207,7 +212,12 @@ fn tile_headers(
         }
         Ok::<_, pgrx::spi::Error>(())
     })
-    .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("tin_tiles_from_table: reading {from}: {e}")));
+    .unwrap_or_else(|e| {
+        raise(
+            PgSqlErrorCode::ERRCODE_INTERNAL_ERROR,
+            format!("{func}: reading {from}: {e}"),
+        )
+    });
     (names, metas, srids)
 }
 
@@ -227,7 +237,9 @@ impl TableTiles {
         &self.from
     }
 
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn open(
+        func: &'static str,
         tab: pg_sys::Oid,
         column: &str,
         tolerance: f64,
@@ -240,23 +252,23 @@ impl TableTiles {
         if band < 1 {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                format!("tin_tiles_from_table: band must be 1 or more (bands are numbered from 1), got {band}"),
+                format!("{func}: band must be 1 or more (bands are numbered from 1), got {band}"),
             );
         }
         if slices < 1 || !(0..slices).contains(&slice) {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                format!("tin_tiles_from_table: slice must be from 0 to slices - 1 and slices at least 1, got slice {slice} of {slices}"),
+                format!("{func}: slice must be from 0 to slices - 1 and slices at least 1, got slice {slice} of {slices}"),
             );
         }
         let tols = default_tolerances(tolerance, levels).or_raise();
-        let (from, quoted, by_ctid) = raster_column(tab, column);
-        let (names, metas, srids) = tile_headers(tab, &from, &quoted, band, by_ctid);
+        let (from, quoted, by_ctid) = raster_column(func, tab, column);
+        let (names, metas, srids) = tile_headers(func, tab, &from, &quoted, band, by_ctid);
         if let Some(k) = srids.iter().position(|&s| s != srids[0]) {
             raise(
                 PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
                 format!(
-                    "tin_tiles_from_table: the tiles of {from} have different SRIDs ({} at {}, {} at {})",
+                    "{func}: the tiles of {from} have different SRIDs ({} at {}, {} at {})",
                     srids[0], names[0], srids[k], names[k]
                 ),
             );
@@ -279,7 +291,7 @@ impl TableTiles {
             place_tiles(&metas).unwrap_or_else(|e| {
                 raise(
                     PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-                    format!("tin_tiles_from_table: the tiles of {from}: {e}"),
+                    format!("{func}: the tiles of {from}: {e}"),
                 )
             })
         };
@@ -315,6 +327,7 @@ impl TableTiles {
             own,
             plan,
             fill_gaps,
+            func,
         }
     }
 
@@ -354,6 +367,7 @@ impl TableTiles {
     /// Read the bands of tile rows `rows` not read yet, and forget the
     /// rows above the first.
     fn load_rows(&mut self, rows: std::ops::RangeInclusive<usize>) {
+        let func = self.func;
         let grid = &self.grid;
         self.loaded
             .retain(|&k, _| grid.tiles[k].ty >= *rows.start());
@@ -372,7 +386,7 @@ impl TableTiles {
             .sum();
         memory::reserve(px.saturating_mul(8), || {
             format!(
-                "tin_tiles_from_table: reading {} tiles of {} ({px} pixels)",
+                "{func}: reading {} tiles of {} ({px} pixels)",
                 want.len(),
                 self.from
             )
@@ -461,7 +475,7 @@ impl TableTiles {
                     raise(
                         PgSqlErrorCode::ERRCODE_OBJECT_NOT_IN_PREREQUISITE_STATE,
                         format!(
-                            "tin_tiles_from_table: the tile at {} of {} changed during the build",
+                            "{func}: the tile at {} of {} changed during the build",
                             self.names[k], self.from
                         ),
                     );
@@ -473,14 +487,14 @@ impl TableTiles {
         .unwrap_or_else(|e| {
             raise(
                 PgSqlErrorCode::ERRCODE_INTERNAL_ERROR,
-                format!("tin_tiles_from_table: reading {}: {e}", self.from),
+                format!("{func}: reading {}: {e}", self.from),
             )
         });
         if got.len() != want.len() {
             raise(
                 PgSqlErrorCode::ERRCODE_OBJECT_NOT_IN_PREREQUISITE_STATE,
                 format!(
-                    "tin_tiles_from_table: tiles of {} changed during the build (read {} of {})",
+                    "{func}: tiles of {} changed during the build (read {} of {})",
                     self.from,
                     got.len(),
                     want.len()
@@ -492,6 +506,7 @@ impl TableTiles {
 
     /// Build the next batch of tiles (one per thread) into `ready`.
     fn build_batch(&mut self) {
+        let func = self.func;
         use tinmerge_core::tin::tile_domain::build_tile_window;
         use tinmerge_core::tin::tiles::{keep_border_samples, keep_border_window, Block};
         let threads = tinmerge_core::tin::par::threads().max(1);
@@ -508,7 +523,11 @@ impl TableTiles {
             tinmerge_core::tin::build::lattice_build_bytes(per_tile, self.tols.len(), true)
                 .saturating_mul(batch.len()),
             || {
-                format!("tin_tiles_from_table: building {} tiles of {per_tile} samples at {} levels at once", batch.len(), self.tols.len())
+                format!(
+                    "{func}: building {} tiles of {per_tile} samples at {} levels at once",
+                    batch.len(),
+                    self.tols.len()
+                )
             },
         );
         let valids: std::collections::HashMap<usize, Box<dyn Fn(f64) -> bool + Sync + '_>> = self
@@ -572,7 +591,7 @@ impl TableTiles {
             let Some(r) = r else {
                 raise(
                     PgSqlErrorCode::ERRCODE_INTERNAL_ERROR,
-                    "tin_tiles_from_table: a tile of the batch was not read",
+                    format!("{}: a tile of the batch was not read", self.func),
                 );
             };
             if let Some((row, wanted)) = r.or_raise() {
@@ -620,6 +639,7 @@ fn _tin_tiles_table(
     fill_gaps: bool,
 ) -> TableIterator<'static, (name!(tx, i32), name!(ty, i32), name!(t, TinOut))> {
     TableIterator::new(TableTiles::open(
+        "tin_tiles_from_table",
         tab,
         column,
         tolerance,

@@ -56,6 +56,117 @@ function decodeTile(buf, b) {
   return { d, pos, area, hstep: (maxHeight - minHeight) / 32767, n };
 }
 
+// One zoom's tiles xs x ys of the terrain `table` (a FROM item giving the
+// array ts; `stored` the same tins as rows) cut from `level`: areas against
+// PostGIS, heights against tin_height, shared sides; the tiles decoded.
+async function checkZoom(name, table, stored, srid, z, level, xs, ys) {
+  // the tiles, and PostGIS's area of the level's triangles in each
+  const rows = await q(`
+    WITH tiles AS (
+      SELECT x, y, ST_MakeEnvelope(-180 + x * s, -90 + y * s, -180 + (x + 1) * s, -90 + (y + 1) * s, 4326) AS e
+      FROM generate_series($2::int, $3::int) x, generate_series($4::int, $5::int) y, (SELECT 180 / 2.0 ^ $1::int AS s) k),
+    tris AS (SELECT ST_Transform(ST_Segmentize(geom, 50), 4326) AS g FROM ${table}, unnest(ts) t, tin_triangles(t, $6)),
+    hull AS (SELECT ST_Boundary(ST_ConvexHull(ST_Collect(g))) AS h FROM tris)
+    SELECT x, y, tin_quantized_mesh(ts, $1::int, x, y) AS b,
+           (SELECT coalesce(sum(ST_Area(ST_Intersection(g, e))), 0) FROM tris WHERE g && e) AS oracle,
+           (SELECT ST_Length(ST_Intersection(h, e)) FROM hull) AS hull_len,
+           ST_Area(e) AS full
+    FROM tiles, ${table}`, [z, xs[0], xs[1], ys[0], ys[1], level]);
+  const tiles = new Map();
+  let total = 0, oracleTotal = 0, tol = 0;
+  for (const row of rows) {
+    const b = tileBounds(z, row.x, row.y);
+    const ustep = (b[2] - b[0]) / 32767;
+    if (row.b === null) { check(row.oracle < 1e-14, `${name} z${z} ${row.x}/${row.y}: NULL but ${row.oracle} deg² of terrain`); continue; }
+    const t = decodeTile(row.b, b);
+    const tt = ustep * (2 * row.hull_len + 4 * ustep) + 1e-12 * row.full;
+    check(Math.abs(t.area - row.oracle) <= tt, `${name} z${z} ${row.x}/${row.y}: decoded area ${t.area}, PostGIS ${row.oracle}, tolerance ${tt}`);
+    total += t.area; oracleTotal += row.oracle; tol += tt;
+    tiles.set(`${row.x},${row.y}`, { b, t });
+  }
+  check(Math.abs(total - oracleTotal) <= tol, `${name} z${z}: tiles add up to ${total}, PostGIS ${oracleTotal}`);
+  // the zoom's tiles over the terrain were decoded: not a pass by having none
+  check(tiles.size > 0 && oracleTotal > 0, `${name} z${z}: ${tiles.size} tiles decoded, PostGIS has ${oracleTotal} deg² of terrain there`);
+  // heights: up to 25 vertices a tile, with the surface around each
+  const pts = [];
+  for (const { b, t } of tiles.values()) {
+    const step = [(b[2] - b[0]) / 32767 / 2, (b[3] - b[1]) / 32767 / 2];
+    for (let i = 0; i < t.n; i += Math.max(1, Math.floor(t.n / 25))) pts.push([...t.pos[i], step[0], step[1], t.hstep]);
+  }
+  const hs = await q(`
+    WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[], $3::float8[], $4::float8[]) WITH ORDINALITY AS p(lon, lat, du, dv, i))
+    SELECT i,
+      (SELECT array_agg(h ORDER BY k)
+       FROM (VALUES (1, 0, 0), (2, 1, 0), (3, -1, 0), (4, 0, 1), (5, 0, -1)) o(k, a, c),
+            LATERAL (SELECT ST_Transform(ST_SetSRID(ST_MakePoint(lon + a * du, lat + c * dv), 4326), $5::int) AS pt) m,
+            -- the height of a terrain made of tins: any tin whose extent holds the point
+            LATERAL (SELECT (SELECT z FROM (SELECT tin_height(r.t, pt, $6::int) AS z FROM ${stored} r WHERE tin_envelope(r.t) && pt) y
+                             ORDER BY z IS NULL LIMIT 1) AS h) v) AS h
+    FROM p ORDER BY 1`,
+    [pts.map((p) => p[0]), pts.map((p) => p[1]), pts.map((p) => p[5]), pts.map((p) => p[6]), srid, level]);
+  let worst = 0, off = 0;
+  const edge = [];
+  for (const { i, h } of hs) {
+    const p = pts[i - 1];
+    if (h[0] === null) { off++; continue; }
+    // at the edge of the domain (a point around it off the terrain) the
+    // surface over the position step is not measured by its neighbours:
+    // checked below against the triangles there
+    if (h.slice(1).some((v) => v === null)) { edge.push(p); continue; }
+    const around = (k) => (h[k] === null ? 0 : Math.abs(h[k] - h[0]));
+    const tolh = p[7] + Math.max(around(1), around(2)) + Math.max(around(3), around(4)) + 1e-6;
+    const err = Math.abs(p[2] - h[0]);
+    worst = Math.max(worst, err / tolh);
+    check(err <= tolh, `${name} z${z}: vertex at ${p[0]}, ${p[1]} has height ${p[2]}, tin_height ${h[0]} (tolerance ${tolh})`);
+  }
+  check(pts.length > 0, `${name} z${z}: no decoded vertex to check`);
+  // a vertex at the edge of the domain: its true place is within the
+  // position step, so its height is within the heights of the level's
+  // triangles within that step of it (PostGIS), to the height step
+  if (edge.length > 0) {
+    const range = await q(`
+      WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[], $3::float8[]) WITH ORDINALITY AS p(lon, lat, d, i))
+      SELECT i, (SELECT array[min(ST_ZMin(tr.geom)), max(ST_ZMax(tr.geom))] FROM ${table}, unnest(ts) t, tin_triangles(t, $4) tr
+                 WHERE ST_DWithin(ST_Transform(tr.geom, 4326), ST_SetSRID(ST_MakePoint(lon, lat), 4326), d)) AS r
+      FROM p ORDER BY i`,
+      [edge.map((p) => p[0]), edge.map((p) => p[1]), edge.map((p) => 2 * Math.hypot(p[5], p[6])), level]);
+    for (const { i, r } of range) {
+      const p = edge[i - 1];
+      check(r[0] !== null && p[2] >= r[0] - p[7] - 1e-6 && p[2] <= r[1] + p[7] + 1e-6,
+            `${name} z${z}: vertex at ${p[0]}, ${p[1]} on the domain's edge has height ${p[2]}, the triangles within a step of it ${r}`);
+    }
+  }
+  // a vertex off the terrain is one quantizing moved off its edge: PostGIS
+  // finds a triangle of the level within one position step (the diagonal
+  // of the step) of it, every one of them
+  if (off > 0) {
+    const offPts = hs.filter(({ h }) => h[0] === null).map(({ i }) => pts[i - 1]);
+    const near = await q(`
+      WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[], $3::float8[]) WITH ORDINALITY AS p(lon, lat, d, i))
+      SELECT count(*) FILTER (WHERE EXISTS (
+               SELECT FROM ${table}, unnest(ts) t, tin_triangles(t, $4) tr
+               WHERE ST_DWithin(ST_Transform(tr.geom, 4326), ST_SetSRID(ST_MakePoint(lon, lat), 4326), d))) AS near
+      FROM p`,
+      [offPts.map((p) => p[0]), offPts.map((p) => p[1]), offPts.map((p) => 2 * Math.hypot(p[5], p[6])), level]);
+    check(Number(near[0].near) === off, `${name} z${z}: ${off - Number(near[0].near)} of ${off} vertices off the terrain are further than a position step from it`);
+  }
+  // shared sides
+  let shared = 0;
+  for (const [k, { t }] of tiles) {
+    const [x, y] = k.split(',').map(Number);
+    for (const [dx, dy, mine, theirs, along] of [[1, 0, 'eastIndices', 'westIndices', 4], [0, 1, 'northIndices', 'southIndices', 3]]) {
+      const o = tiles.get(`${x + dx},${y + dy}`);
+      if (!o) continue;
+      const a = [...new Set(Array.from(t.d[mine], (i) => t.pos[i][along]))].sort((p, q2) => p - q2);
+      const b = [...new Set(Array.from(o.t.d[theirs], (i) => o.t.pos[i][along]))].sort((p, q2) => p - q2);
+      check(a.join() === b.join(), `${name} z${z}: side between ${x},${y} and ${x + dx},${y + dy}: ${a.length} against ${b.length} vertices`);
+      shared += a.length;
+    }
+  }
+  console.log(`  ${name} z${z} (level ${level}): ${tiles.size} tiles, areas within ${tol.toExponential(1)} deg², ${pts.length} heights (worst ${(100 * worst).toFixed(0)} % of tolerance, ${edge.length} on the domain's edge, ${off} off the terrain), ${shared} shared side vertices`);
+  return tiles;
+}
+
 // every terrain as an array of tins (one for a single tin): the array form
 // of tin_quantized_mesh; pg_regress serve checks it gives the single form's
 // bytes for one tin
@@ -71,93 +182,10 @@ for (const [name, table, stored] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrai
   check(levelFor(top) === errors.length - 1 && levelFor(top - 1) !== errors.length - 1, `${name}: maxzoom ${top} is not the first zoom of the finest level`);
   // zooms: where the terrain spans a few tiles, dozens, hundreds, and a block at maxzoom
   for (const z of [10, 12, top]) {
-    const level = levelFor(z);
     const r = layer.available[z][0];
     let xs = [r.startX, r.endX], ys = [r.startY, r.endY];
     if (z === top) { const cx = (xs[0] + xs[1]) >> 1, cy = (ys[0] + ys[1]) >> 1; xs = [cx - 2, cx + 2]; ys = [cy - 2, cy + 2]; }
-    // the tiles, and PostGIS's area of the level's triangles in each
-    const rows = await q(`
-      WITH tiles AS (
-        SELECT x, y, ST_MakeEnvelope(-180 + x * s, -90 + y * s, -180 + (x + 1) * s, -90 + (y + 1) * s, 4326) AS e
-        FROM generate_series($2::int, $3::int) x, generate_series($4::int, $5::int) y, (SELECT 180 / 2.0 ^ $1::int AS s) k),
-      tris AS (SELECT ST_Transform(ST_Segmentize(geom, 50), 4326) AS g FROM ${table}, unnest(ts) t, tin_triangles(t, $6)),
-      hull AS (SELECT ST_Boundary(ST_ConvexHull(ST_Collect(g))) AS h FROM tris)
-      SELECT x, y, tin_quantized_mesh(ts, $1::int, x, y) AS b,
-             (SELECT coalesce(sum(ST_Area(ST_Intersection(g, e))), 0) FROM tris WHERE g && e) AS oracle,
-             (SELECT ST_Length(ST_Intersection(h, e)) FROM hull) AS hull_len,
-             ST_Area(e) AS full
-      FROM tiles, ${table}`, [z, xs[0], xs[1], ys[0], ys[1], level]);
-    const tiles = new Map();
-    let total = 0, oracleTotal = 0, tol = 0;
-    for (const row of rows) {
-      const b = tileBounds(z, row.x, row.y);
-      const ustep = (b[2] - b[0]) / 32767;
-      if (row.b === null) { check(row.oracle < 1e-14, `${name} z${z} ${row.x}/${row.y}: NULL but ${row.oracle} deg² of terrain`); continue; }
-      const t = decodeTile(row.b, b);
-      const tt = ustep * (2 * row.hull_len + 4 * ustep) + 1e-12 * row.full;
-      check(Math.abs(t.area - row.oracle) <= tt, `${name} z${z} ${row.x}/${row.y}: decoded area ${t.area}, PostGIS ${row.oracle}, tolerance ${tt}`);
-      total += t.area; oracleTotal += row.oracle; tol += tt;
-      tiles.set(`${row.x},${row.y}`, { b, t });
-    }
-    check(Math.abs(total - oracleTotal) <= tol, `${name} z${z}: tiles add up to ${total}, PostGIS ${oracleTotal}`);
-    // the zoom's tiles over the terrain were decoded: not a pass by having none
-    check(tiles.size > 0 && oracleTotal > 0, `${name} z${z}: ${tiles.size} tiles decoded, PostGIS has ${oracleTotal} deg² of terrain there`);
-    // heights: up to 25 vertices a tile, with the surface around each
-    const pts = [];
-    for (const { b, t } of tiles.values()) {
-      const step = [(b[2] - b[0]) / 32767 / 2, (b[3] - b[1]) / 32767 / 2];
-      for (let i = 0; i < t.n; i += Math.max(1, Math.floor(t.n / 25))) pts.push([...t.pos[i], step[0], step[1], t.hstep]);
-    }
-    const hs = await q(`
-      WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[], $3::float8[], $4::float8[]) WITH ORDINALITY AS p(lon, lat, du, dv, i))
-      SELECT i,
-        (SELECT array_agg(h ORDER BY k)
-         FROM (VALUES (1, 0, 0), (2, 1, 0), (3, -1, 0), (4, 0, 1), (5, 0, -1)) o(k, a, c),
-              LATERAL (SELECT ST_Transform(ST_SetSRID(ST_MakePoint(lon + a * du, lat + c * dv), 4326), $5::int) AS pt) m,
-              -- the height of a terrain made of tins: any tin whose extent holds the point
-              LATERAL (SELECT (SELECT z FROM (SELECT tin_height(r.t, pt, $6::int) AS z FROM ${stored} r WHERE tin_envelope(r.t) && pt) y
-                               ORDER BY z IS NULL LIMIT 1) AS h) v) AS h
-      FROM p ORDER BY 1`,
-      [pts.map((p) => p[0]), pts.map((p) => p[1]), pts.map((p) => p[5]), pts.map((p) => p[6]), srid, level]);
-    let worst = 0, off = 0;
-    for (const { i, h } of hs) {
-      const p = pts[i - 1];
-      if (h[0] === null) { off++; continue; }
-      const around = (k) => (h[k] === null ? 0 : Math.abs(h[k] - h[0]));
-      const tolh = p[7] + Math.max(around(1), around(2)) + Math.max(around(3), around(4)) + 1e-6;
-      const err = Math.abs(p[2] - h[0]);
-      worst = Math.max(worst, err / tolh);
-      check(err <= tolh, `${name} z${z}: vertex at ${p[0]}, ${p[1]} has height ${p[2]}, tin_height ${h[0]} (tolerance ${tolh})`);
-    }
-    check(pts.length > 0, `${name} z${z}: no decoded vertex to check`);
-    // a vertex off the terrain is one quantizing moved off its edge: PostGIS
-    // finds a triangle of the level within one position step (the diagonal
-    // of the step) of it, every one of them
-    if (off > 0) {
-      const offPts = hs.filter(({ h }) => h[0] === null).map(({ i }) => pts[i - 1]);
-      const near = await q(`
-        WITH p AS (SELECT * FROM unnest($1::float8[], $2::float8[], $3::float8[]) WITH ORDINALITY AS p(lon, lat, d, i))
-        SELECT count(*) FILTER (WHERE EXISTS (
-                 SELECT FROM ${table}, unnest(ts) t, tin_triangles(t, $4) tr
-                 WHERE ST_DWithin(ST_Transform(tr.geom, 4326), ST_SetSRID(ST_MakePoint(lon, lat), 4326), d))) AS near
-        FROM p`,
-        [offPts.map((p) => p[0]), offPts.map((p) => p[1]), offPts.map((p) => 2 * Math.hypot(p[5], p[6])), level]);
-      check(Number(near[0].near) === off, `${name} z${z}: ${off - Number(near[0].near)} of ${off} vertices off the terrain are further than a position step from it`);
-    }
-    // shared sides
-    let shared = 0;
-    for (const [k, { t }] of tiles) {
-      const [x, y] = k.split(',').map(Number);
-      for (const [dx, dy, mine, theirs, along] of [[1, 0, 'eastIndices', 'westIndices', 4], [0, 1, 'northIndices', 'southIndices', 3]]) {
-        const o = tiles.get(`${x + dx},${y + dy}`);
-        if (!o) continue;
-        const a = [...new Set(Array.from(t.d[mine], (i) => t.pos[i][along]))].sort((p, q2) => p - q2);
-        const b = [...new Set(Array.from(o.t.d[theirs], (i) => o.t.pos[i][along]))].sort((p, q2) => p - q2);
-        check(a.join() === b.join(), `${name} z${z}: side between ${x},${y} and ${x + dx},${y + dy}: ${a.length} against ${b.length} vertices`);
-        shared += a.length;
-      }
-    }
-    console.log(`  ${name} z${z} (level ${level}): ${tiles.size} tiles, areas within ${tol.toExponential(1)} deg², ${pts.length} heights (worst ${(100 * worst).toFixed(0)} % of tolerance, ${off} off the terrain), ${shared} shared side vertices`);
+    await checkZoom(name, table, stored, srid, z, levelFor(z), xs, ys);
   }
   // off the terrain: NULL; with fill a whole tile
   const [{ b0, f0, fw }] = await q(`SELECT tin_quantized_mesh(ts, 0, 1, 0) AS b0, tin_quantized_mesh(ts, 0, 1, 0, fill => 0) AS f0,
@@ -168,6 +196,68 @@ for (const [name, table, stored] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrai
   // the western one holds the terrain and the fill around it
   const w = decodeTile(fw, tileBounds(0, 0, 0));
   check(Math.abs(w.area - 180 * 180) < 1e-6, `${name}: the filled western root tile covers ${w.area} deg²`);
+}
+
+// One terrain from zoom 0 to the finest (tin_overviews): a table of 128-px
+// raster tiles (ST_Tile) and its PostGIS overviews (ST_CreateOverview,
+// factors 2 and 4), for the UTM DEM (nodata along its rotated border) and
+// the geographic one. At every zoom from 0 to the layer's deepest, one
+// layer serves; a tile from the rows the documented indexed query finds
+// is at most 4 tins and the same bytes as from the whole layer; and the
+// zoom's tiles pass checkZoom (areas, heights against tin_height of the
+// level served, shared sides), all of them where a zoom has few, else a
+// block of 5 x 5. Each zoom's layer covers the base layer's domain but for
+// a ring along the data's edge narrower than its pixels (printed).
+for (const [name, base, rast, seg] of [['utm pyramid', 'qm_pyr_utm', 'dem', 100], ['geographic pyramid', 'qm_pyr_geo', 'dem_geo', 0.001]]) {
+  await q(`DROP TABLE IF EXISTS ${base}, o_2_${base}, o_4_${base}, ${base}_t`);
+  await q(`CREATE TABLE ${base} AS SELECT ST_Tile(rast, 128, 128) AS rast FROM ${rast}`);
+  await q(`SELECT AddRasterConstraints('${base}'::name, 'rast'::name)`);
+  await q(`SELECT ST_CreateOverview('${base}'::regclass, 'rast', 2), ST_CreateOverview('${base}'::regclass, 'rast', 4)`);
+  await q(`CREATE TABLE ${base}_t AS SELECT * FROM tin_overviews('${base}', 2.0, 3)`);
+  const env = `ST_Transform(ST_Segmentize(tin_envelope(t), ${seg}), 4326)`;
+  await q(`CREATE INDEX ON ${base}_t USING gist ((${env}))`);
+  const layers = await q(`SELECT factor, minzoom, maxzoom, count(*)::int AS n FROM ${base}_t GROUP BY 1, 2, 3 ORDER BY 1`);
+  check(layers.length === 3 && layers[2].minzoom === 0 && layers[0].maxzoom === 24 &&
+        layers.every((l, i) => i === 0 || l.maxzoom === layers[i - 1].minzoom - 1), `${name}: layers ${JSON.stringify(layers)}`);
+  const [{ layer, srid }] = await q(`SELECT tin_quantized_mesh_layer(array_agg(t)) AS layer, min(tin_srid(t)) AS srid FROM ${base}_t WHERE factor = 1`);
+  const [{ basearea }] = await q(`SELECT sum(ST_Area(ST_Transform(geom, 4326))) AS basearea FROM ${base}_t, tin_triangles(t) WHERE factor = 1`);
+  let most = 0, zooms = 0, coverage = Infinity;
+  for (let z = 0; z <= layer.maxzoom; z++) {
+    const at = `(SELECT factor, t, tx, ty FROM ${base}_t WHERE ${z} BETWEEN minzoom AND maxzoom)`;
+    const [{ factors, errors }] = await q(`SELECT array_agg(DISTINCT factor) AS factors,
+        (SELECT array_agg(m ORDER BY lv) FROM (SELECT (l->>'level')::int AS lv, max(greatest((l->>'tolerance')::float8, (l->>'max_error')::float8)) AS m
+           FROM ${at} r, jsonb_array_elements(tin_info(r.t)->'levels') l GROUP BY 1) x) AS errors FROM ${at} r`);
+    check(factors.length === 1, `${name} z${z}: served by layers ${factors}`);
+    const e = LEVEL0 / 2 ** z;
+    let level = errors.findIndex((m) => m <= e);
+    if (level < 0) level = errors.length - 1;
+    const r = layer.available[z][0];
+    let xs = [r.startX, r.endX], ys = [r.startY, r.endY];
+    const all = (xs[1] - xs[0] + 1) * (ys[1] - ys[0] + 1) <= 36;
+    if (!all) { const cx = (xs[0] + xs[1]) >> 1, cy = (ys[0] + ys[1]) >> 1; xs = [cx - 2, cx + 2]; ys = [cy - 2, cy + 2]; }
+    const tiles = await checkZoom(`${name} (factor ${factors[0]})`, `(SELECT array_agg(t ORDER BY ty, tx) AS ts FROM ${at} r) s`, at, srid, z, level, xs, ys);
+    // the indexed query's rows: at most 4, and the same tile
+    const idx = await q(`
+      SELECT x, y, (SELECT count(*) FROM ${base}_t WHERE $1 BETWEEN minzoom AND maxzoom AND ${env} && e)::int AS n,
+             (SELECT tin_quantized_mesh(array_agg(t ORDER BY ty, tx), $1, x, y) FROM ${base}_t WHERE $1 BETWEEN minzoom AND maxzoom AND ${env} && e)
+               IS NOT DISTINCT FROM (SELECT tin_quantized_mesh(array_agg(t ORDER BY ty, tx), $1, x, y) FROM ${base}_t WHERE $1 BETWEEN minzoom AND maxzoom) AS same
+      FROM generate_series($2::int, $3::int) x, generate_series($4::int, $5::int) y,
+           LATERAL (SELECT ST_MakeEnvelope(-180 + x * s, -90 + y * s, -180 + (x + 1) * s, -90 + (y + 1) * s, 4326) AS e FROM (SELECT 180 / 2.0 ^ $1::int AS s) k) k`,
+      [z, xs[0], xs[1], ys[0], ys[1]]);
+    for (const t of idx) {
+      most = Math.max(most, t.n);
+      check(t.n <= 4, `${name} z${z} ${t.x}/${t.y}: the index finds ${t.n} tins`);
+      check(t.same, `${name} z${z} ${t.x}/${t.y}: the tile from the index's tins differs from the whole layer's`);
+    }
+    if (all) {
+      let area = 0;
+      for (const { t } of tiles.values()) area += t.area;
+      coverage = Math.min(coverage, area / basearea);
+    }
+    zooms++;
+  }
+  check(zooms > 10 && coverage > 0.97, `${name}: ${zooms} zooms, coverage of the base domain ${coverage}`);
+  console.log(`  ${name}: layers ${layers.map((l) => `x${l.factor} z${l.minzoom}..${l.maxzoom} (${l.n} tins)`).join(', ')}; zooms 0..${layer.maxzoom}: at most ${most} tins a tile, each zoom covering at least ${(100 * coverage).toFixed(2)} % of the base layer's area`);
 }
 
 // water and metadata, on the UTM tin (one tin) and the same lakes over the tiled terrain
