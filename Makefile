@@ -26,6 +26,7 @@ bench:
 	scripts/bench-build.sh
 	scripts/bench-slices.sh
 	scripts/bench-big.sh
+	scripts/bench-overviews.sh
 	scripts/bench-giga.sh
 
 clean:
