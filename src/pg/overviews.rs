@@ -1,7 +1,8 @@
 //! `tin_overviews`: one terrain from zoom 0 to the finest, as a pyramid of
 //! tiled terrains. The table of raster tiles and each of its PostGIS
 //! overviews (`raster_overviews`: `raster2pgsql -l`, `ST_CreateOverview`)
-//! is built as `tin_tiles_from_table` builds it, and each layer's rows
+//! is built as `tin_tiles_from_table` builds it (an overview of factor
+//! `f` with `f` times the tolerance), and each layer's rows
 //! carry the zooms it serves (`serve::tiling::pyramid_zooms`: the
 //! coarsest layer whose pixels are as fine as the detail Cesium expects
 //! of the zoom), so a quantized-mesh tile reads the tins of one layer
@@ -146,11 +147,14 @@ fn _tin_overviews(
     let mut sources = vec![(tab, column.to_string(), 1)];
     sources.extend(overviews_of(tab, column));
     for (oid, col, factor) in sources {
+        // a layer of pixels `factor` times larger holds `factor` times the
+        // tolerance: the same ratio of error to pixel size, which is what
+        // the zooms it serves ask of it
         let layer = TableTiles::open(
             "tin_overviews",
             oid,
             &col,
-            tolerance,
+            tolerance * factor as f64,
             levels,
             band,
             (slice, slices),

@@ -27,11 +27,12 @@ SELECT bool_and(CASE WHEN p.factor = 1 THEN true ELSE px.deg <= 180 / 2 ^ z / 64
                 AND coalesce((SELECT c.deg > 180 / 2 ^ z / 64 FROM px c WHERE c.f = p.factor * 2), true)) AS rule_holds
 FROM generate_series(0, 24) z JOIN (SELECT DISTINCT factor, minzoom, maxzoom FROM pyramid) p ON z BETWEEN minzoom AND maxzoom
 JOIN px ON px.f = p.factor;
--- each layer is tin_tiles_from_table of its table, byte for byte
+-- each layer is tin_tiles_from_table of its table with the tolerance times
+-- its factor, byte for byte
 SELECT p.factor, count(*) AS tins, count(*) FILTER (WHERE p.t::text = f.t::text) AS identical
 FROM pyramid p JOIN (SELECT 1 AS factor, * FROM tin_tiles_from_table('window_tiles', 2.0, 3)
-                     UNION ALL SELECT 2, * FROM tin_tiles_from_table('o_2_window_tiles', 2.0, 3)
-                     UNION ALL SELECT 4, * FROM tin_tiles_from_table('o_4_window_tiles', 2.0, 3)) f USING (factor, tx, ty)
+                     UNION ALL SELECT 2, * FROM tin_tiles_from_table('o_2_window_tiles', 4.0, 3)
+                     UNION ALL SELECT 4, * FROM tin_tiles_from_table('o_4_window_tiles', 8.0, 3)) f USING (factor, tx, ty)
 GROUP BY 1 ORDER BY 1;
 -- slices: every layer's rows of slice k of 2, together the whole pyramid
 SELECT count(*) AS rows, count(*) FILTER (WHERE s.t::text = p.t::text) AS identical
