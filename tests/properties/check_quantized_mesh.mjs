@@ -209,8 +209,8 @@ for (const [name, table, stored] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrai
 // first two, one layer serves; a tile from the rows the documented indexed query finds
 // is at most 4 tins and the same bytes as from the whole layer; and the
 // zoom's tiles pass checkZoom (areas, heights against tin_height of the
-// level served, shared sides), all of them where a zoom has few, else a
-// block of 5 x 5. Each zoom's layer covers the base layer's domain but for
+// level served, shared sides), all of them where a zoom has 16 or fewer,
+// else a block of 3 x 3. Each zoom's layer covers the base layer's domain but for
 // a ring along the data's edge narrower than its pixels (printed).
 for (const [name, base, rast, seg] of [['utm pyramid', 'qm_pyr_utm', 'dem', 100], ['geographic pyramid', 'qm_pyr_geo', 'dem_geo', 0.001]]) {
   await q(`DROP TABLE IF EXISTS ${base}, o_2_${base}, o_4_${base}, ${base}_t`);
@@ -240,8 +240,8 @@ for (const [name, base, rast, seg] of [['utm pyramid', 'qm_pyr_utm', 'dem', 100]
     if (level < 0) level = errors.length - 1;
     const r = layer.available[z][0];
     let xs = [r.startX, r.endX], ys = [r.startY, r.endY];
-    const all = (xs[1] - xs[0] + 1) * (ys[1] - ys[0] + 1) <= 36;
-    if (!all) { const cx = (xs[0] + xs[1]) >> 1, cy = (ys[0] + ys[1]) >> 1; xs = [cx - 2, cx + 2]; ys = [cy - 2, cy + 2]; }
+    const all = (xs[1] - xs[0] + 1) * (ys[1] - ys[0] + 1) <= 16;
+    if (!all) { const cx = (xs[0] + xs[1]) >> 1, cy = (ys[0] + ys[1]) >> 1; xs = [cx - 1, cx + 1]; ys = [cy - 1, cy + 1]; }
     const tiles = await checkZoom(`${name} (factor ${factors[0]})`, `(SELECT array_agg(t ORDER BY ty, tx) AS ts FROM ${at} r) s`, at, srid, z, level, xs, ys);
     // the indexed query's rows: at most 4, and the same tile
     const idx = await q(`
