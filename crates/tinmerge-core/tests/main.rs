@@ -11,6 +11,7 @@ mod area;
 mod boundary;
 mod breaklines;
 mod cancel;
+mod cover;
 mod exactness;
 mod format;
 mod fuzz;
