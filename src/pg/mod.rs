@@ -107,6 +107,7 @@ mod points_agg;
 mod raster;
 mod render;
 mod serve;
+mod table_source;
 mod table_tiles;
 mod threads;
 mod tin_type;

@@ -146,11 +146,12 @@ fn _tin_overviews(
     let mut layers: Vec<(i32, f64, TableTiles)> = Vec::new();
     let mut sources = vec![(tab, column.to_string(), 1)];
     sources.extend(overviews_of(tab, column));
+    let mut base: Option<std::sync::Arc<super::table_source::TableSource>> = None;
     for (oid, col, factor) in sources {
         // a layer of pixels `factor` times larger holds `factor` times the
         // tolerance: the same ratio of error to pixel size, which is what
         // the zooms it serves ask of it
-        let layer = TableTiles::open(
+        let mut layer = TableTiles::open(
             "tin_overviews",
             oid,
             &col,
@@ -160,6 +161,13 @@ fn _tin_overviews(
             (slice, slices),
             fill_gaps,
         );
+        // an overview's nodata pixels with data of the table under them
+        // take it, so that every layer covers the table's data
+        if let Some(base) = base.as_ref().filter(|_| factor > 1) {
+            layer = layer.covering(base.clone());
+        } else if factor == 1 {
+            base = Some(layer.source());
+        }
         if let Some(d) = pixel_degrees(&layer) {
             let first = layers.first().map(|l| (l.2.srid(), l.2.from().to_string()));
             if let Some((srid, from)) = first.filter(|f| f.0 != layer.srid()) {
