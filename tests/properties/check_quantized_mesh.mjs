@@ -211,7 +211,9 @@ for (const [name, table, stored] of [['utm', '(SELECT ARRAY[t] AS ts FROM terrai
 // zoom's tiles pass checkZoom (areas, heights against tin_height of the
 // level served, shared sides), all of them where a zoom has 16 or fewer,
 // else a block of 3 x 3. Each zoom's layer covers the base layer's domain but for
-// a ring along the data's edge narrower than its pixels (printed).
+// a strip along the data's edge narrower than half its pixels (printed: the
+// overview's outer pixel centres stop short of the table's; pg_regress
+// overviews bounds the strip against PostGIS).
 for (const [name, base, rast, seg] of [['utm pyramid', 'qm_pyr_utm', 'dem', 100], ['geographic pyramid', 'qm_pyr_geo', 'dem_geo', 0.001]]) {
   await q(`DROP TABLE IF EXISTS ${base}, o_2_${base}, o_4_${base}, ${base}_t`);
   await q(`CREATE TABLE ${base} AS SELECT ST_Tile(rast, 128, 128) AS rast FROM ${rast}`);
@@ -263,7 +265,7 @@ for (const [name, base, rast, seg] of [['utm pyramid', 'qm_pyr_utm', 'dem', 100]
     }
     zooms++;
   }
-  check(zooms > 10 && layers[0].minzoom > 2 && coverage > 0.97, `${name}: ${zooms} zooms, coverage of the base domain ${coverage}`);
+  check(zooms > 10 && layers[0].minzoom > 2 && coverage > 0.98, `${name}: ${zooms} zooms, coverage of the base domain ${coverage}`);
   console.log(`  ${name}: layers ${layers.map((l) => `x${l.factor} z${l.minzoom}..${l.maxzoom} (${l.n} tins)`).join(', ')}; zooms 0..${last}: at most ${most} tins a tile, each zoom covering at least ${(100 * coverage).toFixed(2)} % of the base layer's area`);
 }
 
