@@ -307,7 +307,7 @@ fn leaves(func: &str, tab: pg_sys::Oid) -> Vec<String> {
     .unwrap_or_else(|e| raise(PgSqlErrorCode::ERRCODE_INTERNAL_ERROR, format!("{func}: {e}")))
 }
 
-/// Every tile's name ([`TableTiles::names`]), lattice and size (PostGIS
+/// Every tile's name ([`TableSource::names`]), lattice and size (PostGIS
 /// reads the headers only) and SRID, refusing a tile without band `band`. Read by place
 /// (`!by_ctid`), the headers come from each relation holding rows in
 /// arrays, one aggregate each: postgres_fdw computes such an aggregate on
