@@ -132,14 +132,26 @@ tests/big.sh
 step "tinmerge.max_memory from outside: the DEM 8x finer builds under the defaults, a build past the limit stopped (backend VmHWM)"
 tests/memory.sh
 
-step "hierarchy properties against every pixel (independent oracle: PostGIS + numpy/matplotlib/shapely)"
-scripts/python.sh tests/properties/check_hierarchy.py
-step "point builds between their samples against their Delaunay triangulation (independent oracle: matplotlib's qhull)"
-scripts/python.sh tests/properties/check_points_between.py
-step "coverage-weighted raster statistics against exactextract"
-scripts/python.sh tests/properties/check_raster_exactextract.py
-step "line of sight: 100,000 sight lines against an oracle from tin_triangles (numpy)"
-scripts/python.sh tests/properties/check_line_of_sight.py
+step "property checks in two lanes at once (independent oracles: PostGIS, numpy/matplotlib/shapely, matplotlib's qhull, exactextract)"
+# hierarchy properties against every pixel, then coverage-weighted raster
+# statistics against exactextract; beside them, point builds between their
+# samples against their Delaunay triangulation (qhull), then 100,000 sight
+# lines against an oracle from tin_triangles. Each check makes and drops
+# tables of its own names in tinmerge_regress.
+lane() { # log file, then the checks in order
+  local log=$1 c; shift
+  for c in "$@"; do
+    echo "== $c"
+    scripts/python.sh "tests/properties/$c" || return 1
+  done > "$log" 2>&1
+}
+lane target/properties-1.log check_hierarchy.py check_raster_exactextract.py & l1=$!
+lane target/properties-2.log check_points_between.py check_line_of_sight.py & l2=$!
+r1=0 r2=0
+wait $l1 || r1=$?
+wait $l2 || r2=$?
+cat target/properties-1.log target/properties-2.log
+[ "$r1" -eq 0 ] && [ "$r2" -eq 0 ] || { echo "a property check failed (above)"; exit 1; }
 step "done"
 echo "== step times"
 printf '%s' "$TIMES"
