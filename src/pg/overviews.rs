@@ -163,10 +163,10 @@ fn _tin_overviews(
         );
         // an overview's nodata pixels with data of the table under them
         // take it, so that every layer covers the table's data
-        if let Some(base) = base.as_ref().filter(|_| factor > 1) {
-            layer = layer.covering(base.clone());
-        } else if factor == 1 {
+        if factor == 1 {
             base = Some(layer.source());
+        } else if let Some(base) = &base {
+            layer = layer.covering(base.clone());
         }
         if let Some(d) = pixel_degrees(&layer) {
             let first = layers.first().map(|l| (l.2.srid(), l.2.from().to_string()));
