@@ -49,12 +49,30 @@ pub fn rasterize(
     height: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<f64>, TinError> {
+    rasterize_in(tin, level, gt, width, height, None, interrupt)
+}
+
+/// [`rasterize`], and (`tris`) the triangle of the level each centre was
+/// interpolated in (`u32::MAX` off the domain).
+pub fn rasterize_in(
+    tin: &Tin,
+    level: usize,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    mut tris: Option<&mut Vec<u32>>,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<f64>, TinError> {
     let grid = PixelGrid::new(gt, width, height)?;
     let lv = TinLevel::new(tin, level)?;
     let n = width
         .checked_mul(height)
         .ok_or_else(|| TinError::TooLarge(format!("a {width} x {height} raster")))?;
     let mut out = vec![f64::NAN; n];
+    if let Some(v) = tris.as_deref_mut() {
+        v.clear();
+        v.resize(n, u32::MAX);
+    }
     sweep(&lv, &grid, false, interrupt, &mut |t, row, c0, c1| {
         let c = tin.corners(level, t);
         let v = c.map(|v| Coord { x: v[0], y: v[1] });
@@ -66,13 +84,18 @@ pub fn rasterize(
             let inside = orient2d(v[0], v[1], p) > 0.0
                 && orient2d(v[1], v[2], p) > 0.0
                 && orient2d(v[2], v[0], p) > 0.0;
-            *z = if inside {
-                interpolate(&c, x, y)
+            let u = if inside {
+                *z = interpolate(&c, x, y);
+                t
             } else {
                 // on an edge or a vertex: tin_height's triangle
                 let u = locate::canonical(tin, level, t, x, y);
-                interpolate(&tin.corners(level, u), x, y)
+                *z = interpolate(&tin.corners(level, u), x, y);
+                u
             };
+            if let Some(v) = tris.as_deref_mut() {
+                v[row * width + col] = u;
+            }
         }
     })?;
     Ok(out)

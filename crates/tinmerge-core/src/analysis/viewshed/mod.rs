@@ -50,7 +50,7 @@
 //! assert!(!v.counts.contains(&NODATA));
 //! ```
 
-use crate::analysis::rasterize::rasterize;
+use crate::analysis::rasterize::rasterize_in;
 use crate::analysis::visibility::EARTH_RADIUS;
 use crate::error::TinError;
 use crate::interrupt::{Interrupt, Ticker};
@@ -58,7 +58,7 @@ use crate::io::raster::GeoTransform;
 use crate::tin::{Tin, locate};
 
 mod ray;
-use ray::{Bounds, Check, Profile, RaySink, RayWalk};
+use ray::{Bounds, Check, Horizon, RaySink, RayWalk, clear_back};
 
 /// A cell seen (by one observer: with several, the count of observers).
 pub const VISIBLE: u16 = 1;
@@ -191,7 +191,8 @@ pub fn viewshed_with(
             "the grid must be north-up: rotated or skewed grids are not supported".into(),
         ));
     }
-    let z = rasterize(tin, level, gt, width, height, interrupt)?;
+    let mut tris = Vec::new();
+    let z = rasterize_in(tin, level, gt, width, height, Some(&mut tris), interrupt)?;
     let mut counts = vec![NODATA; z.len()];
     let mut out = Viewshed::default();
     let bounds = if prune {
@@ -234,7 +235,7 @@ pub fn viewshed_with(
             gt,
             width,
             height,
-            &z,
+            (&z, &tris),
             &mut counts,
             &mut out,
             interrupt,
@@ -264,15 +265,14 @@ struct Fan<'a> {
     width: usize,
     height: usize,
     z: &'a [f64],
+    /// The level's triangle at each cell's centre.
+    tris: &'a [u32],
     /// Horizontal distance covered by the rays.
     reach: f64,
     /// Rays in the fan, the angle between two, and the first one's.
     k: usize,
     dtheta: f64,
     offset: f64,
-    /// Spacing of the running horizon's samples along a ray.
-    step: f64,
-    samples: usize,
     /// The last stretch before a cell walked on its own ray.
     behind: f64,
     near: f64,
@@ -310,18 +310,10 @@ impl Fan<'_> {
         st.pruned += w.pruned;
     }
 
-    /// The running horizon of the ray along `d`, into `at`.
-    fn profile(&self, d: [f64; 2], at: &mut [f64], st: &mut Viewshed) {
-        let mut p = Profile {
-            at,
-            step: self.step,
-            c: self.e.drop(d),
-            z0: self.e.z,
-            m: f64::NEG_INFINITY,
-            next: 0,
-        };
-        self.walk(d, 0.0, self.reach + self.step, &mut p, st);
-        p.finish();
+    /// The running horizon of the ray along `d`, into `h`.
+    fn profile(&self, d: [f64; 2], h: &mut Horizon, st: &mut Viewshed) {
+        h.reset(self.e.drop(d), self.e.z);
+        self.walk(d, 0.0, self.reach + self.near, h, st);
         st.rays += 1;
     }
 
@@ -350,14 +342,18 @@ impl Fan<'_> {
         (lo_i - 1, hi as i64 - 1)
     }
 
-    /// The cells whose centres are in the wedge from ray `d0` (included)
-    /// to ray `d1` (excluded) and within the radius: index, distance,
-    /// offset from the eye.
-    fn wedge_cells(&self, d0: [f64; 2], d1: [f64; 2], cells: &mut Vec<(usize, f64, f64, f64)>) {
-        cells.clear();
+    /// The cells whose centres are in the sector from ray `dirs[0]`
+    /// (included) to its last ray (excluded) and within the radius, each
+    /// given to `cell` with its distance, its offset from the eye and the
+    /// wedge `p` it is in (between `dirs[p]`, included, and `dirs[p + 1]`).
+    /// The sector is less than a half-turn wide.
+    fn sector_cells(&self, dirs: &[[f64; 2]], cell: &mut dyn FnMut(usize, f64, f64, f64, usize)) {
         let (e, gt) = (&self.e, self.gt);
         let (w, h) = (self.width, self.height);
         let cross = |d: [f64; 2], vx: f64, vy: f64| d[0] * vy - d[1] * vx;
+        let (d0, d1) = (dirs[0], dirs[dirs.len() - 1]);
+        let last = dirs.len() - 2;
+        let mut p = 0usize;
         let mut consider = |c: i64, r: i64| {
             if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
                 return;
@@ -367,11 +363,18 @@ impl Fan<'_> {
             if cross(d0, vx, vy) >= 0.0 && cross(d1, vx, vy) < 0.0 {
                 let dist = (vx * vx + vy * vy).sqrt();
                 if dist <= self.radius {
-                    cells.push((r * w + c, dist, vx, vy));
+                    // the wedge: from the last cell's, either way
+                    while p < last && cross(dirs[p + 1], vx, vy) >= 0.0 {
+                        p += 1;
+                    }
+                    while p > 0 && cross(dirs[p], vx, vy) < 0.0 {
+                        p -= 1;
+                    }
+                    cell(r * w + c, dist, vx, vy, p);
                 }
             }
         };
-        // along the wedge's major axis a (0: x, the columns; 1: y, the
+        // along the sector's major axis a (0: x, the columns; 1: y, the
         // rows) on its side of the eye, and in each column (row) the cells
         // between the two rays along the other axis b
         let mid = [d0[0] + d1[0], d0[1] + d1[1]];
@@ -412,54 +415,55 @@ impl Fan<'_> {
     fn wedges(&self, i0: usize, i1: usize) -> Found {
         let mut f = Found::default();
         let st = &mut f.stats;
-        let mut cur = vec![f64::NEG_INFINITY; self.samples];
-        let mut nxt = vec![f64::NEG_INFINITY; self.samples];
-        let mut cells = Vec::new();
-        self.profile(self.dir(i0), &mut cur, st);
-        for i in i0..i1 {
-            let (d0, d1) = (self.dir(i), self.dir(i + 1));
-            self.profile(d1, &mut nxt, st);
-            self.wedge_cells(d0, d1, &mut cells);
-            for &(idx, dist, vx, vy) in &cells {
-                let zc = self.z[idx];
-                if zc.is_nan() {
-                    continue;
-                }
-                st.cells += 1;
-                let u = [vx / dist, vy / dist];
-                let c = self.e.drop(u);
-                let a = (zc + self.th - c * dist * dist - self.e.z) / dist;
-                let limit = a + self.tol / dist;
-                // the horizon of the terrain more than `behind` before the
-                // cell, from its two rays (at most half a cell apart
-                // there): decided where both agree by more than they
-                // differ; the last `behind` walked exactly on the cell's
-                // own ray
-                let far = dist - self.behind;
-                let seen = if far <= self.step {
+        let dirs: Vec<[f64; 2]> = (i0..=i1).map(|i| self.dir(i)).collect();
+        let mut hz: Vec<Horizon> = dirs
+            .iter()
+            .map(|&d| {
+                let mut h = Horizon::new();
+                self.profile(d, &mut h, st);
+                h
+            })
+            .collect();
+        let mut seen = Vec::new();
+        self.sector_cells(&dirs, &mut |idx, dist, vx, vy, p| {
+            let zc = self.z[idx];
+            if zc.is_nan() {
+                return;
+            }
+            st.cells += 1;
+            let u = [vx / dist, vy / dist];
+            let c = self.e.drop(u);
+            let a = (zc + self.th - c * dist * dist - self.e.z) / dist;
+            let limit = a + self.tol / dist;
+            // the horizon of the terrain more than `behind` before the
+            // cell, from its two rays (at most half a cell apart there):
+            // decided where both agree by more than they differ; the last
+            // `behind` walked exactly on the cell's own ray
+            let far = dist - self.behind;
+            let visible = if far <= self.near {
+                st.exact_cells += 1;
+                self.clear(u, 0.0, dist, limit, st)
+            } else {
+                let (ha, hb) = (hz[p].at(far), hz[p + 1].at(far));
+                let band = (ha - hb).abs();
+                if limit < ha.min(hb) - band {
+                    false
+                } else if limit >= ha.max(hb) + band {
+                    st.local_cells += 1;
+                    let o = [self.e.x, self.e.y];
+                    let t = self.tris[idx];
+                    let back = clear_back(self.tin, self.level, t, o, u, far, dist, c, self.e.z, limit);
+                    back.unwrap_or_else(|| self.clear(u, far, dist, limit, st))
+                } else {
                     st.exact_cells += 1;
                     self.clear(u, 0.0, dist, limit, st)
-                } else {
-                    // far > step > 0: truncation is the floor
-                    let j = ((far / self.step) as usize).min(self.samples - 1);
-                    let (ha, hb) = (cur[j], nxt[j]);
-                    let band = (ha - hb).abs();
-                    if limit < ha.min(hb) - band {
-                        false
-                    } else if limit >= ha.max(hb) + band {
-                        st.local_cells += 1;
-                        self.clear(u, far, dist, limit, st)
-                    } else {
-                        st.exact_cells += 1;
-                        self.clear(u, 0.0, dist, limit, st)
-                    }
-                };
-                if seen {
-                    f.seen.push(idx as u32);
                 }
+            };
+            if visible {
+                seen.push(idx as u32);
             }
-            std::mem::swap(&mut cur, &mut nxt);
-        }
+        });
+        f.seen = seen;
         f
     }
 }
@@ -475,7 +479,7 @@ fn one_eye(
     gt: &GeoTransform,
     width: usize,
     height: usize,
-    z: &[f64],
+    (z, tris): (&[f64], &[u32]),
     counts: &mut [u16],
     out: &mut Viewshed,
     interrupt: &mut Interrupt<'_>,
@@ -514,7 +518,6 @@ fn one_eye(
         .max(tin.bbox.min_z.abs())
         .max(e.z.abs())
         .max(1.0);
-    let step = 0.5 * cell;
     // rays at most half a cell apart at the farthest cell
     let k = ((std::f64::consts::TAU * reach / (0.5 * cell)).ceil() as usize).max(16);
     let dtheta = std::f64::consts::TAU / k as f64;
@@ -529,19 +532,19 @@ fn one_eye(
         width,
         height,
         z,
+        tris,
         reach,
         k,
         dtheta,
         // off the axes and the diagonals, where grid vertices line up
         offset: 0.381_966_011_250_105 * dtheta,
-        step,
-        samples: (reach / step).ceil() as usize + 2,
         behind: 4.0 * cell,
         near: 1e-9 * cell,
         tol: 1e-9 * (zscale + th.abs()),
     };
-    // the wedges in chunks, on the pool
-    let per = 64usize;
+    // the wedges in chunks (sectors of at most an eighth of a turn), on
+    // the pool
+    let per = (k / 16).clamp(1, 64);
     let chunks: Vec<(usize, usize)> = (0..k).step_by(per).map(|i| (i, (i + per).min(k))).collect();
     let mut seen_total = Vec::new();
     crate::par::map_batched(

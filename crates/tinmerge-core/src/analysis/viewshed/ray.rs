@@ -100,6 +100,88 @@ impl Bounds {
     }
 }
 
+/// The stretch `[lo, hi]` of the ray from `o` along `dir` inside the
+/// triangle of corners `co` (closed, counter-clockwise half-planes), and
+/// the corners opposite the edges it enters and leaves by; empty when
+/// `hi <= lo`.
+#[inline]
+fn span(co: &[[f64; 3]; 3], o: [f64; 2], dir: [f64; 2]) -> (f64, f64, usize, usize) {
+    let (mut lo, mut hi, mut entry, mut exit) = (f64::NEG_INFINITY, f64::INFINITY, 0, 0);
+    for j in 0..3 {
+        // edge opposite corner j: from corner j+1 to corner j+2
+        let (p, q) = (co[(j + 1) % 3], co[(j + 2) % 3]);
+        let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
+        let s0 = ex * (o[1] - p[1]) - ey * (o[0] - p[0]);
+        let s1 = ex * dir[1] - ey * dir[0];
+        if s1 > 0.0 {
+            let u = -s0 / s1;
+            if u > lo {
+                lo = u;
+                entry = j;
+            }
+        } else if s1 < 0.0 {
+            let u = -s0 / s1;
+            if u < hi {
+                hi = u;
+                exit = j;
+            }
+        } else if s0 < 0.0 {
+            return (0.0, -1.0, 0, 0);
+        }
+    }
+    (lo, hi, entry, exit)
+}
+
+/// Whether the surface of `level` stays below `limit` (in `f`, drop `c`,
+/// eye at `z0`) along the ray from `o` along `dir` from `far` to `dist`,
+/// where the point at `dist` is in triangle `t`: walked back from `t`
+/// across the edges the ray enters by, triangle by triangle of the level
+/// itself. None where the walk loses the ray (rounding at a vertex, a
+/// stretch over void or off the hull): the caller walks it from the eye.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn clear_back(
+    tin: &Tin,
+    level: usize,
+    mut t: u32,
+    o: [f64; 2],
+    dir: [f64; 2],
+    far: f64,
+    dist: f64,
+    c: f64,
+    z0: f64,
+    limit: f64,
+) -> Option<bool> {
+    let lv = &tin.levels[level];
+    let mut b = dist;
+    let slack = 1e-9 * (1.0 + dist);
+    for _ in 0..64 {
+        if lv.is_void(t) {
+            return None;
+        }
+        let co = tin.corners(level, t);
+        let (lo, hi, entry, _) = span(&co, o, dir);
+        if hi < b - slack || lo > b + slack {
+            return None;
+        }
+        let a = lo.max(far);
+        if a < b {
+            let z = |u: f64| interpolate(&co, o[0] + u * dir[0], o[1] + u * dir[1]);
+            if fmax(a, b, z(a), z(b), c, z0) > limit {
+                return Some(false);
+            }
+        }
+        if lo <= far {
+            return Some(true);
+        }
+        b = lo;
+        t = lv.nbrs[t as usize][entry];
+        if t == NONE {
+            return None;
+        }
+    }
+    None
+}
+
 /// The most of `f(u) = (z(u) - c u² - z₀) / u` over `[a, b]` (`0 < a <= b`)
 /// for `z` linear from `za` at `a` to `zb` at `b`: at an end, or where
 /// `f' = 0` inside.
@@ -152,26 +234,7 @@ impl RayWalk<'_> {
     /// (closed, counter-clockwise half-planes); empty when `hi <= lo`.
     #[inline]
     fn interval(&self, l: usize, t: u32) -> (f64, f64, usize) {
-        let co = self.tin.corners(l, t);
-        let (mut lo, mut hi, mut exit) = (f64::NEG_INFINITY, f64::INFINITY, 0);
-        for j in 0..3 {
-            // edge opposite corner j: from corner j+1 to corner j+2
-            let (p, q) = (co[(j + 1) % 3], co[(j + 2) % 3]);
-            let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
-            let s0 = ex * (self.o[1] - p[1]) - ey * (self.o[0] - p[0]);
-            let s1 = ex * self.dir[1] - ey * self.dir[0];
-            if s1 > 0.0 {
-                lo = lo.max(-s0 / s1);
-            } else if s1 < 0.0 {
-                let u = -s0 / s1;
-                if u < hi {
-                    hi = u;
-                    exit = j;
-                }
-            } else if s0 < 0.0 {
-                return (0.0, -1.0, 0);
-            }
-        }
+        let (lo, hi, _, exit) = span(&self.tin.corners(l, t), self.o, self.dir);
         (lo, hi, exit)
     }
 
@@ -311,61 +374,103 @@ mod smallvec_like {
     }
 }
 
-/// The running horizon of one ray, kept every `step` along it:
-/// `at[j]` = the most of `f` over `(0, j step]`.
-pub(super) struct Profile<'a> {
-    pub(super) at: &'a mut [f64],
-    pub(super) step: f64,
-    pub(super) c: f64,
-    pub(super) z0: f64,
-    /// The running maximum so far, and up to where.
-    pub(super) m: f64,
-    /// The next sample to write.
-    pub(super) next: usize,
+/// One stretch of a ray's running horizon: over `[a, b]` the surface is
+/// linear from `za` to `zb` (NaN: a stretch that cannot raise the
+/// horizon, skipped), the running maximum of `f` is `m0` at `a` and `m1`
+/// at `b`.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    a: f64,
+    b: f64,
+    za: f64,
+    zb: f64,
+    m0: f64,
+    m1: f64,
 }
 
-impl Profile<'_> {
-    /// Write the samples up to distance `b` with the running maximum over
-    /// `[a, b]` of a linear stretch (`None`: nothing there can raise it).
-    fn advance(&mut self, a: f64, b: f64, lin: Option<(f64, f64)>) {
-        let mut from = a;
-        while self.next < self.at.len() {
-            let s = self.next as f64 * self.step;
-            if s > b {
-                break;
-            }
-            if let Some((za, zb)) = lin
-                && s > from
-            {
-                let zs = za + (zb - za) * ((s - a) / (b - a));
-                let zf = za + (zb - za) * ((from - a) / (b - a));
-                self.m = self.m.max(fmax(from, s, zf, zs, self.c, self.z0));
-                from = s;
-            }
-            self.at[self.next] = self.m;
-            self.next += 1;
-        }
-        if let Some((za, zb)) = lin
-            && b > from
-        {
-            let zf = za + (zb - za) * ((from - a) / (b - a));
-            self.m = self.m.max(fmax(from, b, zf, zb, self.c, self.z0));
+/// The running horizon of one ray as the stretches of its walk:
+/// [`Horizon::at`] gives the most of `f` over `(0, x]` for any `x`, exact
+/// on the level's surface (where the walk stopped short, off the hull or
+/// over void, nothing more rises).
+pub(super) struct Horizon {
+    pieces: Vec<Piece>,
+    c: f64,
+    z0: f64,
+    /// The piece the last query fell in (queries come in nearly
+    /// ascending order).
+    cur: usize,
+}
+
+impl Horizon {
+    pub(super) fn new() -> Horizon {
+        Horizon {
+            pieces: Vec::new(),
+            c: 0.0,
+            z0: 0.0,
+            cur: 0,
         }
     }
 
-    /// The samples left after the walk: nothing more rises.
-    pub(super) fn finish(&mut self) {
-        for v in &mut self.at[self.next..] {
-            *v = self.m;
+    /// Forget the last ray: ready for a walk with drop `c` and eye `z0`.
+    pub(super) fn reset(&mut self, c: f64, z0: f64) {
+        self.pieces.clear();
+        self.c = c;
+        self.z0 = z0;
+        self.cur = 0;
+    }
+
+    fn m(&self) -> f64 {
+        self.pieces.last().map_or(f64::NEG_INFINITY, |p| p.m1)
+    }
+
+    /// A stretch `[a, b]` at the running maximum (one for consecutive
+    /// ones).
+    fn flat(&mut self, a: f64, b: f64) {
+        let m = self.m();
+        match self.pieces.last_mut() {
+            Some(p) if p.za.is_nan() => p.b = b,
+            _ => self.pieces.push(Piece {
+                a,
+                b,
+                za: f64::NAN,
+                zb: f64::NAN,
+                m0: m,
+                m1: m,
+            }),
         }
-        self.next = self.at.len();
+    }
+
+    /// The most of `f` over `(0, x]`.
+    #[inline]
+    pub(super) fn at(&mut self, x: f64) -> f64 {
+        let ps = &self.pieces;
+        if ps.is_empty() || x < ps[0].a {
+            return f64::NEG_INFINITY;
+        }
+        let mut k = self.cur.min(ps.len() - 1);
+        while k + 1 < ps.len() && ps[k + 1].a <= x {
+            k += 1;
+        }
+        while k > 0 && ps[k].a > x {
+            k -= 1;
+        }
+        self.cur = k;
+        let p = ps[k];
+        if x >= p.b {
+            p.m1
+        } else if p.za.is_nan() {
+            p.m0
+        } else {
+            let zx = p.za + (p.zb - p.za) * ((x - p.a) / (p.b - p.a));
+            p.m0.max(fmax(p.a, x, p.za, zx, self.c, self.z0))
+        }
     }
 }
 
-impl RaySink for Profile<'_> {
+impl RaySink for Horizon {
     fn skip(&mut self, a: f64, b: f64, za: f64, zb: f64) -> bool {
-        if fmax(a, b, za, zb, self.c, self.z0) <= self.m {
-            self.advance(a, b, None);
+        if fmax(a, b, za, zb, self.c, self.z0) <= self.m() {
+            self.flat(a, b);
             true
         } else {
             false
@@ -373,11 +478,25 @@ impl RaySink for Profile<'_> {
     }
 
     fn piece(&mut self, a: f64, b: f64, za: f64, zb: f64) {
-        self.advance(a, b, Some((za, zb)));
+        let m = self.m();
+        let m1 = m.max(fmax(a, b, za, zb, self.c, self.z0));
+        if m1 == m {
+            // nothing rose
+            self.flat(a, b);
+            return;
+        }
+        self.pieces.push(Piece {
+            a,
+            b,
+            za,
+            zb,
+            m0: m,
+            m1,
+        });
     }
 
     fn done(&self) -> bool {
-        self.next >= self.at.len()
+        false
     }
 }
 
