@@ -242,6 +242,8 @@ SELECT * FROM bench('tinmerge: tin_as_raster(t, 5.0, pixel_type => ''32BF''), th
 SQL
 echo "== viewsheds: tin_viewshed (a fan of rays through the hierarchy) vs gdal_viewshed on the DEM, same observer, 10 km, the DEM's 90 m grid"
 scripts/viewshed-compare.sh tinmerge_bench
+echo "== viewshed on the 105-Mpixel terrain (its 10 km window's tin, 1 m, 6 levels) vs gdal_viewshed on the raster, 3.10 m cells (cargo bench -p tinmerge-core --bench viewshed; makes the DEM and the tin once, minutes)"
+cargo bench -p tinmerge-core --bench viewshed 2>/dev/null
 echo "== tinmerge.threads: raster statistics and builds on 1 and 2 threads (docs/scaling.md)"
 cargo bench -p tinmerge-core --bench threads 2>/dev/null
 echo "== parallel query: serial vs 2 workers (docs/scaling.md)"

@@ -1,6 +1,7 @@
 //! Viewshed benchmark (not a test): `analysis::viewshed` on the 105-Mpixel
 //! benchmark terrain (`scripts/make-big-dem.py 29`: 9,976 x 10,527 pixels
-//! of 3.10 m, its tin at 1 m and 6 levels, as `tin_from_raster` builds it)
+//! of 3.10 m; the tin of the 10 km window around its centre at 1 m and 6
+//! levels, as `tin_from_raster` builds it)
 //! against `gdal_viewshed` on the raster itself: the same eye (1.7 m above
 //! the ground at the terrain's centre), 10 km, targets on the ground, the
 //! raster's own 3.10 m cells over the radius's window. Prints a table of
@@ -79,17 +80,25 @@ fn main() {
         skew_x: 0.0,
         skew_y: 0.0,
     };
-    let tin_file = dir.join("big-1m-6.tin");
+    let tin_file = dir.join("window-1m-6.tin");
     let tin: Tin = if tin_file.exists() {
         decode(&std::fs::read(&tin_file).unwrap()).unwrap()
     } else {
         eprintln!("building its tin (1 m, 6 levels; minutes)");
+        // the pixels of the eye's window (one tin holds at most 50 M
+        // samples): the radius and a pixel around the centre
         let raw = std::fs::read(dir.join("big.raw")).unwrap();
-        let mut pts = Vec::with_capacity(w * h);
-        for (i, b) in raw.chunks_exact(4).enumerate() {
-            let v = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-            if v != -9999.0 && v.is_finite() {
-                pts.push([(i % w) as f64, (i / w) as f64, f64::from(v)]);
+        let r = (RADIUS / g[1]).ceil() as usize + 1;
+        let (c0, c1) = ((w / 2).saturating_sub(r), (w / 2 + r + 1).min(w));
+        let (r0, r1) = ((h / 2).saturating_sub(r), (h / 2 + r + 1).min(h));
+        let mut pts = Vec::with_capacity((c1 - c0) * (r1 - r0));
+        for row in r0..r1 {
+            for col in c0..c1 {
+                let i = 4 * (row * w + col);
+                let v = f32::from_le_bytes([raw[i], raw[i + 1], raw[i + 2], raw[i + 3]]);
+                if v != -9999.0 && v.is_finite() {
+                    pts.push([col as f64, row as f64, f64::from(v)]);
+                }
             }
         }
         drop(raw);
@@ -138,6 +147,28 @@ fn main() {
         tin.num_levels(),
         tin.levels[finest].num_triangles()
     );
+    if std::env::var_os("TINMERGE_VIEWSHED_PROFILE").is_some() {
+        // for perf: three runs on one thread, nothing else
+        for _ in 0..3 {
+            let t0 = Instant::now();
+            let v = black_box(
+                viewshed(&tin, finest, &[eye], 0.0, RADIUS, &gt, gw, gh, &mut || {
+                    Ok(())
+                })
+                .unwrap(),
+            );
+            println!(
+                "{:.0} ms: rays {}, fine pieces {}, pruned {}, whole walks {}, last stretches {}",
+                t0.elapsed().as_secs_f64() * 1e3,
+                v.rays,
+                v.fine_pieces,
+                v.pruned,
+                v.exact_cells,
+                v.local_cells
+            );
+        }
+        return;
+    }
     println!("| | 1 thread ms | 2 threads ms |");
     println!("|---|---:|---:|");
     let mut times = [0.0; 2];
@@ -147,17 +178,17 @@ fn main() {
         let mut v = Vec::new();
         for _ in 0..5 {
             let t0 = Instant::now();
-            let r = viewshed(&tin, finest, &[eye], 0.0, RADIUS, &gt, gw, gh, &mut || Ok(())).unwrap();
+            let r = viewshed(&tin, finest, &[eye], 0.0, RADIUS, &gt, gw, gh, &mut || {
+                Ok(())
+            })
+            .unwrap();
             v.push(t0.elapsed().as_secs_f64() * 1e3);
             last = Some(black_box(r));
         }
         times[k] = median(v);
     }
     par::set_threads(1);
-    println!(
-        "| analysis::viewshed | {:.0} | {:.0} |",
-        times[0], times[1]
-    );
+    println!("| analysis::viewshed | {:.0} | {:.0} |", times[0], times[1]);
     let v = last.unwrap();
     // gdal_viewshed on the raster, the same window (-md), as ENVI bytes
     let out = dir.join("gdal.envi");
@@ -167,7 +198,14 @@ fn main() {
         let ok = Command::new("gdal_viewshed")
             .args(["-q", "-of", "ENVI", "-vv", "1", "-iv", "0", "-ov", "255"])
             .args(["-ox", &ex.to_string(), "-oy", &ey.to_string()])
-            .args(["-oz", &EYE_UP.to_string(), "-tz", "0", "-md", &RADIUS.to_string()])
+            .args([
+                "-oz",
+                &EYE_UP.to_string(),
+                "-tz",
+                "0",
+                "-md",
+                &RADIUS.to_string(),
+            ])
             .arg(&vrt)
             .arg(&out)
             .status()
@@ -176,7 +214,10 @@ fn main() {
         assert!(ok, "gdal_viewshed failed");
         gv.push(t0.elapsed().as_secs_f64() * 1e3);
     }
-    println!("| gdal_viewshed (process, one thread) | {:.0} | |", median(gv));
+    println!(
+        "| gdal_viewshed (process, one thread) | {:.0} | |",
+        median(gv)
+    );
     let agree = gdal_agreement(&out, &v.counts, &gt, gw, gh);
     let seen = v.counts.iter().filter(|&&c| c == VISIBLE).count();
     println!(
@@ -205,7 +246,10 @@ fn gdal_agreement(envi: &Path, counts: &[u16], gt: &GeoTransform, gw: usize, gh:
     };
     let (sw, sh): (usize, usize) = (sw.parse().unwrap(), sh.parse().unwrap());
     // map info = {UTM, 1, 1, ulx, uly, px, py, ...}
-    let m: Vec<&str> = map.trim_matches(|c| c == '{' || c == '}').split(',').collect();
+    let m: Vec<&str> = map
+        .trim_matches(|c| c == '{' || c == '}')
+        .split(',')
+        .collect();
     let (ulx, uly, px): (f64, f64, f64) = (
         m[3].trim().parse().unwrap(),
         m[4].trim().parse().unwrap(),

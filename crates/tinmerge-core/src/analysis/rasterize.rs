@@ -1,7 +1,7 @@
 //! The surface of a level as a raster: its height at every pixel centre
 //! (`tin_as_raster`), by the raster merge's scanline sweep
-//! ([`crate::merge::raster::sweep`]) rather than a point location per
-//! pixel.
+//! ([`crate::merge::raster::sweep_bands`], bands of rows on `tin::par`'s
+//! threads) rather than a point location per pixel.
 //!
 //! **The same heights as `tin_height`, bit for bit.** The sweep hands every
 //! pixel centre of the closed domain to one triangle; a centre strictly
@@ -9,7 +9,9 @@
 //! `tin_height` uses. A centre on an edge or a vertex (a tie: several
 //! closed triangles hold it) is interpolated in the triangle `tin_height`
 //! picks, the smallest id among them ([`locate::canonical`]), found from the
-//! sweep's triangle across the edges through the centre. Centres off the
+//! sweep's triangle across the edges through the centre (only the two end
+//! centres of a row's run can be such a tie, unless the row passes through
+//! a corner of the triangle). Centres off the
 //! domain (off the hull, on void triangles) have no height: NaN here, the
 //! nodata value in the raster written.
 //!
@@ -30,7 +32,7 @@ use crate::error::TinError;
 use crate::interrupt::Interrupt;
 use crate::io::raster::GeoTransform;
 use crate::merge::raster::patch::TinLevel;
-use crate::merge::raster::{PixelGrid, sweep};
+use crate::merge::raster::{PixelGrid, sweep_bands};
 use crate::tin::{Tin, interpolate, locate};
 use robust::{Coord, orient2d};
 
@@ -60,7 +62,7 @@ pub fn rasterize_in(
     gt: &GeoTransform,
     width: usize,
     height: usize,
-    mut tris: Option<&mut Vec<u32>>,
+    tris: Option<&mut Vec<u32>>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<f64>, TinError> {
     let grid = PixelGrid::new(gt, width, height)?;
@@ -69,35 +71,70 @@ pub fn rasterize_in(
         .checked_mul(height)
         .ok_or_else(|| TinError::TooLarge(format!("a {width} x {height} raster")))?;
     let mut out = vec![f64::NAN; n];
-    if let Some(v) = tris.as_deref_mut() {
-        v.clear();
-        v.resize(n, u32::MAX);
-    }
-    sweep(&lv, &grid, false, interrupt, &mut |t, row, c0, c1| {
-        let c = tin.corners(level, t);
-        let v = c.map(|v| Coord { x: v[0], y: v[1] });
-        let y = grid.ys.v[row];
-        let line = &mut out[row * width..(row + 1) * width];
-        for (col, z) in line.iter_mut().enumerate().take(c1).skip(c0) {
-            let x = grid.xs.v[col];
-            let p = Coord { x, y };
-            let inside = orient2d(v[0], v[1], p) > 0.0
-                && orient2d(v[1], v[2], p) > 0.0
-                && orient2d(v[2], v[0], p) > 0.0;
-            let u = if inside {
-                *z = interpolate(&c, x, y);
-                t
-            } else {
-                // on an edge or a vertex: tin_height's triangle
-                let u = locate::canonical(tin, level, t, x, y);
-                *z = interpolate(&tin.corners(level, u), x, y);
-                u
-            };
-            if let Some(v) = tris.as_deref_mut() {
-                v[row * width + col] = u;
-            }
+    let mut no_tris = Vec::new();
+    let tris = match tris {
+        Some(v) => {
+            v.clear();
+            v.resize(n, u32::MAX);
+            v
         }
-    })?;
+        None => &mut no_tris,
+    };
+    let keep = !tris.is_empty();
+    // bands of rows on the threads, each writing its own rows
+    let rows = height.div_ceil(8 * crate::par::threads()).max(1);
+    let step = rows * width;
+    let mut tri_bands = tris.chunks_mut(step.max(1));
+    let parts: Vec<_> = out
+        .chunks_mut(step.max(1))
+        .enumerate()
+        .map(|(k, z)| {
+            let t: &mut [u32] = if keep {
+                tri_bands.next().unwrap_or_default()
+            } else {
+                &mut []
+            };
+            (k * rows..(k + 1) * rows, (k * rows, z, t))
+        })
+        .collect();
+    sweep_bands(
+        &lv,
+        &grid,
+        parts,
+        interrupt,
+        &|(r0, zs, ts), t, row, c0, c1| {
+            let c = tin.corners(level, t);
+            let v = c.map(|v| Coord { x: v[0], y: v[1] });
+            let y = grid.ys.v[row];
+            let base = (row - *r0) * width;
+            // a row through no corner crosses the triangle's inside between
+            // its two ends: only the end columns can be on an edge
+            let through = c.iter().any(|p| p[1] == y);
+            for col in c0..c1 {
+                let x = grid.xs.v[col];
+                let inside = (!through && col > c0 && col + 1 < c1) || {
+                    let p = Coord { x, y };
+                    orient2d(v[0], v[1], p) > 0.0
+                        && orient2d(v[1], v[2], p) > 0.0
+                        && orient2d(v[2], v[0], p) > 0.0
+                };
+                let u = if inside {
+                    t
+                } else {
+                    // on an edge or a vertex: tin_height's triangle
+                    locate::canonical(tin, level, t, x, y)
+                };
+                zs[base + col] = if u == t {
+                    interpolate(&c, x, y)
+                } else {
+                    interpolate(&tin.corners(level, u), x, y)
+                };
+                if let Some(slot) = ts.get_mut(base + col) {
+                    *slot = u;
+                }
+            }
+        },
+    )?;
     Ok(out)
 }
 

@@ -19,16 +19,21 @@
 //! whole, without visiting its descendants; the rest are descended into
 //! down to the level's triangles, where the surface along the ray is
 //! linear and the running maximum of `f` exact. The running horizon is
-//! kept at every half cell along the ray. Each cell lies in the wedge of
-//! two neighbouring rays. The rays' horizons four cells before the cell
-//! decide the terrain behind it: where both are above its target
-//! elevation (by more than they differ) it is hidden; where both are below
-//! it, the last four cells of its own ray are walked exactly (the rays'
-//! own nearby ground, half a cell to the side, is not the cell's); where
-//! they disagree (the cell is near the edge of what is seen) its whole ray
-//! is walked exactly, pruned the same way against its own target. So the
-//! fan's walks cost about eight ray samples a cell, most of the hidden
-//! ground is skipped at coarse levels, and the exact walks are few.
+//! kept as the walk's stretches ([`Horizon`]): its value at any distance
+//! is exact, not sampled. Each cell lies in the wedge of two neighbouring
+//! rays; the cells of a sector of up to 64 wedges are enumerated once,
+//! column by column (row by row) outward, their wedge found by a pointer
+//! moving with them. The rays' horizons four cells before the cell decide
+//! the terrain behind it: where both are above its target elevation (by
+//! more than they differ) it is hidden; where both are below it, the last
+//! four cells of its own ray are walked exactly (the rays' own nearby
+//! ground, half a cell to the side, is not the cell's), back from the
+//! level's triangle under the cell ([`rasterize_in`] gives it) across the
+//! edges the ray enters by; where they disagree (the cell is near the edge
+//! of what is seen) its whole ray is walked exactly from the eye, pruned
+//! the same way against its own target. So a cell costs two look-ups in
+//! its rays' stretches, most of the hidden ground is skipped at coarse
+//! levels, and the exact walks are short or few.
 //!
 //! ```
 //! use tinmerge_core::analysis::rasterize::aligned_grid;
@@ -431,10 +436,10 @@ impl Fan<'_> {
                 return;
             }
             st.cells += 1;
-            let u = [vx / dist, vy / dist];
+            let inv = 1.0 / dist;
+            let u = [vx * inv, vy * inv];
             let c = self.e.drop(u);
-            let a = (zc + self.th - c * dist * dist - self.e.z) / dist;
-            let limit = a + self.tol / dist;
+            let limit = (zc + self.th - c * dist * dist - self.e.z + self.tol) * inv;
             // the horizon of the terrain more than `behind` before the
             // cell, from its two rays (at most half a cell apart there):
             // decided where both agree by more than they differ; the last
@@ -452,7 +457,8 @@ impl Fan<'_> {
                     st.local_cells += 1;
                     let o = [self.e.x, self.e.y];
                     let t = self.tris[idx];
-                    let back = clear_back(self.tin, self.level, t, o, u, far, dist, c, self.e.z, limit);
+                    let back =
+                        clear_back(self.tin, self.level, t, o, u, far, dist, c, self.e.z, limit);
                     back.unwrap_or_else(|| self.clear(u, far, dist, limit, st))
                 } else {
                     st.exact_cells += 1;
@@ -495,17 +501,37 @@ fn one_eye(
     // farthest one is how far the rays go
     let mut reach = 0.0f64;
     let mut ticker = Ticker::new(interrupt);
+    let r2 = radius * radius;
     for r in 0..height {
         ticker.check()?;
         let dy = cy(r) - e.y;
-        for c in 0..width {
+        let rest = r2 - dy * dy;
+        if rest < 0.0 {
+            continue;
+        }
+        // the columns within the radius, a column wider each way (the
+        // test below decides)
+        let half = rest.sqrt();
+        let (a, b) = (
+            (e.x - half - gt.ip_x) / gt.scale_x - 0.5,
+            (e.x + half - gt.ip_x) / gt.scale_x - 0.5,
+        );
+        let (lo, hi) = (a.min(b) - 1.0, a.max(b) + 1.0);
+        if hi < 0.0 || lo > width as f64 {
+            continue;
+        }
+        let (c0, c1) = (lo.max(0.0) as usize, (hi as usize + 1).min(width));
+        let (zs, cs) = (
+            &z[r * width..(r + 1) * width],
+            &mut counts[r * width..(r + 1) * width],
+        );
+        for c in c0..c1 {
             let dx = cx(c) - e.x;
             let d2 = dx * dx + dy * dy;
-            let i = r * width + c;
-            if d2 <= radius * radius && !z[i].is_nan() {
+            if d2 <= r2 && !zs[c].is_nan() {
                 reach = reach.max(d2);
-                if counts[i] == NODATA {
-                    counts[i] = HIDDEN;
+                if cs[c] == NODATA {
+                    cs[c] = HIDDEN;
                 }
             }
         }

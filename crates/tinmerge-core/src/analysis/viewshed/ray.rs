@@ -132,6 +132,23 @@ fn span(co: &[[f64; 3]; 3], o: [f64; 2], dir: [f64; 2]) -> (f64, f64, usize, usi
     (lo, hi, entry, exit)
 }
 
+/// The plane of the triangle of corners `co` along the ray from `o` along
+/// `dir`: the height at distance `u` is `p + s u`, as `(p, s)` (the
+/// triangle's own [`interpolate`] up to rounding).
+#[inline]
+fn along(co: &[[f64; 3]; 3], o: [f64; 2], dir: [f64; 2]) -> (f64, f64) {
+    let [a, b, c] = co;
+    let (bx, by, bz) = (b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    let (cx, cy, cz) = (c[0] - a[0], c[1] - a[1], c[2] - a[2]);
+    let inv = 1.0 / (bx * cy - cx * by);
+    let gx = (bz * cy - cz * by) * inv;
+    let gy = (bx * cz - cx * bz) * inv;
+    (
+        a[2] + gx * (o[0] - a[0]) + gy * (o[1] - a[1]),
+        gx * dir[0] + gy * dir[1],
+    )
+}
+
 /// Whether the surface of `level` stays below `limit` (in `f`, drop `c`,
 /// eye at `z0`) along the ray from `o` along `dir` from `far` to `dist`,
 /// where the point at `dist` is in triangle `t`: walked back from `t`
@@ -165,8 +182,8 @@ pub(super) fn clear_back(
         }
         let a = lo.max(far);
         if a < b {
-            let z = |u: f64| interpolate(&co, o[0] + u * dir[0], o[1] + u * dir[1]);
-            if fmax(a, b, z(a), z(b), c, z0) > limit {
+            let (p, s) = along(&co, o, dir);
+            if fmax(a, b, p + s * a, p + s * b, c, z0) > limit {
                 return Some(false);
             }
         }
@@ -238,14 +255,11 @@ impl RayWalk<'_> {
         (lo, hi, exit)
     }
 
+    /// The surface of triangle `t` of level `l` along the ray: `z(u) = p +
+    /// s u`, as `(p, s)`.
     #[inline]
-    fn z_at(&self, l: usize, t: u32, u: f64) -> f64 {
-        let co = self.tin.corners(l, t);
-        interpolate(
-            &co,
-            self.o[0] + u * self.dir[0],
-            self.o[1] + u * self.dir[1],
-        )
+    fn along(&self, l: usize, t: u32) -> (f64, f64) {
+        along(&self.tin.corners(l, t), self.o, self.dir)
     }
 
     /// Walk the ray from the eye to `len` (or off the hull), reporting to
@@ -304,7 +318,8 @@ impl RayWalk<'_> {
             return;
         }
         let a = a.max(self.near);
-        let (za, zb) = (self.z_at(l, t, a), self.z_at(l, t, b));
+        let (p, sl) = self.along(l, t);
+        let (za, zb) = (p + sl * a, p + sl * b);
         if l == self.level {
             self.pieces += 1;
             sink.piece(a, b, za, zb);
