@@ -9,13 +9,15 @@
 //!   its own orientation test, the height by `common::plane_height`. A
 //!   centre clearly inside a triangle must carry its plane's height (within
 //!   1e-9 of the relief), one clearly outside every domain triangle must be
-//!   NaN.
+//!   NaN;
+//! - the triangle named at each centre holds it and its plane gives the
+//!   height, the same on one thread and two.
 use crate::common;
 
-use tinmerge_core::analysis::rasterize::{aligned_grid, rasterize};
+use tinmerge_core::analysis::rasterize::{aligned_grid, rasterize, rasterize_in};
 use tinmerge_core::io::raster::GeoTransform;
 use tinmerge_core::merge::point::height;
-use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::{Tin, par};
 
 /// Signed twice-area of (a, b, p), in plain f64: the oracle's own test,
 /// trusted only away from zero.
@@ -102,6 +104,58 @@ fn check(name: &str, tin: &Tin, level: usize, gt: &GeoTransform, w: usize, h: us
             "{name} level {level}: pixel ({}, {}) is {v} but no domain triangle holds its centre",
             i % w,
             i / w
+        );
+    }
+    // 3. the triangle rasterize_in names at each centre (the viewshed's
+    // walks start there): a domain triangle holding it, whose plane gives
+    // its height; none off the domain. On one thread and on two, the same.
+    let mut tris = Vec::new();
+    let before = par::threads();
+    par::set_threads(1);
+    let z1 = rasterize_in(tin, level, gt, w, h, Some(&mut tris), &mut || Ok(())).unwrap();
+    par::set_threads(2);
+    let mut tris2 = Vec::new();
+    let z2 = rasterize_in(tin, level, gt, w, h, Some(&mut tris2), &mut || Ok(())).unwrap();
+    par::set_threads(before);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert!(
+        bits(&z1) == bits(&z) && bits(&z2) == bits(&z) && tris == tris2,
+        "{name} level {level}: threads change the heights"
+    );
+    for (i, (&v, &t)) in z.iter().zip(&tris).enumerate() {
+        let (c, r) = (i % w, i / w);
+        if v.is_nan() {
+            assert_eq!(
+                t,
+                u32::MAX,
+                "{name} level {level}: pixel ({c}, {r}) off the domain names a triangle"
+            );
+            continue;
+        }
+        assert!(
+            (t as usize) < lv.num_domain(),
+            "{name} level {level}: pixel ({c}, {r}) names {t}"
+        );
+        let co = tin.corners(level, t);
+        let (x, y) = gt.centre(c, r);
+        let span = |k: usize| {
+            let v = [co[0][k], co[1][k], co[2][k]];
+            v.iter().fold(f64::MIN, |a, &b| a.max(b)) - v.iter().fold(f64::MAX, |a, &b| a.min(b))
+        };
+        let scale = span(0).max(span(1));
+        let margin = 1e-9 * scale * scale.max(gt.scale_x.abs());
+        let s = [
+            side(&co[0], &co[1], [x, y]),
+            side(&co[1], &co[2], [x, y]),
+            side(&co[2], &co[0], [x, y]),
+        ];
+        assert!(
+            s.iter().all(|&v| v >= -margin),
+            "{name} level {level}: pixel ({c}, {r}) is not in the triangle {t} named"
+        );
+        assert!(
+            (common::plane_height(&co, x, y) - v).abs() <= 1e-9 * relief,
+            "{name} level {level}: pixel ({c}, {r}): triangle {t}'s plane is not its height"
         );
     }
     valued

@@ -399,3 +399,29 @@ fn pruning_changes_nothing_and_saves_work() {
     eprintln!("viewshed: coarse levels skip {saved:?} of the finest level's stretches");
     assert!(saved.iter().all(|&s| s > 0.2), "{saved:?}");
 }
+
+#[test]
+fn threads_give_identical_viewsheds() {
+    // the heights are swept in bands of rows and the fan's sectors run on
+    // the pool: one thread and two must give the same cells, and the same
+    // work counted
+    use tinmerge_core::tin::par;
+    let tin = common::dem_tin();
+    let level = tin.num_levels() - 1;
+    let dem = common::read_dem("jacksboro_fault_dem_utm16n.tif");
+    let (gt, w, h) = (dem.geotransform(), dem.width, dem.height);
+    let mut rng = StdRng::seed_from_u64(8);
+    let eyes = [
+        eye_on(&tin, level, &mut rng, 1.7),
+        eye_on(&tin, level, &mut rng, 25.0),
+    ];
+    let before = par::threads();
+    let mut out = Vec::new();
+    for n in [1, 2] {
+        par::set_threads(n);
+        out.push(viewshed(&tin, level, &eyes, 0.0, 9_000.0, &gt, w, h, &mut || Ok(())).unwrap());
+    }
+    par::set_threads(before);
+    assert!(out[0].cells > 10_000);
+    assert_eq!(out[0], out[1], "two threads changed the viewshed");
+}
