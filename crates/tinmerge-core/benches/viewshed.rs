@@ -14,7 +14,7 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
-use tinmerge_core::analysis::rasterize::{aligned_grid, rasterize};
+use tinmerge_core::analysis::rasterize::{aligned_grid, rasterize, triangles_at};
 use tinmerge_core::analysis::viewshed::{Eye, NODATA, VISIBLE, viewshed};
 use tinmerge_core::io::raster::GeoTransform;
 use tinmerge_core::merge::point::height;
@@ -189,25 +189,35 @@ fn main() {
     }
     par::set_threads(1);
     println!("| analysis::viewshed | {:.0} | {:.0} |", times[0], times[1]);
-    // of which: the heights of the cells (the sweep tin_as_raster runs)
-    let mut ras = [0.0; 2];
-    for (k, n) in [1, 2].into_iter().enumerate() {
-        par::set_threads(n);
-        let mut v = Vec::new();
-        for _ in 0..5 {
-            let t0 = Instant::now();
-            black_box(rasterize(&tin, finest, &gt, gw, gh, &mut || Ok(())).unwrap());
-            v.push(t0.elapsed().as_secs_f64() * 1e3);
+    // of which: the triangle under each cell (the sweep); and the same
+    // sweep giving heights, as tin_as_raster runs it
+    for what in [
+        "of which the triangle under each cell (triangles_at)",
+        "the heights on the same grid (rasterize, tin_as_raster's sweep)",
+    ] {
+        let mut ms = [0.0; 2];
+        for (k, n) in [1, 2].into_iter().enumerate() {
+            par::set_threads(n);
+            let mut v = Vec::new();
+            for _ in 0..5 {
+                let t0 = Instant::now();
+                if what.starts_with("of which") {
+                    black_box(triangles_at(&tin, finest, &gt, gw, gh, &mut || Ok(())).unwrap());
+                } else {
+                    black_box(rasterize(&tin, finest, &gt, gw, gh, &mut || Ok(())).unwrap());
+                }
+                v.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+            ms[k] = median(v);
         }
-        ras[k] = median(v);
+        println!(
+            "| {what}, {:.1} Mpx | {:.0} | {:.0} |",
+            (gw * gh) as f64 / 1e6,
+            ms[0],
+            ms[1]
+        );
     }
     par::set_threads(1);
-    println!(
-        "| of which the cells' heights (rasterize, {:.1} Mpx) | {:.0} | {:.0} |",
-        (gw * gh) as f64 / 1e6,
-        ras[0],
-        ras[1]
-    );
     let v = last.unwrap();
     // gdal_viewshed on the raster, the same window (-md), as ENVI bytes
     let out = dir.join("gdal.envi");

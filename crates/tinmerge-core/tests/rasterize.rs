@@ -14,7 +14,7 @@
 //!   height, the same on one thread and two.
 use crate::common;
 
-use tinmerge_core::analysis::rasterize::{aligned_grid, rasterize, rasterize_in};
+use tinmerge_core::analysis::rasterize::{aligned_grid, rasterize, triangles_at};
 use tinmerge_core::io::raster::GeoTransform;
 use tinmerge_core::merge::point::height;
 use tinmerge_core::tin::{Tin, par};
@@ -106,16 +106,17 @@ fn check(name: &str, tin: &Tin, level: usize, gt: &GeoTransform, w: usize, h: us
             i / w
         );
     }
-    // 3. the triangle rasterize_in names at each centre (the viewshed's
-    // walks start there): a domain triangle holding it, whose plane gives
-    // its height; none off the domain. On one thread and on two, the same.
-    let mut tris = Vec::new();
+    // 3. the triangle triangles_at names at each centre (the viewshed's
+    // heights and walks start there): a domain triangle holding it, whose
+    // plane gives its height; none off the domain. On one thread and on
+    // two, the same.
     let before = par::threads();
     par::set_threads(1);
-    let z1 = rasterize_in(tin, level, gt, w, h, Some(&mut tris), &mut || Ok(())).unwrap();
+    let z1 = rasterize(tin, level, gt, w, h, &mut || Ok(())).unwrap();
+    let tris = triangles_at(tin, level, gt, w, h, &mut || Ok(())).unwrap();
     par::set_threads(2);
-    let mut tris2 = Vec::new();
-    let z2 = rasterize_in(tin, level, gt, w, h, Some(&mut tris2), &mut || Ok(())).unwrap();
+    let z2 = rasterize(tin, level, gt, w, h, &mut || Ok(())).unwrap();
+    let tris2 = triangles_at(tin, level, gt, w, h, &mut || Ok(())).unwrap();
     par::set_threads(before);
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert!(

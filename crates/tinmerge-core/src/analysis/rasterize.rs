@@ -51,50 +51,60 @@ pub fn rasterize(
     height: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<f64>, TinError> {
-    rasterize_in(tin, level, gt, width, height, None, interrupt)
+    Ok(sweep_centres(tin, level, gt, width, height, true, false, interrupt)?.0)
 }
 
-/// [`rasterize`], and (`tris`) the triangle of the level each centre was
-/// interpolated in (`u32::MAX` off the domain).
-pub fn rasterize_in(
+/// The triangle of `level` under each centre of the grid (as
+/// [`rasterize`] hands them: tin_height's on a tie), row-major from the top
+/// row; `u32::MAX` off the domain.
+pub fn triangles_at(
     tin: &Tin,
     level: usize,
     gt: &GeoTransform,
     width: usize,
     height: usize,
-    tris: Option<&mut Vec<u32>>,
     interrupt: &mut Interrupt<'_>,
-) -> Result<Vec<f64>, TinError> {
+) -> Result<Vec<u32>, TinError> {
+    Ok(sweep_centres(tin, level, gt, width, height, false, true, interrupt)?.1)
+}
+
+/// The sweep behind [`rasterize`] and [`triangles_at`]: each centre's
+/// height and its triangle, those asked for (the other left empty).
+#[allow(clippy::too_many_arguments)]
+fn sweep_centres(
+    tin: &Tin,
+    level: usize,
+    gt: &GeoTransform,
+    width: usize,
+    height: usize,
+    heights: bool,
+    triangles: bool,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<f64>, Vec<u32>), TinError> {
     let grid = PixelGrid::new(gt, width, height)?;
     let lv = TinLevel::new(tin, level)?;
     let n = width
         .checked_mul(height)
         .ok_or_else(|| TinError::TooLarge(format!("a {width} x {height} raster")))?;
-    let mut out = vec![f64::NAN; n];
-    let mut no_tris = Vec::new();
-    let tris = match tris {
-        Some(v) => {
-            v.clear();
-            v.resize(n, u32::MAX);
-            v
-        }
-        None => &mut no_tris,
+    let mut z = if heights {
+        vec![f64::NAN; n]
+    } else {
+        Vec::new()
     };
-    let keep = !tris.is_empty();
+    let mut tris = if triangles {
+        vec![u32::MAX; n]
+    } else {
+        Vec::new()
+    };
     // bands of rows on the threads, each writing its own rows
     let rows = height.div_ceil(8 * crate::par::threads()).max(1);
-    let step = rows * width;
-    let mut tri_bands = tris.chunks_mut(step.max(1));
-    let parts: Vec<_> = out
-        .chunks_mut(step.max(1))
-        .enumerate()
-        .map(|(k, z)| {
-            let t: &mut [u32] = if keep {
-                tri_bands.next().unwrap_or_default()
-            } else {
-                &mut []
-            };
-            (k * rows..(k + 1) * rows, (k * rows, z, t))
+    let step = (rows * width).max(1);
+    let (mut zb, mut tb) = (z.chunks_mut(step), tris.chunks_mut(step));
+    let parts: Vec<_> = (0..height.div_ceil(rows))
+        .map(|k| {
+            let zs: &mut [f64] = zb.next().unwrap_or_default();
+            let ts: &mut [u32] = tb.next().unwrap_or_default();
+            (k * rows..(k + 1) * rows, (k * rows, zs, ts))
         })
         .collect();
     sweep_bands(
@@ -124,18 +134,20 @@ pub fn rasterize_in(
                     // on an edge or a vertex: tin_height's triangle
                     locate::canonical(tin, level, t, x, y)
                 };
-                zs[base + col] = if u == t {
-                    interpolate(&c, x, y)
-                } else {
-                    interpolate(&tin.corners(level, u), x, y)
-                };
+                if let Some(slot) = zs.get_mut(base + col) {
+                    *slot = if u == t {
+                        interpolate(&c, x, y)
+                    } else {
+                        interpolate(&tin.corners(level, u), x, y)
+                    };
+                }
                 if let Some(slot) = ts.get_mut(base + col) {
                     *slot = u;
                 }
             }
         },
     )?;
-    Ok(out)
+    Ok((z, tris))
 }
 
 /// The north-up grid of `size_x` x `size_y` pixels whose edges lie on the

@@ -28,7 +28,7 @@
 //! more than they differ) it is hidden; where both are below it, the last
 //! four cells of its own ray are walked exactly (the rays' own nearby
 //! ground, half a cell to the side, is not the cell's), back from the
-//! level's triangle under the cell ([`rasterize_in`] gives it) across the
+//! level's triangle under the cell ([`triangles_at`] gives it) across the
 //! edges the ray enters by; where they disagree (the cell is near the edge
 //! of what is seen) its whole ray is walked exactly from the eye, pruned
 //! the same way against its own target. So a cell costs two look-ups in
@@ -55,7 +55,7 @@
 //! assert!(!v.counts.contains(&NODATA));
 //! ```
 
-use crate::analysis::rasterize::rasterize_in;
+use crate::analysis::rasterize::triangles_at;
 use crate::analysis::visibility::EARTH_RADIUS;
 use crate::error::TinError;
 use crate::interrupt::{Interrupt, Ticker};
@@ -196,9 +196,8 @@ pub fn viewshed_with(
             "the grid must be north-up: rotated or skewed grids are not supported".into(),
         ));
     }
-    let mut tris = Vec::new();
-    let z = rasterize_in(tin, level, gt, width, height, Some(&mut tris), interrupt)?;
-    let mut counts = vec![NODATA; z.len()];
+    let tris = triangles_at(tin, level, gt, width, height, interrupt)?;
+    let mut counts = vec![NODATA; tris.len()];
     let mut out = Viewshed::default();
     let bounds = if prune {
         // only where the eyes' rays go: no farther than the radius and a
@@ -240,7 +239,7 @@ pub fn viewshed_with(
             gt,
             width,
             height,
-            (&z, &tris),
+            &tris,
             &mut counts,
             &mut out,
             interrupt,
@@ -269,9 +268,11 @@ struct Fan<'a> {
     gt: &'a GeoTransform,
     width: usize,
     height: usize,
-    z: &'a [f64],
-    /// The level's triangle at each cell's centre.
+    /// The level's triangle at each cell's centre (`u32::MAX` off the
+    /// surface), and each triangle's plane as seen from the eye: the
+    /// height at offset `(vx, vy)` from it is `p + gx vx + gy vy`.
     tris: &'a [u32],
+    planes: &'a [[f64; 3]],
     /// Horizontal distance covered by the rays.
     reach: f64,
     /// Rays in the fan, the angle between two, and the first one's.
@@ -431,10 +432,11 @@ impl Fan<'_> {
             .collect();
         let mut seen = Vec::new();
         self.sector_cells(&dirs, &mut |idx, dist, vx, vy, p| {
-            let zc = self.z[idx];
-            if zc.is_nan() {
+            let t = self.tris[idx];
+            let Some(&[pz, gx, gy]) = self.planes.get(t as usize) else {
                 return;
-            }
+            };
+            let zc = pz + gx * vx + gy * vy;
             st.cells += 1;
             let inv = 1.0 / dist;
             let u = [vx * inv, vy * inv];
@@ -456,7 +458,6 @@ impl Fan<'_> {
                 } else if limit >= ha.max(hb) + band {
                     st.local_cells += 1;
                     let o = [self.e.x, self.e.y];
-                    let t = self.tris[idx];
                     let back =
                         clear_back(self.tin, self.level, t, o, u, far, dist, c, self.e.z, limit);
                     back.unwrap_or_else(|| self.clear(u, far, dist, limit, st))
@@ -485,7 +486,7 @@ fn one_eye(
     gt: &GeoTransform,
     width: usize,
     height: usize,
-    (z, tris): (&[f64], &[u32]),
+    tris: &[u32],
     counts: &mut [u16],
     out: &mut Viewshed,
     interrupt: &mut Interrupt<'_>,
@@ -521,14 +522,14 @@ fn one_eye(
             continue;
         }
         let (c0, c1) = (lo.max(0.0) as usize, (hi as usize + 1).min(width));
-        let (zs, cs) = (
-            &z[r * width..(r + 1) * width],
+        let (ts, cs) = (
+            &tris[r * width..(r + 1) * width],
             &mut counts[r * width..(r + 1) * width],
         );
         for c in c0..c1 {
             let dx = cx(c) - e.x;
             let d2 = dx * dx + dy * dy;
-            if d2 <= r2 && !zs[c].is_nan() {
+            if d2 <= r2 && ts[c] != u32::MAX {
                 reach = reach.max(d2);
                 if cs[c] == NODATA {
                     cs[c] = HIDDEN;
@@ -547,6 +548,22 @@ fn one_eye(
     // rays at most half a cell apart at the farthest cell
     let k = ((std::f64::consts::TAU * reach / (0.5 * cell)).ceil() as usize).max(16);
     let dtheta = std::f64::consts::TAU / k as f64;
+    // every triangle's plane as seen from the eye (offsets from it keep
+    // the sums small)
+    let lv = &tin.levels[level];
+    let planes: Vec<[f64; 3]> = (0..lv.num_domain() as u32)
+        .map(|t| {
+            if lv.is_void(t) {
+                return [f64::NAN; 3];
+            }
+            let [a, b, c] = tin.corners(level, t);
+            let (bx, by, bz) = (b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+            let (cx, cy, cz) = (c[0] - a[0], c[1] - a[1], c[2] - a[2]);
+            let inv = 1.0 / (bx * cy - cx * by);
+            let (gx, gy) = ((bz * cy - cz * by) * inv, (bx * cz - cx * bz) * inv);
+            [a[2] + gx * (e.x - a[0]) + gy * (e.y - a[1]), gx, gy]
+        })
+        .collect();
     let fan = Fan {
         tin,
         level,
@@ -557,8 +574,8 @@ fn one_eye(
         gt,
         width,
         height,
-        z,
         tris,
+        planes: &planes,
         reach,
         k,
         dtheta,
@@ -602,7 +619,7 @@ fn one_eye(
     if c >= 0.0 && r >= 0.0 && (c as usize) < width && (r as usize) < height {
         let (c, r) = (c as usize, r as usize);
         let i = r * width + c;
-        if cx(c) == e.x && cy(r) == e.y && !z[i].is_nan() {
+        if cx(c) == e.x && cy(r) == e.y && tris[i] != u32::MAX {
             out.cells += 1;
             counts[i] += 1;
         }
