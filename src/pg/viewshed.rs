@@ -101,9 +101,9 @@ fn viewshed_raster(
             ),
         );
     }
-    // heights (8 bytes a cell), the triangle under each (4), counts (2),
-    // the raster written (1 or 2) and the cells seen (4)
-    memory::reserve(n.saturating_mul(20), || {
+    // the triangle under each cell (4 bytes a cell), counts (2), the
+    // raster written (1 or 2) and the cells seen (4)
+    memory::reserve(n.saturating_mul(12), || {
         format!("{FUNC}: a viewshed of {width} x {height} cells")
     });
     let v = viewshed(
