@@ -1,7 +1,9 @@
 //! The rays of a viewshed: each walked once through the hierarchy, coarse
 //! triangles that cannot rise into view skipped whole ([`Bounds`]), the
-//! running horizon kept along the ray ([`Profile`]) or one cell's own ray
-//! checked against its target ([`Check`]).
+//! running horizon kept as the walk's stretches ([`Horizon`]) or one
+//! cell's own ray checked against its target ([`Check`]); the last stretch
+//! before a cell walked back through the level's own triangles
+//! ([`clear_back`]).
 
 use crate::error::TinError;
 use crate::interrupt::{Interrupt, Ticker};
