@@ -22,7 +22,7 @@ pub fn define_guc() {
     unsafe {
         pg_sys::DefineCustomIntVariable(
             c"tinmerge.threads".as_ptr(),
-            c"Threads one tinmerge call may use (raster statistics, builds, decoding a stored value whole); 1 disables.".as_ptr(),
+            c"Threads one tinmerge call may use (raster statistics, builds, decoding a stored value whole, tin_as_raster, tin_viewshed); 1 disables.".as_ptr(),
             c"Defaults to the number of cores. The work is split so that answers do not depend on it; cancel and statement_timeout are checked between batches.".as_ptr(),
             THREADS.as_ptr(),
             cores,
