@@ -63,7 +63,7 @@ use crate::io::raster::GeoTransform;
 use crate::tin::{Tin, locate};
 
 mod ray;
-use ray::{Bounds, Check, Horizon, RaySink, RayWalk, clear_back};
+use ray::{Bounds, Check, Horizon, RaySink, RayWalk, clear_back, plane};
 
 /// A cell seen (by one observer: with several, the count of observers).
 pub const VISIBLE: u16 = 1;
@@ -556,12 +556,7 @@ fn one_eye(
             if lv.is_void(t) {
                 return [f64::NAN; 3];
             }
-            let [a, b, c] = tin.corners(level, t);
-            let (bx, by, bz) = (b[0] - a[0], b[1] - a[1], b[2] - a[2]);
-            let (cx, cy, cz) = (c[0] - a[0], c[1] - a[1], c[2] - a[2]);
-            let inv = 1.0 / (bx * cy - cx * by);
-            let (gx, gy) = ((bz * cy - cz * by) * inv, (bx * cz - cx * bz) * inv);
-            [a[2] + gx * (e.x - a[0]) + gy * (e.y - a[1]), gx, gy]
+            plane(&tin.corners(level, t), [e.x, e.y])
         })
         .collect();
     let fan = Fan {

@@ -134,21 +134,26 @@ fn span(co: &[[f64; 3]; 3], o: [f64; 2], dir: [f64; 2]) -> (f64, f64, usize, usi
     (lo, hi, entry, exit)
 }
 
-/// The plane of the triangle of corners `co` along the ray from `o` along
-/// `dir`: the height at distance `u` is `p + s u`, as `(p, s)` (the
-/// triangle's own [`interpolate`] up to rounding).
+/// The plane of the triangle of corners `co` as seen from `o`: the height
+/// at offset `(vx, vy)` from `o` is `p + gx vx + gy vy`, as `[p, gx, gy]`
+/// (the triangle's own [`interpolate`] up to rounding).
 #[inline]
-fn along(co: &[[f64; 3]; 3], o: [f64; 2], dir: [f64; 2]) -> (f64, f64) {
+pub(super) fn plane(co: &[[f64; 3]; 3], o: [f64; 2]) -> [f64; 3] {
     let [a, b, c] = co;
     let (bx, by, bz) = (b[0] - a[0], b[1] - a[1], b[2] - a[2]);
     let (cx, cy, cz) = (c[0] - a[0], c[1] - a[1], c[2] - a[2]);
     let inv = 1.0 / (bx * cy - cx * by);
     let gx = (bz * cy - cz * by) * inv;
     let gy = (bx * cz - cx * bz) * inv;
-    (
-        a[2] + gx * (o[0] - a[0]) + gy * (o[1] - a[1]),
-        gx * dir[0] + gy * dir[1],
-    )
+    [a[2] + gx * (o[0] - a[0]) + gy * (o[1] - a[1]), gx, gy]
+}
+
+/// The plane of the triangle of corners `co` along the ray from `o` along
+/// `dir`: the height at distance `u` is `p + s u`, as `(p, s)`.
+#[inline]
+fn along(co: &[[f64; 3]; 3], o: [f64; 2], dir: [f64; 2]) -> (f64, f64) {
+    let [p, gx, gy] = plane(co, o);
+    (p, gx * dir[0] + gy * dir[1])
 }
 
 /// Whether the surface of `level` stays below `limit` (in `f`, drop `c`,
