@@ -147,9 +147,28 @@ fn main() {
         tin.num_levels(),
         tin.levels[finest].num_triangles()
     );
+    if std::env::var("TINMERGE_VIEWSHED_PROFILE").as_deref() == Ok("sweep") {
+        // for perf: the sweep alone, five runs on one thread
+        par::set_threads(1);
+        let runs: usize = std::env::var("TINMERGE_RUNS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(5);
+        for _ in 0..runs {
+            let t0 = Instant::now();
+            black_box(triangles_at(&tin, finest, &gt, gw, gh, &mut || Ok(())).unwrap());
+            println!("triangles_at {:.0} ms", t0.elapsed().as_secs_f64() * 1e3);
+        }
+        return;
+    }
     if std::env::var_os("TINMERGE_VIEWSHED_PROFILE").is_some() {
         // for perf: three runs on one thread, nothing else
-        for _ in 0..3 {
+        par::set_threads(1);
+        let runs: usize = std::env::var("TINMERGE_RUNS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(3);
+        for _ in 0..runs {
             let t0 = Instant::now();
             let v = black_box(
                 viewshed(&tin, finest, &[eye], 0.0, RADIUS, &gt, gw, gh, &mut || {
@@ -220,32 +239,56 @@ fn main() {
     par::set_threads(1);
     let v = last.unwrap();
     // gdal_viewshed on the raster, the same window (-md), as ENVI bytes
-    let out = dir.join("gdal.envi");
-    let mut gv = Vec::new();
-    for _ in 0..3 {
+    let gdal = |dem: &Path, out: &Path| {
         let t0 = Instant::now();
         let ok = Command::new("gdal_viewshed")
             .args(["-q", "-of", "ENVI", "-vv", "1", "-iv", "0", "-ov", "255"])
+            // no curvature (the default -cc 0.85714 lowers distant ground)
+            .args(["-cc", "0"])
             .args(["-ox", &ex.to_string(), "-oy", &ey.to_string()])
-            .args([
-                "-oz",
-                &EYE_UP.to_string(),
-                "-tz",
-                "0",
-                "-md",
-                &RADIUS.to_string(),
-            ])
-            .arg(&vrt)
-            .arg(&out)
+            .args(["-oz", &EYE_UP.to_string(), "-tz", "0"])
+            .args(["-md", &RADIUS.to_string()])
+            .arg(dem)
+            .arg(out)
             .status()
             .expect("gdal_viewshed")
             .success();
         assert!(ok, "gdal_viewshed failed");
-        gv.push(t0.elapsed().as_secs_f64() * 1e3);
-    }
+        t0.elapsed().as_secs_f64() * 1e3
+    };
+    let out = dir.join("gdal.envi");
+    let gv: Vec<f64> = (0..3).map(|_| gdal(&vrt, &out)).collect();
     println!(
         "| gdal_viewshed (process, one thread) | {:.0} | |",
         median(gv)
+    );
+    // and on the tin's own heights at the cells (tin_as_raster): how its
+    // method, not the data, compares with the exact answer
+    par::set_threads(2);
+    let z = rasterize(&tin, finest, &gt, gw, gh, &mut || Ok(())).unwrap();
+    par::set_threads(1);
+    let bytes: Vec<u8> = z
+        .iter()
+        .flat_map(|v| (if v.is_nan() { -9999.0f32 } else { *v as f32 }).to_le_bytes())
+        .collect();
+    std::fs::write(dir.join("tin.raw"), bytes).unwrap();
+    std::fs::write(
+        dir.join("tin.vrt"),
+        format!(
+            r#"<VRTDataset rasterXSize="{gw}" rasterYSize="{gh}"><SRS>EPSG:32616</SRS><GeoTransform>{}, {}, 0, {}, 0, {}</GeoTransform><VRTRasterBand dataType="Float32" band="1" subClass="VRTRawRasterBand"><NoDataValue>-9999</NoDataValue><SourceFilename relativetoVRT="1">tin.raw</SourceFilename><ImageOffset>0</ImageOffset><PixelOffset>4</PixelOffset><LineOffset>{}</LineOffset><ByteOrder>LSB</ByteOrder></VRTRasterBand></VRTDataset>"#,
+            gt.ip_x,
+            gt.scale_x,
+            gt.ip_y,
+            gt.scale_y,
+            4 * gw
+        ),
+    )
+    .unwrap();
+    let on_tin = dir.join("gdal-tin.envi");
+    let ms = gdal(&dir.join("tin.vrt"), &on_tin);
+    println!(
+        "gdal_viewshed on the tin's heights at the cells: {ms:.0} ms, agrees with the exact viewshed at {}",
+        gdal_agreement(&on_tin, &v.counts, &gt, gw, gh)
     );
     let agree = gdal_agreement(&out, &v.counts, &gt, gw, gh);
     let seen = v.counts.iter().filter(|&&c| c == VISIBLE).count();

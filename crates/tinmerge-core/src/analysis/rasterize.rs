@@ -1,19 +1,19 @@
 //! The surface of a level as a raster: its height at every pixel centre
-//! (`tin_as_raster`), by the raster merge's scanline sweep
-//! ([`crate::merge::raster::sweep_bands`], bands of rows on `tin::par`'s
-//! threads) rather than a point location per pixel.
+//! (`tin_as_raster`), by filling each triangle's rows of centres rather
+//! than a point location per pixel.
 //!
-//! **The same heights as `tin_height`, bit for bit.** The sweep hands every
-//! pixel centre of the closed domain to one triangle; a centre strictly
-//! inside it is interpolated there with [`interpolate`], the formula
-//! `tin_height` uses. A centre on an edge or a vertex (a tie: several
-//! closed triangles hold it) is interpolated in the triangle `tin_height`
-//! picks, the smallest id among them ([`locate::canonical`]), found from the
-//! sweep's triangle across the edges through the centre (only the two end
-//! centres of a row's run can be such a tie, unless the row passes through
-//! a corner of the triangle). Centres off the
-//! domain (off the hull, on void triangles) have no height: NaN here, the
-//! nodata value in the raster written.
+//! **The same heights as `tin_height`, bit for bit.** Every pixel centre of
+//! the closed domain is given to the triangle `tin_height` interpolates in:
+//! among the domain triangles whose closed triangle holds it, the smallest
+//! id ([`canonical`](crate::tin::locate::canonical)). [`triangles_at`] finds it by letting each
+//! triangle, in increasing id order, take the centres it holds that no
+//! smaller id took; the height is then [`interpolate`] there, the formula
+//! `tin_height` uses. A row's centres well inside a triangle's edges are
+//! taken by comparing them with the row's rounded ends; those within the
+//! rounding bound of an edge (centres on an edge or a vertex) by exact
+//! orientation tests. Centres off the domain (off the hull, on void
+//! triangles) have no height: NaN here, the nodata value in the raster
+//! written.
 //!
 //! ```
 //! use tinmerge_core::analysis::rasterize::{aligned_grid, rasterize};
@@ -29,12 +29,12 @@
 //! ```
 
 use crate::error::TinError;
-use crate::interrupt::Interrupt;
+use crate::interrupt::{Interrupt, Ticker};
 use crate::io::raster::GeoTransform;
-use crate::merge::raster::patch::TinLevel;
-use crate::merge::raster::{PixelGrid, sweep_bands};
-use crate::tin::{Tin, interpolate, locate};
+use crate::merge::raster::PixelGrid;
+use crate::tin::{Tin, interpolate};
 use robust::{Coord, orient2d};
+use std::sync::Mutex;
 
 /// Largest width or height of a PostGIS raster (its header holds 16 bits).
 pub const MAX_SIDE: usize = 65535;
@@ -51,12 +51,47 @@ pub fn rasterize(
     height: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<f64>, TinError> {
-    Ok(sweep_centres(tin, level, gt, width, height, true, false, interrupt)?.0)
+    let tris = triangles_at(tin, level, gt, width, height, interrupt)?;
+    let grid = PixelGrid::new(gt, width, height)?;
+    let mut z = vec![f64::NAN; tris.len()];
+    let rows: Vec<(usize, &mut [f64])> = z.chunks_mut(width.max(1) * 64).enumerate().collect();
+    let rows: Vec<(usize, Mutex<&mut [f64]>)> =
+        rows.into_iter().map(|(k, s)| (k, Mutex::new(s))).collect();
+    crate::par::map_batched(
+        &rows,
+        |(k, m)| {
+            let mut zs = m.lock().unwrap_or_else(|e| e.into_inner());
+            let first = k * width * 64;
+            // the corners of the last triangle met (a row's centres come in
+            // runs of one triangle)
+            let mut last = (u32::MAX, [[0.0; 3]; 3]);
+            for (i, slot) in zs.iter_mut().enumerate() {
+                let t = tris[first + i];
+                if t == u32::MAX {
+                    continue;
+                }
+                if t != last.0 {
+                    last = (t, tin.corners(level, t));
+                }
+                let (c, r) = ((first + i) % width, (first + i) / width);
+                *slot = interpolate(&last.1, grid.xs.v[c], grid.ys.v[r]);
+            }
+        },
+        &mut || Ok(()),
+        &mut |()| Ok(()),
+    )?;
+    Ok(z)
 }
 
-/// The triangle of `level` under each centre of the grid (as
-/// [`rasterize`] hands them: tin_height's on a tie), row-major from the top
-/// row; `u32::MAX` off the domain.
+/// The triangle of `level` under each centre of the grid: the smallest id
+/// among the domain triangles whose closed triangle holds it (the one
+/// `tin_height` interpolates in, [`canonical`](crate::tin::locate::canonical)), row-major from the
+/// top row; `u32::MAX` off the domain (off the hull, on void triangles).
+///
+/// Each domain triangle writes itself, in increasing id order, into the
+/// centres it holds that no smaller id took ([`Rows`]). Bands of rows run
+/// on `tin::par`'s threads, each band holding the triangles over it; the
+/// answer does not depend on the thread count.
 pub fn triangles_at(
     tin: &Tin,
     level: usize,
@@ -65,89 +100,208 @@ pub fn triangles_at(
     height: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<u32>, TinError> {
-    Ok(sweep_centres(tin, level, gt, width, height, false, true, interrupt)?.1)
-}
-
-/// The sweep behind [`rasterize`] and [`triangles_at`]: each centre's
-/// height and its triangle, those asked for (the other left empty).
-#[allow(clippy::too_many_arguments)]
-fn sweep_centres(
-    tin: &Tin,
-    level: usize,
-    gt: &GeoTransform,
-    width: usize,
-    height: usize,
-    heights: bool,
-    triangles: bool,
-    interrupt: &mut Interrupt<'_>,
-) -> Result<(Vec<f64>, Vec<u32>), TinError> {
     let grid = PixelGrid::new(gt, width, height)?;
-    let lv = TinLevel::new(tin, level)?;
+    let lv = tin.levels.get(level).ok_or(TinError::LevelOutOfRange {
+        level: level as i64,
+        num_levels: tin.levels.len(),
+    })?;
     let n = width
         .checked_mul(height)
         .ok_or_else(|| TinError::TooLarge(format!("a {width} x {height} raster")))?;
-    let mut z = if heights {
-        vec![f64::NAN; n]
-    } else {
-        Vec::new()
-    };
-    let mut tris = if triangles {
-        vec![u32::MAX; n]
-    } else {
-        Vec::new()
-    };
-    // bands of rows on the threads, each writing its own rows
+    let mut tris = vec![u32::MAX; n];
+    if n == 0 {
+        return Ok(tris);
+    }
+    // the triangles over each band of rows (with their rows), in
+    // increasing id order
     let rows = height.div_ceil(8 * crate::par::threads()).max(1);
-    let step = (rows * width).max(1);
-    let (mut zb, mut tb) = (z.chunks_mut(step), tris.chunks_mut(step));
-    let parts: Vec<_> = (0..height.div_ceil(rows))
-        .map(|k| {
-            let zs: &mut [f64] = zb.next().unwrap_or_default();
-            let ts: &mut [u32] = tb.next().unwrap_or_default();
-            (k * rows..(k + 1) * rows, (k * rows, zs, ts))
-        })
+    let mut lists: Vec<Vec<(u32, u32, u32)>> = vec![Vec::new(); height.div_ceil(rows)];
+    let (xa, xb) = (grid.xs.v[0], grid.xs.v[width - 1]);
+    let (gx0, gx1) = (xa.min(xb), xa.max(xb));
+    let mut tk = Ticker::new(interrupt);
+    for t in 0..lv.num_domain() as u32 {
+        tk.tick()?;
+        let c = tin.corners(level, t);
+        let xlo = c[0][0].min(c[1][0]).min(c[2][0]);
+        let xhi = c[0][0].max(c[1][0]).max(c[2][0]);
+        if xhi < gx0 || xlo > gx1 {
+            continue;
+        }
+        let (r0, r1) = grid.ys.range(
+            c[0][1].min(c[1][1]).min(c[2][1]),
+            c[0][1].max(c[1][1]).max(c[2][1]),
+        );
+        if r0 < r1 {
+            for list in &mut lists[r0 / rows..=(r1 - 1) / rows] {
+                list.push((t, r0 as u32, r1 as u32));
+            }
+        }
+    }
+    let parts: Vec<(usize, Mutex<&mut [u32]>)> = tris
+        .chunks_mut(rows * width)
+        .enumerate()
+        .map(|(b, s)| (b, Mutex::new(s)))
         .collect();
-    sweep_bands(
-        &lv,
-        &grid,
-        parts,
-        interrupt,
-        &|(r0, zs, ts), t, row, c0, c1| {
-            let c = tin.corners(level, t);
-            let v = c.map(|v| Coord { x: v[0], y: v[1] });
-            let y = grid.ys.v[row];
-            let base = (row - *r0) * width;
-            // a row through no corner crosses the triangle's inside between
-            // its two ends: only the end columns can be on an edge
-            let through = c.iter().any(|p| p[1] == y);
-            for col in c0..c1 {
-                let x = grid.xs.v[col];
-                let inside = (!through && col > c0 && col + 1 < c1) || {
-                    let p = Coord { x, y };
-                    orient2d(v[0], v[1], p) > 0.0
-                        && orient2d(v[1], v[2], p) > 0.0
-                        && orient2d(v[2], v[0], p) > 0.0
-                };
-                let u = if inside {
-                    t
-                } else {
-                    // on an edge or a vertex: tin_height's triangle
-                    locate::canonical(tin, level, t, x, y)
-                };
-                if let Some(slot) = zs.get_mut(base + col) {
-                    *slot = if u == t {
-                        interpolate(&c, x, y)
-                    } else {
-                        interpolate(&tin.corners(level, u), x, y)
-                    };
-                }
-                if let Some(slot) = ts.get_mut(base + col) {
-                    *slot = u;
-                }
+    crate::par::map_batched(
+        &parts,
+        |(b, m)| {
+            let mut out = m.lock().unwrap_or_else(|e| e.into_inner());
+            let band = b * rows..((b + 1) * rows).min(height);
+            for &(t, r0, r1) in &lists[*b] {
+                let rs = (r0 as usize).max(band.start)..(r1 as usize).min(band.end);
+                Rows::new(tin.corners(level, t)).fill(t, &grid, rs, band.start, &mut out);
             }
         },
+        tk.callback(),
+        &mut |()| Ok(()),
     )?;
-    Ok((z, tris))
+    Ok(tris)
+}
+
+/// One triangle's rows of centres: its corners, the y of the middle one
+/// (sorted by y: `lo`, `mid`, `hi`) and its edges `lo`-`hi`, `lo`-`mid`,
+/// `mid`-`hi`.
+struct Rows {
+    v: [Coord<f64>; 3],
+    mid_y: f64,
+    edges: [Edge; 3],
+}
+
+/// An edge as a row sees it: `x = ax + (y - ay) k` (`k = dx/dy`, 0 for a
+/// horizontal one) kept within `lo..=hi`, rounded by at most `err`.
+struct Edge {
+    ax: f64,
+    ay: f64,
+    k: f64,
+    lo: f64,
+    hi: f64,
+    err: f64,
+}
+
+impl Edge {
+    #[inline]
+    fn at(&self, y: f64) -> f64 {
+        let x = self.ax + (y - self.ay) * self.k;
+        if x < self.lo {
+            self.lo
+        } else if x > self.hi {
+            self.hi
+        } else {
+            x
+        }
+    }
+}
+
+impl Rows {
+    fn new(c: [[f64; 3]; 3]) -> Rows {
+        let mut p = [[c[0][0], c[0][1]], [c[1][0], c[1][1]], [c[2][0], c[2][1]]];
+        p.sort_by(|a, b| a[1].total_cmp(&b[1]));
+        let ymax = p[0][1].abs().max(p[2][1].abs());
+        let edge = |a: [f64; 2], b: [f64; 2]| {
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let k = if dy != 0.0 { dx / dy } else { 0.0 };
+            Edge {
+                ax: a[0],
+                ay: a[1],
+                k,
+                lo: a[0].min(b[0]),
+                hi: a[0].max(b[0]),
+                // as the sweep's bound: a few ulps of each operand, the
+                // slope amplifying those of y
+                err: (ymax * k.abs() + a[1].abs() * k.abs() + a[0].abs() + dx.abs())
+                    * (16.0 * f64::EPSILON),
+            }
+        };
+        let mut edges = [edge(p[0], p[2]), edge(p[0], p[1]), edge(p[1], p[2])];
+        if p[0][1] == p[2][1] {
+            // no area, all on one row (the one that uses the long edge and
+            // the upper one): from the least x to the greatest
+            let (lo, hi) = (
+                p.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min),
+                p.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max),
+            );
+            edges[0] = edge([lo, p[0][1]], [hi, p[0][1]]);
+            edges[2] = edge([hi, p[0][1]], [lo, p[0][1]]);
+        }
+        Rows {
+            v: c.map(|q| Coord { x: q[0], y: q[1] }),
+            mid_y: p[1][1],
+            edges,
+        }
+    }
+
+    /// Whether the closed triangle holds `(x, y)`, exactly (the corners
+    /// are counter-clockwise).
+    fn holds(&self, x: f64, y: f64) -> bool {
+        let (v, p) = (&self.v, Coord { x, y });
+        orient2d(v[0], v[1], p) >= 0.0
+            && orient2d(v[1], v[2], p) >= 0.0
+            && orient2d(v[2], v[0], p) >= 0.0
+    }
+
+    /// Writes `t` into the centres of `rows` (the rows of `out` start at
+    /// `first`) that the closed triangle holds and no triangle took yet.
+    fn fill(
+        &self,
+        t: u32,
+        grid: &PixelGrid,
+        rows: std::ops::Range<usize>,
+        first: usize,
+        out: &mut [u32],
+    ) {
+        let (xs, w) = (&grid.xs.v[..], grid.width);
+        let (x0, inv) = (xs[0], 1.0 / grid.xs.step());
+        let wf = w as f64;
+        for r in rows {
+            let y = grid.ys.v[r];
+            // the row meets the long edge and one of the two short ones
+            // (the upper where the middle corner is below or on it)
+            let long = &self.edges[0];
+            let short = &self.edges[if y < self.mid_y { 1 } else { 2 }];
+            let (xa, xb) = (long.at(y), short.at(y));
+            let (xl, xr) = if xa <= xb { (xa, xb) } else { (xb, xa) };
+            let err = if long.err > short.err {
+                long.err
+            } else {
+                short.err
+            };
+            let (lo_out, lo_in, hi_in, hi_out) = (xl - err, xl + err, xr - err, xr + err);
+            // candidate columns from the index-space interval, with slack
+            // for rounding (truncation is floor on the clamped values)
+            let (ul, ur) = ((xl - x0) * inv, (xr - x0) * inv);
+            let (ul, ur) = if ul <= ur { (ul, ur) } else { (ur, ul) };
+            let d = err * inv.abs() + 1e-9 * (1.0 + ur.abs() + ul.abs());
+            let a0 = (ul - d).clamp(0.0, wf) as usize;
+            let a1 = ((ur + d).clamp(0.0, wf) as usize + 1).min(w);
+            let Some(row) = out.get_mut((r - first) * w..(r - first + 1) * w) else {
+                return;
+            };
+            let sure = |x: f64| x > lo_in && x < hi_in;
+            let edge = |c: usize, row: &mut [u32]| {
+                let x = xs[c];
+                if row[c] == u32::MAX && x >= lo_out && x <= hi_out && self.holds(x, y) {
+                    row[c] = t;
+                }
+            };
+            // the candidates not surely inside, from each end; between
+            // them every centre is inside
+            let mut c = a0;
+            while c < a1 && !sure(xs[c]) {
+                edge(c, row);
+                c += 1;
+            }
+            let mut e = a1;
+            while e > c && !sure(xs[e - 1]) {
+                edge(e - 1, row);
+                e -= 1;
+            }
+            for slot in &mut row[c..e] {
+                if *slot == u32::MAX {
+                    *slot = t;
+                }
+            }
+        }
+    }
 }
 
 /// The north-up grid of `size_x` x `size_y` pixels whose edges lie on the

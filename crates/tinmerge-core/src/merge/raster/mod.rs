@@ -94,6 +94,11 @@ impl Axis {
         }
     }
 
+    /// The step between two centres (negative where they decrease).
+    pub fn step(&self) -> f64 {
+        self.step
+    }
+
     /// Number of leading indices for which `pred` holds (a prefix, as the
     /// axis is monotone), starting from an estimate near `x`.
     #[inline]
@@ -358,43 +363,6 @@ pub fn sweep_par<S: Send, L: RasterLevel>(
             Ok(())
         },
     )
-}
-
-/// [`sweep`] (unordered) of the bands of rows `parts` on `tin::par`'s
-/// threads, each band's runs handed to `on_span` with that band's own
-/// state (for example its rows of an output), returned in order.
-/// Interrupts are checked between batches of bands.
-pub fn sweep_bands<B: Send, L: RasterLevel>(
-    lv: &L,
-    g: &PixelGrid,
-    parts: Vec<(std::ops::Range<usize>, B)>,
-    interrupt: &mut Interrupt<'_>,
-    on_span: &(dyn Fn(&mut B, u32, usize, usize, usize) + Sync),
-) -> Result<Vec<B>, TinError> {
-    let mut tk = Ticker::new(interrupt);
-    let ev = Events::new(lv, g, &mut tk)?;
-    let items: Vec<(std::ops::Range<usize>, std::sync::Mutex<B>)> = parts
-        .into_iter()
-        .map(|(r, b)| (r, std::sync::Mutex::new(b)))
-        .collect();
-    crate::par::map_batched(
-        &items,
-        |(rows, m)| {
-            let mut b = m.lock().unwrap_or_else(|e| e.into_inner());
-            let rows = rows.start.min(g.height)..rows.end.min(g.height);
-            let mut none = || Ok(());
-            let mut quiet = Ticker::new(&mut none);
-            ev.run(rows, false, &mut quiet, &mut |t, r, c0, c1| {
-                on_span(&mut b, t, r, c0, c1)
-            })
-        },
-        tk.callback(),
-        &mut |r| r,
-    )?;
-    Ok(items
-        .into_iter()
-        .map(|(_, m)| m.into_inner().unwrap_or_else(|e| e.into_inner()))
-        .collect())
 }
 
 /// What the sweep needs before its first row: triangles bucketed by their
