@@ -353,13 +353,13 @@ impl Fan<'_> {
     /// given to `cell` with its distance, its offset from the eye and the
     /// wedge `p` it is in (between `dirs[p]`, included, and `dirs[p + 1]`).
     /// The sector is less than a half-turn wide.
-    fn sector_cells(&self, dirs: &[[f64; 2]], cell: &mut dyn FnMut(usize, f64, f64, f64, usize)) {
+    fn sector_cells(&self, dirs: &[[f64; 2]], mut cell: impl FnMut(usize, f64, f64, f64, usize)) {
         let (e, gt) = (&self.e, self.gt);
         let (w, h) = (self.width, self.height);
         let cross = |d: [f64; 2], vx: f64, vy: f64| d[0] * vy - d[1] * vx;
         let (d0, d1) = (dirs[0], dirs[dirs.len() - 1]);
         let last = dirs.len() - 2;
-        let mut p = 0usize;
+        let inv_dtheta = 1.0 / self.dtheta;
         let mut consider = |c: i64, r: i64| {
             if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
                 return;
@@ -369,7 +369,13 @@ impl Fan<'_> {
             if cross(d0, vx, vy) >= 0.0 && cross(d1, vx, vy) < 0.0 {
                 let dist = (vx * vx + vy * vy).sqrt();
                 if dist <= self.radius {
-                    // the wedge: from the last cell's, either way
+                    // the wedge: estimated from the angle to the first ray
+                    // (its tangent, then the arctangent's series: a sector
+                    // is at most a sixteenth of a turn), then settled by
+                    // the exact tests either way
+                    let x = cross(d0, vx, vy) / (d0[0] * vx + d0[1] * vy);
+                    let est = (x - x * x * x * (1.0 / 3.0)) * inv_dtheta;
+                    let mut p = (est.max(0.0) as usize).min(last);
                     while p < last && cross(dirs[p + 1], vx, vy) >= 0.0 {
                         p += 1;
                     }
@@ -431,7 +437,7 @@ impl Fan<'_> {
             })
             .collect();
         let mut seen = Vec::new();
-        self.sector_cells(&dirs, &mut |idx, dist, vx, vy, p| {
+        self.sector_cells(&dirs, |idx, dist, vx, vy, p| {
             let t = self.tris[idx];
             let Some(&[pz, gx, gy]) = self.planes.get(t as usize) else {
                 return;
