@@ -163,6 +163,8 @@ fn main() {
     }
     if std::env::var_os("TINMERGE_VIEWSHED_PROFILE").is_some() {
         // for perf: three runs on one thread, nothing else
+        let sizes: Vec<usize> = tin.levels.iter().map(|l| l.num_triangles()).collect();
+        println!("triangles per level: {sizes:?}");
         par::set_threads(1);
         let runs: usize = std::env::var("TINMERGE_RUNS")
             .ok()

@@ -310,6 +310,7 @@ impl Fan<'_> {
             near: self.near,
             pieces: 0,
             pruned: 0,
+            kids: Vec::with_capacity(64),
         };
         w.run(from, sink);
         st.fine_pieces += w.pieces;

@@ -251,6 +251,8 @@ pub(super) struct RayWalk<'a> {
     pub(super) near: f64,
     pub(super) pieces: u64,
     pub(super) pruned: u64,
+    /// The children still to walk, of every triangle being descended.
+    pub(super) kids: Vec<(f64, f64, u32)>,
 }
 
 impl RayWalk<'_> {
@@ -337,62 +339,31 @@ impl RayWalk<'_> {
             self.pruned += 1;
             return;
         }
+        // the children the stretch crosses, in order along the ray, on the
+        // walk's one stack (deeper calls push above them and take theirs
+        // off before returning)
         let lv = &self.tin.levels[l];
         let (c0, c1) = (lv.child_start[t as usize], lv.child_start[t as usize + 1]);
-        let mut kids: smallvec_like::Stack = smallvec_like::Stack::default();
+        let start = self.kids.len();
         for c in c0..c1 {
             let (lo, hi, _) = self.interval(l + 1, c);
             let (x, y) = (lo.max(a), hi.min(b));
             if y > x {
-                kids.push((x, y, c));
+                // insertion by entry (a few children)
+                self.kids.push((x, y, c));
+                let mut k = self.kids.len() - 1;
+                while k > start && self.kids[k - 1].0 > x {
+                    self.kids.swap(k - 1, k);
+                    k -= 1;
+                }
             }
         }
-        kids.sort();
-        for &(x, y, c) in kids.as_slice() {
+        let end = self.kids.len();
+        for k in start..end {
+            let (x, y, c) = self.kids[k];
             self.descend(l + 1, c, x, y, sink);
         }
-    }
-}
-
-/// A few children's stretches without a heap allocation for the usual
-/// count.
-mod smallvec_like {
-    #[derive(Default)]
-    pub struct Stack {
-        n: usize,
-        inline: [(f64, f64, u32); 16],
-        more: Vec<(f64, f64, u32)>,
-    }
-
-    impl Stack {
-        pub fn push(&mut self, v: (f64, f64, u32)) {
-            if self.n < 16 {
-                self.inline[self.n] = v;
-            } else {
-                if self.n == 16 {
-                    self.more.extend_from_slice(&self.inline);
-                }
-                self.more.push(v);
-            }
-            self.n += 1;
-        }
-
-        pub fn as_slice(&self) -> &[(f64, f64, u32)] {
-            if self.n <= 16 {
-                &self.inline[..self.n]
-            } else {
-                &self.more
-            }
-        }
-
-        pub fn sort(&mut self) {
-            let by = |p: &(f64, f64, u32), q: &(f64, f64, u32)| p.0.total_cmp(&q.0);
-            if self.n <= 16 {
-                self.inline[..self.n].sort_unstable_by(by);
-            } else {
-                self.more.sort_unstable_by(by);
-            }
-        }
+        self.kids.truncate(start);
     }
 }
 
