@@ -7,8 +7,13 @@
 //! raster's own 3.10 m cells over the radius's window. Prints a table of
 //! medians (5 runs for the core on 1 and 2 threads, 3 for the gdal process)
 //! and the work counters of the last run, and how many cells the two call
-//! the same. The DEM and the tin are made once into `target/bench-viewshed`.
-//! `cargo bench --bench viewshed`.
+//! the same; then `gdal_viewshed` on the tin's own heights at the cells
+//! (`rasterize`), and how many of its verdicts are the exact viewshed's.
+//! The DEM and the tin are made once into `target/bench-viewshed`.
+//! `cargo bench --bench viewshed`. Profile modes (one thread, nothing else
+//! timed): `TINMERGE_VIEWSHED_PROFILE=1` the viewshed, `=sweep`
+//! `triangles_at`; `TINMERGE_RUNS=n` runs (0: the set-up alone, to subtract
+//! under callgrind).
 
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -30,6 +35,15 @@ const EYE_UP: f64 = 1.7;
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
+}
+
+/// Runs of a profile mode: `TINMERGE_RUNS`, else `default` (0 times the
+/// set-up alone, for instruction counts under callgrind).
+fn profile_runs(default: usize) -> usize {
+    std::env::var("TINMERGE_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
 }
 
 fn root() -> PathBuf {
@@ -150,11 +164,7 @@ fn main() {
     if std::env::var("TINMERGE_VIEWSHED_PROFILE").as_deref() == Ok("sweep") {
         // for perf: the sweep alone, five runs on one thread
         par::set_threads(1);
-        let runs: usize = std::env::var("TINMERGE_RUNS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(5);
-        for _ in 0..runs {
+        for _ in 0..profile_runs(5) {
             let t0 = Instant::now();
             black_box(triangles_at(&tin, finest, &gt, gw, gh, &mut || Ok(())).unwrap());
             println!("triangles_at {:.0} ms", t0.elapsed().as_secs_f64() * 1e3);
@@ -166,11 +176,7 @@ fn main() {
         let sizes: Vec<usize> = tin.levels.iter().map(|l| l.num_triangles()).collect();
         println!("triangles per level: {sizes:?}");
         par::set_threads(1);
-        let runs: usize = std::env::var("TINMERGE_RUNS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(3);
-        for _ in 0..runs {
+        for _ in 0..profile_runs(3) {
             let t0 = Instant::now();
             let v = black_box(
                 viewshed(&tin, finest, &[eye], 0.0, RADIUS, &gt, gw, gh, &mut || {
