@@ -251,7 +251,8 @@ fn main() {
         let t0 = Instant::now();
         let ok = Command::new("gdal_viewshed")
             .args(["-q", "-of", "ENVI", "-vv", "1", "-iv", "0", "-ov", "255"])
-            // no curvature (the default -cc 0.85714 lowers distant ground)
+            // no curvature, as the eye here has none (said, not left to
+            // the default)
             .args(["-cc", "0"])
             .args(["-ox", &ex.to_string(), "-oy", &ey.to_string()])
             .args(["-oz", &EYE_UP.to_string(), "-tz", "0"])
