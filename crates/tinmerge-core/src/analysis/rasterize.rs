@@ -51,35 +51,25 @@ pub fn rasterize(
     height: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<f64>, TinError> {
-    let tris = triangles_at(tin, level, gt, width, height, interrupt)?;
     let grid = PixelGrid::new(gt, width, height)?;
+    let tris = triangles_on(tin, level, &grid, interrupt)?;
     let mut z = vec![f64::NAN; tris.len()];
-    let rows: Vec<(usize, &mut [f64])> = z.chunks_mut(width.max(1) * 64).enumerate().collect();
-    let rows: Vec<(usize, Mutex<&mut [f64]>)> =
-        rows.into_iter().map(|(k, s)| (k, Mutex::new(s))).collect();
-    crate::par::map_batched(
-        &rows,
-        |(k, m)| {
-            let mut zs = m.lock().unwrap_or_else(|e| e.into_inner());
-            let first = k * width * 64;
-            // the corners of the last triangle met (a row's centres come in
-            // runs of one triangle)
-            let mut last = (u32::MAX, [[0.0; 3]; 3]);
-            for (i, slot) in zs.iter_mut().enumerate() {
-                let t = tris[first + i];
-                if t == u32::MAX {
-                    continue;
-                }
-                if t != last.0 {
-                    last = (t, tin.corners(level, t));
-                }
-                let (c, r) = ((first + i) % width, (first + i) / width);
-                *slot = interpolate(&last.1, grid.xs.v[c], grid.ys.v[r]);
+    in_bands(&mut z, width, 64, interrupt, |first, zs| {
+        // the corners of the last triangle met (a row's centres come in
+        // runs of one triangle)
+        let mut last = (u32::MAX, [[0.0; 3]; 3]);
+        for (i, slot) in zs.iter_mut().enumerate() {
+            let t = tris[first * width + i];
+            if t == u32::MAX {
+                continue;
             }
-        },
-        &mut || Ok(()),
-        &mut |()| Ok(()),
-    )?;
+            if t != last.0 {
+                last = (t, tin.corners(level, t));
+            }
+            let (c, r) = (i % width, first + i / width);
+            *slot = interpolate(&last.1, grid.xs.v[c], grid.ys.v[r]);
+        }
+    })?;
     Ok(z)
 }
 
@@ -100,7 +90,17 @@ pub fn triangles_at(
     height: usize,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Vec<u32>, TinError> {
-    let grid = PixelGrid::new(gt, width, height)?;
+    triangles_on(tin, level, &PixelGrid::new(gt, width, height)?, interrupt)
+}
+
+/// [`triangles_at`] on the centres of `grid`.
+fn triangles_on(
+    tin: &Tin,
+    level: usize,
+    grid: &PixelGrid,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Vec<u32>, TinError> {
+    let (width, height) = (grid.width, grid.height);
     let lv = tin.levels.get(level).ok_or(TinError::LevelOutOfRange {
         level: level as i64,
         num_levels: tin.levels.len(),
@@ -137,25 +137,39 @@ pub fn triangles_at(
             }
         }
     }
-    let parts: Vec<(usize, Mutex<&mut [u32]>)> = tris
-        .chunks_mut(rows * width)
+    in_bands(&mut tris, width, rows, tk.callback(), |first, out| {
+        let band = first..(first + rows).min(height);
+        for &(t, r0, r1) in &lists[first / rows] {
+            let rs = (r0 as usize).max(band.start)..(r1 as usize).min(band.end);
+            Rows::new(tin.corners(level, t)).fill(t, grid, rs, band.start, out);
+        }
+    })?;
+    Ok(tris)
+}
+
+/// `f(first row, its rows of out)` for the bands of `rows` rows of the
+/// row-major `out` (`width` values a row), on `tin::par`'s threads, each
+/// band writing only its own rows; interrupts checked between batches of
+/// bands.
+fn in_bands<T: Send>(
+    out: &mut [T],
+    width: usize,
+    rows: usize,
+    interrupt: &mut Interrupt<'_>,
+    f: impl Fn(usize, &mut [T]) + Sync + Send,
+) -> Result<(), TinError> {
+    let step = (rows * width).max(1);
+    let parts: Vec<(usize, Mutex<&mut [T]>)> = out
+        .chunks_mut(step)
         .enumerate()
-        .map(|(b, s)| (b, Mutex::new(s)))
+        .map(|(b, s)| (b * rows, Mutex::new(s)))
         .collect();
     crate::par::map_batched(
         &parts,
-        |(b, m)| {
-            let mut out = m.lock().unwrap_or_else(|e| e.into_inner());
-            let band = b * rows..((b + 1) * rows).min(height);
-            for &(t, r0, r1) in &lists[*b] {
-                let rs = (r0 as usize).max(band.start)..(r1 as usize).min(band.end);
-                Rows::new(tin.corners(level, t)).fill(t, &grid, rs, band.start, &mut out);
-            }
-        },
-        tk.callback(),
+        |(first, m)| f(*first, &mut m.lock().unwrap_or_else(|e| e.into_inner())),
+        interrupt,
         &mut |()| Ok(()),
-    )?;
-    Ok(tris)
+    )
 }
 
 /// One triangle's rows of centres: its corners, the y of the middle one

@@ -22,8 +22,8 @@
 //! kept as the walk's stretches ([`Horizon`]): its value at any distance
 //! is exact, not sampled. Each cell lies in the wedge of two neighbouring
 //! rays; the cells of a sector of up to 64 wedges are enumerated once,
-//! column by column (row by row) outward, their wedge found by a pointer
-//! moving with them. The rays' horizons four cells before the cell decide
+//! column by column (row by row) outward, their wedge estimated from
+//! their angle and settled by exact side tests. The rays' horizons four cells before the cell decide
 //! the terrain behind it: where both are above its target elevation (by
 //! more than they differ) it is hidden; where both are below it, the last
 //! four cells of its own ray are walked exactly (the rays' own nearby
