@@ -88,8 +88,9 @@ impl TableSource {
         }
     }
 
-    /// Tile `k`'s box `[xmin, ymin, xmax, ymax]`: its pixels' squares.
-    pub(super) fn tile_box(&self, k: usize) -> [f64; 4] {
+    /// Tile `k`'s box `[xmin, ymin, xmax, ymax]`: its pixels' squares and
+    /// `ring` more pixels all round.
+    pub(super) fn tile_box(&self, k: usize, ring: usize) -> [f64; 4] {
         let (l, w, h) = self.metas[k];
         let mut b = [
             f64::INFINITY,
@@ -97,8 +98,13 @@ impl TableSource {
             f64::NEG_INFINITY,
             f64::NEG_INFINITY,
         ];
+        let g = ring as f64;
         for (c, r) in [(0, 0), (w, 0), (0, h), (w, h)] {
-            let (x, y) = l.centre(c as f64 - 0.5, r as f64 - 0.5);
+            let (c, r) = (
+                c as f64 + if c == 0 { -g } else { g },
+                r as f64 + if r == 0 { -g } else { g },
+            );
+            let (x, y) = l.centre(c - 0.5, r - 0.5);
             b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
         }
         b
@@ -108,7 +114,7 @@ impl TableSource {
     pub(super) fn meeting(&self, b: [f64; 4]) -> Vec<usize> {
         (0..self.metas.len())
             .filter(|&k| {
-                let t = self.tile_box(k);
+                let t = self.tile_box(k, 0);
                 t[0] < b[2] && b[0] < t[2] && t[1] < b[3] && b[1] < t[3]
             })
             .collect()
@@ -165,7 +171,7 @@ impl TableSource {
                 f64::NEG_INFINITY,
             ];
             for &k in want {
-                let t = self.tile_box(k);
+                let t = self.tile_box(k, 0);
                 b = [
                     b[0].min(t[0]),
                     b[1].min(t[1]),

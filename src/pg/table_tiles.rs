@@ -51,6 +51,10 @@ pub(super) struct TableTiles {
     /// Tiles over the hull of their samples (true), or over their valid
     /// pixels' squares only (`tin::tile_domain`).
     fill_gaps: bool,
+    /// The sides of the frame where an overview layer's tiles are grown by
+    /// a pixel (`tin::tiles::pad_samples`) to reach its base's outer pixel
+    /// centres; none for a table built as it is.
+    pad: tinmerge_core::tin::tiles::Pad,
 }
 
 impl TableTiles {
@@ -79,6 +83,7 @@ impl TableTiles {
     /// ([`tinmerge_core::tin::cover`]): its tins cover every valid pixel
     /// of `base`.
     pub(super) fn covering(mut self, base: std::sync::Arc<TableSource>) -> TableTiles {
+        self.pad = self.src.grid.short_of(&base.grid);
         self.cover = Some(base);
         self
     }
@@ -136,6 +141,7 @@ impl TableTiles {
             own,
             plan,
             fill_gaps,
+            pad: Default::default(),
         }
     }
 
@@ -201,7 +207,9 @@ impl TableTiles {
     fn build_batch(&mut self) {
         let func = self.src.func;
         use tinmerge_core::tin::tile_domain::build_tile_window;
-        use tinmerge_core::tin::tiles::{keep_border_samples, keep_border_window, Block};
+        use tinmerge_core::tin::tiles::{
+            keep_border_samples, keep_border_window, pad_samples, Block,
+        };
         let threads = tinmerge_core::tin::par::threads().max(1);
         let batch: Vec<usize> =
             self.order[self.next..(self.next + threads).min(self.order.len())].to_vec();
@@ -247,21 +255,23 @@ impl TableTiles {
             let p = self.src.grid.tiles[k];
             let own = block(p.tx, p.ty)?;
             let (right, below) = (block(p.tx + 1, p.ty), block(p.tx, p.ty + 1));
-            let s = keep_border_samples(
+            let mut s = keep_border_samples(
                 &own,
                 right.as_ref(),
                 below.as_ref(),
                 block(p.tx + 1, p.ty + 1).as_ref(),
             );
-            let keep = seams.border(
-                p.col..p.col + p.width as i64 + 1,
-                p.row..p.row + p.height as i64 + 1,
-            );
             let size = keep_border_window(&own, right.as_ref(), below.as_ref());
+            let pad = self.src.grid.pad_of(&p, self.pad);
+            let (origin, size) = pad_samples(&mut s, (p.col, p.row), size, pad);
+            let keep = seams.border(
+                origin.0..p.col + p.width as i64 + 1 + i64::from(pad.right),
+                origin.1..p.row + p.height as i64 + 1 + i64::from(pad.bottom),
+            );
             let tile = build_tile_window(
                 s,
                 &lattice,
-                (p.col, p.row),
+                origin,
                 size,
                 tols,
                 srid,
@@ -296,14 +306,15 @@ impl TableTiles {
 }
 
 /// Give overview tile `k` of `src` (its band read) the data of `base`'s
-/// pixels under its nodata pixels ([`Cover`]): the base tiles meeting it
-/// are read sixteen at a time.
+/// pixels under its nodata pixels and under their neighbours ([`Cover`]):
+/// the base tiles meeting it and the ring of pixels around it are read
+/// sixteen at a time.
 fn cover(src: &TableSource, k: usize, band: &mut raster::Band, base: &TableSource) {
     let (lattice, w, h) = src.metas[k];
     let Some(mut c) = Cover::new(&lattice, w, h) else {
         return;
     };
-    for chunk in base.meeting(src.tile_box(k)).chunks(16) {
+    for chunk in base.meeting(src.tile_box(k, 1)).chunks(16) {
         pgrx::check_for_interrupts!();
         for (j, b) in base.read(chunk) {
             let (l, bw, bh) = base.metas[j];

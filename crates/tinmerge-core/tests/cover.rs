@@ -7,8 +7,11 @@
 //! Oracle, the test's own: index arithmetic. Overview pixel (i, j) of
 //! factor f holds finer pixels (f i .. f i + f - 1, f j .. f j + f - 1); an
 //! overview pixel that was nodata must end as the mean of the valid ones
-//! among them (nodata when there are none), a valid one unchanged, so
-//! every valid finer pixel lies in a valid overview pixel.
+//! among them, a valid one unchanged, so every valid finer pixel lies in a
+//! valid overview pixel; a nodata pixel with none under it must end as the
+//! mean of those under its 3 x 3 pixels (nodata when there are none), so
+//! the eight neighbours of every overview pixel holding finer data are
+//! valid.
 use crate::common;
 
 use tinmerge_core::io::raster::Band;
@@ -107,40 +110,61 @@ fn check(name: &str, fine_l: &Lattice, w: usize, h: usize, fine: &Band, f: usize
         }
     }
     let valid = |v: f64| !v.is_nan() && v != nd;
+    // the valid finer pixels under overview pixels i0..i1 x j0..j1
+    let under = |i0: usize, i1: usize, j0: usize, j1: usize| -> Vec<f64> {
+        (j0 * f..(j1 * f).min(h))
+            .flat_map(|r| (i0 * f..(i1 * f).min(w)).map(move |c| (c, r)))
+            .map(|(c, r)| fine.values[r * w + c])
+            .filter(|&v| valid(v))
+            .collect()
+    };
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let (mut want_filled, mut covered) = (0, 0);
     for j in 0..ch {
         for i in 0..cw {
             let k = j * cw + i;
-            let under: Vec<f64> = (j * f..(j * f + f).min(h))
-                .flat_map(|r| (i * f..(i * f + f).min(w)).map(move |c| (c, r)))
-                .map(|(c, r)| fine.values[r * w + c])
-                .filter(|&v| valid(v))
-                .collect();
+            let own = under(i, i + 1, j, j + 1);
+            let around = under(i.saturating_sub(1), i + 2, j.saturating_sub(1), j + 2);
+            let want = if !own.is_empty() {
+                Some(mean(&own))
+            } else if !around.is_empty() {
+                Some(mean(&around))
+            } else {
+                None
+            };
             if valid(before[k]) {
                 assert_eq!(
                     coarse[k], before[k],
                     "{name} x{f}: valid pixel ({i}, {j}) changed"
                 );
-            } else if under.is_empty() {
+            } else if let Some(m) = want {
                 assert!(
-                    !valid(coarse[k]),
-                    "{name} x{f}: pixel ({i}, {j}) with no data under it was filled"
-                );
-            } else {
-                let mean = under.iter().sum::<f64>() / under.len() as f64;
-                assert!(
-                    (coarse[k] - mean).abs() <= 1e-9 * mean.abs().max(1.0),
-                    "{name} x{f}: pixel ({i}, {j}) is {} not {mean}",
+                    (coarse[k] - m).abs() <= 1e-9 * m.abs().max(1.0),
+                    "{name} x{f}: pixel ({i}, {j}) is {} not {m}",
                     coarse[k]
                 );
                 want_filled += 1;
+            } else {
+                assert!(
+                    !valid(coarse[k]),
+                    "{name} x{f}: pixel ({i}, {j}) with no data under it or around it was filled"
+                );
             }
-            if !under.is_empty() {
+            if !own.is_empty() {
                 assert!(
                     valid(coarse[k]),
                     "{name} x{f}: data under pixel ({i}, {j}) left uncovered"
                 );
-                covered += under.len();
+                covered += own.len();
+                // its eight neighbours (within the overview) are valid
+                for jj in j.saturating_sub(1)..(j + 2).min(ch) {
+                    for ii in i.saturating_sub(1)..(i + 2).min(cw) {
+                        assert!(
+                            valid(coarse[jj * cw + ii]),
+                            "{name} x{f}: pixel ({ii}, {jj}) beside data under ({i}, {j}) is nodata"
+                        );
+                    }
+                }
             }
         }
     }
@@ -228,27 +252,84 @@ fn a_tile_flagged_all_nodata_is_given_the_data_under_it() {
         pixel_type: 10,
         nodata: Some(0.0),
         all_nodata: true,
-        values: vec![0.0; 4],
+        values: vec![0.0; 16],
     };
-    // one valid finer pixel, under the coarse pixel (1, 0); its value is
-    // the nodata value's neighbour, so the mean must not become nodata
+    // a 4 x 4 tile over 8 x 8 finer pixels, one of them valid, under the
+    // coarse pixel (3, 0); its value is the nodata value's neighbour, so
+    // the mean must not become nodata
     let mut fine = Band {
         pixel_type: 10,
         nodata: Some(-1.0),
         all_nodata: false,
-        values: vec![-1.0; 16],
+        values: vec![-1.0; 64],
     };
-    fine.values[3] = 0.0;
-    let mut cover = Cover::new(&l(0.5), 2, 2).unwrap();
-    cover.add(&l(0.25), 4, 4, &fine);
-    assert_eq!(cover.apply(&mut coarse), 1);
+    fine.values[7] = 0.0;
+    let mut cover = Cover::new(&l(0.5), 4, 4).unwrap();
+    cover.add(&l(0.25), 8, 8, &fine);
+    // the pixel and its three neighbours in the tile
+    assert_eq!(cover.apply(&mut coarse), 4);
     assert!(!coarse.all_nodata);
-    assert!(coarse.is_valid(coarse.values[1]) && coarse.values[1].abs() < 1e-300);
-    assert!(
-        coarse
-            .values
-            .iter()
-            .enumerate()
-            .all(|(k, &v)| k == 1 || !coarse.is_valid(v))
-    );
+    for (k, &v) in coarse.values.iter().enumerate() {
+        let near = [2, 3, 6, 7].contains(&k);
+        assert_eq!(coarse.is_valid(v), near, "pixel {k}: {v}");
+        assert!(!near || v.abs() < 1e-300, "pixel {k}: {v}");
+    }
+}
+
+/// `TableGrid::short_of`: an overview's frame stops short of its table's
+/// outer pixel centres on the left and top always, on the right and bottom
+/// when its last pixel's centre is short of the table's last. Oracle:
+/// index arithmetic (overview pixel i's centre is finer pixel index
+/// f i + (f - 1) / 2), on both DEMs' sizes, a fractional origin and a
+/// skewed lattice, the table as 47-px tiles and the overview as 29-px ones.
+#[test]
+fn an_overview_frame_grows_where_its_table_reaches_past_it() {
+    use tinmerge_core::tin::tiles::{Pad, place_tiles};
+    let tiles = |l: &Lattice, w: usize, h: usize, px: usize| {
+        let mut metas = Vec::new();
+        for r0 in (0..h).step_by(px) {
+            for c0 in (0..w).step_by(px) {
+                metas.push((at(l, c0, r0), px.min(w - c0), px.min(h - r0)));
+            }
+        }
+        place_tiles(&metas).unwrap()
+    };
+    let utm = common::read_dem("jacksboro_fault_dem_utm16n.tif").lattice();
+    let geo = common::read_dem("jacksboro_fault_dem.tif").lattice();
+    let shifted = Lattice {
+        ip_x: utm.ip_x + 0.37,
+        ip_y: utm.ip_y - 12.625,
+        ..utm
+    };
+    let skewed = Lattice {
+        skew_x: 0.1 * utm.scale_x,
+        skew_y: -0.05 * utm.scale_x,
+        ..utm
+    };
+    let mut seen = std::collections::HashSet::new();
+    for l in [utm, geo, shifted, skewed] {
+        for (w, h) in [(344, 363), (403, 344), (96, 97)] {
+            let base = tiles(&l, w, h, 47);
+            assert_eq!(
+                base.short_of(&base),
+                Pad::default(),
+                "a table is not short of itself"
+            );
+            for f in [2, 3, 4] {
+                let (cw, ch) = (w.div_ceil(f), h.div_ceil(f));
+                let over = tiles(&coarser(&l, f), cw, ch, 29);
+                // twice the centres' indexes, in finer pixels
+                let short = |n: usize, cn: usize| 2 * f * (cn - 1) + f - 1 < 2 * (n - 1);
+                let want = Pad {
+                    left: true,
+                    top: true,
+                    right: short(w, cw),
+                    bottom: short(h, ch),
+                };
+                assert_eq!(over.short_of(&base), want, "{w} x {h}, x{f}");
+                seen.insert((want.right, want.bottom));
+            }
+        }
+    }
+    assert_eq!(seen.len(), 4, "both answers on both sides");
 }

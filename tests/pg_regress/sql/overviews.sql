@@ -29,7 +29,9 @@ FROM generate_series(0, 24) z JOIN (SELECT DISTINCT factor, minzoom, maxzoom FRO
 JOIN px ON px.f = p.factor;
 -- each layer is tin_tiles_from_table of its table with the tolerance times
 -- its factor, byte for byte, but for the tiles of an overview with nodata
--- pixels over data of the table (given it: below)
+-- pixels over data of the table (given it) and those on its frame (grown
+-- to reach the table's outer pixel centres, as every overview tile is
+-- here): below
 SELECT p.factor, count(*) AS tins, count(*) FILTER (WHERE p.t::text = f.t::text) AS identical
 FROM pyramid p JOIN (SELECT 1 AS factor, * FROM tin_tiles_from_table('window_tiles', 2.0, 3)
                      UNION ALL SELECT 2, * FROM tin_tiles_from_table('o_2_window_tiles', 4.0, 3)
@@ -42,36 +44,54 @@ FROM pyramid p FULL JOIN (SELECT * FROM tin_overviews('window_tiles', 2.0, 3, sl
 -- a table without overviews is one layer serving every zoom
 CREATE TABLE lone_tiles AS SELECT rast FROM window_tiles;
 SELECT factor, minzoom, maxzoom, count(*) FROM tin_overviews('lone_tiles', 2.0, 2) GROUP BY 1, 2, 3;
--- overviews cover the data: the UTM DEM (nodata along its rotated
--- border) as 128-px tiles, with factors 2 and 4. PostGIS's nearest
--- neighbour leaves an overview pixel nodata where the finer pixel it takes
--- is nodata, though others under it hold data; tin_overviews gives such a
--- pixel the mean of those. Oracle, PostGIS: each layer's domain (the union
--- of its triangles) against the base layer's. A tin covers its samples'
--- hull, so an overview's domain stops at its outer pixel centres, up to
--- (f - 1) / 2 base pixels (of 90 m) short of the base's: what the base
--- covers and an overview does not must lie within half an overview pixel
--- (f / 2 base pixels) of the base domain's edge. The same overviews built
--- by tin_tiles_from_table leave a ring deeper than that.
-CREATE TABLE cover_tiles AS SELECT ST_Tile(rast, 128, 128) AS rast FROM dem;
-SELECT AddRasterConstraints('cover_tiles'::name, 'rast'::name) AS constrained;
-SELECT ST_CreateOverview('cover_tiles'::regclass, 'rast', 2) AS o2,
-       ST_CreateOverview('cover_tiles'::regclass, 'rast', 4) AS o4;
-CREATE TABLE cover_pyr AS SELECT * FROM tin_overviews('cover_tiles', 4.0, 2);
-CREATE TABLE cover_dom AS
-  SELECT 'tin_overviews' AS how, factor, ST_Union(geom) AS g FROM cover_pyr, tin_triangles(t, 0) GROUP BY factor
-  UNION ALL SELECT 'tin_tiles_from_table', 2, ST_Union(geom) FROM tin_tiles_from_table('o_2_cover_tiles', 8.0, 2), tin_triangles(t, 0)
-  UNION ALL SELECT 'tin_tiles_from_table', 4, ST_Union(geom) FROM tin_tiles_from_table('o_4_cover_tiles', 16.0, 2), tin_triangles(t, 0);
-SELECT how, factor, round(share::numeric, 4) AS uncovered_share, round(deepest::numeric, 2) AS deepest_px, deepest <= factor / 2.0 AS within_half_an_overview_pixel
-FROM (SELECT d.how, d.factor, ST_Area(ST_Difference(b.g, d.g)) / ST_Area(b.g) AS share,
-             (SELECT max(ST_Distance((p).geom, ST_Boundary(b.g))) / 90 FROM ST_DumpPoints(ST_Difference(b.g, d.g)) p) AS deepest
-      FROM cover_dom d, cover_dom b WHERE b.factor = 1 AND d.factor > 1) s
-ORDER BY 1 DESC, 2;
-DROP TABLE cover_pyr, cover_dom;
-SELECT DropOverviewConstraints('o_2_cover_tiles'::name, 'rast'::name), DropOverviewConstraints('o_4_cover_tiles'::name, 'rast'::name);
-DROP TABLE o_2_cover_tiles, o_4_cover_tiles;
-SELECT DropRasterConstraints('cover_tiles'::name, 'rast'::name) AS unconstrained;
-DROP TABLE cover_tiles;
+-- overviews cover the data, exactly. Oracle, PostGIS: each layer's
+-- domain (the union of its triangles) against the base layer's, built the
+-- same way. On the UTM DEM (nodata along its rotated border) and the
+-- geographic one (data to its frame), as 128-px tiles with factors 2 and
+-- 4, over the hull (fill_gaps) and over the valid squares (the default).
+-- Two gaps close: PostGIS's nearest neighbour leaves an overview pixel
+-- nodata where the finer pixel it takes is nodata, though others under it
+-- hold data (tin_overviews gives such a pixel the mean of those, and any
+-- pixel beside one the mean of those around it); and an overview's outer pixel centres
+-- lie (f - 1) / 2 base pixels inside the base's (tin_overviews grows the
+-- frame's tiles by a pixel, copies of their outer ones). What the base
+-- covers and an overview does not: none (the share below 1e-9, for the
+-- rounding of the two lattices' coordinates). The overviews built as they
+-- are, by tin_tiles_from_table, leave a ring, shown with its depth (in
+-- base pixels); and how far each layer reaches past the base's domain.
+CREATE FUNCTION pg_temp.cover_check(dem regclass, fill boolean)
+RETURNS TABLE(how text, factor int, uncovered_share numeric, covered boolean, deepest_px numeric, reach_px numeric)
+LANGUAGE plpgsql AS $$
+DECLARE px float8;
+BEGIN
+  EXECUTE format('SELECT ST_PixelWidth(rast) FROM %s', dem) INTO px;
+  EXECUTE format('CREATE TEMP TABLE cover_tiles AS SELECT ST_Tile(rast, 128, 128) AS rast FROM %s', dem);
+  PERFORM AddRasterConstraints('cover_tiles'::name, 'rast'::name);
+  PERFORM ST_CreateOverview('cover_tiles'::regclass, 'rast', 2), ST_CreateOverview('cover_tiles'::regclass, 'rast', 4);
+  CREATE TEMP TABLE cover_dom AS
+    SELECT 'tin_overviews' AS how, p.factor, ST_Union(geom) AS g
+    FROM tin_overviews('cover_tiles', 4.0, 2, fill_gaps => fill) p, tin_triangles(p.t, 0) GROUP BY p.factor
+    UNION ALL SELECT 'tin_tiles_from_table', 2, ST_Union(geom) FROM tin_tiles_from_table('o_2_cover_tiles', 8.0, 2, fill_gaps => fill) f, tin_triangles(f.t, 0)
+    UNION ALL SELECT 'tin_tiles_from_table', 4, ST_Union(geom) FROM tin_tiles_from_table('o_4_cover_tiles', 16.0, 2, fill_gaps => fill) f, tin_triangles(f.t, 0);
+  RETURN QUERY
+    SELECT s.how, s.factor, round(s.share::numeric, 4), s.share < 1e-9,
+           round(coalesce(s.deepest, 0)::numeric, 2), round(s.reach::numeric, 2)
+    FROM (SELECT d.how, d.factor, ST_Area(ST_Difference(b.g, d.g)) / ST_Area(b.g) AS share,
+                 (SELECT max(ST_Distance((q).geom, ST_Boundary(b.g))) / px
+                  FROM ST_DumpPoints(ST_Difference(b.g, d.g)) q) AS deepest,
+                 (SELECT max(ST_Distance((q).geom, b.g)) / px FROM ST_DumpPoints(d.g) q) AS reach
+          FROM cover_dom d, cover_dom b WHERE b.factor = 1 AND d.factor > 1) s
+    ORDER BY 1 DESC, 2;
+  DROP TABLE cover_dom;
+  PERFORM DropOverviewConstraints('o_2_cover_tiles'::name, 'rast'::name), DropOverviewConstraints('o_4_cover_tiles'::name, 'rast'::name);
+  DROP TABLE o_2_cover_tiles, o_4_cover_tiles;
+  PERFORM DropRasterConstraints('cover_tiles'::name, 'rast'::name);
+  DROP TABLE cover_tiles;
+END $$;
+SELECT 'utm' AS dem, 'hull' AS over, * FROM pg_temp.cover_check('dem', true);
+SELECT 'utm' AS dem, 'valid squares' AS over, * FROM pg_temp.cover_check('dem', false);
+SELECT 'geographic' AS dem, 'hull' AS over, * FROM pg_temp.cover_check('dem_geo', true);
+SELECT 'geographic' AS dem, 'valid squares' AS over, * FROM pg_temp.cover_check('dem_geo', false);
 -- errors
 CREATE TABLE nosrid_tiles AS SELECT ST_SetSRID(rast, 0) AS rast FROM window_tiles;
 SELECT count(*) FROM tin_overviews('nosrid_tiles', 2.0, 2);

@@ -48,6 +48,19 @@ impl Lattice {
         )
     }
 
+    /// The (fractional) column and row whose [`Lattice::centre`] is world
+    /// point (x, y): pixel (c, r)'s square holds the points at `c - 0.5 ..
+    /// c + 0.5`, `r - 0.5 .. r + 0.5`.
+    #[inline]
+    pub fn index_of(&self, x: f64, y: f64) -> (f64, f64) {
+        let (dx, dy) = (x - self.ip_x, y - self.ip_y);
+        let det = self.det();
+        (
+            (dx * self.scale_y - dy * self.skew_x) / det - 0.5,
+            (self.scale_x * dy - self.skew_y * dx) / det - 0.5,
+        )
+    }
+
     /// Determinant of the linear part: area of one pixel, signed.
     pub fn det(&self) -> f64 {
         self.scale_x * self.scale_y - self.skew_x * self.skew_y

@@ -372,10 +372,142 @@ impl TableGrid {
             p.row - (p.ty * self.tile_height) as i64,
         );
         let (nx, ny) = self.counts();
-        tiles_holding(c - oc, self.tile_width, nx)
-            .flat_map(|tx| tiles_holding(r - or, self.tile_height, ny).map(move |ty| (tx, ty)))
+        // a pixel before the first column or row (a frame grown by
+        // [`pad_samples`]) is in the first tiles' windows
+        tiles_holding((c - oc).max(0), self.tile_width, nx)
+            .flat_map(|tx| {
+                tiles_holding((r - or).max(0), self.tile_height, ny).map(move |ty| (tx, ty))
+            })
             .collect()
     }
+
+    /// The sides of this grid's frame that stop short of `finer`'s (a
+    /// finer layer of the same terrain, on a lattice of the same
+    /// orientation): where `finer`'s outer pixel centres lie past this
+    /// grid's, as they do on the left and top of an overview, its pixels'
+    /// centres (f - 1) / 2 finer pixels inside its first square's edge.
+    pub fn short_of(&self, finer: &TableGrid) -> Pad {
+        let (Some(me), Some(them)) = (self.frame(), finer.frame()) else {
+            return Pad::default();
+        };
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for (c, r) in [
+            (them[0], them[1]),
+            (them[2], them[1]),
+            (them[0], them[3]),
+            (them[2], them[3]),
+        ] {
+            let (x, y) = finer.lattice.centre(c as f64, r as f64);
+            let (c, r) = self.lattice.index_of(x, y);
+            for (i, v) in [c, r].into_iter().enumerate() {
+                lo[i] = lo[i].min(v);
+                hi[i] = hi[i].max(v);
+            }
+        }
+        // an outer centre on one of this grid's own (up to rounding) is
+        // not past it
+        let eps = 1e-9;
+        Pad {
+            left: lo[0] < me[0] as f64 - eps,
+            top: lo[1] < me[1] as f64 - eps,
+            right: hi[0] > me[2] as f64 + eps,
+            bottom: hi[1] > me[3] as f64 + eps,
+        }
+    }
+
+    /// The first and last pixel columns and rows of the tiles:
+    /// `[col0, row0, col1, row1]`; None without tiles.
+    pub fn frame(&self) -> Option<[i64; 4]> {
+        let t = &self.tiles;
+        Some([
+            t.iter().map(|p| p.col).min()?,
+            t.iter().map(|p| p.row).min()?,
+            t.iter().map(|p| p.col + p.width as i64 - 1).max()?,
+            t.iter().map(|p| p.row + p.height as i64 - 1).max()?,
+        ])
+    }
+
+    /// The sides of `pad` (the grid's frame) tile `p` lies on.
+    pub fn pad_of(&self, p: &Placed, pad: Pad) -> Pad {
+        let Some([c0, r0, c1, r1]) = self.frame() else {
+            return Pad::default();
+        };
+        Pad {
+            left: pad.left && p.col == c0,
+            top: pad.top && p.row == r0,
+            right: pad.right && p.col + p.width as i64 - 1 == c1,
+            bottom: pad.bottom && p.row + p.height as i64 - 1 == r1,
+        }
+    }
+}
+
+/// Sides of a frame: left (the first column), top (the first row), right
+/// and bottom.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Pad {
+    pub left: bool,
+    pub top: bool,
+    pub right: bool,
+    pub bottom: bool,
+}
+
+/// Grow a tile's window (`origin`, `size` in pixels, its `samples` on the
+/// common lattice) by one pixel past the sides `pad`, each pixel added a
+/// copy of the sample beside it inside the window (a corner added, of the
+/// corner sample): an overview's tins then reach past its outer pixel
+/// centres, as far as its table's ([`TableGrid::short_of`]). Two tiles of
+/// a seam that both grow on one side add the same pixels to it (copies of
+/// its own samples). Returns the grown window's origin and size.
+///
+/// ```
+/// use tinmerge_core::tin::tiles::{pad_samples, Pad};
+/// // a 2 x 2 window at (0, 0) with three samples, grown on the left
+/// let mut s = vec![[0.0, 0.0, 1.0], [1.0, 0.0, 2.0], [0.0, 1.0, 3.0]];
+/// let pad = Pad { left: true, top: true, ..Pad::default() };
+/// assert_eq!(pad_samples(&mut s, (0, 0), (2, 2), pad), ((-1, -1), (3, 3)));
+/// s.sort_by(|a, b| a.partial_cmp(b).unwrap());
+/// assert_eq!(s, [[-1.0, -1.0, 1.0], [-1.0, 0.0, 1.0], [-1.0, 1.0, 3.0], [0.0, -1.0, 1.0],
+///                [0.0, 0.0, 1.0], [0.0, 1.0, 3.0], [1.0, -1.0, 2.0], [1.0, 0.0, 2.0]]);
+/// ```
+pub fn pad_samples(
+    samples: &mut Vec<[f64; 3]>,
+    origin: (i64, i64),
+    size: (usize, usize),
+    pad: Pad,
+) -> ((i64, i64), (usize, usize)) {
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
+    let (c1, r1) = (c0 + size.0 as f64 - 1.0, r0 + size.1 as f64 - 1.0);
+    let n = samples.len();
+    for k in 0..n {
+        let [c, r, v] = samples[k];
+        let cs = [
+            Some(c),
+            (pad.left && c == c0).then_some(c - 1.0),
+            (pad.right && c == c1).then_some(c + 1.0),
+        ];
+        let rs = [
+            Some(r),
+            (pad.top && r == r0).then_some(r - 1.0),
+            (pad.bottom && r == r1).then_some(r + 1.0),
+        ];
+        for (i, nc) in cs.iter().enumerate() {
+            for (j, nr) in rs.iter().enumerate() {
+                if let (Some(nc), Some(nr)) = (nc, nr)
+                    && (i, j) != (0, 0)
+                {
+                    samples.push([*nc, *nr, v]);
+                }
+            }
+        }
+    }
+    let (l, t) = (i64::from(pad.left), i64::from(pad.top));
+    (
+        (origin.0 - l, origin.1 - t),
+        (
+            size.0 + usize::from(pad.left) + usize::from(pad.right),
+            size.1 + usize::from(pad.top) + usize::from(pad.bottom),
+        ),
+    )
 }
 
 /// Place the tiles of a table given each tile's own lattice (its
