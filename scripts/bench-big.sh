@@ -22,7 +22,10 @@
 # the slices' tiles are byte for byte the one-backend build's. With
 # TINMERGE_BIG_SERVE=1 it times one quantized-mesh tile at the terrain's
 # centre at zoom 0, 8 and the finest, through the index of docs/serving.md,
-# with the number of tins each reads.
+# with the number of tins each reads. With TINMERGE_BIG_OVERVIEWS=1 it
+# loads PostGIS's overviews too (raster2pgsql -l 4,16,64), builds the
+# pyramid with tin_overviews (its table's layer checked byte for byte
+# against the tiles), and serves the same tiles from it (with SERVE).
 #
 # usage: scripts/bench-big.sh [FACTOR [POINTS LINES POLYGONS]]
 #   make bench:  FACTOR 29, 1,000,000 points, 1,000 lines, 1,000 polygons;
@@ -62,7 +65,8 @@ else
   scripts/python.sh scripts/make-big-dem.py "$FACTOR" "$dir/dem$FACTOR.vrt"
 fi
 t1=$(date +%s.%N)
-raster2pgsql -s 32616 -N -9999 -t ${TILE}x${TILE} -I -Y "$dir/dem$FACTOR.vrt" public.big_tiles 2>/dev/null \
+OVERVIEWS="${TINMERGE_BIG_OVERVIEWS:-0}"
+raster2pgsql -s 32616 -N -9999 -t ${TILE}x${TILE} $( [ "$OVERVIEWS" = 1 ] && echo "-l 4,16,64" ) -I -Y "$dir/dem$FACTOR.vrt" public.big_tiles 2>/dev/null \
   | scripts/cluster.sh psql -q -d "$DB" >/dev/null
 q -c "ANALYZE big_tiles"
 t2=$(date +%s.%N)
@@ -137,6 +141,32 @@ SELECT count(*) AS tiles, count(a.t) AS one_backend, count(b.t) AS sliced,
        count(*) FILTER (WHERE a.t::text = b.t::text) AS same_bytes
 FROM big_tins a FULL JOIN big_sliced b USING (tx, ty);
 SELECT 'slices = one backend' AS check, * FROM slice_check;
+SQL
+fi
+
+if [ "$OVERVIEWS" = 1 ]; then
+  echo "== overviews: tin_overviews('big_tiles', $TOL, $LEVELS) on tinmerge.threads threads (the tiles and PostGIS's x4, x16, x64 overviews, one statement)"
+  out=$(q <<SQL
+SET tinmerge.max_memory = -1;
+SELECT extract(epoch FROM clock_timestamp());
+CREATE TABLE big_pyr AS SELECT * FROM tin_overviews('big_tiles', $TOL, $LEVELS);
+SELECT extract(epoch FROM clock_timestamp());
+SELECT $HWM_KB;
+SQL
+)
+  read -r o0 o1 ohwm <<<"$(echo $out)"
+  q -c "CREATE INDEX big_pyr_deg ON big_pyr USING gist (ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326)); ANALYZE big_pyr"
+  q -F ' | ' <<SQL
+SELECT 'pyramid built' AS what, round(($o1 - $o0)::numeric, 1) AS build_s, count(*) AS tins,
+       pg_size_pretty(pg_total_relation_size('big_pyr')) AS pyramid_table, round($ohwm / 1024.0, 1) AS backend_peak_rss_mb
+FROM big_pyr;
+SELECT 'layer x' || factor AS layer, minzoom || '..' || maxzoom AS zooms, count(*) AS tins,
+       round(sum(pg_column_size(t)) / 1e6, 1) AS stored_mb
+FROM big_pyr GROUP BY factor, minzoom, maxzoom ORDER BY factor;
+CREATE TABLE pyr_check AS
+SELECT count(*) AS tiles, count(*) FILTER (WHERE p.t::text = b.t::text) AS same_bytes
+FROM big_tins b FULL JOIN (SELECT tx, ty, t FROM big_pyr WHERE factor = 1) p USING (tx, ty);
+SELECT 'pyramid x1 = the tiles' AS check, * FROM pyr_check;
 SQL
 fi
 
@@ -273,12 +303,22 @@ if [ "${TINMERGE_BIG_SERVE:-0}" = 1 ]; then
                  (SELECT length(m) FROM ($tile) s) AS bytes, (SELECT cold FROM r) AS cold_ms, median_ms AS warm_ms
           FROM bench('', \$q\$SELECT length(m) FROM ($tile) s\$q\$, 3)" \
       -c "SELECT 'backend peak RSS after the tiles, MB', round($HWM_KB::numeric / 1024, 1)"
+    if [ "$OVERVIEWS" = 1 ]; then
+      ptile="SELECT tin_quantized_mesh(array_agg(t), $z, $x, $y) AS m FROM big_pyr WHERE $z BETWEEN minzoom AND maxzoom AND ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326) && $env"
+      scripts/cluster.sh psql -qAt -F ' | ' -d "$DB" \
+        -c "SET client_min_messages = warning" \
+        -c "CREATE TEMP TABLE r AS SELECT median_ms AS cold FROM bench('', \$q\$SELECT length(m) FROM ($ptile) s\$q\$, 1)" \
+        -c "SELECT 'zoom $z tile $x/$y from the pyramid' AS tile, (SELECT count(*) || ' of layer x' || min(factor) FROM big_pyr WHERE $z BETWEEN minzoom AND maxzoom AND ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326) && $env) AS tins_read,
+                   (SELECT length(m) FROM ($ptile) s) AS bytes, (SELECT cold FROM r) AS cold_ms, median_ms AS warm_ms
+            FROM bench('', \$q\$SELECT length(m) FROM ($ptile) s\$q\$, 3)"
+    fi
   done
 fi
 fail=$(q <<SQL
 SELECT (SELECT count(*) FROM centre_check WHERE unanswered OR beyond IS NOT FALSE)
      + (SELECT count(*) FROM seam_check WHERE disagree)
      + (SELECT count(*) FROM line_check WHERE differ)
+     + $( [ "$OVERVIEWS" = 1 ] && echo "(SELECT tiles - same_bytes FROM pyr_check)" || echo 0)
      + $( [ "${TINMERGE_BIG_SLICES:-0}" -gt 0 ] && echo "(SELECT tiles - same_bytes + CASE WHEN tiles = one_backend AND tiles = sliced THEN 0 ELSE 1 END FROM slice_check)" || echo 0) + (SELECT CASE WHEN count(*) = $NLINES THEN 0 ELSE 1 END FROM line_check)
      + (SELECT CASE WHEN count(*) FILTER (WHERE tiles >= 2) = 0 OR (SELECT count(*) FROM centre_check) = 0 THEN 1 ELSE 0 END FROM seam_check);
 SQL

@@ -3,8 +3,10 @@
 # finer with fractal detail (scripts/make-big-dem.py 89: 30,616 x 32,307 =
 # 989 million pixels of 1.01 m, the source's nodata holes kept), loaded with
 # raster2pgsql -t 256x256 and built with tin_tiles_from_table, first in one
-# backend, then in 2 slices on 2 backends at once (byte-identical, checked);
-# then one quantized-mesh tile at zoom 0, 8 and the finest, and 10^6 points,
+# backend, then in 2 slices on 2 backends at once (byte-identical, checked),
+# then with PostGIS's overviews (raster2pgsql -l 4,16,64) as one pyramid by
+# tin_overviews; then one quantized-mesh tile at zoom 0, 8 and the finest,
+# from the tiles alone and from the pyramid, and 10^6 points,
 # 10^3 lines and 10^3 polygons against PostGIS, cold and warm. Prints its
 # tables and the disk it used. In make bench only (hours on 2 cores).
 #
@@ -13,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 FACTOR="${1:-89}"
-export TINMERGE_BIG_SLICES="${2:-2}" TINMERGE_BIG_SERVE=1
+export TINMERGE_BIG_SLICES="${2:-2}" TINMERGE_BIG_SERVE=1 TINMERGE_BIG_OVERVIEWS=1
 t0=$(date +%s)
 rc=0
 scripts/bench-big.sh "$FACTOR" 1000000 1000 1000 || rc=$?

@@ -11,12 +11,21 @@
 # 5), with the number of tins each reads and the tile's bytes. Prints
 # tables; timings are not asserted.
 #
+# TINMERGE_OVERVIEWS sets the overview factors (raster2pgsql -l; default
+# 4,16). TINMERGE_TILES_FROM_PYRAMID=1 skips the tiles' own build and
+# serves "the tiles alone" from the pyramid's rows of factor 1, which are
+# the same bytes (pg_regress overviews): the billion-pixel pyramid in
+# under an hour, TINMERGE_OVERVIEWS=4,16,64 TINMERGE_TILES_FROM_PYRAMID=1
+# scripts/bench-overviews.sh 89.
+#
 # usage: scripts/bench-overviews.sh [FACTOR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 FACTOR="${1:-16}"
 TOL=1.0
 LEVELS=5
+OVERVIEWS="${TINMERGE_OVERVIEWS:-4,16}"
+FROM_PYRAMID="${TINMERGE_TILES_FROM_PYRAMID:-0}"
 DB=tinmerge_overviews
 scripts/cluster.sh start >/dev/null
 q() { scripts/cluster.sh psql -v ON_ERROR_STOP=1 -qAt -d "$DB" "$@"; }
@@ -30,26 +39,32 @@ else
   scripts/python.sh scripts/make-big-dem.py "$FACTOR" "$dir/dem$FACTOR.vrt"
 fi
 t0=$(date +%s.%N)
-raster2pgsql -s 32616 -N -9999 -t 256x256 -l 4,16 -I -Y "$dir/dem$FACTOR.vrt" public.dem_tiles 2>/dev/null \
+raster2pgsql -s 32616 -N -9999 -t 256x256 -l "$OVERVIEWS" -I -Y "$dir/dem$FACTOR.vrt" public.dem_tiles 2>/dev/null \
   | scripts/cluster.sh psql -q -d "$DB" >/dev/null
 q -c "ANALYZE"
 t1=$(date +%s.%N)
-echo "== load: raster2pgsql -t 256x256 -l 4,16"
+echo "== load: raster2pgsql -t 256x256 -l $OVERVIEWS"
 q -F ' | ' -c "SELECT o.overview_factor AS factor, o.o_table_name AS tab FROM raster_overviews o ORDER BY 1"
 q -F ' | ' -c "SELECT sum(ST_Width(rast)::bigint * ST_Height(rast)) AS pixels, count(*) AS raster_tiles, round(($t1 - $t0)::numeric, 1) AS load_s FROM dem_tiles"
 
 echo "== build (tinmerge.threads threads, one statement each)"
+HWM_KB="(regexp_match(pg_read_file('/proc/self/status'), 'VmHWM:\\s+(\\d+) kB'))[1]"
 t0=$(date +%s.%N)
-q -c "CREATE TABLE tiles AS SELECT tx, ty, t FROM tin_tiles_from_table('dem_tiles', $TOL, $LEVELS)"
+[ "$FROM_PYRAMID" = 1 ] || q -c "CREATE TABLE tiles AS SELECT tx, ty, t FROM tin_tiles_from_table('dem_tiles', $TOL, $LEVELS)"
 t1=$(date +%s.%N)
-q -c "CREATE TABLE pyramid AS SELECT * FROM tin_overviews('dem_tiles', $TOL, $LEVELS)"
+phwm=$(q -c "SET tinmerge.max_memory = -1" -c "CREATE TABLE pyramid AS SELECT * FROM tin_overviews('dem_tiles', $TOL, $LEVELS)" -c "SELECT $HWM_KB")
 t2=$(date +%s.%N)
+[ "$FROM_PYRAMID" = 1 ] && q -c "CREATE TABLE tiles AS SELECT tx, ty, t FROM pyramid WHERE factor = 1"
 env="ST_Transform(ST_Segmentize(tin_envelope(t), 100), 4326)"
 q -c "CREATE INDEX ON tiles USING gist (($env))" -c "CREATE INDEX ON pyramid USING gist (($env))" -c "ANALYZE"
 echo "| build | seconds | tins | stored MB |"
 echo "|---|---:|---:|---:|"
-q -F ' | ' -c "SELECT '| tin_tiles_from_table (the tiles)', round(($t1 - $t0)::numeric, 1), count(*), round(sum(pg_column_size(t)) / 1e6, 1) || ' |' FROM tiles"
-q -F ' | ' -c "SELECT '| tin_overviews (tiles, x4, x16)', round(($t2 - $t1)::numeric, 1), count(*), round(sum(pg_column_size(t)) / 1e6, 1) || ' |' FROM pyramid"
+if [ "$FROM_PYRAMID" = 1 ]; then
+  q -F ' | ' -c "SELECT '| the tiles (the pyramid''s rows of factor 1; not built alone)', '', count(*), round(sum(pg_column_size(t)) / 1e6, 1) || ' |' FROM tiles"
+else
+  q -F ' | ' -c "SELECT '| tin_tiles_from_table (the tiles)', round(($t1 - $t0)::numeric, 1), count(*), round(sum(pg_column_size(t)) / 1e6, 1) || ' |' FROM tiles"
+fi
+q -F ' | ' -c "SELECT '| tin_overviews (tiles, x$OVERVIEWS; backend peak RSS ' || round($phwm / 1024.0) || ' MB)', round(($t2 - $t1)::numeric, 1), count(*), round(sum(pg_column_size(t)) / 1e6, 1) || ' |' FROM pyramid"
 q -F ' | ' -c "SELECT '| layer x' || factor || ': zooms ' || minzoom || '..' || maxzoom, '', count(*), round(sum(pg_column_size(t)) / 1e6, 1) || ' |' FROM pyramid GROUP BY factor, minzoom, maxzoom ORDER BY factor"
 
 # the terrain's centre in degrees, and the layer's deepest zoom

@@ -5,8 +5,10 @@
 # tin_tiles_from_table; fails when a check against PostGIS fails (sampled
 # pixel centres within the tolerance, seam points agreeing, line pieces
 # keeping their planar length inside the domains) or when the tiles differ,
-# bit for bit, from tin_tiles on the raster as one value. Timings print but
+# bit for bit, from tin_tiles on the raster as one value, or when the
+# pyramid tin_overviews builds with PostGIS's overviews (raster2pgsql -l
+# 4,16,64) differs in its table's layer from the tiles. Timings print but
 # are not checked. Needs the running test cluster and the installed extension.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-TINMERGE_BIG_WHOLE=1 TINMERGE_BIG_SERVE=1 scripts/bench-big.sh 6 20000 50 50
+TINMERGE_BIG_WHOLE=1 TINMERGE_BIG_SERVE=1 TINMERGE_BIG_OVERVIEWS=1 scripts/bench-big.sh 6 20000 50 50

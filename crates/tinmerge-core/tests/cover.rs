@@ -40,6 +40,23 @@ fn at(l: &Lattice, c: usize, r: usize) -> Lattice {
     }
 }
 
+/// `l` with a fractional origin, and `l` skewed: the lattices besides the
+/// DEMs' own that the tests run on.
+fn shifted_and_skewed(l: &Lattice) -> [Lattice; 2] {
+    [
+        Lattice {
+            ip_x: l.ip_x + 0.37,
+            ip_y: l.ip_y - 12.625,
+            ..*l
+        },
+        Lattice {
+            skew_x: 0.1 * l.scale_x,
+            skew_y: -0.05 * l.scale_x,
+            ..*l
+        },
+    ]
+}
+
 /// The window of a band (row-major values) as a band of its own.
 fn window(b: &Band, width: usize, c0: usize, r0: usize, w: usize, h: usize) -> Band {
     let mut values = Vec::with_capacity(w * h);
@@ -199,16 +216,7 @@ fn overview_pixels_cover_every_valid_finer_pixel() {
         values: d.values.clone(),
     };
     let utm_l = utm.lattice();
-    let shifted = Lattice {
-        ip_x: utm_l.ip_x + 0.37,
-        ip_y: utm_l.ip_y - 12.625,
-        ..utm_l
-    };
-    let skewed = Lattice {
-        skew_x: 0.1 * utm_l.scale_x,
-        skew_y: -0.05 * utm_l.scale_x,
-        ..utm_l
-    };
+    let [shifted, skewed] = shifted_and_skewed(&utm_l);
     for f in [2, 3, 4] {
         check("utm", &utm_l, utm.width, utm.height, &band(&utm), f);
         check(
@@ -296,16 +304,7 @@ fn an_overview_frame_grows_where_its_table_reaches_past_it() {
     };
     let utm = common::read_dem("jacksboro_fault_dem_utm16n.tif").lattice();
     let geo = common::read_dem("jacksboro_fault_dem.tif").lattice();
-    let shifted = Lattice {
-        ip_x: utm.ip_x + 0.37,
-        ip_y: utm.ip_y - 12.625,
-        ..utm
-    };
-    let skewed = Lattice {
-        skew_x: 0.1 * utm.scale_x,
-        skew_y: -0.05 * utm.scale_x,
-        ..utm
-    };
+    let [shifted, skewed] = shifted_and_skewed(&utm);
     let mut seen = std::collections::HashSet::new();
     for l in [utm, geo, shifted, skewed] {
         for (w, h) in [(344, 363), (403, 344), (96, 97)] {
