@@ -53,8 +53,9 @@ pub(super) struct TableTiles {
     fill_gaps: bool,
     /// The sides of the frame where an overview layer's tiles are grown by
     /// a pixel (`tin::tiles::pad_samples`) to reach its base's outer pixel
-    /// centres; none for a table built as it is.
-    pad: tinmerge_core::tin::tiles::Pad,
+    /// centres (none for a table built as it is), and the frame, found
+    /// once (`TableGrid::frame`).
+    pad: (tinmerge_core::tin::tiles::Pad, [i64; 4]),
 }
 
 impl TableTiles {
@@ -83,7 +84,9 @@ impl TableTiles {
     /// ([`tinmerge_core::tin::cover`]): its tins cover every valid pixel
     /// of `base`.
     pub(super) fn covering(mut self, base: std::sync::Arc<TableSource>) -> TableTiles {
-        self.pad = self.src.grid.short_of(&base.grid);
+        if let Some(frame) = self.src.grid.frame() {
+            self.pad = (self.src.grid.short_of(&base.grid), frame);
+        }
         self.cover = Some(base);
         self
     }
@@ -262,7 +265,7 @@ impl TableTiles {
                 block(p.tx + 1, p.ty + 1).as_ref(),
             );
             let size = keep_border_window(&own, right.as_ref(), below.as_ref());
-            let pad = self.src.grid.pad_of(&p, self.pad);
+            let pad = self.pad.0.of_tile(self.pad.1, &p);
             let (origin, size) = pad_samples(&mut s, (p.col, p.row), size, pad);
             let keep = seams.border(
                 origin.0..p.col + p.width as i64 + 1 + i64::from(pad.right),

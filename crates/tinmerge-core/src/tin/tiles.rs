@@ -426,19 +426,6 @@ impl TableGrid {
             t.iter().map(|p| p.row + p.height as i64 - 1).max()?,
         ])
     }
-
-    /// The sides of `pad` (the grid's frame) tile `p` lies on.
-    pub fn pad_of(&self, p: &Placed, pad: Pad) -> Pad {
-        let Some([c0, r0, c1, r1]) = self.frame() else {
-            return Pad::default();
-        };
-        Pad {
-            left: pad.left && p.col == c0,
-            top: pad.top && p.row == r0,
-            right: pad.right && p.col + p.width as i64 - 1 == c1,
-            bottom: pad.bottom && p.row + p.height as i64 - 1 == r1,
-        }
-    }
 }
 
 /// Sides of a frame: left (the first column), top (the first row), right
@@ -449,6 +436,20 @@ pub struct Pad {
     pub top: bool,
     pub right: bool,
     pub bottom: bool,
+}
+
+impl Pad {
+    /// The sides of these (of a grid's `frame`, [`TableGrid::frame`]) tile
+    /// `p` lies on.
+    pub fn of_tile(self, frame: [i64; 4], p: &Placed) -> Pad {
+        let [c0, r0, c1, r1] = frame;
+        Pad {
+            left: self.left && p.col == c0,
+            top: self.top && p.row == r0,
+            right: self.right && p.col + p.width as i64 - 1 == c1,
+            bottom: self.bottom && p.row + p.height as i64 - 1 == r1,
+        }
+    }
 }
 
 /// Grow a tile's window (`origin`, `size` in pixels, its `samples` on the
