@@ -49,10 +49,13 @@ export function start({ port = 8090, table = 'terrain', column = 't', where = 't
   const stats = { tiles: 0, empty: 0, ms: 0, water: 0 };
   // the water polygons meeting a tile ($6..$9 its bounds in degrees), in
   // their own SRID (a tile of zoom 0 is half the earth: compared in degrees,
-  // which an index on ST_Transform(geom, 4326) serves)
+  // which an index on ST_Transform(geom, 4326) serves). None is an empty
+  // polygon, not NULL: a tile must carry its mask (all land, one byte)
+  // whenever the layer announces water, or Cesium borrows the coarse mask
+  // of an ancestor and draws water over the whole tile
   const lakes = water ? water.split('.').map(pg.escapeIdentifier).join('.') : null;
   const waterSql = lakes
-    ? `(SELECT ST_Collect(geom) FROM ${lakes} WHERE ST_Transform(geom, 4326) && ST_MakeEnvelope($6, $7, $8, $9, 4326))`
+    ? `coalesce((SELECT ST_Collect(geom) FROM ${lakes} WHERE ST_Transform(geom, 4326) && ST_MakeEnvelope($6, $7, $8, $9, 4326)), 'POLYGON EMPTY')`
     : 'NULL::geometry';
   // the hillshade of the finest level as imagery: tin_as_raster at about
   // 600 pixels across, ST_HillShade (z in metres: a degree is 111,120 m),
