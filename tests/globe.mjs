@@ -82,8 +82,10 @@ async function run(label, table, tiled, shot, water) {
       let [wet, wetDrawn, dry, dryDrawn, away, awayDrawn] = [0, 0, 0, 0, 0, 0];
       const wrong = new Map(); // the tiles drawn at land pixels with water
       const borrowed = new Set(); // served tiles drawn without their own mask
+      let seen = 0; // pixels whose tile was found
       rows.forEach((r, k) => {
         const t = px[k][5];
+        if (t) seen++;
         if (r.served && t && t.served && !t.ownMask) borrowed.add(t.tile);
         // ground the terrain does not reach (toward the horizon, up to
         // thousands of km away) is Cesium's own fill of the coarse tiles
@@ -103,6 +105,7 @@ async function run(label, table, tiled, shot, water) {
       // every tile the server answers carries its mask (one byte when all
       // land): without it Cesium borrows an ancestor's coarse mask, which
       // drew water over whole land tiles in some runs (CI, 2026-12-02)
+      if (seen < 0.5 * rows.length) fail.push(`${label}: the tile drawn was found at ${seen} of ${rows.length} pixels (Cesium's internals changed? web/globe.html drawnTile)`);
       if (borrowed.size) fail.push(`${label}: tiles drawn without their own water mask: ${[...borrowed].slice(0, 5).join(', ')}`);
       if (server.stats.water === 0) fail.push(`${label}: Cesium asked for no water mask`);
     }
