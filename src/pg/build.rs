@@ -15,11 +15,9 @@ use tinmerge_core::io::{ewkb, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    boundary_holds_all, build_domain_raster, build_lattice, build_points, check_tolerances,
-    default_tolerances, domain_raster_build_bytes, points_build_bytes, BuildOptions,
+    build_lattice, build_points, check_tolerances, default_tolerances, points_build_bytes,
+    BuildOptions, RasterBand, RasterBuild,
 };
-use tinmerge_core::tin::dense::Dense;
-use tinmerge_core::tin::domain::{cell_outline, outline_area};
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tile_domain::build_tile_window;
 use tinmerge_core::tin::tiles::build_tiles;
@@ -366,58 +364,31 @@ fn build_raster_constrained(
             "tin_from_raster: keep_border cannot be combined with breaklines or a boundary (tiles with them are not built yet)",
         );
     }
-    let (mut pts, lattice, srid, (w, h)) = raster_samples(rast, band);
+    let (pts, lattice, srid, (w, h)) = raster_samples(rast, band);
     let lines = breaklines_arg("tin_from_raster", hard, soft, srid);
-    let mut areas: Vec<Area> = boundary_arg("tin_from_raster", boundary, srid)
-        .into_iter()
-        .collect();
-    // the valid pixels' own squares, holes included
-    let mut footprint = None;
-    if !fill_gaps && pts.len() < w * h {
-        let mut valid = vec![false; w * h];
-        for p in &pts {
-            valid[p[1] as usize * w + p[0] as usize] = true;
-        }
-        let rings = cell_outline(w, h, &|c, r| valid[r * w + c]);
-        drop(valid);
-        footprint = Some(outline_area(&rings, &|c, r| {
-            let (x, y) = lattice.centre(c - 0.5, r - 0.5);
-            [x, y]
-        }));
-    }
-    // the build follows the raster between its samples: its heights in
-    // place (NaN without data); hard breaklines' heights are their own, the
-    // grid segments they cut are left out of that
+    let boundary = boundary_arg("tin_from_raster", boundary, srid);
+    // the heights in place, NaN without data
     let mut z = vec![f64::NAN; w * h];
     for p in &pts {
         z[p[1] as usize * w + p[0] as usize] = p[2];
     }
-    for p in &mut pts {
-        let (x, y) = lattice.centre(p[0], p[1]);
-        (p[0], p[1]) = (x, y);
-    }
-    // boundaries holding the whole raster: the build without them, on the
-    // pixel lattice
-    areas.retain(|a| !boundary_holds_all(a, &pts));
-    let footprint = footprint.filter(|a| !boundary_holds_all(a, &pts));
-    areas.extend(footprint);
-    if lines.is_empty() && areas.is_empty() {
-        drop(pts);
-        drop(z);
+    let heights = RasterBand {
+        z,
+        width: w,
+        height: h,
+        lattice,
+    };
+    if keep_border && heights.footprint().is_none() {
+        drop((pts, heights));
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border {
         // a tile over its data, as tin_tiles builds it (its seams chosen
         // from their samples alone)
-        drop(pts);
-        let samples: Vec<[f64; 3]> = (0..w * h)
-            .filter(|&i| !z[i].is_nan())
-            .map(|i| [(i % w) as f64, (i / w) as f64, z[i]])
-            .collect();
-        drop(z);
-        reserve_build("tin_from_raster", samples.len(), tols.len(), true);
+        drop(heights);
+        reserve_build("tin_from_raster", pts.len(), tols.len(), true);
         let tile = build_tile_window(
-            samples,
+            pts,
             &lattice,
             (0, 0),
             (w, h),
@@ -436,34 +407,25 @@ fn build_raster_constrained(
         };
         return TinOut::from_tin_on(&tin, &lattice);
     }
-    let areas: Vec<&Area> = areas.iter().collect();
-    reserve_build_bytes(
-        "tin_from_raster",
-        pts.len(),
-        tols.len(),
-        domain_raster_build_bytes(pts.len(), w * h, tols.len()),
-    );
-    let heights = Dense {
-        c0: 0,
-        r0: 0,
-        width: w,
-        height: h,
-        z,
+    drop(pts);
+    let with = RasterBuild {
+        lines: &lines,
+        boundary,
+        fill_gaps,
     };
-    TinOut::from_tin_on(
-        &build_domain_raster(
-            pts,
-            &lines,
-            &areas,
-            tols,
-            srid,
-            &heights,
-            &lattice,
-            &mut interrupt,
-        )
-        .or_raise(),
-        &lattice,
+    let tin = tinmerge_core::tin::build::build_raster(
+        heights,
+        with,
+        tols,
+        srid,
+        &mut |samples, bytes| {
+            reserve_build_bytes("tin_from_raster", samples, tols.len(), bytes);
+            Ok(())
+        },
+        &mut interrupt,
     )
+    .or_raise();
+    TinOut::from_tin_on(&tin, &lattice)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]

@@ -36,6 +36,7 @@ pub(crate) fn raise_tin(e: TinError) -> ! {
         TinError::TooLarge(_) => ERRCODE_PROGRAM_LIMIT_EXCEEDED,
         TinError::MemoryLimit(_) => ERRCODE_CONFIGURATION_LIMIT_EXCEEDED,
         TinError::Interrupted => ERRCODE_QUERY_CANCELED,
+        TinError::Internal(_) => ERRCODE_INTERNAL_ERROR,
     };
     raise(code, e.to_string())
 }

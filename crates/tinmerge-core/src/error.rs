@@ -29,6 +29,11 @@ pub enum TinError {
     /// SQLSTATE 53400).
     #[error("{0}")]
     MemoryLimit(String),
+    /// A value the core made breaks an invariant it promises (a build's
+    /// crack, a level not nested in the one before): a bug of tinmerge's,
+    /// never stored (SQLSTATE XX000).
+    #[error("internal error: {0}")]
+    Internal(String),
     /// Build was interrupted by the caller's interrupt check.
     #[error("interrupted")]
     Interrupted,

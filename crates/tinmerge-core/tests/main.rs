@@ -15,6 +15,7 @@ mod cover;
 mod exactness;
 mod format;
 mod fuzz;
+mod harness;
 mod hierarchy;
 mod line;
 mod overlay;

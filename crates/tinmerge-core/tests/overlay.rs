@@ -145,6 +145,13 @@ fn clip_segment(poly: &[P], p: P, q: P) -> Option<(P, P)> {
             t1 = t1.min(sp / (sp - sq));
         }
     }
+    // an end on the polygon up to rounding is that end
+    if t0 < 1e-6 {
+        t0 = 0.0;
+    }
+    if t1 > 1.0 - 1e-6 {
+        t1 = 1.0;
+    }
     let at = |t: f64| [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
     (t1 - t0 > 1e-12).then(|| (at(t0), at(t1)))
 }
@@ -259,7 +266,7 @@ fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
     o
 }
 
-fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
+pub(crate) fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
     let dom = clip(&hull(level_pts(a, la)), &hull(level_pts(b, lb)));
     let dom_area = area(&dom);
 
@@ -350,7 +357,31 @@ fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
                         / (w[0] - u[0]).hypot(w[1] - u[1]);
                     assert!(
                         d >= -1e-7 * m,
-                        "output triangle {t} pokes out of its owner by {d}"
+                        "output triangle {t} pokes out of its owner {owner} by {d} (void: {:?}; its centroid's triangle by brute force: {:?}; output corners {:?}; owner corners {:?}; level has {} triangles, {} void)",
+                        o.void.get(t),
+                        {
+                            let cc = tri.map(|v| o.pts[v as usize]);
+                            let (cx, cy) = (
+                                (cc[0][0] + cc[1][0] + cc[2][0]) / 3.0,
+                                (cc[0][1] + cc[1][1] + cc[2][1]) / 3.0,
+                            );
+                            (0..src.levels[l].tris.len())
+                                .filter(|&k| {
+                                    let q = src.corners(l, k as u32);
+                                    (0..3).all(|j| {
+                                        orient2d(
+                                            co([q[j][0], q[j][1]]),
+                                            co([q[(j + 1) % 3][0], q[(j + 1) % 3][1]]),
+                                            co([cx, cy]),
+                                        ) >= 0.0
+                                    })
+                                })
+                                .collect::<Vec<_>>()
+                        },
+                        tri.map(|v| o.pts[v as usize]),
+                        c,
+                        src.levels[l].tris.len(),
+                        src.levels[l].num_void
                     );
                 }
             }

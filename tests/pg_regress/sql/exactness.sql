@@ -60,6 +60,30 @@ WHERE EXISTS (SELECT FROM tin_validate(exact_old.t));
 SELECT tin_info(t)->'levels'->3->>'tolerance' AS finest_tolerance, tin_num_levels(t) AS levels,
        (SELECT count(*) FROM tin_validate(t)) AS problems_after_rebuild
 FROM exact_old;
+-- issue 73: a window of the UTM DEM put on a geographic grid of
+-- 1/32400-degree pixels (1/9 arc-second), built over its valid pixels
+-- (there is nodata on its left): level 1 had a gap of 4 edges, a grid
+-- crossing kept as a vertex 4.4e-9 pixel from the sample on the parent's
+-- side it was. The oracle is PostGIS's: every edge (ST_DumpSegments of
+-- the triangles) used by at most two triangles, and every edge used once
+-- on the boundary of the union of the level's triangles
+CREATE TABLE exact_73 AS
+WITH w AS (SELECT ST_Clip(rast, ST_MakeEnvelope(731209.22, 4048256.16, 745609.22, 4063196.16, 32616)) r FROM dem)
+SELECT ST_SetSRID(ST_SetScale(ST_SetUpperLeft(r, 162.8386382115849, 52.87551690288227), 1/32400.0, -1/32400.0), 4326) AS r,
+       tin_from_raster(ST_SetSRID(ST_SetScale(ST_SetUpperLeft(r, 162.8386382115849, 52.87551690288227), 1/32400.0, -1/32400.0), 4326), 5.0, 2) AS t
+FROM w;
+SELECT ST_Width(r) AS width, ST_Height(r) AS height, (ST_SummaryStats(r)).count < ST_Width(r) * ST_Height(r) AS has_nodata FROM exact_73;
+SELECT level, problem, count(*) FROM exact_73, tin_validate(t, r) GROUP BY 1, 2 ORDER BY 1, 2;
+WITH tr AS (SELECT l, tr.geom FROM exact_73, generate_series(0, 1) l, tin_triangles(t, l) tr),
+u AS (SELECT l, ST_Boundary(ST_Union(ST_Force2D(geom))) AS b FROM tr GROUP BY l),
+seg AS (SELECT l, ST_Force2D((ST_DumpSegments(geom)).geom) AS s FROM tr),
+e AS (SELECT l, ST_AsBinary(CASE WHEN ST_X(ST_StartPoint(s)) < ST_X(ST_EndPoint(s))
+                               OR (ST_X(ST_StartPoint(s)) = ST_X(ST_EndPoint(s)) AND ST_Y(ST_StartPoint(s)) < ST_Y(ST_EndPoint(s)))
+                              THEN s ELSE ST_Reverse(s) END) AS k, (array_agg(s))[1] AS s, count(*) AS n
+      FROM seg GROUP BY 1, 2)
+SELECT e.l AS level, bool_and(n <= 2) AS no_edge_used_thrice,
+       count(*) FILTER (WHERE n = 1 AND NOT ST_Covers(u.b, e.s)) AS edges_used_once_inside
+FROM e JOIN u USING (l) GROUP BY 1 ORDER BY 1;
 -- STRICT: NULL gives no rows
 SELECT count(*) FROM tin_validate(NULL::tin);
-DROP TABLE exact_geo, exact_tris, exact_old, exact_src;
+DROP TABLE exact_geo, exact_tris, exact_old, exact_src, exact_73;

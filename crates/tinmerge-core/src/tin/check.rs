@@ -47,6 +47,12 @@ pub(crate) fn validate_structure_checked(
     tin: &Tin,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(), TinError> {
+    validate_levels(tin, true, interrupt)
+}
+
+/// [`validate_structure_checked`], the grid indexes checked only when
+/// `grids` (a build on a lattice has none until `Lattice::to_world`).
+fn validate_levels(tin: &Tin, grids: bool, interrupt: &mut Interrupt<'_>) -> Result<(), TinError> {
     let nl = tin.levels.len();
     if nl == 0 || nl > MAX_LEVELS {
         return Err(bad(format!(
@@ -78,10 +84,65 @@ pub(crate) fn validate_structure_checked(
         if l + 1 == nl && !lv.child_start.is_empty() {
             return Err(bad("finest level must have no children".into()));
         }
-        check_grid(tin, l)?;
+        if grids {
+            check_grid(tin, l)?;
+        }
     }
     if prev_nv as usize != tin.verts.len() {
         return Err(bad("the finest level must use every vertex".into()));
+    }
+    Ok(())
+}
+
+/// What every build checks of the value it made before it returns it (the
+/// frame it decided topology in: the pixel lattice for a raster build on
+/// it, world coordinates otherwise), so that no build ever hands out a
+/// crack (issue 73): the structure ([`validate_structure`]: indices,
+/// mirrored neighbour links, counter-clockwise triangles of positive area,
+/// every triangle inside its parent); at every level, every edge shared
+/// by exactly two triangles with the same two vertices, but for one
+/// outer boundary cycle (no `"hole"` of [`problems`]: two vertices a
+/// rounding apart where there should be one, a T-junction); no triangle
+/// of zero area up to rounding ([`crate::geom::is_sliver`]: a hidden
+/// T-junction); the children of every triangle tiling it. Linear in the
+/// value (on `tinmerge.threads` for the structure). A failure is a bug of
+/// the build: [`TinError::Internal`], naming the level, triangle and what
+/// failed.
+pub fn verify_built(tin: &Tin, grids: bool, interrupt: &mut Interrupt<'_>) -> Result<(), TinError> {
+    let internal =
+        |what: &str, e: String| TinError::Internal(format!("the build made {what}: {e}"));
+    validate_levels(tin, grids, interrupt).map_err(|e| {
+        internal(
+            "a value that fails its own structural checks",
+            e.to_string(),
+        )
+    })?;
+    for l in 0..tin.levels.len() {
+        interrupt()?;
+        let mut found = Vec::new();
+        holes(tin, l, &mut found);
+        if let Some(p) = found.first() {
+            return Err(internal(
+                "a crack",
+                format!("level {l}, triangle {}: {}", p.triangle, p.detail),
+            ));
+        }
+        for (t, tri) in tin.levels[l].tris.iter().enumerate() {
+            let c = tri.map(|v| tin.verts[v as usize]);
+            if crate::geom::is_sliver(&c[0], &c[1], &c[2]) {
+                return Err(internal(
+                    "a triangle of zero area",
+                    format!(
+                        "level {l}, triangle {t} (vertices {} {} {})",
+                        tri[0], tri[1], tri[2]
+                    ),
+                ));
+            }
+        }
+        if l + 1 < tin.levels.len() {
+            tin.check_children_tile(l)
+                .map_err(|e| internal("a level not nested in the one before", e.to_string()))?;
+        }
     }
     Ok(())
 }

@@ -127,6 +127,22 @@ fn sort_keys(
     Ok(keyed)
 }
 
+/// [`assemble`] of a build's levels, verified
+/// ([`crate::tin::check::verify_built`]): no build hands out a value that
+/// fails its own checks (issue 73). Triangles a caller gives
+/// (`from_triangles`) are assembled as they are.
+pub(super) fn assemble_verified(
+    verts: Vec<[f64; 3]>,
+    raw: Vec<RawLevel>,
+    srid: i32,
+    grids: bool,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    let tin = assemble(verts, raw, srid, grids, interrupt)?;
+    crate::tin::check::verify_built(&tin, grids, interrupt)?;
+    Ok(tin)
+}
+
 /// Order triangles, link neighbours, place parents and
 /// build grid indexes (when `grids`; else left empty for the caller).
 pub(super) fn assemble(

@@ -183,7 +183,7 @@ pub(super) fn build_inner(
     };
     drop(grid);
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
-    assemble(verts, raw_levels, srid, !on_lattice, interrupt)
+    assemble_verified(verts, raw_levels, srid, !on_lattice, interrupt)
 }
 
 /// The error of a boundary that leaves nothing of the samples' extent.
@@ -453,5 +453,5 @@ pub(super) fn build_dense(
     };
     let (verts, raw_levels) = build_levels(b, &d, &sides, &spec, interrupt)?;
     drop(d);
-    assemble(verts, raw_levels, srid, false, interrupt)
+    assemble_verified(verts, raw_levels, srid, false, interrupt)
 }

@@ -50,6 +50,7 @@ mod general;
 mod levels;
 mod lines;
 mod parents;
+mod raster;
 mod window;
 
 use self::assemble::*;
@@ -59,6 +60,7 @@ pub use self::common::{
 };
 use self::levels::*;
 pub(crate) use self::levels::{dense_hull, dense_of};
+pub use self::raster::{RasterBand, RasterBuild, build_raster};
 pub use self::window::build_lattice_window_domain;
 use super::breaklines::{Breakline, clip_to_hull};
 use super::delaunay_ref::DelaunayReference;
