@@ -215,6 +215,25 @@ impl<'a> Index<'a> {
         }
         best.map(|b| b.1)
     }
+    /// The output vertices within the oracle's tolerance of `p`.
+    fn all_near(&self, p: P) -> Vec<u32> {
+        let (cx, cy) = (
+            (p[0] / self.unit).floor() as i64,
+            (p[1] / self.unit).floor() as i64,
+        );
+        let mut out = Vec::new();
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for &i in self.cells.get(&(cx + dx, cy + dy)).into_iter().flatten() {
+                    let q = self.o.pts[i as usize];
+                    if (q[0] - p[0]).hypot(q[1] - p[1]) <= TOL * self.unit {
+                        out.push(i);
+                    }
+                }
+            }
+        }
+        out
+    }
     /// Follow output edges from s to e along the segment; the length covered.
     fn follow(&self, s: P, e: P) -> Result<f64, String> {
         let len = (e[0] - s[0]).hypot(e[1] - s[1]);
@@ -228,13 +247,23 @@ impl<'a> Index<'a> {
         let mut covered = 0.0;
         let mut steps = 0;
         while cur != end {
+            // within the oracle's tolerance of the end: there (two output
+            // points a rounding apart, one on each input's edge)
+            let c = self.o.pts[cur as usize];
+            if (e[0] - c[0]).hypot(e[1] - c[1]) <= TOL * self.unit {
+                covered += (e[0] - c[0]).hypot(e[1] - c[1]);
+                break;
+            }
             steps += 1;
             if steps > 100_000 {
                 return Err("does not arrive".into());
             }
             let c = self.o.pts[cur as usize];
             let mut next: Option<(f64, u32)> = None;
-            for &v in &self.adj[cur as usize] {
+            // from this vertex, or another a rounding from it (two output
+            // points the oracle's tolerance apart, one on each input's edge)
+            let twins = self.all_near(c);
+            for &v in twins.iter().flat_map(|&w| &self.adj[w as usize]) {
                 let q = self.o.pts[v as usize];
                 let (wx, wy) = (q[0] - c[0], q[1] - c[1]);
                 let forward = wx * dir[0] + wy * dir[1];

@@ -128,6 +128,10 @@ pub(crate) fn seg_key(c: &Crossing) -> SegKey {
     ]
 }
 
+/// A crossing on a side: its parameter along the side, the point, whether
+/// it is forced, and the crossed grid segment's two pixels.
+type SideCrossing = (f64, [f64; 3], bool, [[f64; 3]; 2]);
+
 /// Plan a side from its own profile: its ends `ends` (canonical order,
 /// positions `a`, `b`), the samples strictly between them in order along it
 /// (`on`: sample, position) and, with a `reference`, its crossings with the
@@ -157,8 +161,7 @@ pub(crate) fn plan_side(
     let along = |p: &[f64; 3]| (p[ax] - a[ax]) / (b[ax] - a[ax]);
     let mut prof: Vec<(f64, [f64; 3], Pt)> = Vec::with_capacity(on.len() + 2);
     prof.push((0.0, *a, ends[0]));
-    // (t, point, forced, the crossed segment's two pixels)
-    let mut crossings: Vec<(f64, [f64; 3], bool, [[f64; 3]; 2])> = Vec::new();
+    let mut crossings: Vec<SideCrossing> = Vec::new();
     if let Some(r) = reference {
         r.for_each_crossing(a, b, &mut |c| {
             crossings.push((c.t, c.p, must.contains(&seg_key(c)), c.seg))

@@ -93,7 +93,9 @@ fn tri_area(c: &[P; 3]) -> f64 {
 /// (anything else is a crack: a T-junction, or two vertices a rounding
 /// apart where there should be one). Returns the cycle's area.
 pub fn conforming(tris: &[[P; 3]], min_alt: f64) -> Result<f64, String> {
-    let mut edges: HashMap<((u64, u64), (u64, u64)), (u32, u32)> = HashMap::new();
+    // each edge by its ends' bits: its uses one way and the other
+    type Ends = ((u64, u64), (u64, u64));
+    let mut edges: HashMap<Ends, (u32, u32)> = HashMap::new();
     for (t, c) in tris.iter().enumerate() {
         if orient2d(co(c[0]), co(c[1]), co(c[2])) <= 0.0 {
             return Err(format!("triangle {t} {c:?} is not counter-clockwise"));
@@ -322,12 +324,12 @@ pub fn check_tolerance(
                 row.push(k as u32);
             }
         }
-        for row in 0..r.h {
+        for (row, cand) in rows.iter().enumerate().take(r.h) {
             for col in 0..r.w {
                 let Some(z) = r.at(col as i64, row as i64) else {
                     continue;
                 };
-                match error_at(&tris, &rows[row], [col as f64, row as f64], z) {
+                match error_at(&tris, cand, [col as f64, row as f64], z) {
                     Some(e) if e > tol => {
                         return Err(format!(
                             "level {l} (tolerance {}): pixel ({col}, {row}) is {e} off",
