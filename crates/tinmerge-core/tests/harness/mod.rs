@@ -50,7 +50,7 @@ struct Tally {
     counts: Counts,
 }
 
-const KINDS: [&str; 9] = [
+const KINDS: [&str; 10] = [
     "raster (valid pixels)",
     "raster (fill_gaps)",
     "raster + boundary",
@@ -60,6 +60,7 @@ const KINDS: [&str; 9] = [
     "tin_from_points",
     "overlay",
     "raster (default, 2nd)",
+    "tin_tiles_from_table",
 ];
 
 struct Failure {
@@ -250,9 +251,16 @@ fn shifted(rng: &mut StdRng, r: &Raster) -> Raster {
 fn trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
     let mut rng = StdRng::seed_from_u64(seed);
     let r = terrain(&mut rng);
-    let kind = rng.random_range(0..KINDS.len());
+    let kind = rng.random_range(0..KINDS.len() - 1);
     let levels = rng.random_range(2..=5usize);
     let tol = log_uniform(&mut rng, 0.5, 20.0);
+    // tiles: of one raster (tin_tiles) or of a table (the last kind), drawn
+    // after the rest so that the other kinds' seeds stay as they were
+    let kind = if kind == 5 && rng.random_bool(0.4) {
+        9
+    } else {
+        kind
+    };
     let tols = default_tolerances(tol, levels as i32).unwrap();
     let px = r.pixel();
     let table = if r.srid == 4326 && r.sql.contains("dem_geo") {
@@ -427,6 +435,62 @@ fn trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
                 ..r
             };
             counts += check_tolerance(&t, &only, true, true).map_err(|e| fail(e, sql.clone()))?;
+        }
+        9 => {
+            // the raster cut as raster2pgsql -t n x n cuts it, each tile
+            // its own raster, built as tin_tiles_from_table builds them
+            // (the test's copy of its seam rounds, common::table_build)
+            let n = rng.random_range(6..40usize);
+            let sql = format!(
+                "-- the raster as a table of {n} x {n} tiles (raster2pgsql -t {n}x{n}), then: SELECT tx, ty, v.* FROM tin_tiles_from_table('that_table', {tol:?}, {levels}, fill_gaps => true) s, tin_validate(s.t) v; -- the raster: {}",
+                r.sql
+            );
+            let valid = |v: f64| !v.is_nan();
+            let mut table = Vec::new();
+            for r0 in (0..r.h).step_by(n) {
+                for c0 in (0..r.w).step_by(n) {
+                    let (w, h) = (n.min(r.w - c0), n.min(r.h - r0));
+                    let own = Lattice {
+                        ip_x: r.lat.ip_x + c0 as f64 * r.lat.scale_x,
+                        ip_y: r.lat.ip_y + r0 as f64 * r.lat.scale_y,
+                        ..r.lat
+                    };
+                    let vals: Vec<f64> = (r0..r0 + h)
+                        .flat_map(|y| r.z[y * r.w + c0..y * r.w + c0 + w].to_vec())
+                        .collect();
+                    table.push((own, w, h, vals));
+                }
+            }
+            let metas: Vec<(Lattice, usize, usize)> =
+                table.iter().map(|t| (t.0, t.1, t.2)).collect();
+            let grid = tinmerge_core::tin::tiles::place_tiles(&metas)
+                .map_err(|e| fail(format!("placing the tiles: {e}"), sql.clone()))?;
+            let blocks: Vec<tinmerge_core::tin::tiles::Block> = grid
+                .tiles
+                .iter()
+                .zip(&table)
+                .map(|(p, t)| tinmerge_core::tin::tiles::Block {
+                    place: *p,
+                    values: &t.3,
+                    valid: &valid,
+                })
+                .collect();
+            let rows = grid.counts().1;
+            let built = crate::common::table_build(&grid, &blocks, &tols, r.srid, 0..rows, 0..rows);
+            let tiles: Vec<Tin> = built
+                .iter()
+                .map(|(_, b)| tinmerge_core::tin::layout::decode(b))
+                .collect::<Result<_, _>>()
+                .map_err(|e| fail(format!("a tile does not decode: {e}"), sql.clone()))?;
+            builds = tiles.len();
+            for (i, t) in tiles.iter().enumerate() {
+                counts += check_tin(t, &Domain::Unknown, px, false)
+                    .map_err(|e| fail(format!("tile {i}: {e}"), sql.clone()))?;
+                counts += check_tolerance(t, &r, true, false)
+                    .map_err(|e| fail(format!("tile {i}: {e}"), sql.clone()))?;
+            }
+            let refs: Vec<&Tin> = tiles.iter().collect();
+            check_seams(&refs).map_err(|e| fail(e, sql.clone()))?;
         }
         _ => {
             // an overlay of two builds
