@@ -24,7 +24,7 @@
 mod oracle;
 mod terrain;
 
-use oracle::{Counts, Domain, area, check_seams, check_tin, check_tolerance, conforming, hull};
+use oracle::{Counts, Domain, area, check_tiles, check_tin, check_tolerance, conforming, hull};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::sync::Mutex;
@@ -378,14 +378,7 @@ fn trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
                 Err(e) => return Err(fail(format!("the build failed: {e}"), sql)),
             }
             builds = tiles.len();
-            for (i, t) in tiles.iter().enumerate() {
-                counts += check_tin(t, &Domain::Unknown, px, false)
-                    .map_err(|e| fail(format!("tile {i}: {e}"), sql.clone()))?;
-                counts += check_tolerance(t, &r, true, false)
-                    .map_err(|e| fail(format!("tile {i}: {e}"), sql.clone()))?;
-            }
-            let refs: Vec<&Tin> = tiles.iter().collect();
-            check_seams(&refs).map_err(|e| fail(e, sql.clone()))?;
+            counts += check_tiles(&tiles, &r, px).map_err(|e| fail(e, sql.clone()))?;
         }
         6 => {
             // the valid pixel centres, some of them, as scattered points
@@ -483,14 +476,7 @@ fn trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
                 .collect::<Result<_, _>>()
                 .map_err(|e| fail(format!("a tile does not decode: {e}"), sql.clone()))?;
             builds = tiles.len();
-            for (i, t) in tiles.iter().enumerate() {
-                counts += check_tin(t, &Domain::Unknown, px, false)
-                    .map_err(|e| fail(format!("tile {i}: {e}"), sql.clone()))?;
-                counts += check_tolerance(t, &r, true, false)
-                    .map_err(|e| fail(format!("tile {i}: {e}"), sql.clone()))?;
-            }
-            let refs: Vec<&Tin> = tiles.iter().collect();
-            check_seams(&refs).map_err(|e| fail(e, sql.clone()))?;
+            counts += check_tiles(&tiles, &r, px).map_err(|e| fail(e, sql.clone()))?;
         }
         _ => {
             // an overlay of two builds

@@ -412,6 +412,19 @@ pub fn check_tolerance(
     Ok(n)
 }
 
+/// Tiles of one raster: each one's structure ([`check_tin`]) and
+/// tolerance at the samples (the strips along the seams are held there
+/// only), and their seams ([`check_seams`]).
+pub fn check_tiles(tiles: &[Tin], r: &Raster, unit: f64) -> Result<Counts, String> {
+    let mut n = Counts::default();
+    for (i, t) in tiles.iter().enumerate() {
+        n += check_tin(t, &Domain::Unknown, unit, false).map_err(|e| format!("tile {i}: {e}"))?;
+        n += check_tolerance(t, r, true, false).map_err(|e| format!("tile {i}: {e}"))?;
+    }
+    check_seams(&tiles.iter().collect::<Vec<_>>())?;
+    Ok(n)
+}
+
 /// Tins meant to meet along their seams (tiles) meet there: at every level
 /// an edge on the outside of one tile that lies inside another tile's
 /// domain (its midpoint strictly inside one of its triangles, or on one of
