@@ -600,6 +600,8 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
         None => Duration::from_secs_f64(env_f64("TINMERGE_HARNESS_SECONDS").unwrap_or(120.0)),
     };
     let base = env_f64("TINMERGE_HARNESS_SEED").map_or(73_000, |s| s as u64);
+    // a soak goes on past failures, to count them
+    let max_failures = if env_f64("TINMERGE_SOAK").is_some() { 50 } else { 5 };
     let next = AtomicU64::new(base);
     let tally = Mutex::new(vec![Tally::default(); KINDS.len()]);
     let failures: Mutex<Vec<Failure>> = Mutex::new(Vec::new());
@@ -638,7 +640,7 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
                         Err(f) => {
                             let mut fs = failures.lock().unwrap();
                             fs.push(f);
-                            if fs.len() >= 5 {
+                            if fs.len() >= max_failures {
                                 break;
                             }
                         }
