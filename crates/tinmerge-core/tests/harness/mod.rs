@@ -16,9 +16,12 @@
 //! pixel.
 //!
 //! Seeded: trial `k` runs seed `TINMERGE_HARNESS_SEED + k` (default
-//! 73000). It runs for `TINMERGE_HARNESS_SECONDS` (default 120, on every
-//! core), or `TINMERGE_SOAK` minutes. A failure names its seed (run it
-//! again alone with `TINMERGE_HARNESS_SEED=<seed> TINMERGE_HARNESS_SECONDS=0`)
+//! 73000). `cargo test` runs `TINMERGE_HARNESS_TRIALS` trials (default
+//! 1200, the same on every machine: about two minutes on two cores) on
+//! every core, stopping early past `TINMERGE_HARNESS_SECONDS` (300);
+//! `TINMERGE_SOAK=<minutes>` runs it that long. A failure names its seed
+//! (run it again alone with `TINMERGE_HARNESS_SEED=<seed>
+//! TINMERGE_HARNESS_TRIALS=1`)
 //! and prints a one-line SQL reproduction on the pg_regress tables.
 
 mod oracle;
@@ -595,13 +598,23 @@ fn env_f64(name: &str) -> Option<f64> {
 
 #[test]
 fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
-    let budget = match env_f64("TINMERGE_SOAK") {
-        Some(m) => Duration::from_secs_f64(m * 60.0),
-        None => Duration::from_secs_f64(env_f64("TINMERGE_HARNESS_SECONDS").unwrap_or(120.0)),
+    // `cargo test`: a fixed run of seeds (the same trials on every
+    // machine), stopped after 300 s on a machine too slow for it; a soak:
+    // as many as its minutes allow
+    let (trials, budget) = match env_f64("TINMERGE_SOAK") {
+        Some(m) => (u64::MAX, Duration::from_secs_f64(m * 60.0)),
+        None => (
+            env_f64("TINMERGE_HARNESS_TRIALS").map_or(1200, |n| n as u64),
+            Duration::from_secs_f64(env_f64("TINMERGE_HARNESS_SECONDS").unwrap_or(300.0)),
+        ),
     };
     let base = env_f64("TINMERGE_HARNESS_SEED").map_or(73_000, |s| s as u64);
     // a soak goes on past failures, to count them
-    let max_failures = if env_f64("TINMERGE_SOAK").is_some() { 50 } else { 5 };
+    let max_failures = if env_f64("TINMERGE_SOAK").is_some() {
+        50
+    } else {
+        5
+    };
     let next = AtomicU64::new(base);
     let tally = Mutex::new(vec![Tally::default(); KINDS.len()]);
     let failures: Mutex<Vec<Failure>> = Mutex::new(Vec::new());
@@ -612,8 +625,9 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
             s.spawn(|| {
                 loop {
                     let seed = next.fetch_add(1, Ordering::Relaxed);
-                    // at least one trial, then until the budget is spent
-                    if seed > base && start.elapsed() >= budget {
+                    // at least one trial, then the run's seeds or until the
+                    // time is spent
+                    if seed > base && (seed - base >= trials || start.elapsed() >= budget) {
                         break;
                     }
                     let out = std::panic::catch_unwind(|| trial(seed)).unwrap_or_else(|p| {
@@ -677,7 +691,7 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
     let fs = failures.into_inner().unwrap();
     for f in &fs {
         eprintln!(
-            "FAILED seed {} (TINMERGE_HARNESS_SEED={} TINMERGE_HARNESS_SECONDS=0): {}\n  SQL: {}",
+            "FAILED seed {} (TINMERGE_HARNESS_SEED={} TINMERGE_HARNESS_TRIALS=1): {}\n  SQL: {}",
             f.seed, f.seed, f.what, f.sql
         );
     }
