@@ -31,6 +31,12 @@ impl RasterBand {
     /// nodata beside its data); None when a build over the hull is a
     /// build over the valid pixels.
     pub fn footprint(&self) -> Option<Area> {
+        self.footprint_of(&self.world_samples())
+    }
+
+    /// [`RasterBand::footprint`] given the band's samples in world
+    /// coordinates ([`RasterBand::world_samples`]).
+    fn footprint_of(&self, pts: &[[f64; 3]]) -> Option<Area> {
         let (w, h, z) = (self.width, self.height, &self.z);
         if z.iter().all(|v| !v.is_nan()) {
             return None;
@@ -40,7 +46,7 @@ impl RasterBand {
             let (x, y) = self.lattice.centre(c - 0.5, r - 0.5);
             [x, y]
         });
-        (!boundary_holds_all(&area, &self.world_samples())).then_some(area)
+        (!boundary_holds_all(&area, pts)).then_some(area)
     }
 
     /// The valid pixels as samples in world coordinates, row by row.
@@ -120,8 +126,12 @@ pub fn build_raster(
     if lines.is_empty() && boundary.is_none() && (fill_gaps || valid == w * h) {
         return on_lattice(band, reserve);
     }
-    let footprint = if fill_gaps { None } else { band.footprint() };
     let pts = band.world_samples();
+    let footprint = if fill_gaps {
+        None
+    } else {
+        band.footprint_of(&pts)
+    };
     // a boundary holding the whole raster: the build without it
     let areas: Vec<Area> = boundary
         .into_iter()
