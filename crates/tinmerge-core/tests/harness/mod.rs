@@ -166,25 +166,15 @@ fn random_polygon(rng: &mut StdRng, r: &Raster) -> (Vec<Vec<[f64; 2]>>, String) 
             k.reverse();
         }
     }
-    let wkt: Vec<String> = rings
-        .iter()
-        .map(|k| {
-            let p: Vec<String> = k
-                .iter()
-                .chain(k.first())
-                .map(|p| format!("{:?} {:?}", p[0], p[1]))
-                .collect();
-            format!("({})", p.join(","))
-        })
-        .collect();
+    let wkt: Vec<String> = rings.iter().map(|k| terrain::wkt(k)).collect();
     (
         rings,
         format!("'SRID={};POLYGON({})'", r.srid, wkt.join(",")),
     )
 }
 
-/// Random polylines across the raster; hard ones carry heights near the
-/// raster's (within 30 m), soft ones none.
+/// Random polylines across the raster (reaching a tenth past it); hard
+/// ones carry heights of their own (300 to 1,000 m), soft ones none.
 fn random_lines(rng: &mut StdRng, r: &Raster, hard: bool) -> (Vec<Breakline>, String) {
     let mut lines = Vec::new();
     let mut wkt = Vec::new();

@@ -91,12 +91,12 @@ fn digits(rng: &mut StdRng, lo: f64, hi: f64) -> f64 {
     rng.random_range(lo..hi) + rng.random::<f64>() * 1e-3
 }
 
-/// A polygon (world coordinates of the window before relocation) as WKT.
-fn wkt(ring: &[[f64; 2]]) -> String {
+/// A ring as WKT, closed, every coordinate to the bit (`{:?}`).
+pub fn wkt(ring: &[[f64; 2]]) -> String {
     let pts: Vec<String> = ring
         .iter()
         .chain(ring.first())
-        .map(|p| format!("{} {}", p[0], p[1]))
+        .map(|p| format!("{:?} {:?}", p[0], p[1]))
         .collect();
     format!("({})", pts.join(","))
 }
