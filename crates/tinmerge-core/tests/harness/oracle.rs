@@ -190,10 +190,10 @@ pub enum Domain {
 /// the non-void ones the expected domain, each triangle inside its parent
 /// (exact orientation, up to `slack` world units for a lattice build's
 /// rounding) and the children of each triangle covering it. No triangle
-/// is thinner than a millionth of `unit` (a pixel), but with `thin_ok`
-/// (builds with breaklines: see the harness's module doc).
-pub fn check_tin(t: &Tin, dom: &Domain, unit: f64, thin_ok: bool) -> Result<Counts, String> {
-    let (min_alt, slack) = (if thin_ok { 0.0 } else { 1e-6 * unit }, 1e-7 * unit);
+/// is thinner than `thin` of `unit` (a pixel: see the harness's module
+/// doc for which builds are held to what).
+pub fn check_tin(t: &Tin, dom: &Domain, unit: f64, thin: f64) -> Result<Counts, String> {
+    let (min_alt, slack) = (thin * unit, 1e-7 * unit);
     let mut n = Counts::default();
     let hull_area = area(&hull(t.verts.iter().map(|v| [v[0], v[1]]).collect()));
     // the rounding of a sum of `k` triangles' areas: each coordinate
@@ -418,7 +418,8 @@ pub fn check_tolerance(
 pub fn check_tiles(tiles: &[Tin], r: &Raster, unit: f64) -> Result<Counts, String> {
     let mut n = Counts::default();
     for (i, t) in tiles.iter().enumerate() {
-        n += check_tin(t, &Domain::Unknown, unit, false).map_err(|e| format!("tile {i}: {e}"))?;
+        n += check_tin(t, &Domain::Unknown, unit, crate::harness::LATTICE_THIN)
+            .map_err(|e| format!("tile {i}: {e}"))?;
         n += check_tolerance(t, r, true, false).map_err(|e| format!("tile {i}: {e}"))?;
     }
     check_seams(&tiles.iter().collect::<Vec<_>>())?;

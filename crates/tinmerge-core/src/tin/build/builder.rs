@@ -162,12 +162,22 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 (m.best, m.cand) = (err, i as u32);
             } else if self.at_budget > 0
                 && if r.mends_at_crossings() {
-                    self.free_crossing_ok(e.fix(), &x)
+                    self.free_crossing_ok(e.fix(), &u, &w, &x)
                 } else {
                     self.raster_at && self.raster_crossing_ok(e.fix(), &u, &w, &x)
                 }
             {
                 (m.best, m.cand, m.at) = (err, AT_CAND, x.p);
+            } else if r.mends_at_crossings() && m.cand != NONE && m.cand != AT_CAND {
+                // a crossing no vertex may stand at (it would crowd one
+                // already there): the face's worst sample goes in at the
+                // crossing's error, a finer triangulation of the samples
+                // being what ends it (vertices at crossings alone can
+                // chase each other between two grid segments, each new
+                // edge crossing the other segment as badly: 5 levels of a
+                // terraced 1/9" window, harness seed 2006391, closed in on
+                // one point until rounding made a crack)
+                m.best = err;
             }
         }
         m
@@ -306,7 +316,13 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
     /// fewer of them (a vertex at a crossing can stand inside its circle),
     /// nor a grid segment between a pixel and a ring's crossing an edge at
     /// all, so inserting samples alone need not end it.
-    fn free_crossing_ok(&self, e: FixedDirectedEdgeHandle, x: &Crossing) -> bool {
+    fn free_crossing_ok(
+        &self,
+        e: FixedDirectedEdgeHandle,
+        u: &[f64; 3],
+        w: &[f64; 3],
+        x: &Crossing,
+    ) -> bool {
         let e = self.dt.directed_edge(e);
         let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
             f.as_inner().is_some_and(|f| {
@@ -318,12 +334,43 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 })
             })
         });
-        // nor next to an end of the crossed segment (a pixel, a
-        // sample: a point beside it would make a sliver with it)
+        // nor within a hundredth of the crossed segment of its ends (two
+        // samples) or of a vertex already on it, nor as near the lines
+        // from the crossed edge's ends to the third corners of its faces:
+        // the triangles it makes keep a height of a hundredth of the
+        // segment at least (a vertex anywhere made triangles 7e-7 pixel
+        // high and, closing in on one point, a crack: harness seeds
+        // 4012394, 2006391)
         let [p0, p1] = x.seg;
         let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
-        let near_end = x.s.min(1.0 - x.s) * seg_len <= 1e-6 * seg_len;
-        !near_fixed && !near_end
+        let along = |q: &[f64; 3]| {
+            ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
+                / (seg_len * seg_len)
+        };
+        const GAP: f64 = 0.01;
+        let near_end = x.s.min(1.0 - x.s) < GAP;
+        let faces: Vec<_> = [e.face(), e.rev().face()]
+            .iter()
+            .filter_map(|f| f.as_inner())
+            .collect();
+        let crowded = faces.iter().any(|f| {
+            let vs = f.vertices().map(|v| self.vert3(v.fix()));
+            let on_seg = vs
+                .iter()
+                .any(|q| crate::geom::is_sliver(&p0, &p1, q) && (along(q) - x.s).abs() < GAP);
+            let o = vs.iter().find(|q| q[..2] != u[..2] && q[..2] != w[..2]);
+            on_seg
+                || o.is_none_or(|o| {
+                    [u, w].iter().any(|q| {
+                        crate::geom::point_segment_distance(
+                            [x.p[0], x.p[1]],
+                            [q[0], q[1]],
+                            [o[0], o[1]],
+                        ) < GAP * seg_len
+                    })
+                })
+        });
+        !near_fixed && !near_end && !crowded
     }
 
     /// Store a face's measure and queue the face if it has a candidate.
