@@ -235,52 +235,64 @@ impl<'a> Index<'a> {
         out
     }
     /// Follow output edges from s to e along the segment; the length covered.
+    /// Depth first, the nearest step ahead first: a vertex within the
+    /// oracle's tolerance of the segment need not be on it (a vertex of the
+    /// other input 5.6e-7 m beside an edge, harness seed 4012526), so a
+    /// step that leads nowhere is taken back.
     fn follow(&self, s: P, e: P) -> Result<f64, String> {
         let len = (e[0] - s[0]).hypot(e[1] - s[1]);
         let dir = [(e[0] - s[0]) / len, (e[1] - s[1]) / len];
-        let mut cur = self
+        let start = self
             .find(s)
             .ok_or("start of the clipped edge is not an output vertex")?;
         let end = self
             .find(e)
             .ok_or("end of the clipped edge is not an output vertex")?;
-        let mut covered = 0.0;
+        let mut stack: Vec<(u32, f64)> = vec![(start, 0.0)];
+        let mut seen: std::collections::HashSet<u32> = Default::default();
+        let mut stuck = None;
         let mut steps = 0;
-        while cur != end {
+        while let Some((cur, covered)) = stack.pop() {
+            if cur == end {
+                return Ok(covered);
+            }
             // within the oracle's tolerance of the end: there (two output
             // points a rounding apart, one on each input's edge)
             let c = self.o.pts[cur as usize];
             if (e[0] - c[0]).hypot(e[1] - c[1]) <= TOL * self.unit {
-                covered += (e[0] - c[0]).hypot(e[1] - c[1]);
-                break;
+                return Ok(covered + (e[0] - c[0]).hypot(e[1] - c[1]));
+            }
+            if !seen.insert(cur) {
+                continue;
             }
             steps += 1;
             if steps > 100_000 {
                 return Err("does not arrive".into());
             }
-            let c = self.o.pts[cur as usize];
-            let mut next: Option<(f64, u32)> = None;
             // from this vertex, or another a rounding from it (two output
             // points the oracle's tolerance apart, one on each input's edge)
             let twins = self.all_near(c);
+            let mut next: Vec<(f64, u32)> = Vec::new();
             for &v in twins.iter().flat_map(|&w| &self.adj[w as usize]) {
                 let q = self.o.pts[v as usize];
                 let (wx, wy) = (q[0] - c[0], q[1] - c[1]);
                 let forward = wx * dir[0] + wy * dir[1];
                 let off = (q[0] - s[0]) * dir[1] - (q[1] - s[1]) * dir[0];
-                if forward > 0.0
-                    && off.abs() <= TOL * self.unit
-                    && next.is_none_or(|n| forward < n.0)
-                {
-                    next = Some((forward, v));
+                if forward > 0.0 && off.abs() <= TOL * self.unit && !seen.contains(&v) {
+                    next.push((forward, v));
                 }
             }
-            let (f, v) =
-                next.ok_or_else(|| format!("no output edge continues the segment at {c:?}"))?;
-            covered += f;
-            cur = v;
+            if next.is_empty() {
+                stuck.get_or_insert(c);
+            }
+            // the nearest on top
+            next.sort_by(|x, y| y.0.total_cmp(&x.0));
+            stack.extend(next.into_iter().map(|(f, v)| (v, covered + f)));
         }
-        Ok(covered)
+        Err(format!(
+            "no output edge continues the segment at {:?}",
+            stuck.unwrap_or(s)
+        ))
     }
 }
 
@@ -288,7 +300,7 @@ impl<'a> Index<'a> {
 /// the oracles; the faces path must not have fallen back on these inputs.
 fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
     let c = overlay_constrained(a, la, b, lb, &mut || Ok(())).unwrap();
-    check_one(a, la, b, lb, &c);
+    check_one_with(a, la, b, lb, &c, true);
     let o = overlay(a, la, b, lb, &mut || Ok(())).unwrap();
     assert_eq!(o.fallback, None, "the faces path fell back");
     check_one(a, la, b, lb, &o);
@@ -296,6 +308,15 @@ fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
 }
 
 pub(crate) fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
+    check_one_with(a, la, b, lb, o, false)
+}
+
+/// [`check_one`]; with `snapped`, an input vertex may be an output point
+/// within 8 units in the last place of the largest coordinate (the
+/// constrained path makes points that near one point, its
+/// `merge_coincident`: two tins' vertices an ulp apart at a grid-line
+/// crossing, harness seeds 73123, 73307, 74016).
+pub(crate) fn check_one_with(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay, snapped: bool) {
     let dom = clip(&hull(level_pts(a, la)), &hull(level_pts(b, lb)));
     let dom_area = area(&dom);
 
@@ -327,13 +348,22 @@ pub(crate) fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
         .iter()
         .map(|p| (p[0].to_bits(), p[1].to_bits()))
         .collect();
+    let big = o
+        .pts
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let eps = 8.0 * f64::EPSILON * big;
+    let present = |p: P| {
+        out.contains(&(p[0].to_bits(), p[1].to_bits()))
+            || (snapped
+                && o.pts
+                    .iter()
+                    .any(|q| (q[0] - p[0]).abs() <= eps && (q[1] - p[1]).abs() <= eps))
+    };
     for (t, l) in [(a, la), (b, lb)] {
         for p in level_pts(t, l) {
             if in_closed(&dom, p) {
-                assert!(
-                    out.contains(&(p[0].to_bits(), p[1].to_bits())),
-                    "vertex {p:?} missing"
-                );
+                assert!(present(p), "vertex {p:?} missing");
             }
         }
     }

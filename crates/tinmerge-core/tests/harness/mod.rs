@@ -28,6 +28,8 @@
 //! (run it again alone with `TINMERGE_HARNESS_SEED=<seed>
 //! TINMERGE_HARNESS_TRIALS=1`)
 //! and prints a one-line SQL reproduction on the pg_regress tables.
+//! `TINMERGE_HARNESS_ALL_ORACLES=1` also holds the constrained overlay
+//! path to tests/overlay.rs's full oracle (see the overlay trial).
 
 mod oracle;
 mod terrain;
@@ -571,19 +573,28 @@ fn trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
                 overlays += 1;
                 // every input vertex an output vertex, every input edge a
                 // chain of output edges, every output triangle in its
-                // owners (tests/overlay.rs's oracle): on the faces path
-                // only. On the constrained path the first runs found
-                // output triangles reaching a pixel or two out of the
-                // triangle of A they are labelled with (seeds 73146,
-                // 73206, 73339, 73508, 73571), and that oracle's own
-                // rounding thresholds (metres) misjudge 1/9" grids
-                // (seeds 73212, 73345, 73667, 73873): left for a later
-                // issue (issue 73's note)
-                if constrained || o.fallback.is_some() {
+                // owners (tests/overlay.rs's oracle): on the faces path,
+                // and on the constrained path with
+                // TINMERGE_HARNESS_ALL_ORACLES=1 only. There it found
+                // flat slivers in rounding-wide notches of a boundary
+                // labelled with a triangle they reach a pixel out of
+                // (seed 73002: now dropped, `beyond_hull_edges`), and still
+                // finds heights 1.5e-4 m off (seed 74962, one in 2,246
+                // trials): left for a later issue (issue 73's note)
+                if std::env::var("TINMERGE_HARNESS_ALL_ORACLES").is_err()
+                    && (constrained || o.fallback.is_some())
+                {
                     continue;
                 }
                 std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    crate::overlay::check_one(&a, la, &b, lb, &o)
+                    crate::overlay::check_one_with(
+                        &a,
+                        la,
+                        &b,
+                        lb,
+                        &o,
+                        constrained || o.fallback.is_some(),
+                    )
                 }))
                 .map_err(|p| {
                     let m = p

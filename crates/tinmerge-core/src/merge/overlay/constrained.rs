@@ -203,7 +203,14 @@ pub(crate) fn overlay_cdt(
         * o.pts
             .iter()
             .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
-    let outside = outside_slivers(&cdt, band, &mut tk)?;
+    let mut outside = outside_slivers(&cdt, band, &mut tk)?;
+    beyond_hull_edges(
+        &cdt,
+        &[(a, &pts.src_a), (b, &pts.src_b)],
+        band,
+        &mut outside,
+        &mut tk,
+    )?;
     label_faces(a, b, &cdt, &outside, &mut o, &mut tk)?;
     Ok(o)
 }
@@ -553,6 +560,91 @@ fn outside_slivers(cdt: &Cdt, band: f64, tk: &mut Ticker<'_, '_>) -> Result<Vec<
         }
     }
     Ok(out)
+}
+
+/// Marks in `outside` the faces of the CDT with two corners at the ends
+/// of an outer edge of one input's level (`src`: each output point's
+/// vertex of that input) and the third strictly beyond it (exact): a
+/// flat face in a rounding-wide notch of that level's boundary, the
+/// other input's edge running straight past a vertex where the boundary
+/// bends in by an ulp. [`outside_slivers`] cannot reach it from the
+/// convex hull (the other input's edge is a constraint); labelled, its
+/// far corner lay a pixel outside the triangle it was given (harness seed
+/// 73002).
+fn beyond_hull_edges(
+    cdt: &Cdt,
+    inputs: &[(Side<'_>, &Vec<u32>)],
+    band: f64,
+    outside: &mut [bool],
+    tk: &mut Ticker<'_, '_>,
+) -> Result<(), TinError> {
+    // each input's outer edges, directed with its level on their left
+    let outer: Vec<rustc_hash::FxHashSet<(u32, u32)>> = inputs
+        .iter()
+        .map(|(s, _)| {
+            let lv = &s.tin.levels[s.level];
+            let mut e: rustc_hash::FxHashSet<(u32, u32)> = Default::default();
+            for (tri, nb) in lv.tris.iter().zip(&lv.nbrs) {
+                for j in 0..3 {
+                    if nb[j] == NONE {
+                        e.insert((tri[(j + 1) % 3], tri[(j + 2) % 3]));
+                    }
+                }
+            }
+            e
+        })
+        .collect();
+    // the output points u, v on one input's outer edge, either way round
+    let on_outer = |u: usize, v: usize, dir: bool| {
+        inputs.iter().zip(&outer).any(|((_, src), e)| {
+            let (a, b) = (
+                src.get(u).copied().unwrap_or(NONE),
+                src.get(v).copied().unwrap_or(NONE),
+            );
+            a != NONE && b != NONE && (e.contains(&(b, a)) || (!dir && e.contains(&(a, b))))
+        })
+    };
+    let flat = |f: FaceHandle<'_, InnerTag, Point2<f64>, (), CdtEdge<()>, ()>| {
+        let p: [Point2<f64>; 3] = f.positions();
+        let longest = (0..3).fold(0.0f64, |m, j| {
+            let (u, v) = (p[j], p[(j + 1) % 3]);
+            m.max((v.x - u.x).hypot(v.y - u.y))
+        });
+        f.area().abs() <= band * longest
+    };
+    let mut stack = Vec::new();
+    for f in cdt.inner_faces() {
+        tk.tick()?;
+        if outside[f.fix().index()] || !flat(f) {
+            continue;
+        }
+        let vs = f.vertices().map(|v| v.fix().index());
+        // the face runs counter-clockwise: an outer edge v -> u of an
+        // input (its level on the left) has the face on its right
+        if (0..3).any(|k| on_outer(vs[k], vs[(k + 1) % 3], true)) {
+            outside[f.fix().index()] = true;
+            stack.push(f);
+        }
+    }
+    // the rest of the notch: flat faces reached without crossing an outer
+    // edge of either input (the notch's inner side)
+    while let Some(f) = stack.pop() {
+        tk.tick()?;
+        for e in f.adjacent_edges() {
+            let [u, v] = e.vertices().map(|v| v.fix().index());
+            if on_outer(u, v, false) {
+                continue;
+            }
+            if let Some(g) = e.rev().face().as_inner()
+                && !outside[g.fix().index()]
+                && flat(g)
+            {
+                outside[g.fix().index()] = true;
+                stack.push(g);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The CDT's faces as the overlay's triangles, each labelled with the
