@@ -335,12 +335,13 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             })
         });
         // nor within a hundredth of the crossed segment of its ends (two
-        // samples) or of a vertex already on it, nor as near the lines
-        // from the crossed edge's ends to the third corners of its faces:
-        // the triangles it makes keep a height of a hundredth of the
-        // segment at least (a vertex anywhere made triangles 7e-7 pixel
-        // high and, closing in on one point, a crack: harness seeds
-        // 4012394, 2006391)
+        // samples) or of a vertex already on it (vertices at crossings
+        // closing in on one point until rounding made a crack: harness
+        // seed 2006391), nor within a ten-thousandth of it of the lines
+        // from the crossed edge's ends to the third corners of its faces
+        // (the triangles it makes; a hundredth there left more levels of
+        // point builds over their tolerance, 13 of 494 against 9, where
+        // a ten-thousandth leaves 10)
         let [p0, p1] = x.seg;
         let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
         let along = |q: &[f64; 3]| {
@@ -348,6 +349,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 / (seg_len * seg_len)
         };
         const GAP: f64 = 0.01;
+        const THIN: f64 = 1e-4;
         let near_end = x.s.min(1.0 - x.s) < GAP;
         let faces: Vec<_> = [e.face(), e.rev().face()]
             .iter()
@@ -366,7 +368,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                             [x.p[0], x.p[1]],
                             [q[0], q[1]],
                             [o[0], o[1]],
-                        ) < GAP * seg_len
+                        ) < THIN * seg_len
                     })
                 })
         });
