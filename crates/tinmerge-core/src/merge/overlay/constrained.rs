@@ -523,14 +523,7 @@ fn triangulate(
 /// whatever it met, so a gap in those pieces cannot empty the overlay.
 fn outside_slivers(cdt: &Cdt, band: f64, tk: &mut Ticker<'_, '_>) -> Result<Vec<bool>, TinError> {
     let mut out = vec![false; cdt.num_all_faces()];
-    let flat = |f: FaceHandle<'_, InnerTag, Point2<f64>, (), CdtEdge<()>, ()>| {
-        let p: [Point2<f64>; 3] = f.positions();
-        let longest = (0..3).fold(0.0f64, |m, j| {
-            let (u, v) = (p[j], p[(j + 1) % 3]);
-            m.max((v.x - u.x).hypot(v.y - u.y))
-        });
-        f.area().abs() <= band * longest
-    };
+    let flat = |f| is_flat(f, band);
     let mut stack = Vec::new();
     for e in cdt.convex_hull() {
         for h in [e, e.rev()] {
@@ -560,6 +553,17 @@ fn outside_slivers(cdt: &Cdt, band: f64, tk: &mut Ticker<'_, '_>) -> Result<Vec<
         }
     }
     Ok(out)
+}
+
+/// Whether face `f` is no wider than `band`: its area at most `band` times
+/// its longest side.
+fn is_flat(f: FaceHandle<'_, InnerTag, Point2<f64>, (), CdtEdge<()>, ()>, band: f64) -> bool {
+    let p: [Point2<f64>; 3] = f.positions();
+    let longest = (0..3).fold(0.0f64, |m, j| {
+        let (u, v) = (p[j], p[(j + 1) % 3]);
+        m.max((v.x - u.x).hypot(v.y - u.y))
+    });
+    f.area().abs() <= band * longest
 }
 
 /// Marks in `outside` the faces of the CDT with two corners at the ends
@@ -604,14 +608,7 @@ fn beyond_hull_edges(
             a != NONE && b != NONE && (e.contains(&(b, a)) || (!dir && e.contains(&(a, b))))
         })
     };
-    let flat = |f: FaceHandle<'_, InnerTag, Point2<f64>, (), CdtEdge<()>, ()>| {
-        let p: [Point2<f64>; 3] = f.positions();
-        let longest = (0..3).fold(0.0f64, |m, j| {
-            let (u, v) = (p[j], p[(j + 1) % 3]);
-            m.max((v.x - u.x).hypot(v.y - u.y))
-        });
-        f.area().abs() <= band * longest
-    };
+    let flat = |f| is_flat(f, band);
     let mut stack = Vec::new();
     for f in cdt.inner_faces() {
         tk.tick()?;

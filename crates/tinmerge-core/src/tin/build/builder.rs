@@ -288,23 +288,13 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         // the triangles the vertex makes: its distance to the
         // lines from the crossed edge's ends to the faces' third
         // corners
-        let min_h = 0.01 * seg_len;
-        let thin = faces.iter().any(|f| {
-            let vs = f.vertices();
-            let o = vs
+        let thirds = faces.iter().map(|f| {
+            f.vertices()
                 .iter()
                 .map(|v| self.vert3(v.fix()))
-                .find(|q| q[..2] != u[..2] && q[..2] != w[..2]);
-            o.is_none_or(|o| {
-                [u, w].iter().any(|q| {
-                    crate::geom::point_segment_distance(
-                        [x.p[0], x.p[1]],
-                        [q[0], q[1]],
-                        [o[0], o[1]],
-                    ) < min_h
-                })
-            })
+                .find(|q| q[..2] != u[..2] && q[..2] != w[..2])
         });
+        let thin = near_face_lines(thirds, &u, &w, &x.p, 0.01 * seg_len);
         x.s > lo + 0.01 && x.s < hi - 0.01 && !thin
     }
 
@@ -355,24 +345,20 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             .iter()
             .filter_map(|f| f.as_inner())
             .collect();
-        let crowded = faces.iter().any(|f| {
-            let vs = f.vertices().map(|v| self.vert3(v.fix()));
-            let on_seg = vs
-                .iter()
-                .any(|q| crate::geom::is_sliver(&p0, &p1, q) && (along(q) - x.s).abs() < GAP);
-            let o = vs.iter().find(|q| q[..2] != u[..2] && q[..2] != w[..2]);
-            on_seg
-                || o.is_none_or(|o| {
-                    [u, w].iter().any(|q| {
-                        crate::geom::point_segment_distance(
-                            [x.p[0], x.p[1]],
-                            [q[0], q[1]],
-                            [o[0], o[1]],
-                        ) < THIN * seg_len
-                    })
-                })
+        let on_seg = faces.iter().any(|f| {
+            f.vertices().iter().any(|v| {
+                let q = self.vert3(v.fix());
+                crate::geom::is_sliver(&p0, &p1, &q) && (along(&q) - x.s).abs() < GAP
+            })
         });
-        !near_fixed && !near_end && !crowded
+        let thirds = faces.iter().map(|f| {
+            f.vertices()
+                .iter()
+                .map(|v| self.vert3(v.fix()))
+                .find(|q| q[..2] != u[..2] && q[..2] != w[..2])
+        });
+        let thin = near_face_lines(thirds, u, w, &x.p, THIN * seg_len);
+        !near_fixed && !near_end && !on_seg && !thin
     }
 
     /// Store a face's measure and queue the face if it has a candidate.
@@ -805,6 +791,27 @@ impl<T: Tri> Scratch<T> {
         self.heap = b.heap;
         self.vside = b.vside;
     }
+}
+
+/// Whether a vertex at `p` on the edge `u`-`w` would be within `min_h` of
+/// a line from `u` or `w` to the third corner of a face beside the edge
+/// (`thirds`; None: a face without one, which counts as near): the
+/// triangles it would make would be that thin.
+fn near_face_lines(
+    thirds: impl Iterator<Item = Option<[f64; 3]>>,
+    u: &[f64; 3],
+    w: &[f64; 3],
+    p: &[f64; 3],
+    min_h: f64,
+) -> bool {
+    thirds.into_iter().any(|o| {
+        o.is_none_or(|o| {
+            [u, w].iter().any(|q| {
+                crate::geom::point_segment_distance([p[0], p[1]], [q[0], q[1]], [o[0], o[1]])
+                    < min_h
+            })
+        })
+    })
 }
 
 /// Whether segment `p`-`q` crosses segment `a`-`b` away from `a` and `b`
