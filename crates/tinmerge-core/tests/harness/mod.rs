@@ -769,15 +769,18 @@ fn issue_73_window_on_a_ninth_arc_second_grid_is_exact() {
 
 /// What the build's own check (`check::verify_built`, run by every build
 /// before it returns) costs against the build: the UTM DEM upsampled 4x
-/// (1.9 million samples) at 2 m, 5 levels, on the lattice. Not a test (a
-/// timing): `cargo test --release -p tinmerge-core --test core -- --ignored
-/// verify_cost --nocapture`.
+/// (1.9 million samples; `TINMERGE_VERIFY_FACTOR` another upsampling) at
+/// 2 m, 5 levels, on the lattice. Not a test (a timing): `cargo test
+/// --release -p tinmerge-core --test core -- --ignored verify_cost
+/// --nocapture`.
 #[test]
 #[ignore]
 fn verify_cost() {
     use tinmerge_core::tin::build::{BuildOptions, build_lattice};
     let d = crate::common::read_dem("jacksboro_fault_dem_utm16n.tif");
-    let (_, w, h, z) = d.upsampled(4);
+    // TINMERGE_VERIFY_FACTOR: the upsampling (4: 1.9 million samples)
+    let factor = env_f64("TINMERGE_VERIFY_FACTOR").map_or(4, |f| f.max(1.0) as usize);
+    let (_, w, h, z) = d.upsampled(factor);
     let pts: Vec<[f64; 3]> = (0..w * h)
         .filter(|&i| !(z[i].is_nan() || Some(z[i]) == d.nodata))
         .map(|i| [(i % w) as f64, (i / w) as f64, z[i]])
