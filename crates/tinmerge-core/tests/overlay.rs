@@ -300,7 +300,7 @@ impl<'a> Index<'a> {
 /// the oracles; the faces path must not have fallen back on these inputs.
 fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
     let c = overlay_constrained(a, la, b, lb, &mut || Ok(())).unwrap();
-    check_one_with(a, la, b, lb, &c, true);
+    check_one_with(a, la, b, lb, &c, true, true);
     let o = overlay(a, la, b, lb, &mut || Ok(())).unwrap();
     assert_eq!(o.fallback, None, "the faces path fell back");
     check_one(a, la, b, lb, &o);
@@ -308,15 +308,24 @@ fn check(a: &Tin, la: usize, b: &Tin, lb: usize) -> Overlay {
 }
 
 pub(crate) fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
-    check_one_with(a, la, b, lb, o, false)
+    check_one_with(a, la, b, lb, o, false, true)
 }
 
 /// [`check_one`]; with `snapped`, an input vertex may be an output point
 /// within 8 units in the last place of the largest coordinate (the
 /// constrained path makes points that near one point, its
 /// `merge_coincident`: two tins' vertices an ulp apart at a grid-line
-/// crossing, harness seeds 73123, 73307, 74016).
-pub(crate) fn check_one_with(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay, snapped: bool) {
+/// crossing, harness seeds 73123, 73307, 74016); without `heights`, the
+/// output points' heights are not checked.
+pub(crate) fn check_one_with(
+    a: &Tin,
+    la: usize,
+    b: &Tin,
+    lb: usize,
+    o: &Overlay,
+    snapped: bool,
+    heights: bool,
+) {
     let dom = clip(&hull(level_pts(a, la)), &hull(level_pts(b, lb)));
     let dom_area = area(&dom);
 
@@ -449,6 +458,9 @@ pub(crate) fn check_one_with(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay
     // heights: on A's and B's surfaces, from the inputs' own point
     // location, or (a point a rounding outside a tin's triangles) the
     // nearest of its triangles by brute force
+    if !heights {
+        return;
+    }
     for (i, p) in o.pts.iter().enumerate() {
         for (src, l, z) in [(a, la, o.za[i]), (b, lb, o.zb[i])] {
             let t =
