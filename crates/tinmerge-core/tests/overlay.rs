@@ -315,8 +315,9 @@ pub(crate) fn check_one(a: &Tin, la: usize, b: &Tin, lb: usize, o: &Overlay) {
 /// within 8 units in the last place of the largest coordinate (the
 /// constrained path makes points that near one point, its
 /// `merge_coincident`: two tins' vertices an ulp apart at a grid-line
-/// crossing, harness seeds 73123, 73307, 74016); without `heights`, the
-/// output points' heights are not checked.
+/// crossing, harness seeds 73123, 73307, 74016); without `labels`, only
+/// the output's conformity, area, vertices and edges are checked, not
+/// each triangle's owners nor each point's heights.
 pub(crate) fn check_one_with(
     a: &Tin,
     la: usize,
@@ -324,7 +325,7 @@ pub(crate) fn check_one_with(
     lb: usize,
     o: &Overlay,
     snapped: bool,
-    heights: bool,
+    labels: bool,
 ) {
     let dom = clip(&hull(level_pts(a, la)), &hull(level_pts(b, lb)));
     let dom_area = area(&dom);
@@ -413,6 +414,9 @@ pub(crate) fn check_one_with(
         }
     }
 
+    if !labels {
+        return;
+    }
     // each output triangle inside its triangle of A and of B
     for (t, tri) in o.tris.iter().enumerate() {
         for (src, l, owner) in [(a, la, o.tri_a[t]), (b, lb, o.tri_b[t])] {
@@ -458,9 +462,6 @@ pub(crate) fn check_one_with(
     // heights: on A's and B's surfaces, from the inputs' own point
     // location, or (a point a rounding outside a tin's triangles) the
     // nearest of its triangles by brute force
-    if !heights {
-        return;
-    }
     for (i, p) in o.pts.iter().enumerate() {
         for (src, l, z) in [(a, la, o.za[i]), (b, lb, o.zb[i])] {
             let t =
