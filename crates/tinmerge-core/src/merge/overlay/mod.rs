@@ -51,6 +51,7 @@
 pub mod constrained;
 pub mod faces;
 mod output;
+mod outside;
 pub mod volume;
 
 pub use output::{Overlay, SAME_PLANE, difference};

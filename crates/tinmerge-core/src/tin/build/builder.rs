@@ -8,7 +8,7 @@ use crate::tin::sides::{Pt, SegKey, SideKey, SidePlan, sample_key, seg_key, side
 use crate::tin::surface::{Crossing, Reference};
 use crate::tin::{NONE, TinError, interpolate};
 use spade::Point2;
-use spade::handles::{FixedDirectedEdgeHandle, FixedVertexHandle};
+use spade::handles::FixedVertexHandle;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -227,138 +227,6 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
             )
             .then_some(i)
         })
-    }
-
-    /// On a raster, where no pixel mends the crossing `x` of edge `e`
-    /// (`u` to `w`): the two pixels of the segment are vertices and the
-    /// edge between two others crosses it all the same, or the segment runs
-    /// from a pixel to a side's vertex where it crosses that side (a ring's
-    /// crossing: its other pixel is outside), crossed in between. Whether a
-    /// vertex at the crossing may be inserted: at least a hundredth of a
-    /// pixel from the ends of that stretch and from the lines of the
-    /// triangles it makes (a vertex anywhere made triangles under 1e-3
-    /// pixel high: pg_regress `exactness.sql`).
-    fn raster_crossing_ok(
-        &self,
-        e: FixedDirectedEdgeHandle,
-        u: &[f64; 3],
-        w: &[f64; 3],
-        x: &Crossing,
-    ) -> bool {
-        let (u, w) = (*u, *w);
-        let e = self.dt.directed_edge(e);
-        let [p0, p1] = x.seg;
-        let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
-        let along = |q: &[f64; 3]| {
-            ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
-                / (seg_len * seg_len)
-        };
-        let faces: Vec<_> = [e.face(), e.rev().face()]
-            .iter()
-            .filter_map(|f| f.as_inner())
-            .collect();
-        // the side's vertex on the segment, and whether a fixed
-        // edge runs through the crossing or across the segment
-        let (mut stop, mut across, mut on_fixed) = (None::<f64>, false, false);
-        for f in &faces {
-            for g in f.adjacent_edges() {
-                if !self.fixed_edge(g.fix()) {
-                    continue;
-                }
-                let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
-                for q in [a, b] {
-                    let t = along(&q);
-                    if crate::geom::is_sliver(&p0, &p1, &q) && t > 0.0 && t < 1.0 {
-                        stop = Some(t);
-                    }
-                }
-                // never on a fixed edge up to rounding (its other
-                // parent would not have the vertex)
-                on_fixed |= crate::geom::is_sliver(&a, &b, &x.p);
-                across |= crosses_between(&a, &b, &p0, &p1);
-            }
-        }
-        let (lo, hi) = match stop {
-            _ if on_fixed => (1.0, 0.0),
-            Some(t) if x.s < t => (0.0, t),
-            Some(t) => (t, 1.0),
-            None if across => (1.0, 0.0),
-            None => (0.0, 1.0),
-        };
-        // the triangles the vertex makes: its distance to the
-        // lines from the crossed edge's ends to the faces' third
-        // corners
-        let thirds = faces.iter().map(|f| {
-            f.vertices()
-                .iter()
-                .map(|v| self.vert3(v.fix()))
-                .find(|q| q[..2] != u[..2] && q[..2] != w[..2])
-        });
-        let thin = near_face_lines(thirds, &u, &w, &x.p, 0.01 * seg_len);
-        x.s > lo + 0.01 && x.s < hi - 0.01 && !thin
-    }
-
-    /// Where samples are not all there is (no sample can mend the crossing
-    /// `x` of edge `e`): whether the crossing itself, on the reference, may
-    /// be inserted (a rounding off this edge, the Delaunay triangulation
-    /// flips the edge away rather than keep a sliver). A triangulation's
-    /// edge between two samples need not be an edge of a triangulation of
-    /// fewer of them (a vertex at a crossing can stand inside its circle),
-    /// nor a grid segment between a pixel and a ring's crossing an edge at
-    /// all, so inserting samples alone need not end it.
-    fn free_crossing_ok(
-        &self,
-        e: FixedDirectedEdgeHandle,
-        u: &[f64; 3],
-        w: &[f64; 3],
-        x: &Crossing,
-    ) -> bool {
-        let e = self.dt.directed_edge(e);
-        let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
-            f.as_inner().is_some_and(|f| {
-                f.adjacent_edges().iter().any(|g| {
-                    let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
-                    self.fixed_edge(g.fix())
-                        && (crate::geom::is_sliver(&a, &b, &x.p)
-                            || crosses_between(&a, &b, &x.seg[0], &x.seg[1]))
-                })
-            })
-        });
-        // nor within a hundredth of the crossed segment of its ends (two
-        // samples) or of a vertex already on it (vertices at crossings
-        // closing in on one point until rounding made a crack: harness
-        // seed 2006391), nor within a ten-thousandth of it of the lines
-        // from the crossed edge's ends to the third corners of its faces
-        // (the triangles it makes; a hundredth there left more levels of
-        // point builds over their tolerance, 13 of 494 against 9, where
-        // a ten-thousandth leaves 10)
-        let [p0, p1] = x.seg;
-        let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
-        let along = |q: &[f64; 3]| {
-            ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
-                / (seg_len * seg_len)
-        };
-        const GAP: f64 = 0.01;
-        const THIN: f64 = 1e-4;
-        let near_end = x.s.min(1.0 - x.s) < GAP;
-        let faces: Vec<_> = [e.face(), e.rev().face()]
-            .iter()
-            .filter_map(|f| f.as_inner())
-            .collect();
-        let on_seg = faces.iter().any(|f| {
-            f.vertices().iter().any(|v| {
-                let q = self.vert3(v.fix());
-                crate::geom::is_sliver(&p0, &p1, &q) && (along(&q) - x.s).abs() < GAP
-            })
-        });
-        let thirds = faces.iter().map(|f| {
-            f.vertices()
-                .iter()
-                .map(|v| self.vert3(v.fix()))
-                .find(|q| q[..2] != u[..2] && q[..2] != w[..2])
-        });
-        let thin = near_face_lines(thirds, u, w, &x.p, THIN * seg_len);
-        !near_fixed && !near_end && !on_seg && !thin
     }
 
     /// Store a face's measure and queue the face if it has a candidate.
@@ -791,38 +659,4 @@ impl<T: Tri> Scratch<T> {
         self.heap = b.heap;
         self.vside = b.vside;
     }
-}
-
-/// Whether a vertex at `p` on the edge `u`-`w` would be within `min_h` of
-/// a line from `u` or `w` to the third corner of a face beside the edge
-/// (`thirds`; None: a face without one, which counts as near): the
-/// triangles it would make would be that thin.
-fn near_face_lines(
-    thirds: impl Iterator<Item = Option<[f64; 3]>>,
-    u: &[f64; 3],
-    w: &[f64; 3],
-    p: &[f64; 3],
-    min_h: f64,
-) -> bool {
-    thirds.into_iter().any(|o| {
-        o.is_none_or(|o| {
-            [u, w].iter().any(|q| {
-                crate::geom::point_segment_distance([p[0], p[1]], [q[0], q[1]], [o[0], o[1]])
-                    < min_h
-            })
-        })
-    })
-}
-
-/// Whether segment `p`-`q` crosses segment `a`-`b` away from `a` and `b`
-/// (more than 1e-9 of its length from them): through one of them, it
-/// meets that vertex.
-pub(super) fn crosses_between(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3]) -> bool {
-    let (oa, ob) = (crate::geom::orient(p, q, a), crate::geom::orient(p, q, b));
-    let (op, oq) = (crate::geom::orient(a, b, p), crate::geom::orient(a, b, q));
-    if !(oa * ob < 0.0 && op * oq < 0.0) {
-        return false;
-    }
-    let s = oa / (oa - ob);
-    s > 1e-9 && s < 1.0 - 1e-9
 }

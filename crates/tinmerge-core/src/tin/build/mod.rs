@@ -45,6 +45,7 @@
 mod assemble;
 mod builder;
 mod common;
+mod crossings;
 mod finer;
 mod general;
 mod levels;
