@@ -17,18 +17,15 @@
 
 use super::faces::HullBuckets;
 use super::output::{Overlay, drop_unused};
-use super::outside::{beyond_hull_edges, outside_slivers};
+use super::outside::{Cdt, beyond_hull_edges, outside_slivers};
 use crate::geom::{co, crossing, point_segment_nearest, xy, z_along};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::{NONE, Tin, TinError, interpolate, locate};
 use robust::orient2d;
 use spade::handles::FixedVertexHandle;
 use spade::{
-    ConstrainedDelaunayTriangulation, Intersection, LineIntersectionIterator, Point2,
-    PositionInTriangulation, Triangulation,
+    Intersection, LineIntersectionIterator, Point2, PositionInTriangulation, Triangulation,
 };
-
-pub(super) type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// The edges of one level, each once: (smaller vertex id, larger).
 fn level_edges(tin: &Tin, level: usize) -> Vec<[u32; 2]> {
@@ -207,7 +204,10 @@ pub(crate) fn overlay_cdt(
     let mut outside = outside_slivers(&cdt, band, &mut tk)?;
     beyond_hull_edges(
         &cdt,
-        &[(a, &pts.src_a), (b, &pts.src_b)],
+        &[
+            (&a.tin.levels[a.level], &pts.src_a),
+            (&b.tin.levels[b.level], &pts.src_b),
+        ],
         band,
         &mut outside,
         &mut tk,
@@ -218,10 +218,10 @@ pub(crate) fn overlay_cdt(
 
 /// One input of the overlay: a tin at a level, and its hull triangles.
 #[derive(Clone, Copy)]
-pub(super) struct Side<'a> {
-    pub(super) tin: &'a Tin,
-    pub(super) level: usize,
-    pub(super) hull: &'a HullBuckets,
+struct Side<'a> {
+    tin: &'a Tin,
+    level: usize,
+    hull: &'a HullBuckets,
 }
 
 impl Side<'_> {

@@ -3,11 +3,13 @@
 //! ([`outside_slivers`]) and those in a rounding-wide notch of an input's
 //! outer boundary ([`beyond_hull_edges`]).
 
-use super::constrained::{Cdt, Side};
 use crate::interrupt::Ticker;
-use crate::tin::{NONE, TinError};
+use crate::tin::{Level, NONE, TinError};
 use spade::handles::{FaceHandle, InnerTag};
-use spade::{CdtEdge, Point2, Triangulation};
+use spade::{CdtEdge, ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+/// The constrained triangulation the overlay is made in.
+pub(super) type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// The faces of the CDT outside the common domain, by face index: those
 /// reached from the convex hull without crossing a piece of an input edge,
@@ -81,7 +83,7 @@ fn is_flat(f: FaceHandle<'_, InnerTag, Point2<f64>, (), CdtEdge<()>, ()>, band: 
 /// 73002).
 pub(super) fn beyond_hull_edges(
     cdt: &Cdt,
-    inputs: &[(Side<'_>, &Vec<u32>)],
+    inputs: &[(&Level, &Vec<u32>)],
     band: f64,
     outside: &mut [bool],
     tk: &mut Ticker<'_, '_>,
@@ -90,7 +92,7 @@ pub(super) fn beyond_hull_edges(
     let outer: Vec<rustc_hash::FxHashSet<(u32, u32)>> = inputs
         .iter()
         .map(|(s, _)| {
-            let lv = &s.tin.levels[s.level];
+            let lv = *s;
             let mut e: rustc_hash::FxHashSet<(u32, u32)> = Default::default();
             for (tri, nb) in lv.tris.iter().zip(&lv.nbrs) {
                 for j in 0..3 {
