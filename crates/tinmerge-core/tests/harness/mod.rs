@@ -28,10 +28,12 @@
 //! (run it again alone with `TINMERGE_HARNESS_SEED=<seed>
 //! TINMERGE_HARNESS_TRIALS=1`)
 //! and prints a one-line SQL reproduction on the pg_regress tables.
+//! `TINMERGE_HARNESS_KIND=<k>` runs trials of the `k`th of [`KINDS`] only.
 //! `TINMERGE_HARNESS_ALL_ORACLES=1` also checks the constrained overlay
 //! path's labels: its triangles' owners and its points' heights (see the
 //! overlay trial).
 
+mod between;
 mod oracle;
 mod terrain;
 
@@ -268,6 +270,8 @@ fn trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
     } else {
         kind
     };
+    // one kind only, for a soak aimed at it
+    let kind = env_f64("TINMERGE_HARNESS_KIND").map_or(kind, |k| k as usize % KINDS.len());
     let tols = default_tolerances(tol, levels as i32).unwrap();
     let px = r.pixel();
     let table = if r.srid == 4326 && r.sql.contains("dem_geo") {
@@ -444,6 +448,29 @@ fn trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
                 ..r
             };
             counts += check_tolerance(&t, &only, true, true).map_err(|e| fail(e, sql.clone()))?;
+            // and, half the time, samples off the grid, held to their
+            // tolerance between them too (drawn after the rest, so that
+            // the grid's trials stay as they were)
+            if rng.random_bool(0.5) {
+                let (pts, what) = between::samples(&mut rng, &only);
+                let sql = format!(
+                    "-- {what}, seeded (the harness's own): tin_from_points(ST_Collect(...), {tol:?}, {levels}) on the raster {}",
+                    r.sql
+                );
+                if pts.len() >= 3 {
+                    let hull_area = area(&hull(pts.iter().map(|p| [p[0], p[1]]).collect()));
+                    if let Some(t) = built(
+                        build_points(pts.clone(), &tols, r.srid, &mut || Ok(())),
+                        &sql,
+                    )? {
+                        builds += 1;
+                        counts += check_tin(&t, &Domain::Area(hull_area), px, FREE_THIN)
+                            .map_err(|e| fail(e, sql.clone()))?;
+                        counts +=
+                            between::check_between(&t, &pts).map_err(|e| fail(e, sql.clone()))?;
+                    }
+                }
+            }
         }
         9 => {
             // the raster cut as raster2pgsql -t n x n cuts it, each tile

@@ -162,7 +162,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 (m.best, m.cand) = (err, i as u32);
             } else if self.at_budget > 0
                 && if r.mends_at_crossings() {
-                    self.free_crossing_ok(e.fix(), &u, &w, &x)
+                    self.free_crossing_ok(e.fix(), &x)
                 } else {
                     self.raster_at && self.raster_crossing_ok(e.fix(), &u, &w, &x)
                 }

@@ -2,7 +2,8 @@
 //! ([`Builder::measure`]'s last candidate): on a raster
 //! ([`Builder::raster_crossing_ok`]) and among scattered samples
 //! ([`Builder::free_crossing_ok`]), both keeping the triangles it would
-//! make from being thin ([`near_face_lines`]).
+//! make from being thin (on a raster in pixels, [`near_face_lines`];
+//! among scattered samples in proportion to the faces it splits).
 
 use super::builder::Builder;
 use super::common::*;
@@ -88,13 +89,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
     /// fewer of them (a vertex at a crossing can stand inside its circle),
     /// nor a grid segment between a pixel and a ring's crossing an edge at
     /// all, so inserting samples alone need not end it.
-    pub(super) fn free_crossing_ok(
-        &self,
-        e: FixedDirectedEdgeHandle,
-        u: &[f64; 3],
-        w: &[f64; 3],
-        x: &Crossing,
-    ) -> bool {
+    pub(super) fn free_crossing_ok(&self, e: FixedDirectedEdgeHandle, x: &Crossing) -> bool {
         let e = self.dt.directed_edge(e);
         let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
             f.as_inner().is_some_and(|f| {
@@ -106,23 +101,33 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 })
             })
         });
-        // nor within a hundredth of the crossed segment of its ends (two
-        // samples) or of a vertex already on it (vertices at crossings
-        // closing in on one point until rounding made a crack: harness
-        // seed 2006391), nor within a ten-thousandth of it of the lines
-        // from the crossed edge's ends to the third corners of its faces
-        // (the triangles it makes; a hundredth there left more levels of
-        // point builds over their tolerance, 13 of 494 against 9, where
-        // a ten-thousandth leaves 10)
+        // nor within a thousandth of the shorter of the crossed segment
+        // and the crossed edge of the segment's ends (two samples) or of a
+        // vertex already on it (vertices at crossings closing in on one
+        // point until rounding made a crack: harness seed 2006391; in the
+        // segment's length alone, a segment a hundred times the edge,
+        // between two scan lines of a LiDAR-like cloud, refused a crossing
+        // 2 m from a side's vertex on it: seed 73484), nor within a
+        // ten-thousandth of the crossed edge of its ends: the triangles it
+        // makes are then at least that part as thick as the faces they
+        // split (their altitude over a line from an end to a face's third
+        // corner is the crossing's part of the edge times the face's own).
+        // A bound in the crossed segment's length instead refused every
+        // crossing inside a needle along the samples' hull, a hundredth of
+        // a pixel high, and left the level over its tolerance (seed 73000);
+        // a hundredth for the gaps, crossings 0.6 % along a segment from a
+        // sample that is a vertex (seed 73002).
         let [p0, p1] = x.seg;
         let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
         let along = |q: &[f64; 3]| {
             ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
                 / (seg_len * seg_len)
         };
-        const GAP: f64 = 0.01;
+        const GAP: f64 = 1e-3;
         const THIN: f64 = 1e-4;
-        let near_end = x.s.min(1.0 - x.s) < GAP;
+        let [eu, ew] = e.vertices().map(|v| self.vert3(v.fix()));
+        let gap = GAP * seg_len.min((ew[0] - eu[0]).hypot(ew[1] - eu[1])) / seg_len;
+        let near_end = x.s.min(1.0 - x.s) < gap;
         let faces: Vec<_> = [e.face(), e.rev().face()]
             .iter()
             .filter_map(|f| f.as_inner())
@@ -130,16 +135,10 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         let on_seg = faces.iter().any(|f| {
             f.vertices().iter().any(|v| {
                 let q = self.vert3(v.fix());
-                crate::geom::is_sliver(&p0, &p1, &q) && (along(&q) - x.s).abs() < GAP
+                crate::geom::is_sliver(&p0, &p1, &q) && (along(&q) - x.s).abs() < gap
             })
         });
-        let thirds = faces.iter().map(|f| {
-            f.vertices()
-                .iter()
-                .map(|v| self.vert3(v.fix()))
-                .find(|q| q[..2] != u[..2] && q[..2] != w[..2])
-        });
-        let thin = near_face_lines(thirds, u, w, &x.p, THIN * seg_len);
+        let thin = x.t.min(1.0 - x.t) < THIN;
         !near_fixed && !near_end && !on_seg && !thin
     }
 }
@@ -166,9 +165,16 @@ fn near_face_lines(
 }
 
 /// Whether segment `p`-`q` crosses segment `a`-`b` away from `a` and `b`
-/// (more than 1e-9 of its length from them): through one of them, it
-/// meets that vertex.
+/// (more than 1e-9 of its length from them, and neither on its line up to
+/// rounding): through one of them, it meets that vertex. (A side split
+/// where the segment crosses it has its vertex a rounding off the
+/// segment's line, which put the crossing 5e-9 of the piece from that
+/// end when the piece's other end is a hundredth of a pixel from the
+/// line: harness seed 73029, a LiDAR-like cloud left over its tolerance.)
 fn crosses_between(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3]) -> bool {
+    if crate::geom::is_sliver(p, q, a) || crate::geom::is_sliver(p, q, b) {
+        return false;
+    }
     let (oa, ob) = (crate::geom::orient(p, q, a), crate::geom::orient(p, q, b));
     let (op, oq) = (crate::geom::orient(a, b, p), crate::geom::orient(a, b, q));
     if !(oa * ob < 0.0 && op * oq < 0.0) {
