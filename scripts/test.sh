@@ -123,6 +123,9 @@ tests/upgrade.sh
 step "concurrency: 8 clients, mixed merges, results against a single client"
 tests/concurrency.sh
 
+step "live install: a session keeps answering through two installs of the extension (files renamed into place)"
+tests/live_install.sh
+
 step "sharding: 3 clusters, postgres_fdw, merges pushed to the shards, answers against one node"
 tests/sharding.sh
 
