@@ -6,7 +6,8 @@
 //! - [`tin`]: the hierarchy (data model, build, storage layout, grid index,
 //!   point location, invariant checks);
 //! - [`merge`]: one module per merge;
-//! - [`analysis`]: the surface on its own (contours, slope and aspect);
+//! - [`analysis`]: the surface on its own (contours, slope and aspect,
+//!   rasters out, viewsheds and lines of sight);
 //! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
 //! - [`render`]: pictures (SVG, glTF); [`serve`]: Cesium quantized-mesh tiles;
 //! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
