@@ -96,6 +96,9 @@ fi
 step "docs/sql-reference.md against pg_proc: every public function, its arguments, defaults and result"
 scripts/python.sh tests/docs_signatures.py tinmerge_regress
 
+step "every name the docs give in backticks (paths, SQL functions, settings, Rust paths, other names) exists (tests/docs_names.py)"
+scripts/python.sh tests/docs_names.py tinmerge_regress
+
 step "every public function near an oracle in a test file (tests/function_coverage.py)"
 scripts/python.sh tests/function_coverage.py tinmerge_regress
 
