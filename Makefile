@@ -1,5 +1,5 @@
 # tinmerge: the two commands are `make demo` and `make test`.
-.PHONY: demo test install start stop psql bench clean
+.PHONY: demo test install installcheck start stop psql bench clean
 
 demo:
 	scripts/demo.sh
@@ -10,6 +10,11 @@ test:
 install:
 	scripts/setup.sh
 	scripts/install.sh
+
+# the pg_regress suite and the docs' SQL examples against tinmerge installed
+# in the running cluster PGHOST/PGPORT/PGUSER name
+installcheck:
+	scripts/installcheck.sh
 
 start:
 	scripts/cluster.sh start

@@ -11,8 +11,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 db=tinmerge_examples
-q() { scripts/cluster.sh psql -X -q -v ON_ERROR_STOP=1 -d $db "$@"; }
-scripts/cluster.sh psql -X -q -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREATE DATABASE $db"
+# the test cluster, or the one TINMERGE_PSQL reaches (scripts/installcheck.sh)
+psqlc() {
+  if [ -n "${TINMERGE_PSQL:-}" ]; then $TINMERGE_PSQL -v ON_ERROR_STOP=1 "$@"; else scripts/cluster.sh psql "$@"; fi
+}
+q() { psqlc -X -q -v ON_ERROR_STOP=1 -d $db "$@"; }
+psqlc -X -q -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREATE DATABASE $db"
 q -c "CREATE EXTENSION tinmerge CASCADE" -c "CREATE EXTENSION pointcloud" -c "CREATE EXTENSION pointcloud_postgis" 2>/dev/null
 scripts/load-data.sh $db >/dev/null
 # the fixtures in their own schema, after public on the blocks' search_path:

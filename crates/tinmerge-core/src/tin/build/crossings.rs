@@ -97,7 +97,7 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                     let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
                     self.fixed_edge(g.fix())
                         && (crate::geom::is_sliver(&a, &b, &x.p)
-                            || crosses_between(&a, &b, &x.seg[0], &x.seg[1]))
+                            || crosses_away(&a, &b, &x.seg[0], &x.seg[1]))
                 })
             })
         });
@@ -164,17 +164,21 @@ fn near_face_lines(
     })
 }
 
+/// [`crosses_between`], and neither `a` nor `b` on the line of `p`-`q` up
+/// to rounding: a side split where the segment crosses it has its vertex
+/// a rounding off the segment's line, which put the crossing 5e-9 of the
+/// piece from that end when the piece's other end is a hundredth of a
+/// pixel from the line (harness seed 73029: a LiDAR-like cloud left over
+/// its tolerance, every vertex in the strip refused).
+fn crosses_away(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3]) -> bool {
+    !(crate::geom::is_sliver(p, q, a) || crate::geom::is_sliver(p, q, b))
+        && crosses_between(a, b, p, q)
+}
+
 /// Whether segment `p`-`q` crosses segment `a`-`b` away from `a` and `b`
-/// (more than 1e-9 of its length from them, and neither on its line up to
-/// rounding): through one of them, it meets that vertex. (A side split
-/// where the segment crosses it has its vertex a rounding off the
-/// segment's line, which put the crossing 5e-9 of the piece from that
-/// end when the piece's other end is a hundredth of a pixel from the
-/// line: harness seed 73029, a LiDAR-like cloud left over its tolerance.)
+/// (more than 1e-9 of its length from them): through one of them, it
+/// meets that vertex.
 fn crosses_between(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3]) -> bool {
-    if crate::geom::is_sliver(p, q, a) || crate::geom::is_sliver(p, q, b) {
-        return false;
-    }
     let (oa, ob) = (crate::geom::orient(p, q, a), crate::geom::orient(p, q, b));
     let (op, oq) = (crate::geom::orient(a, b, p), crate::geom::orient(a, b, q));
     if !(oa * ob < 0.0 && op * oq < 0.0) {
