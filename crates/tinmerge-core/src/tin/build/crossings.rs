@@ -9,7 +9,7 @@ use super::builder::Builder;
 use super::common::*;
 use crate::tin::samples::Samples;
 use crate::tin::surface::Crossing;
-use spade::handles::FixedDirectedEdgeHandle;
+use spade::handles::{FaceHandle, FixedDirectedEdgeHandle, InnerTag};
 
 impl<S: Samples, T: Tri> Builder<'_, S, T> {
     /// On a raster, where no pixel mends the crossing `x` of edge `e`
@@ -29,17 +29,9 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         x: &Crossing,
     ) -> bool {
         let (u, w) = (*u, *w);
-        let e = self.dt.directed_edge(e);
         let [p0, p1] = x.seg;
-        let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
-        let along = |q: &[f64; 3]| {
-            ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
-                / (seg_len * seg_len)
-        };
-        let faces: Vec<_> = [e.face(), e.rev().face()]
-            .iter()
-            .filter_map(|f| f.as_inner())
-            .collect();
+        let (seg_len, along) = along_segment(x);
+        let faces = self.faces_beside(e);
         // the side's vertex on the segment, and whether a fixed
         // edge runs through the crossing or across the segment
         let (mut stop, mut across, mut on_fixed) = (None::<f64>, false, false);
@@ -90,15 +82,13 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
     /// nor a grid segment between a pixel and a ring's crossing an edge at
     /// all, so inserting samples alone need not end it.
     pub(super) fn free_crossing_ok(&self, e: FixedDirectedEdgeHandle, x: &Crossing) -> bool {
-        let e = self.dt.directed_edge(e);
-        let near_fixed = [e.face(), e.rev().face()].iter().any(|f| {
-            f.as_inner().is_some_and(|f| {
-                f.adjacent_edges().iter().any(|g| {
-                    let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
-                    self.fixed_edge(g.fix())
-                        && (crate::geom::is_sliver(&a, &b, &x.p)
-                            || crosses_away(&a, &b, &x.seg[0], &x.seg[1]))
-                })
+        let faces = self.faces_beside(e);
+        let near_fixed = faces.iter().any(|f| {
+            f.adjacent_edges().iter().any(|g| {
+                let [a, b] = g.vertices().map(|v| self.vert3(v.fix()));
+                self.fixed_edge(g.fix())
+                    && (crate::geom::is_sliver(&a, &b, &x.p)
+                        || crosses_away(&a, &b, &x.seg[0], &x.seg[1]))
             })
         });
         // nor within a thousandth of the shorter of the crossed segment
@@ -118,20 +108,16 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         // a hundredth for the gaps, crossings 0.6 % along a segment from a
         // sample that is a vertex (seed 73002).
         let [p0, p1] = x.seg;
-        let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
-        let along = |q: &[f64; 3]| {
-            ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1]))
-                / (seg_len * seg_len)
-        };
+        let (seg_len, along) = along_segment(x);
         const GAP: f64 = 1e-3;
         const THIN: f64 = 1e-4;
-        let [eu, ew] = e.vertices().map(|v| self.vert3(v.fix()));
+        let [eu, ew] = self
+            .dt
+            .directed_edge(e)
+            .vertices()
+            .map(|v| self.vert3(v.fix()));
         let gap = GAP * seg_len.min((ew[0] - eu[0]).hypot(ew[1] - eu[1])) / seg_len;
         let near_end = x.s.min(1.0 - x.s) < gap;
-        let faces: Vec<_> = [e.face(), e.rev().face()]
-            .iter()
-            .filter_map(|f| f.as_inner())
-            .collect();
         let on_seg = faces.iter().any(|f| {
             f.vertices().iter().any(|v| {
                 let q = self.vert3(v.fix());
@@ -141,6 +127,38 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         let thin = x.t.min(1.0 - x.t) < THIN;
         !near_fixed && !near_end && !on_seg && !thin
     }
+}
+
+impl<S: Samples, T: Tri> Builder<'_, S, T> {
+    /// The inner faces on either side of edge `e`.
+    fn faces_beside(&self, e: FixedDirectedEdgeHandle) -> Vec<InnerFace<'_, T>> {
+        let e = self.dt.directed_edge(e);
+        [e.face(), e.rev().face()]
+            .iter()
+            .filter_map(|f| f.as_inner())
+            .collect()
+    }
+}
+
+/// An inner face of a builder's triangulation.
+type InnerFace<'a, T> = FaceHandle<
+    'a,
+    InnerTag,
+    <T as spade::Triangulation>::Vertex,
+    <T as spade::Triangulation>::DirectedEdge,
+    <T as spade::Triangulation>::UndirectedEdge,
+    <T as spade::Triangulation>::Face,
+>;
+
+/// The crossed segment's length, and where a point lies along it (0 at
+/// its first end, 1 at its second, by projection).
+fn along_segment(x: &Crossing) -> (f64, impl Fn(&[f64; 3]) -> f64) {
+    let [p0, p1] = x.seg;
+    let seg_len = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
+    let along = move |q: &[f64; 3]| {
+        ((q[0] - p0[0]) * (p1[0] - p0[0]) + (q[1] - p0[1]) * (p1[1] - p0[1])) / (seg_len * seg_len)
+    };
+    (seg_len, along)
 }
 
 /// Whether a vertex at `p` on the edge `u`-`w` would be within `min_h` of
