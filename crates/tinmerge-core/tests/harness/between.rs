@@ -13,7 +13,7 @@
 //! `tests/properties/check_points_between.py` checks in SQL on the two
 //! whole DEMs, here on random windows and lattices).
 
-use super::oracle::{Counts, corners};
+use super::oracle::{Counts, corners, error_at};
 use super::terrain::Raster;
 use rand::Rng;
 use rand::rngs::StdRng;
@@ -174,28 +174,6 @@ impl Cells {
     }
 }
 
-/// The height of the triangle `c` at `q` if `q` is in it (up to `eps` of
-/// its area's rounding, barycentric).
-fn height_in(c: &[[f64; 3]; 3], q: [f64; 2], eps: f64) -> Option<f64> {
-    let d = (c[1][0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
-    if d == 0.0 {
-        return None;
-    }
-    let b1 = ((q[0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (q[1] - c[0][1])) / d;
-    let b2 = ((c[1][0] - c[0][0]) * (q[1] - c[0][1]) - (q[0] - c[0][0]) * (c[1][1] - c[0][1])) / d;
-    let b0 = 1.0 - b1 - b2;
-    (b0 >= -eps && b1 >= -eps && b2 >= -eps).then(|| b0 * c[0][2] + b1 * c[1][2] + b2 * c[2][2])
-}
-
-/// The smallest error of the triangles `cand` of `tris` holding `q`
-/// (a point on an edge is in both; the surface is continuous there).
-fn error_in(tris: &[[[f64; 3]; 3]], cand: &[u32], q: [f64; 2], z: f64) -> Option<f64> {
-    cand.iter()
-        .filter_map(|&k| height_in(&tris[k as usize], q, 1e-9))
-        .map(|h| (h - z).abs())
-        .min_by(f64::total_cmp)
-}
-
 /// Where segment `a`-`b` crosses `p`-`q` properly: the parameters along
 /// each (exact orientation decides that they cross).
 fn crossing(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], q: &[f64; 3]) -> Option<(f64, f64)> {
@@ -276,6 +254,9 @@ pub fn check_between(t: &Tin, pts: &[[f64; 3]]) -> Result<Counts, String> {
         .collect();
     let zspan = (t.bbox.max_z - t.bbox.min_z).abs().max(1.0);
     let span = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    // a point on an edge up to rounding is in the triangle: a billionth of
+    // the samples' extent (far above a coordinate's rounding)
+    let slack = 1e-9 * span;
     for (l, lv) in t.levels.iter().enumerate() {
         let tol = lv.tolerance * (1.0 + 1e-9) + 1e-9 * zspan;
         let over = |what: String, e: f64| {
@@ -295,7 +276,7 @@ pub fn check_between(t: &Tin, pts: &[[f64; 3]]) -> Result<Counts, String> {
         for p in pts {
             let c = lt_cells.cell(p[0], p[1]);
             let cand = &lt_cells.items[c.1 * lt_cells.nx + c.0];
-            match error_in(&tris, cand, [p[0], p[1]], p[2]) {
+            match error_at(&tris, cand, [p[0], p[1]], p[2], slack) {
                 Some(e) if e > tol => {
                     return Err(over(format!("the sample ({:?}, {:?})", p[0], p[1]), e));
                 }
@@ -330,7 +311,7 @@ pub fn check_between(t: &Tin, pts: &[[f64; 3]]) -> Result<Counts, String> {
                 let c = rt_cells.cell(v[0], v[1]);
                 let cand = &rt_cells.items[c.1 * rt_cells.nx + c.0];
                 // a vertex a rounding outside the hull: nothing to compare
-                if let Some(e) = error_in(&rtris, cand, [v[0], v[1]], v[2])
+                if let Some(e) = error_at(&rtris, cand, [v[0], v[1]], v[2], slack)
                     && e > tol
                 {
                     return Err(over(format!("the vertex ({:?}, {:?})", v[0], v[1]), e));

@@ -256,12 +256,12 @@ pub fn check_tin(t: &Tin, dom: &Domain, unit: f64, thin: f64) -> Result<Counts, 
     Ok(n)
 }
 
-/// A level's height at lattice point `q` from triangles given in lattice
-/// coordinates (with heights): the smallest error against `z` over the
-/// triangles that hold `q` (up to 1e-7 pixel: the rounding of the world
-/// coordinates the lattice coordinates were recovered from), None if none
-/// does.
-fn error_at(tris: &[[[f64; 3]; 3]], cand: &[u32], q: P, z: f64) -> Option<f64> {
+/// A level's height at point `q` from triangles (with heights): the
+/// smallest error against `z` over the triangles that hold `q` (up to
+/// `slack` of distance, in the triangles' units: on the lattice 1e-7
+/// pixel, the rounding of the world coordinates the lattice coordinates
+/// were recovered from), None if none does.
+pub fn error_at(tris: &[[[f64; 3]; 3]], cand: &[u32], q: P, z: f64, slack: f64) -> Option<f64> {
     let mut best: Option<f64> = None;
     for &k in cand {
         let c = &tris[k as usize];
@@ -271,7 +271,7 @@ fn error_at(tris: &[[[f64; 3]; 3]], cand: &[u32], q: P, z: f64) -> Option<f64> {
         let inside = (0..3).all(|j| {
             let (a, b) = (c[j], c[(j + 1) % 3]);
             let o = (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]);
-            o * d.signum() / (b[0] - a[0]).hypot(b[1] - a[1]) >= -1e-7
+            o * d.signum() / (b[0] - a[0]).hypot(b[1] - a[1]) >= -slack
         });
         if !inside {
             continue;
@@ -329,7 +329,7 @@ pub fn check_tolerance(
                 let Some(z) = r.at(col as i64, row as i64) else {
                     continue;
                 };
-                match error_at(&tris, cand, [col as f64, row as f64], z) {
+                match error_at(&tris, cand, [col as f64, row as f64], z, 1e-7) {
                     Some(e) if e > tol => {
                         return Err(format!(
                             "level {l} (tolerance {}): pixel ({col}, {row}) is {e} off",
