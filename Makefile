@@ -1,5 +1,5 @@
 # tinmerge: the two commands are `make demo` and `make test`.
-.PHONY: demo test install installcheck start stop psql bench clean
+.PHONY: demo test install installcheck package start stop psql bench clean
 
 demo:
 	scripts/demo.sh
@@ -15,6 +15,11 @@ install:
 # in the running cluster PGHOST/PGPORT/PGUSER name
 installcheck:
 	scripts/installcheck.sh
+
+# target/postgresql-15-tinmerge_<version>_amd64.deb (lintian-checked)
+package:
+	scripts/setup.sh
+	scripts/package.sh
 
 start:
 	scripts/cluster.sh start

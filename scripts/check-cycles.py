@@ -16,7 +16,7 @@ from pathlib import Path
 # The core's layers, lowest first: a module may use its own layer's and the
 # layers below, never above (the crate root, which declares them all, aside).
 LAYERS = [
-    {"error", "geom", "interrupt", "memory", "par", "polygon"},
+    {"error", "geom", "interrupt", "memory", "progress", "par", "polygon"},
     {"io"},
     {"tin"},
     {"merge", "analysis"},

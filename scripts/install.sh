@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Build (release) and install tinmerge into the system PostgreSQL 15
-# (as root directly, otherwise through sudo), with the install scripts of
-# earlier releases and the upgrade scripts from them (sql/versions/), so
-# CREATE EXTENSION tinmerge VERSION '<old>' and ALTER EXTENSION tinmerge
-# UPDATE work. TINMERGE_FEATURES=bench adds the benchmark-only SQL entry
-# points (`make bench` does; `make install` never).
+# (as root directly, otherwise through sudo): the files scripts/stage.sh
+# stages in target/package (the library, the control file, the install
+# script and those of earlier releases with the upgrade scripts from them).
+# TINMERGE_FEATURES=bench adds the benchmark-only SQL entry points
+# (`make bench` does; `make install` never). A Debian package of the same
+# files: `make package` (scripts/package.sh).
 #
 # Safe on a live server: every file is written under a temporary name in
 # its own directory and renamed over the old one, as dpkg does, so a
@@ -17,18 +18,10 @@
 # (target/package) without building (tests/live_install.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PG_CONFIG=/usr/lib/postgresql/15/bin/pg_config
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 OUT="$PWD/target/package"
-if [ "${TINMERGE_INSTALL_NO_BUILD:-}" != 1 ]; then
-  rm -rf "$OUT"
-  # the files `cargo pgrx install` would copy, under $OUT/<their path>
-  cargo pgrx package --pg-config "$PG_CONFIG" --out-dir "$OUT" \
-    ${TINMERGE_FEATURES:+--features "$TINMERGE_FEATURES"}
-  ext="$OUT$("$PG_CONFIG" --sharedir)/extension"
-  install -m 644 sql/versions/tinmerge--*.sql "$ext/"
-fi
+[ "${TINMERGE_INSTALL_NO_BUILD:-}" = 1 ] || scripts/stage.sh
 [ -d "$OUT" ] || { echo "install.sh: nothing packaged in $OUT (run without TINMERGE_INSTALL_NO_BUILD)" >&2; exit 1; }
 # put FILE DEST: written as DEST.new-<pid> beside DEST, then renamed over it
 put() {

@@ -12,6 +12,8 @@ cd "$(dirname "$0")/.."
 db=tinmerge_installcheck
 P=(psql -X -q -v ON_ERROR_STOP=1)
 export TINMERGE_PSQL="psql -X"
+# outputs are compared: no progress NOTICE lines from a slow statement
+export PGOPTIONS="${PGOPTIONS:-} -c tinmerge.progress_interval=0"
 echo "== installcheck against ${PGHOST:-the default host}:${PGPORT:-5432} as ${PGUSER:-$(id -un)}: tinmerge $("${P[@]}" -Atd postgres -c "SELECT default_version FROM pg_available_extensions WHERE name = 'tinmerge'")"
 "${P[@]}" -d postgres -c "DROP DATABASE IF EXISTS $db" -c "CREATE DATABASE $db"
 trap '"${P[@]}" -d postgres -c "DROP DATABASE IF EXISTS $db" -c "DROP DATABASE IF EXISTS tinmerge_examples" >/dev/null 2>&1 || true' EXIT

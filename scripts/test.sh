@@ -15,6 +15,9 @@ step() {
   echo "== $1"
 }
 scripts/setup.sh
+# tests compare outputs: no progress NOTICE lines however long a statement
+# runs (tests/progress.sh sets the interval it tests)
+export PGOPTIONS="${PGOPTIONS:-} -c tinmerge.progress_interval=0"
 
 step "no module imports one that imports it back"
 scripts/python.sh scripts/check-cycles.py src crates/tinmerge-core/src
@@ -52,10 +55,12 @@ else
   [ "$rc" -eq 0 ] || exit "$rc"
 fi
 
-step "install the extension"
-scripts/install.sh
+step "the Debian package: release build staged, .deb built and checked by lintian, installed with apt-get in place of any development install"
+scripts/stage.sh
+TINMERGE_PACKAGE_NO_BUILD=1 scripts/package.sh
+tests/package.sh install
 
-step "pg_regress (two halves at once, each in its own database)"
+step "pg_regress against the installed package, as an installcheck (two halves at once, each in its own database)"
 scripts/cluster.sh stop
 rm -rf target/pg
 scripts/cluster.sh start
@@ -105,35 +110,37 @@ scripts/python.sh tests/function_coverage.py tinmerge_regress
 step "shared_preload_libraries: point, area and storage regress tests on a preloaded server"
 tests/preload.sh
 
-step "browser: the demo page's pictures and 3D views in headless Chromium"
-tests/browser.sh
-
-step "globe: quantized-mesh tiles decoded by loaders.gl against PostGIS, CesiumJS drawing the served terrain"
-tests/globe.sh
-
-step "tutorial: every block of docs/tutorial.md, in order"
-tests/tutorial.sh
-
-step "every SQL block of README.md and docs/sql-reference.md, as written"
-tests/doc_examples.sh
-
-step "COPY, pg_dump, pg_restore"
-tests/dump_restore.sh
-
-step "extension upgrade from the previous release"
-tests/upgrade.sh
-
-step "concurrency: 8 clients, mixed merges, results against a single client"
-tests/concurrency.sh
-
-step "live install: a session keeps answering through two installs of the extension (files renamed into place)"
-tests/live_install.sh
-
-step "sharding: 3 clusters, postgres_fdw, merges pushed to the shards, answers against one node"
-tests/sharding.sh
-
-step "a terrain bigger than one value at test size: 4.5 million pixels as tiles, checked against PostGIS"
-tests/big.sh
+step "two lanes at once: the pictures and globes in Chromium | tutorial, doc examples, dump/restore, upgrade, concurrency, live install, progress, sharding, big terrain"
+# Chromium's software rendering beside the SQL tests, which leave a core
+# idle; each test has its own databases, ports and files. A lane stops at
+# its first failure; both logs are printed, then the failures.
+lane_sh() { # log file, then "description|command" in order
+  local log=$1 c; shift
+  for c in "$@"; do
+    echo "== ${c%%|*}"
+    local t0=$SECONDS
+    ${c#*|} || { echo "FAILED: ${c%%|*}"; return 1; }
+    echo "   ($((SECONDS - t0)) s)"
+  done > "$log" 2>&1
+}
+lane_sh target/lane-1.log \
+  "browser: the demo page's pictures and 3D views in headless Chromium|tests/browser.sh" \
+  "globe: quantized-mesh tiles decoded by loaders.gl against PostGIS, CesiumJS drawing the served terrain|tests/globe.sh" & l1=$!
+lane_sh target/lane-2.log \
+  "tutorial: every block of docs/tutorial.md, in order|tests/tutorial.sh" \
+  "every SQL block of README.md and docs/sql-reference.md, as written|tests/doc_examples.sh" \
+  "COPY, pg_dump, pg_restore|tests/dump_restore.sh" \
+  "extension upgrade from the previous release|tests/upgrade.sh" \
+  "concurrency: 8 clients, mixed merges, results against a single client|tests/concurrency.sh" \
+  "live install: a session keeps answering through two installs of the extension (files renamed into place)|tests/live_install.sh" \
+  "progress: a build's progress read from a second session, NOTICE lines, cancel|tests/progress.sh" \
+  "sharding: 3 clusters, postgres_fdw, merges pushed to the shards, answers against one node|tests/sharding.sh" \
+  "a terrain bigger than one value at test size: 4.5 million pixels as tiles, checked against PostGIS|tests/big.sh" & l2=$!
+r1=0 r2=0
+wait $l1 || r1=$?
+wait $l2 || r2=$?
+cat target/lane-1.log target/lane-2.log
+[ "$r1" -eq 0 ] && [ "$r2" -eq 0 ] || { echo "a test of the two lanes failed (above)"; exit 1; }
 
 step "tinmerge.max_memory from outside: the DEM 8x finer builds under the defaults, a build past the limit stopped (backend VmHWM)"
 tests/memory.sh
@@ -158,6 +165,11 @@ wait $l1 || r1=$?
 wait $l2 || r2=$?
 cat target/properties-1.log target/properties-2.log
 [ "$r1" -eq 0 ] && [ "$r2" -eq 0 ] || { echo "a property check failed (above)"; exit 1; }
+
+step "the package removed with apt-get: no tinmerge file left"
+scripts/cluster.sh stop
+trap - EXIT
+tests/package.sh remove
 step "done"
 echo "== step times"
 printf '%s' "$TIMES"

@@ -6,7 +6,7 @@ Read: README.md and docs/*.md. Checked, each span in backticks that is
  - a path of the repository (starting with crates/, src/, scripts/, tests/,
    docs/, sql/ or .ci/; a `*` in it is a glob): it exists;
  - a SQL function (`tin_...`, alone or called): the installed extension
-   has it (pg_proc), unless the span is a table or column the docs make;
+   has it (pg_proc, or a view of that name: pg_views), unless the span is a table or column the docs make;
  - a setting (`tinmerge.name`): pg_settings has it once the library is
    loaded;
  - a bare name with an underscore (`refine_parent_general`, `max_error`):
@@ -86,7 +86,8 @@ def definitions(files, members):
 def main():
     db = sys.argv[1] if len(sys.argv) > 1 else "tinmerge_regress"
     funcs = psql(db, "SELECT DISTINCT proname FROM pg_proc WHERE proname LIKE 'tin%' "
-                     "UNION SELECT opcname FROM pg_opclass WHERE opcname LIKE 'tin%'")
+                     "UNION SELECT opcname FROM pg_opclass WHERE opcname LIKE 'tin%' "
+                     "UNION SELECT viewname FROM pg_views WHERE viewname LIKE 'tin%'")
     settings = psql(db, "LOAD 'tinmerge'; SELECT name FROM pg_settings WHERE name LIKE 'tinmerge.%'")
     files = rust_files()
     # modules: files and folders by name; types: the files defining them

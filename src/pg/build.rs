@@ -9,6 +9,7 @@ use pgrx::prelude::*;
 use super::errors::{raise, raise_hint, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
+use super::progress::track;
 use super::tin_type::TinOut;
 
 use tinmerge_core::io::{ewkb, raster};
@@ -387,17 +388,19 @@ fn build_raster_constrained(
         // from their samples alone)
         drop(heights);
         reserve_build("tin_from_raster", pts.len(), tols.len(), true);
-        let tile = build_tile_window(
-            pts,
-            &lattice,
-            (0, 0),
-            (w, h),
-            tols,
-            srid,
-            &Default::default(),
-            false,
-            &mut interrupt,
-        )
+        let tile = track("tin_from_raster", || {
+            build_tile_window(
+                pts,
+                &lattice,
+                (0, 0),
+                (w, h),
+                tols,
+                srid,
+                &Default::default(),
+                false,
+                &mut interrupt,
+            )
+        })
         .or_raise();
         let Some((tin, _)) = tile else {
             raise(
@@ -413,17 +416,19 @@ fn build_raster_constrained(
         boundary,
         fill_gaps,
     };
-    let tin = tinmerge_core::tin::build::build_raster(
-        heights,
-        with,
-        tols,
-        srid,
-        &mut |samples, bytes| {
-            reserve_build_bytes("tin_from_raster", samples, tols.len(), bytes);
-            Ok(())
-        },
-        &mut interrupt,
-    )
+    let tin = track("tin_from_raster", || {
+        tinmerge_core::tin::build::build_raster(
+            heights,
+            with,
+            tols,
+            srid,
+            &mut |samples, bytes| {
+                reserve_build_bytes("tin_from_raster", samples, tols.len(), bytes);
+                Ok(())
+            },
+            &mut interrupt,
+        )
+    })
     .or_raise();
     TinOut::from_tin_on(&tin, &lattice)
 }
@@ -483,23 +488,25 @@ fn _tin_tiles(
         },
     );
     let mut rows = Vec::new();
-    build_tiles(
-        &b.values,
-        r.width,
-        r.height,
-        &|v| b.is_valid(v),
-        &lattice,
-        tile_px as usize,
-        &tols,
-        fill_gaps,
-        r.srid,
-        &mut interrupt,
-        &|tx, ty, tin| (tx as i32, ty as i32, TinOut::from_tin_on(&tin, &lattice)),
-        &mut |row| {
-            rows.push(row);
-            Ok(())
-        },
-    )
+    track("tin_tiles", || {
+        build_tiles(
+            &b.values,
+            r.width,
+            r.height,
+            &|v| b.is_valid(v),
+            &lattice,
+            tile_px as usize,
+            &tols,
+            fill_gaps,
+            r.srid,
+            &mut interrupt,
+            &|tx, ty, tin| (tx as i32, ty as i32, TinOut::from_tin_on(&tin, &lattice)),
+            &mut |row| {
+                rows.push(row);
+                Ok(())
+            },
+        )
+    })
     .or_raise();
     TableIterator::new(rows)
 }
@@ -523,10 +530,10 @@ fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinO
         between_samples: true,
     };
     reserve_build("tin_from_raster", pts.len(), tols.len(), true);
-    TinOut::from_tin_on(
-        &build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt).or_raise(),
-        &lattice,
-    )
+    let tin = track("tin_from_raster", || {
+        build_lattice(pts, &lattice, tols, srid, opts, &mut interrupt)
+    });
+    TinOut::from_tin_on(&tin.or_raise(), &lattice)
 }
 
 #[pg_extern(immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
@@ -539,7 +546,10 @@ fn _tin_from_points(pts: &[u8], tolerance: f64, levels: i32) -> TinOut {
         tols.len(),
         points_build_bytes(samples.len(), tols.len()),
     );
-    TinOut::from_tin(&build_points(samples, &tols, srid, &mut interrupt).or_raise())
+    let tin = track("tin_from_points", || {
+        build_points(samples, &tols, srid, &mut interrupt)
+    });
+    TinOut::from_tin(&tin.or_raise())
 }
 
 /// `tin_from_points` with breaklines or a boundary; NULLs as for
@@ -577,14 +587,16 @@ pub(super) fn build_points_domain(
     tols: &[f64],
     srid: i32,
 ) -> tinmerge_core::tin::Tin {
-    tinmerge_core::tin::build::build_points_domain(
-        samples,
-        lines,
-        &area.iter().collect::<Vec<_>>(),
-        tols,
-        srid,
-        &mut interrupt,
-    )
+    track("tin_from_points", || {
+        tinmerge_core::tin::build::build_points_domain(
+            samples,
+            lines,
+            &area.iter().collect::<Vec<_>>(),
+            tols,
+            srid,
+            &mut interrupt,
+        )
+    })
     .or_raise()
 }
 

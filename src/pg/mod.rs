@@ -104,6 +104,7 @@ mod overviews;
 mod planner;
 mod point;
 mod points_agg;
+mod progress;
 mod raster;
 mod render;
 mod serve;
@@ -125,6 +126,7 @@ pub extern "C-unwind" fn _PG_init() {
     cache::define_guc();
     memory::define_guc();
     threads::define_guc();
+    progress::define_guc();
     planner::init();
 }
 

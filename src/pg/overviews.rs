@@ -168,6 +168,7 @@ fn _tin_overviews(
         } else if let Some(base) = &base {
             layer = layer.covering(base.clone());
         }
+        let layer = layer.labelled(format!("layer x{factor}: "));
         if let Some(d) = pixel_degrees(&layer) {
             let first = layers.first().map(|l| (l.2.srid(), l.2.from().to_string()));
             if let Some((srid, from)) = first.filter(|f| f.0 != layer.srid()) {

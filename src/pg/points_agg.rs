@@ -183,7 +183,10 @@ fn _tin_points_agg_final(mut state: Internal) -> Option<TinOut> {
             let area = read(&d[2]).and_then(|g| boundary_of(F, g, srid));
             build_points_domain(samples, &lines, area, &tols, srid)
         }
-        _ => build_points(samples, &tols, srid, &mut interrupt).or_raise(),
+        _ => super::progress::track("tin_from_points_agg", || {
+            build_points(samples, &tols, srid, &mut interrupt)
+        })
+        .or_raise(),
     };
     Some(TinOut::from_tin(&tin))
 }

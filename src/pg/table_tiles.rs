@@ -56,6 +56,10 @@ pub(super) struct TableTiles {
     /// centres (none for a table built as it is), and the frame, found
     /// once (`TableGrid::frame`).
     pad: (tinmerge_core::tin::tiles::Pad, [i64; 4]),
+    /// Progress reported (`super::progress`), its phases named after
+    /// `label` (an overview layer's).
+    tracker: super::progress::Tracker,
+    label: String,
 }
 
 impl TableTiles {
@@ -77,6 +81,12 @@ impl TableTiles {
     /// The table's tiles, to share (an overview layer's base).
     pub(super) fn source(&self) -> std::sync::Arc<TableSource> {
         self.src.clone()
+    }
+
+    /// This layer with its progress reported as `label`'s.
+    pub(super) fn labelled(mut self, label: String) -> TableTiles {
+        self.label = label;
+        self
     }
 
     /// This layer, an overview of `base`, with its nodata pixels given
@@ -145,6 +155,8 @@ impl TableTiles {
             plan,
             fill_gaps,
             pad: Default::default(),
+            tracker: super::progress::Tracker::new(func),
+            label: String::new(),
         }
     }
 
@@ -336,12 +348,24 @@ impl Iterator for TableTiles {
             }
             if self.next >= self.order.len() {
                 if !self.planning {
+                    self.tracker.finish();
                     return None;
                 }
                 self.end_round();
                 continue;
             }
             pgrx::check_for_interrupts!();
+            let phase = if self.planning {
+                format!(
+                    "{}planning the seams (round {}): building tiles",
+                    self.label,
+                    self.round + 1
+                )
+            } else {
+                format!("{}building tiles", self.label)
+            };
+            let (done, total) = (self.next as u64, self.order.len() as u64);
+            self.tracker.set(&phase, "tiles", done, total);
             self.build_batch();
         }
     }

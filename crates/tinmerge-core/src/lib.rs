@@ -11,12 +11,12 @@
 //! - [`io`]: PostGIS wire formats (EWKB, GSERIALIZED, WKB raster);
 //! - [`render`]: pictures (SVG, glTF); [`serve`]: Cesium quantized-mesh tiles;
 //! - [`geom`]: the geometric primitives all of them use; [`interrupt`]: how
-//!   long work is cancelled; [`error`]: [`TinError`];
+//!   long work is cancelled; [`progress`]: how far it is; [`error`]: [`TinError`];
 //!   [`polygon`]: polygonal areas; [`par`] and [`memory`]: threads and the
 //!   counting allocator.
 //!
 //! They stand in layers, each using only its own and those below:
-//! `error`, `geom`, `interrupt`, `par`, `memory`, `polygon`; then `io`;
+//! `error`, `geom`, `interrupt`, `progress`, `par`, `memory`, `polygon`; then `io`;
 //! `tin`; `merge` and `analysis`; `serve` and `render`
 //! (`scripts/check-cycles.py` enforces it; docs/architecture.md).
 //!
@@ -36,6 +36,7 @@ pub mod memory;
 pub mod merge;
 pub mod par;
 pub mod polygon;
+pub mod progress;
 pub mod render;
 pub mod serve;
 pub mod tin;

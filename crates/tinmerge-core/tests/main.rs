@@ -21,6 +21,7 @@ mod line;
 mod overlay;
 mod point;
 mod points_surface;
+mod progress;
 mod quantized_mesh;
 mod raster;
 mod rasterize;

@@ -138,17 +138,20 @@ pub fn build_tiles<R: Send>(
                 rows.start as i64..rows.end as i64,
             );
             let size = (cols.len(), rows.len());
-            let built = build_tile_window(
-                samples,
-                lattice,
-                origin,
-                size,
-                tolerances,
-                srid,
-                &keep,
-                fill_gaps,
-                &mut || Ok(()),
-            )?;
+            // (a tile's own levels are not reported between the tiles)
+            let built = crate::progress::quiet(|| {
+                build_tile_window(
+                    samples,
+                    lattice,
+                    origin,
+                    size,
+                    tolerances,
+                    srid,
+                    &keep,
+                    fill_gaps,
+                    &mut || Ok(()),
+                )
+            })?;
             Ok(built.map(|(tin, wanted)| (each(tx, ty, tin), wanted)))
         };
     let mut results: Vec<Option<R>> = (0..tiles.len()).map(|_| None).collect();
@@ -156,9 +159,17 @@ pub fn build_tiles<R: Send>(
     let mut todo: Vec<usize> = (0..tiles.len()).collect();
     for round in 0..=SEAM_ROUNDS {
         let mut asked: Vec<Wanted> = Vec::new();
+        let phase = if round == 0 {
+            "building tiles".to_string()
+        } else {
+            format!("building tiles again with their seams' samples (round {round})")
+        };
+        let mut done = 0u64;
         // one tile per thread at a time (a tile is a whole build:
         // interrupts are seen between tiles, not within one)
         for batch in todo.chunks(par::threads().max(1)) {
+            crate::progress::step(&phase, "tiles", done, todo.len() as u64);
+            done += batch.len() as u64;
             interrupt()?;
             let built = par::map(batch, |&k| one(&tiles[k], &seams));
             for (&k, r) in batch.iter().zip(built) {
@@ -171,6 +182,7 @@ pub fn build_tiles<R: Send>(
                 asked.push(wanted);
             }
         }
+        crate::progress::step(&phase, "tiles", done, todo.len() as u64);
         if round == SEAM_ROUNDS {
             break;
         }

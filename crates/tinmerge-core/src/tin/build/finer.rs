@@ -62,7 +62,12 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
         let Some(prev) = raw.last() else {
             return Err(TinError::Degenerate("internal: no level to refine".into()));
         };
-        let level = Parents::new(spec, prev, &numbering, tol)?;
+        let mut level = Parents::new(spec, prev, &numbering, tol)?;
+        level.phase = format!(
+            "refining a level parent by parent ({} of {})",
+            li + 1,
+            spec.tolerances.len()
+        );
         // the memory limit sees what the level set up, and what merging
         // its children adds, as it grows
         interrupt()?;
@@ -71,10 +76,17 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
         if spec.reference.is_none() {
             // measured at the samples only: each batch merged as it comes
             // (no level's parents held at once)
-            level.run(&all, &Forced::default(), &[], interrupt, &mut |o| {
-                numbering.merge(spec.src, o, &mut out);
-                Ok(())
-            })?;
+            level.run(
+                &level.phase,
+                &all,
+                &Forced::default(),
+                &[],
+                interrupt,
+                &mut |o| {
+                    numbering.merge(spec.src, o, &mut out);
+                    Ok(())
+                },
+            )?;
         } else {
             let outs = level.refine_forced(spec.border.get(li), interrupt)?;
             for (i, o) in outs.into_iter().enumerate() {
@@ -211,6 +223,8 @@ struct Parents<'a, P: ParentSamples> {
     /// samples
     corner_extras: Vec<[f64; 3]>,
     tol: f64,
+    /// what [`crate::progress::step`] calls this level's refinement
+    phase: String,
 }
 
 impl<'a, P: ParentSamples> Parents<'a, P> {
@@ -249,6 +263,7 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
             corner_samples: numbering.vsample.clone(),
             corner_extras: numbering.extras.clone(),
             tol,
+            phase: String::new(),
         })
     }
 
@@ -328,6 +343,7 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
     /// output handed to `take` in the order of `ts`.
     fn run(
         &self,
+        phase: &str,
         ts: &[usize],
         forced: &Forced,
         last_resort: &[bool],
@@ -335,6 +351,7 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
         take: &mut dyn FnMut(ParentOut) -> Result<(), TinError>,
     ) -> Result<(), TinError> {
         let groups = self.groups_of(ts);
+        let (mut done, total) = (0u64, ts.len() as u64);
         crate::par::map_batched(
             &groups,
             |g| {
@@ -361,7 +378,9 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
             &mut |o: Result<Vec<ParentOut>, TinError>| {
                 for p in o? {
                     take(p)?;
+                    done += 1;
                 }
+                crate::progress::step(phase, "triangles", done, total);
                 Ok(())
             },
         )
@@ -377,7 +396,8 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
         outs: &mut [ParentOut],
     ) -> Result<(), TinError> {
         let mut k = 0;
-        self.run(ts, forced, resort, interrupt, &mut |o| {
+        let phase = format!("{}, parents refined again", self.phase);
+        self.run(&phase, ts, forced, resort, interrupt, &mut |o| {
             outs[ts[k]] = o;
             k += 1;
             Ok(())
@@ -448,7 +468,7 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
         interrupt()?;
         // which parents are refined as a last resort
         let mut resort = vec![false; self.prev.len()];
-        self.run(&all, &forced, &resort, interrupt, &mut |o| {
+        self.run(&self.phase, &all, &forced, &resort, interrupt, &mut |o| {
             outs.push(o);
             Ok(())
         })?;
