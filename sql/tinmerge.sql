@@ -37,7 +37,7 @@ CREATE FUNCTION tin_from_raster(rast raster, tolerance float8, levels int DEFAUL
 RETURNS tin AS $$ SELECT CASE WHEN $6 IS NULL AND $7 IS NULL AND $8 IS NULL AND $9
   THEN @extschema@._tin_from_raster($1::bytea, $2, $3, $4, $5)
   ELSE @extschema@._tin_from_raster_domain($1::bytea, $2, $3, $4, $5, $6::bytea, $7::bytea, $8::bytea, $9) END $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_raster(raster, float8, int, int, boolean, geometry, geometry, geometry, boolean) IS
 'Builds a tin from the valid pixel centres of one band (nodata skipped). Level i is within tolerance * 2^(levels-1-i) of every sample and of the raster''s surface between the samples too (with a boundary or soft breaklines too; hard breaklines keep their own heights, and the grid segments they cut are left out): on every grid line between two valid pixel centres (their straight line, what gdal_contour and bilinear ST_Value use), a vertex being put where an edge over the tolerance crosses one; with keep_border everywhere but the one-pixel strip along the hull, whose vertices are its own samples so that tiles agree (tin_validate(tin, raster) checks a value); levels 1..16. keep_border => true decides the vertices on each side of the convex hull from that side''s samples alone, simplified to each level''s tolerance, so tiles that share a border row or column of pixels have the same vertices and the same surface along it at every level (see docs/scaling.md, tiled terrains). breaklines (LINESTRING Z / MULTILINESTRING Z, the raster''s SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). boundary (POLYGON / MULTIPOLYGON, holes allowed, valid, the same SRID) limits the terrain to its area within the samples'' convex hull, concave parts and holes included: its rings there are edges at every level with heights from the samples, the samples outside it are left out, and every merge answers NULL or no rows outside it (the triangles there are void, not returned by tin_triangles; docs/breaklines.md). Breaklines outside the boundary shape nothing that is returned. The terrain is where the raster has data: the domain is the union of the valid pixels'' squares (what ST_Value answers on) within the convex hull of their centres, nodata around and inside the data left out, so tin_height is NULL wherever ST_Value is NULL (a build with a boundary of those squares; a raster without nodata in that hull builds on its pixel lattice as before). fill_gaps => true fills the nodata gaps instead, the domain being the hull of the valid centres (the default until 0.9.0). With keep_border => true and nodata cutting into that hull, the tile is built over its data as tin_tiles builds it (since 0.22.0): the valid squares within the hull, clipped to its outer pixel centres, the outline''s pieces there chosen from their own samples so that the tile beside it agrees. NULL for a NULL raster, tolerance, levels, band, keep_border or fill_gaps.';
@@ -50,7 +50,7 @@ CREATE FUNCTION tin_from_raster(rast raster, tolerance text, levels int DEFAULT 
 RETURNS tin AS $$ SELECT CASE WHEN pg_catalog.btrim($2) LIKE '{%'
   THEN @extschema@.tin_from_raster($1, $2::float8[], $4, $5, $6, $7, $8, $9)
   ELSE @extschema@.tin_from_raster($1, $2::float8, $3, $4, $5, $6, $7, $8, $9) END $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_raster(raster, text, int, int, boolean, geometry, geometry, geometry, boolean) IS
 'tin_from_raster with the tolerance given as text (e.g. an untyped literal: NULL, ''Infinity'', ''2.5''): tin_from_raster(rast, tolerance::float8, levels, ...); an array literal (''{8,4,2}'') is the tolerances per level, coarsest first: tin_from_raster(rast, tolerance::float8[], band, ...), levels unused.';
@@ -59,7 +59,7 @@ CREATE FUNCTION tin_from_raster(rast raster, tolerances float8[], band int DEFAU
 RETURNS tin AS $$ SELECT CASE WHEN $5 IS NULL AND $6 IS NULL AND $7 IS NULL AND $8
   THEN @extschema@._tin_from_raster_tolerances($1::bytea, $2, $3, $4)
   ELSE @extschema@._tin_from_raster_tolerances_domain($1::bytea, $2, $3, $4, $5::bytea, $6::bytea, $7::bytea, $8) END $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean, geometry, geometry, geometry, boolean) IS
 'Builds a tin from the valid pixel centres of one band with explicit per-level tolerances (coarsest first, strictly decreasing). keep_border, breaklines, soft_breaklines, boundary and fill_gaps as for tin_from_raster(raster, float8, int, int, boolean, geometry, geometry, geometry, boolean).';
@@ -67,7 +67,7 @@ COMMENT ON FUNCTION tin_from_raster(raster, float8[], int, boolean, geometry, ge
 CREATE FUNCTION tin_tiles(rast raster, tile_px int, tolerance float8, levels int DEFAULT 5, band int DEFAULT 1, fill_gaps boolean DEFAULT false)
 RETURNS TABLE(tx int, ty int, t tin) AS
 $$ SELECT * FROM @extschema@._tin_tiles($1::bytea, $2, $3, $4, $5, $6) $$
-LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 10000 ROWS 100 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_tiles(raster, int, float8, int, int, boolean) IS
 'Builds one band of a raster as a grid of tins in one call: tile (tx, ty) (numbered from 0, west to east and north to south) holds tile_px x tile_px pixels plus the first column of its right neighbour and the first row of the one below, and is built as tin_from_raster(..., keep_border => true) does, so neighbouring tiles have the same vertices on their shared seam at every level and their surfaces agree along it. As for tin_from_raster, the terrain is where the raster has data (fill_gaps => false, the default): a tile whose nodata pixels reach into the hull of its valid centres has for domain the valid pixels'' squares within that hull, clipped to its seams (the centre lines of its shared column and row), so tin_height is NULL wherever ST_Value is; the outline''s pieces on a seam have the same vertices and heights seen from both tiles, so the tiles'' domains meet without gap or overlap. fill_gaps => true fills the gaps: each tile is the hull of its valid centres (the only form until 0.22.0). Tiles are built on tinmerge.threads threads; a tile without three non-collinear valid pixels gives no row. NULL arguments give no rows. Index the result with CREATE INDEX ON tiles USING gist (tin_envelope(t)) (docs/scaling.md).';
@@ -91,7 +91,7 @@ CREATE FUNCTION tin_from_points(pts geometry, tolerance float8, levels int DEFAU
 RETURNS tin AS $$ SELECT CASE WHEN $4 IS NULL AND $5 IS NULL AND $6 IS NULL
   THEN @extschema@._tin_from_points($1::bytea, $2, $3)
   ELSE @extschema@._tin_from_points_domain($1::bytea, $2, $3, $4::bytea, $5::bytea, $6::bytea) END $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_from_points(geometry, float8, int, geometry, geometry, geometry) IS
 'Builds a tin from every vertex of a geometry with Z (typically MULTIPOINT Z); points with equal x,y are merged (mean z). Level i is within tolerance * 2^(levels-1-i) of every sample and of the samples'' Delaunay triangulation everywhere (since 0.12.0; with breaklines or a boundary since 0.13.0, soft lines and rings taking its heights and its edges a hard line cuts left out; measured at its vertices and where edges cross its edges, a vertex being put at such a crossing where no sample mends it). breaklines (LINESTRING Z / MULTILINESTRING Z, the points'' SRID) are hard: the surface follows their own heights along them; soft_breaklines (any lines, Z ignored) are edges whose heights follow the samples along them, simplified to each level''s tolerance. Every breakline is a union of edges at every level, level 0 included; crossing lines split each other; samples on a line (up to rounding) are left out and every other sample is within each level''s tolerance. Parts of breaklines outside the samples'' convex hull are cut off; hard lines crossing at different heights raise an ERROR (docs/breaklines.md). boundary (POLYGON / MULTIPOLYGON, holes allowed, valid, the same SRID) limits the terrain to its area within the samples'' convex hull, concave parts and holes included: its rings there are edges at every level with heights from the samples, the samples outside it are left out, and every merge answers NULL or no rows outside it (the triangles there are void, not returned by tin_triangles; docs/breaklines.md). Breaklines outside the boundary shape nothing that is returned. NULL for NULL points, tolerance or levels.';
@@ -174,7 +174,7 @@ COMMENT ON FUNCTION tin_line_climb(tin, geometry, int) IS
 -- many times. The linetree overloads give the same rows as the geometry ones.
 CREATE FUNCTION tin_linetree(line geometry)
 RETURNS linetree AS $$ SELECT @extschema@._tin_linetree($1::bytea) $$
-LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 500
+LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE COST 500 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_linetree(geometry) IS
 'Multi-scale line tree of a LINESTRING or MULTILINESTRING (Douglas-Peucker generalisations, each child level within a quarter of its parent''s error, an error bound per segment): merges with a tin through it skip the stretches that cannot leave a triangle. NULL for an empty line.';
@@ -322,7 +322,7 @@ RETURNS geometry AS
 $$ SELECT COALESCE(ST_Multi(ST_Union(d.geom)), ST_SetSRID('MULTIPOLYGON EMPTY'::geometry, ST_SRID($2)))
    FROM ST_DumpAsPolygons(@extschema@.tin_viewshed($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11)) AS d
    WHERE d.val >= 1 $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 100000
+LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 100000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_viewshed_polygon(tin, geometry, float8, float8, float8, float8, int, boolean, float8, float8, float8) IS
 'The ground seen from the observer (from at least one point of a MULTIPOINT) as a MULTIPOLYGON: the union of the visible cells of tin_viewshed with the same arguments, each cell its square (ST_DumpAsPolygons); an empty MULTIPOLYGON when nothing is seen. NULL for a NULL argument other than level.';

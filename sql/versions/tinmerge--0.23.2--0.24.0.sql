@@ -43,3 +43,17 @@ JOIN pg_catalog.pg_stat_activity a
 WHERE pg_catalog.pg_has_role(a.usesysid, 'USAGE')
    OR pg_catalog.pg_has_role('pg_read_all_stats', 'USAGE');
 COMMENT ON VIEW tin_progress IS 'The progress of every tinmerge build running now (tin_tiles_from_table, tin_overviews, tin_tiles, tin_from_raster, tin_from_points) that has run for a second or more, one row per session: the phase of its work, done of total units (percent), the rate in units per second, the phase''s time so far and the time left at that rate, the whole statement''s time so far, when the row was last updated (about every second) and the query. Rows of other roles'' sessions need pg_read_all_stats, as in pg_stat_activity. Works without shared_preload_libraries (each backend writes a small file in pg_stat_tmp).';
+-- The functions that take no tin (the builders, tin_linetree) and
+-- tin_viewshed_polygon name _tin_plan_support too: planning a query that
+-- calls them loads tinmerge in the session, so a parallel worker loads it
+-- before it takes the session's settings, and a tinmerge.* setting made
+-- before the library was loaded (postgresql.conf, ALTER DATABASE ... SET,
+-- PGOPTIONS) no longer gives 'parameter "tinmerge...." cannot be set during
+-- a parallel operation' warnings from parallel builds.
+ALTER FUNCTION tin_from_raster(raster, float8, int, int, boolean, geometry, geometry, geometry, boolean) SUPPORT _tin_plan_support;
+ALTER FUNCTION tin_from_raster(raster, text, int, int, boolean, geometry, geometry, geometry, boolean) SUPPORT _tin_plan_support;
+ALTER FUNCTION tin_from_raster(raster, float8[], int, boolean, geometry, geometry, geometry, boolean) SUPPORT _tin_plan_support;
+ALTER FUNCTION tin_tiles(raster, int, float8, int, int, boolean) SUPPORT _tin_plan_support;
+ALTER FUNCTION tin_from_points(geometry, float8, int, geometry, geometry, geometry) SUPPORT _tin_plan_support;
+ALTER FUNCTION tin_linetree(geometry) SUPPORT _tin_plan_support;
+ALTER FUNCTION tin_viewshed_polygon(tin, geometry, float8, float8, float8, float8, int, boolean, float8, float8, float8) SUPPORT _tin_plan_support;

@@ -14,6 +14,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 use super::args::{check_srid, GeomArg};
+use super::cache;
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::tin_type::TinArg;
@@ -21,10 +22,11 @@ use tinmerge_core::geom::is_strictly_convex_ring;
 use tinmerge_core::io::ewkb::{self, Ewkb, Geom};
 use tinmerge_core::io::gserialized;
 use tinmerge_core::merge::area::polygon::Area;
-use tinmerge_core::merge::area::surface::{stats, volume};
-use tinmerge_core::merge::area::{area_rows, sweep, Method};
-use tinmerge_core::tin::mesh::Indexed;
+use tinmerge_core::merge::area::surface::{stats_with, volume_parts_with, SubtreeSums};
+use tinmerge_core::merge::area::{area_rows, sweep, Method, Sweep};
+use tinmerge_core::tin::mesh::{Indexed, Mesh};
 use tinmerge_core::tin::Bbox;
+use tinmerge_core::tin::TinError;
 
 /// The area of a POLYGON or MULTIPOLYGON argument: SRID checked, validity
 /// (PostGIS's verdict, unless the polygon is one strictly convex ring)
@@ -228,6 +230,54 @@ pub(super) type StatsRow = (
     Option<f64>,
 );
 
+/// A value's identity for the subtree sums kept by the cache: its content
+/// hash and length (what the decoded-value cache is keyed by).
+fn value_key(t: &TinArg) -> (u64, u64) {
+    let h = t.header();
+    (h.hash, h.total_len)
+}
+
+/// The polygon swept at level `l` for statistics: with the value's subtree
+/// sums when the cache holds them (the hierarchical sweep, whose coarse
+/// triangles inside then count in O(1)), otherwise the flat sweep of the
+/// target level alone (what a value read in slices reads least of).
+fn swept<M: Indexed>(
+    key: (u64, u64),
+    m: &M,
+    l: usize,
+    area: &Area,
+) -> (Sweep, Option<std::sync::Arc<SubtreeSums>>)
+where
+    TinError: From<M::Err>,
+{
+    let sums = cache::subtree_sums(key.0, key.1, l);
+    let method = if sums.is_some() {
+        Method::Hierarchy
+    } else {
+        Method::Flat
+    };
+    (sweep(m, l, area, method, &mut interrupt).or_raise(), sums)
+}
+
+/// After a flat sweep's statistics: its inside triangles counted toward
+/// making the value's subtree sums ([`cache::count_flat_work`]).
+fn count_work<M: Mesh>(key: (u64, u64), m: &M, s: &Sweep, had_sums: bool)
+where
+    TinError: From<M::Err>,
+{
+    if had_sums {
+        return;
+    }
+    let l = s.level;
+    let work = s.inside.get(l).map_or(0, |v| v.len()) as u64;
+    let triangles = m.num_triangles(l) as u64;
+    let coarse: usize = (0..l).map(|k| m.num_triangles(k)).sum();
+    let bytes = coarse * std::mem::size_of::<tinmerge_core::merge::area::surface::SurfaceStats>();
+    cache::count_flat_work(key.0, key.1, l, work, triangles, bytes, || {
+        SubtreeSums::build(m, l, &mut interrupt)
+    });
+}
+
 /// The row of `tin_area_stats` for a polygon read by `area`.
 pub(super) fn stats_row(
     t: &TinArg,
@@ -235,11 +285,14 @@ pub(super) fn stats_row(
     geographic: Option<bool>,
     area: &dyn Fn(i32) -> Area,
 ) -> StatsRow {
+    let key = value_key(t);
     let st = with_mesh!(t, level, |m, l, srid| {
         refuse_geographic(geographic, srid, m.bbox(), "tin_area_stats");
         let area = area(srid);
-        let s = sweep(m, l, &area, Method::Flat, &mut interrupt).or_raise();
-        stats(m, &area, &s, &mut interrupt).or_raise()
+        let (s, sums) = swept(key, m, l, &area);
+        let st = stats_with(m, &area, &s, sums.as_deref(), &mut interrupt).or_raise();
+        count_work(key, m, &s, sums.is_some());
+        st
     });
     let some = |v: f64| (st.area2d > 0.0).then_some(v);
     (
@@ -303,11 +356,14 @@ pub(super) fn volume_row(
             format!("tin_volume: base_z must be a finite height, got {base}"),
         );
     }
+    let key = value_key(t);
     with_mesh!(t, level, |m, l, srid| {
         refuse_geographic(geographic, srid, m.bbox(), "tin_volume");
         let area = area(srid);
-        let s = sweep(m, l, &area, Method::Flat, &mut interrupt).or_raise();
-        volume(m, &area, &s, base, &mut interrupt).or_raise()
+        let (s, sums) = swept(key, m, l, &area);
+        let v = volume_parts_with(m, &area, &s, base, sums.as_deref(), &mut interrupt).or_raise();
+        count_work(key, m, &s, sums.is_some());
+        (v.cut, v.fill)
     })
 }
 

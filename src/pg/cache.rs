@@ -20,6 +20,7 @@ use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
 
 use super::errors::raise_tin;
 use super::memory;
+use tinmerge_core::merge::area::surface::SubtreeSums;
 use tinmerge_core::tin::layout::Header;
 use tinmerge_core::tin::sliced::SlicedTin;
 use tinmerge_core::tin::{Tin, TinError};
@@ -358,6 +359,144 @@ pub fn stats() -> (u64, u64, usize, usize) {
             c.entries.iter().map(|e| e.bytes).sum(),
         )
     })
+}
+
+/// Subtree sums of stored values (`merge::area::surface::SubtreeSums`),
+/// by (hash, length, target level), with the flat work done on each before
+/// its sums were made: the statistics of an area sum the inside triangles
+/// of the target level one by one until that work reaches the level's
+/// triangle count, then the sums are made (about the same work, once) and
+/// every later polygon adds a coarse triangle inside in O(1). So a backend
+/// never spends more than twice what the flat path would have, and a
+/// query of a few small polygons never makes them. Bounded by a quarter
+/// of `tinmerge.cache_size`, least recently used out first.
+struct SumsEntry {
+    hash: u64,
+    len: u64,
+    level: usize,
+    work: u64,
+    sums: Option<Arc<SubtreeSums>>,
+    last: u64,
+}
+
+#[derive(Default)]
+struct SumsCache {
+    entries: Vec<SumsEntry>,
+    clock: u64,
+}
+
+impl SumsCache {
+    fn bytes(&self) -> usize {
+        self.entries
+            .iter()
+            .filter_map(|e| e.sums.as_ref().map(|s| s.bytes()))
+            .sum()
+    }
+
+    /// Drop the least recently used sums until `extra` more bytes fit in
+    /// `limit` (work counters stay, up to a few hundred).
+    fn trim(&mut self, limit: usize, extra: usize) {
+        let mut used = self.bytes();
+        while used + extra > limit {
+            let Some(i) = (0..self.entries.len())
+                .filter(|&i| self.entries[i].sums.is_some())
+                .min_by_key(|&i| self.entries[i].last)
+            else {
+                break;
+            };
+            used -= self.entries[i].sums.take().map(|s| s.bytes()).unwrap_or(0);
+        }
+        if self.entries.len() > 256 {
+            self.entries.sort_by_key(|e| std::cmp::Reverse(e.last));
+            self.entries.truncate(128);
+        }
+        memory::set_cached_sums(used);
+    }
+}
+
+thread_local! {
+    static SUMS: RefCell<SumsCache> = RefCell::new(SumsCache::default());
+}
+
+/// The subtree sums of the value (hash, len) at `level`, when made.
+pub fn subtree_sums(hash: u64, len: u64, level: usize) -> Option<Arc<SubtreeSums>> {
+    SUMS.with(|c| {
+        let mut c = c.borrow_mut();
+        c.clock += 1;
+        let now = c.clock;
+        let e = c
+            .entries
+            .iter_mut()
+            .find(|e| e.hash == hash && e.len == len && e.level == level)?;
+        e.last = now;
+        e.sums.clone()
+    })
+}
+
+/// `work` inside triangles of `level` (of `triangles`) summed one by one
+/// on the value (hash, len): once the work done so far reaches
+/// `triangles`, its sums are made with `make` (estimated at `bytes`) and
+/// kept for the next polygons.
+pub fn count_flat_work(
+    hash: u64,
+    len: u64,
+    level: usize,
+    work: u64,
+    triangles: u64,
+    bytes: usize,
+    make: impl FnOnce() -> Result<SubtreeSums, TinError>,
+) {
+    let due = SUMS.with(|c| {
+        let mut c = c.borrow_mut();
+        c.clock += 1;
+        let now = c.clock;
+        let i = match c
+            .entries
+            .iter()
+            .position(|e| e.hash == hash && e.len == len && e.level == level)
+        {
+            Some(i) => i,
+            None => {
+                c.entries.push(SumsEntry {
+                    hash,
+                    len,
+                    level,
+                    work: 0,
+                    sums: None,
+                    last: now,
+                });
+                c.entries.len() - 1
+            }
+        };
+        let e = &mut c.entries[i];
+        e.last = now;
+        e.work = e.work.saturating_add(work);
+        e.sums.is_none() && e.work >= triangles
+    });
+    let limit = cache_limit() / 4;
+    if !due || bytes > limit {
+        return;
+    }
+    memory::reserve(bytes, || {
+        format!("the subtree sums of a stored tin's level {level} ({triangles} triangles)")
+    });
+    // made outside the borrow: an ERROR here must not leave it borrowed
+    let sums = Arc::new(make().unwrap_or_else(|e| raise_tin(e)));
+    SUMS.with(|c| {
+        let mut c = c.borrow_mut();
+        c.trim(limit, sums.bytes());
+        let now = c.clock;
+        if let Some(e) = c
+            .entries
+            .iter_mut()
+            .find(|e| e.hash == hash && e.len == len && e.level == level)
+        {
+            e.sums = Some(sums);
+            e.last = now;
+        }
+        let used = c.bytes();
+        memory::set_cached_sums(used);
+    });
 }
 
 /// `tin_cache_stats()`: this backend's cache (hits, misses, entries, bytes).

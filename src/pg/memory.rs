@@ -43,15 +43,24 @@ fn limit() -> Option<usize> {
 /// Bytes of decoded values the backend cache holds (`cache` reports them
 /// with [`set_cached`]; they are bounded by `tinmerge.cache_size` instead).
 static CACHED: AtomicUsize = AtomicUsize::new(0);
+/// Bytes of subtree sums the cache holds ([`set_cached_sums`]).
+static CACHED_SUMS: AtomicUsize = AtomicUsize::new(0);
 
 /// Called by the cache whenever what it holds changes.
 pub fn set_cached(bytes: usize) {
     CACHED.store(bytes, Relaxed);
 }
 
+/// Called by the cache whenever the subtree sums it holds change.
+pub fn set_cached_sums(bytes: usize) {
+    CACHED_SUMS.store(bytes, Relaxed);
+}
+
 /// Heap in use for work: everything counted minus the cached values.
 pub fn working() -> usize {
-    memory::live().saturating_sub(CACHED.load(Relaxed))
+    memory::live()
+        .saturating_sub(CACHED.load(Relaxed))
+        .saturating_sub(CACHED_SUMS.load(Relaxed))
 }
 
 fn mb(bytes: usize) -> usize {

@@ -21,6 +21,17 @@
 //! takes a `tin` names [`_tin_plan_support`] as its planner support, which
 //! PostgreSQL calls before it sizes the query's tables, so a session's
 //! first query that names a tinmerge function loads tinmerge in time.
+//!
+//! The SQL builders that take no `tin` (`tin_from_raster`, `tin_tiles`,
+//! `tin_from_points`, `tin_linetree`) name it too, for a second reason:
+//! loaded at plan time in the session, tinmerge is loaded by each parallel
+//! worker before the worker takes the session's settings. Loaded first
+//! inside a worker (by the worker's first call), its `_PG_init` would turn
+//! a `tinmerge.*` setting made before the load (postgresql.conf, `ALTER
+//! DATABASE ... SET`, `PGOPTIONS`) into its variable in parallel mode, and
+//! PostgreSQL warns 'parameter "tinmerge..." cannot be set during a parallel
+//! operation' (found by `make installcheck` with `PGOPTIONS=-c
+//! tinmerge.progress_interval=0`, pg_regress as_raster and bands).
 
 use pgrx::pg_sys;
 use pgrx::prelude::*;

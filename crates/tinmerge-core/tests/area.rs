@@ -14,7 +14,9 @@ use geo::{Coord, Line, LineIntersection, line_intersection::line_intersection};
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use std::collections::{BTreeMap, HashSet};
 use tinmerge_core::merge::area::polygon::Area;
-use tinmerge_core::merge::area::surface::{stats, volume};
+use tinmerge_core::merge::area::surface::{
+    SubtreeSums, stats, stats_with, volume, volume_parts, volume_parts_with,
+};
 use tinmerge_core::merge::area::{AreaRow, Method, Relation, area_rows, sweep};
 use tinmerge_core::tin::Tin;
 use tinmerge_core::tin::build::build;
@@ -728,6 +730,43 @@ fn stats_and_volumes_match_the_clipped_triangles() {
     // bands(): the first line of the file is the 250-300 band; use the
     // smallest one as well
     cases.push(bands().into_iter().last().unwrap());
+    // most of the terrain, a hole in it, and a polygon reaching past the
+    // terrain: coarse triangles wholly inside at every level
+    let b = &tin.bbox;
+    let (cx, cy, w, h) = (
+        (b.min_x + b.max_x) / 2.0,
+        (b.min_y + b.max_y) / 2.0,
+        b.max_x - b.min_x,
+        b.max_y - b.min_y,
+    );
+    let circle = |r: f64, n: usize, cw: bool| -> Vec<P2> {
+        let mut v: Vec<P2> = (0..n)
+            .map(|k| {
+                let a =
+                    2.0 * std::f64::consts::PI * k as f64 / n as f64 * if cw { -1.0 } else { 1.0 };
+                [cx + r * a.cos() * w / h.max(w), cy + r * a.sin()]
+            })
+            .collect();
+        v.push(v[0]);
+        v
+    };
+    cases.push((
+        "most of the terrain, with a hole".to_string(),
+        vec![vec![
+            circle(0.45 * h, 200, false),
+            circle(0.1 * h, 50, true),
+        ]],
+    ));
+    cases.push((
+        "past the terrain".to_string(),
+        vec![vec![vec![
+            [b.min_x - w, b.min_y - h],
+            [b.max_x + w, b.min_y - h],
+            [b.max_x + w, b.max_y + h],
+            [b.min_x - w, b.max_y + h],
+            [b.min_x - w, b.min_y - h],
+        ]]],
+    ));
     for (name, polys) in cases {
         let area = Area::new(polys.clone());
         let size: usize = polys.iter().flatten().map(|r| r.len()).sum();
@@ -767,6 +806,57 @@ fn stats_and_volumes_match_the_clipped_triangles() {
             close(st.max_z, o.max_z, 1000.0, &format!("{what} max z"));
             close(cut, o.cut, o.z.abs(), &format!("{what} cut"));
             close(fill, o.fill, o.z.abs(), &format!("{what} fill"));
+            // coarse triangles wholly inside taken whole from their
+            // subtree sums: the same against the same oracle
+            let sums = SubtreeSums::build(&tin, l, &mut no_interrupt).unwrap();
+            let coarse: usize = s.inside.iter().take(l).map(|v| v.len()).sum();
+            if name.starts_with("most") && method == Method::Hierarchy && l > 0 {
+                assert!(coarse > 0, "{what}: no coarse triangle inside");
+            }
+            let f = stats_with(&tin, &area, &s, Some(&sums), &mut no_interrupt).unwrap();
+            let w = format!("{what} with subtree sums");
+            close(f.area2d, o.a, o.a, &format!("{w} area2d"));
+            close(f.area3d, o.a3, o.a3, &format!("{w} area3d"));
+            close(f.z_integral, o.z, o.z, &format!("{w} integral of z"));
+            close(
+                f.slope_integral,
+                o.slope,
+                o.slope,
+                &format!("{w} integral of slope"),
+            );
+            close(f.max_slope, o.max_slope, 90.0, &format!("{w} max slope"));
+            close(f.min_z, o.min_z, 1000.0, &format!("{w} min z"));
+            close(f.max_z, o.max_z, 1000.0, &format!("{w} max z"));
+            let v =
+                volume_parts_with(&tin, &area, &s, base, Some(&sums), &mut no_interrupt).unwrap();
+            close(v.cut, o.cut, o.z.abs(), &format!("{w} cut"));
+            close(v.fill, o.fill, o.z.abs(), &format!("{w} fill"));
+            // and at bases below, inside and above the terrain, against the
+            // volume triangle by triangle (checked above at one base)
+            for b in [
+                tin.bbox.min_z - 1.0,
+                tin.bbox.min_z + 0.25 * (tin.bbox.max_z - tin.bbox.min_z),
+                tin.bbox.max_z + 1.0,
+            ] {
+                let flat = volume_parts(&tin, &area, &s, b, &mut no_interrupt).unwrap();
+                let fast =
+                    volume_parts_with(&tin, &area, &s, b, Some(&sums), &mut no_interrupt).unwrap();
+                let at = format!("{w} at base {b:.1}");
+                close(fast.cut, flat.cut, o.z.abs(), &format!("{at} cut"));
+                close(fast.fill, flat.fill, o.z.abs(), &format!("{at} fill"));
+                close(
+                    fast.area_above,
+                    flat.area_above,
+                    o.a,
+                    &format!("{at} area above"),
+                );
+                close(
+                    fast.area_below,
+                    flat.area_below,
+                    o.a,
+                    &format!("{at} area below"),
+                );
+            }
             println!(
                 "{what}: area {:.1} m2, mean z {:.3} m, cut {:.1} m3, fill {:.1} m3",
                 st.area2d,

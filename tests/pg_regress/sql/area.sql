@@ -125,6 +125,23 @@ JOIN area_polys p USING (id), terrain,
 LATERAL tin_area_stats(t, p.geom, s.level) st,
 LATERAL tin_volume(t, p.geom, 500, s.level) v
 ORDER BY 1, 2;
+-- the same statistics once each level's subtree sums are made (a whole-
+-- domain polygon per level does as much flat work as the level has
+-- triangles, which makes them: docs/sql-reference.md, area merge): coarse
+-- triangles wholly inside now count in O(1); the same values up to rounding
+CREATE TEMP TABLE area_flat AS
+SELECT p.id, s.level, st.*, v.cut, v.fill
+FROM (SELECT DISTINCT id, level FROM area_clipped) s JOIN area_polys p USING (id), terrain,
+LATERAL tin_area_stats(t, p.geom, s.level) st, LATERAL tin_volume(t, p.geom, 500, s.level) v;
+SELECT count(*) FROM terrain, generate_series(0, 4) l, tin_area_stats(t, ST_Expand(tin_envelope(t), 100), l);
+SELECT f.id, f.level,
+       abs(st.area2d - f.area2d) <= 1e-12 * f.area2d AND abs(st.area3d - f.area3d) <= 1e-12 * f.area3d AS areas_same,
+       abs(st.mean_z - f.mean_z) <= 1e-12 * f.mean_z AND abs(st.mean_slope - f.mean_slope) <= 1e-10 AS means_same,
+       (st.min_z, st.max_z, st.max_slope) = (f.min_z, f.max_z, f.max_slope) AS extremes_same,
+       abs(v.cut - f.cut) <= 1e-12 * (f.cut + f.fill) AND abs(v.fill - f.fill) <= 1e-12 * (f.cut + f.fill) AS volumes_same
+FROM area_flat f JOIN area_polys p USING (id), terrain,
+LATERAL tin_area_stats(t, p.geom, f.level) st, LATERAL tin_volume(t, p.geom, 500, f.level) v
+ORDER BY 1, 2;
 -- a box around the whole domain: the volume above a base under the lowest
 -- point is the prism sum over the triangles (area times mean corner height)
 SELECT l AS level,
