@@ -38,6 +38,7 @@ bench:
 	scripts/bench-big.sh
 	scripts/bench-overviews.sh
 	scripts/bench-giga.sh
+	scripts/bench-area.sh
 
 clean:
 	scripts/cluster.sh stop

@@ -220,10 +220,25 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                 return None;
             }
             let p = self.grid.point(i);
+            let at = Point2::new(p[0], p[1]);
+            // spade's walk to a position can go round in a constrained
+            // triangulation and panic ("Failed to locate position. This is
+            // a bug in spade.": harness seeds 11002805, 11005163): then it
+            // is walked again from spade's own start, and a pixel it still
+            // cannot place is passed over, as one outside is
+            let walk = |hinted: bool| {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    if hinted {
+                        self.dt.locate_with_hint(at, hint)
+                    } else {
+                        self.dt.locate(at)
+                    }
+                }))
+            };
             matches!(
-                self.dt.locate_with_hint(Point2::new(p[0], p[1]), hint),
-                spade::PositionInTriangulation::OnFace(_)
-                    | spade::PositionInTriangulation::OnEdge(_)
+                walk(true).or_else(|_| walk(false)),
+                Ok(spade::PositionInTriangulation::OnFace(_)
+                    | spade::PositionInTriangulation::OnEdge(_))
             )
             .then_some(i)
         })
@@ -308,11 +323,38 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
     ) -> Result<FixedVertexHandle, TinError> {
         let before = self.dt.num_vertices();
         let pt = Point2::new(p[0], p[1]);
-        let h = match hint {
-            Some(v) if v.index() < before => self.dt.insert_with_hint(pt, v),
-            _ => self.dt.insert(pt),
-        }
-        .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
+        // spade finds where the point goes before it changes anything, and
+        // that walk can go round in a constrained triangulation and panic
+        // ("Failed to locate position": harness seed 11005163): then it is
+        // inserted again, walked from spade's own start
+        let hinted = hint.filter(|v| v.index() < before);
+        let dt = &mut self.dt;
+        let first = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match hinted {
+            Some(v) => dt.insert_with_hint(pt, v),
+            None => dt.insert(pt),
+        }));
+        let inserted = match first {
+            Ok(r) => r,
+            Err(_) if hinted.is_some() && self.dt.num_vertices() == before => {
+                let dt = &mut self.dt;
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dt.insert(pt))).map_err(
+                    |_| {
+                        TinError::Internal(format!(
+                            "spade could not find where ({}, {}) goes in the triangulation",
+                            p[0], p[1]
+                        ))
+                    },
+                )?
+            }
+            Err(_) => {
+                return Err(TinError::Internal(format!(
+                    "spade could not find where ({}, {}) goes in the triangulation",
+                    p[0], p[1]
+                )));
+            }
+        };
+        let h = inserted
+            .map_err(|e| TinError::InvalidParameter(format!("cannot insert sample: {e:?}")))?;
         if self.dt.num_vertices() > before {
             self.vz.push(p[2]);
             self.vside.push(0);
