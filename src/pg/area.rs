@@ -237,10 +237,11 @@ fn value_key(t: &TinArg) -> (u64, u64) {
     (h.hash, h.total_len)
 }
 
-/// The polygon swept at level `l` for statistics: with the value's subtree
-/// sums when the cache holds them (the hierarchical sweep, whose coarse
-/// triangles inside then count in O(1)), otherwise the flat sweep of the
-/// target level alone (what a value read in slices reads least of).
+/// The polygon swept at level `l` for statistics (the hierarchical sweep:
+/// the coarsest triangles wholly inside), with the value's subtree sums
+/// when the cache holds them, so those count in O(1). With or without
+/// them the statistics are the same bits (`surface::stats_with`): what a
+/// backend has cached never changes an answer.
 fn swept<M: Indexed>(
     key: (u64, u64),
     m: &M,
@@ -251,16 +252,16 @@ where
     TinError: From<M::Err>,
 {
     let sums = cache::subtree_sums(key.0, key.1, l);
-    let method = if sums.is_some() {
-        Method::Hierarchy
-    } else {
-        Method::Flat
-    };
-    (sweep(m, l, area, method, &mut interrupt).or_raise(), sums)
+    (
+        sweep(m, l, area, Method::Hierarchy, &mut interrupt).or_raise(),
+        sums,
+    )
 }
 
-/// After a flat sweep's statistics: its inside triangles counted toward
-/// making the value's subtree sums ([`cache::count_flat_work`]).
+/// After statistics without the sums: the target level's triangles summed
+/// one by one (each coarse triangle inside stands for its share of the
+/// level's triangles) counted toward making the value's subtree sums
+/// ([`cache::count_flat_work`]).
 fn count_work<M: Mesh>(key: (u64, u64), m: &M, s: &Sweep, had_sums: bool)
 where
     TinError: From<M::Err>,
@@ -269,8 +270,14 @@ where
         return;
     }
     let l = s.level;
-    let work = s.inside.get(l).map_or(0, |v| v.len()) as u64;
     let triangles = m.num_triangles(l) as u64;
+    let work: f64 = s
+        .inside
+        .iter()
+        .enumerate()
+        .map(|(k, v)| v.len() as f64 * triangles as f64 / m.num_triangles(k).max(1) as f64)
+        .sum();
+    let work = work as u64;
     let coarse: usize = (0..l).map(|k| m.num_triangles(k)).sum();
     let bytes = coarse * std::mem::size_of::<tinmerge_core::merge::area::surface::SurfaceStats>();
     cache::count_flat_work(key.0, key.1, l, work, triangles, bytes, || {

@@ -15,7 +15,7 @@ use rand::{Rng, SeedableRng, rngs::StdRng};
 use std::collections::{BTreeMap, HashSet};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::surface::{
-    SubtreeSums, stats, stats_with, volume, volume_parts, volume_parts_with,
+    SubtreeSums, SurfaceStats, stats, stats_with, volume, volume_parts, volume_parts_with,
 };
 use tinmerge_core::merge::area::{AreaRow, Method, Relation, area_rows, sweep};
 use tinmerge_core::tin::Tin;
@@ -719,6 +719,29 @@ fn close(a: f64, b: f64, scale: f64, what: &str) {
     );
 }
 
+/// Statistics and (cut, fill) against the clipped triangles' integrals.
+fn check_against(what: &str, st: &SurfaceStats, (cut, fill): (f64, f64), o: &Integrals) {
+    close(st.area2d, o.a, o.a, &format!("{what} area2d"));
+    close(st.area3d, o.a3, o.a3, &format!("{what} area3d"));
+    close(st.z_integral, o.z, o.z, &format!("{what} integral of z"));
+    close(
+        st.slope_integral,
+        o.slope,
+        o.slope,
+        &format!("{what} integral of slope"),
+    );
+    close(
+        st.max_slope,
+        o.max_slope,
+        90.0,
+        &format!("{what} max slope"),
+    );
+    close(st.min_z, o.min_z, 1000.0, &format!("{what} min z"));
+    close(st.max_z, o.max_z, 1000.0, &format!("{what} max z"));
+    close(cut, o.cut, o.z.abs(), &format!("{what} cut"));
+    close(fill, o.fill, o.z.abs(), &format!("{what} fill"));
+}
+
 #[test]
 fn stats_and_volumes_match_the_clipped_triangles() {
     let tin = dem_tin();
@@ -787,25 +810,7 @@ fn stats_and_volumes_match_the_clipped_triangles() {
             let (cut, fill) = volume(&tin, &area, &s, base, &mut no_interrupt).unwrap();
             let o = oracle_integrals(&tin, l, &polys, base);
             let what = format!("{name} level {l} {method:?}");
-            close(st.area2d, o.a, o.a, &format!("{what} area2d"));
-            close(st.area3d, o.a3, o.a3, &format!("{what} area3d"));
-            close(st.z_integral, o.z, o.z, &format!("{what} integral of z"));
-            close(
-                st.slope_integral,
-                o.slope,
-                o.slope,
-                &format!("{what} integral of slope"),
-            );
-            close(
-                st.max_slope,
-                o.max_slope,
-                90.0,
-                &format!("{what} max slope"),
-            );
-            close(st.min_z, o.min_z, 1000.0, &format!("{what} min z"));
-            close(st.max_z, o.max_z, 1000.0, &format!("{what} max z"));
-            close(cut, o.cut, o.z.abs(), &format!("{what} cut"));
-            close(fill, o.fill, o.z.abs(), &format!("{what} fill"));
+            check_against(&what, &st, (cut, fill), &o);
             // coarse triangles wholly inside taken whole from their
             // subtree sums: the same against the same oracle
             let sums = SubtreeSums::build(&tin, l, &mut no_interrupt).unwrap();
@@ -815,25 +820,18 @@ fn stats_and_volumes_match_the_clipped_triangles() {
             }
             let f = stats_with(&tin, &area, &s, Some(&sums), &mut no_interrupt).unwrap();
             let w = format!("{what} with subtree sums");
-            close(f.area2d, o.a, o.a, &format!("{w} area2d"));
-            close(f.area3d, o.a3, o.a3, &format!("{w} area3d"));
-            close(f.z_integral, o.z, o.z, &format!("{w} integral of z"));
-            close(
-                f.slope_integral,
-                o.slope,
-                o.slope,
-                &format!("{w} integral of slope"),
-            );
-            close(f.max_slope, o.max_slope, 90.0, &format!("{w} max slope"));
-            close(f.min_z, o.min_z, 1000.0, &format!("{w} min z"));
-            close(f.max_z, o.max_z, 1000.0, &format!("{w} max z"));
             let v =
                 volume_parts_with(&tin, &area, &s, base, Some(&sums), &mut no_interrupt).unwrap();
-            close(v.cut, o.cut, o.z.abs(), &format!("{w} cut"));
-            close(v.fill, o.fill, o.z.abs(), &format!("{w} fill"));
-            // and at bases below, inside and above the terrain, against the
-            // volume triangle by triangle (checked above at one base)
+            check_against(&w, &f, (v.cut, v.fill), &o);
+            // the same bits with or without the sums, and at bases below,
+            // inside and above the terrain
+            assert_eq!(
+                f,
+                stats_with(&tin, &area, &s, None, &mut no_interrupt).unwrap(),
+                "{w}"
+            );
             for b in [
+                base,
                 tin.bbox.min_z - 1.0,
                 tin.bbox.min_z + 0.25 * (tin.bbox.max_z - tin.bbox.min_z),
                 tin.bbox.max_z + 1.0,
@@ -841,21 +839,7 @@ fn stats_and_volumes_match_the_clipped_triangles() {
                 let flat = volume_parts(&tin, &area, &s, b, &mut no_interrupt).unwrap();
                 let fast =
                     volume_parts_with(&tin, &area, &s, b, Some(&sums), &mut no_interrupt).unwrap();
-                let at = format!("{w} at base {b:.1}");
-                close(fast.cut, flat.cut, o.z.abs(), &format!("{at} cut"));
-                close(fast.fill, flat.fill, o.z.abs(), &format!("{at} fill"));
-                close(
-                    fast.area_above,
-                    flat.area_above,
-                    o.a,
-                    &format!("{at} area above"),
-                );
-                close(
-                    fast.area_below,
-                    flat.area_below,
-                    o.a,
-                    &format!("{at} area below"),
-                );
+                assert_eq!(fast, flat, "{w} at base {b}");
             }
             println!(
                 "{what}: area {:.1} m2, mean z {:.3} m, cut {:.1} m3, fill {:.1} m3",
