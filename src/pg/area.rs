@@ -24,7 +24,7 @@ use tinmerge_core::io::gserialized;
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::surface::{stats_with, volume_parts_with, SubtreeSums};
 use tinmerge_core::merge::area::{area_rows, sweep, Method, Sweep};
-use tinmerge_core::tin::mesh::{Indexed, Mesh};
+use tinmerge_core::tin::mesh::Indexed;
 use tinmerge_core::tin::Bbox;
 use tinmerge_core::tin::TinError;
 
@@ -239,9 +239,13 @@ fn value_key(t: &TinArg) -> (u64, u64) {
 
 /// The polygon swept at level `l` for statistics (the hierarchical sweep:
 /// the coarsest triangles wholly inside), with the value's subtree sums
-/// when the cache holds them, so those count in O(1). With or without
-/// them the statistics are the same bits (`surface::stats_with`): what a
-/// backend has cached never changes an answer.
+/// when the cache holds them or they are due ([`cache::sums_due`]: the
+/// target level's triangles this polygon would sum one by one, each coarse
+/// triangle inside standing for its share of them, added to what earlier
+/// ones summed, reach a quarter of the level), so those count in O(1).
+/// With or without them the statistics are the same bits
+/// (`surface::stats_with`): what a backend has cached never changes an
+/// answer.
 fn swept<M: Indexed>(
     key: (u64, u64),
     m: &M,
@@ -251,25 +255,10 @@ fn swept<M: Indexed>(
 where
     TinError: From<M::Err>,
 {
-    let sums = cache::subtree_sums(key.0, key.1, l);
-    (
-        sweep(m, l, area, Method::Hierarchy, &mut interrupt).or_raise(),
-        sums,
-    )
-}
-
-/// After statistics without the sums: the target level's triangles summed
-/// one by one (each coarse triangle inside stands for its share of the
-/// level's triangles) counted toward making the value's subtree sums
-/// ([`cache::count_flat_work`]).
-fn count_work<M: Mesh>(key: (u64, u64), m: &M, s: &Sweep, had_sums: bool)
-where
-    TinError: From<M::Err>,
-{
-    if had_sums {
-        return;
+    let s = sweep(m, l, area, Method::Hierarchy, &mut interrupt).or_raise();
+    if let Some(sums) = cache::subtree_sums(key.0, key.1, l) {
+        return (s, Some(sums));
     }
-    let l = s.level;
     let triangles = m.num_triangles(l) as u64;
     let work: f64 = s
         .inside
@@ -277,12 +266,15 @@ where
         .enumerate()
         .map(|(k, v)| v.len() as f64 * triangles as f64 / m.num_triangles(k).max(1) as f64)
         .sum();
-    let work = work as u64;
+    if !cache::sums_due(key.0, key.1, l, work as u64, triangles) {
+        return (s, None);
+    }
     let coarse: usize = (0..l).map(|k| m.num_triangles(k)).sum();
     let bytes = coarse * std::mem::size_of::<tinmerge_core::merge::area::surface::SurfaceStats>();
-    cache::count_flat_work(key.0, key.1, l, work, triangles, bytes, || {
+    let sums = cache::make_sums(key.0, key.1, l, bytes, || {
         SubtreeSums::build(m, l, &mut interrupt)
     });
+    (s, sums)
 }
 
 /// The row of `tin_area_stats` for a polygon read by `area`.
@@ -297,9 +289,7 @@ pub(super) fn stats_row(
         refuse_geographic(geographic, srid, m.bbox(), "tin_area_stats");
         let area = area(srid);
         let (s, sums) = swept(key, m, l, &area);
-        let st = stats_with(m, &area, &s, sums.as_deref(), &mut interrupt).or_raise();
-        count_work(key, m, &s, sums.is_some());
-        st
+        stats_with(m, &area, &s, sums.as_deref(), &mut interrupt).or_raise()
     });
     let some = |v: f64| (st.area2d > 0.0).then_some(v);
     (
@@ -369,7 +359,6 @@ pub(super) fn volume_row(
         let area = area(srid);
         let (s, sums) = swept(key, m, l, &area);
         let v = volume_parts_with(m, &area, &s, base, sums.as_deref(), &mut interrupt).or_raise();
-        count_work(key, m, &s, sums.is_some());
         (v.cut, v.fill)
     })
 }

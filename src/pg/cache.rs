@@ -362,14 +362,15 @@ pub fn stats() -> (u64, u64, usize, usize) {
 }
 
 /// Subtree sums of stored values (`merge::area::surface::SubtreeSums`),
-/// by (hash, length, target level), with the flat work done on each before
-/// its sums were made: the statistics of an area sum the inside triangles
-/// of the target level one by one until that work reaches the level's
-/// triangle count, then the sums are made (about the same work, once) and
-/// every later polygon adds a coarse triangle inside in O(1). So a backend
-/// never spends more than twice what the flat path would have, and a
-/// query of a few small polygons never makes them. Bounded by a quarter
-/// of `tinmerge.cache_size`, least recently used out first.
+/// by (hash, length, target level), with the work done on each before its
+/// sums were made: the statistics of an area sum the target level's
+/// triangles inside one by one until that work would reach a quarter of
+/// the level's triangle count ([`sums_due`]); then the sums are made (one
+/// pass over the level, once) and that polygon and every later one adds a
+/// coarse triangle inside in O(1). So a backend spends at most a quarter
+/// of a pass before they pay, and a query of a few small polygons never
+/// makes them. Bounded by a quarter of `tinmerge.cache_size`, least
+/// recently used out first.
 struct SumsEntry {
     hash: u64,
     len: u64,
@@ -433,20 +434,13 @@ pub fn subtree_sums(hash: u64, len: u64, level: usize) -> Option<Arc<SubtreeSums
     })
 }
 
-/// `work` inside triangles of `level` (of `triangles`) summed one by one
-/// on the value (hash, len): once the work done so far reaches
-/// `triangles`, its sums are made with `make` (estimated at `bytes`) and
-/// kept for the next polygons.
-pub fn count_flat_work(
-    hash: u64,
-    len: u64,
-    level: usize,
-    work: u64,
-    triangles: u64,
-    bytes: usize,
-    make: impl FnOnce() -> Result<SubtreeSums, TinError>,
-) {
-    let due = SUMS.with(|c| {
+/// `work` triangles of `level` (of `triangles`) about to be summed one by
+/// one on the value (hash, len), added to what was summed before: true
+/// when the sums are due (no sums yet, and the work reaches a quarter of
+/// the level: then making them, about one pass over the level, costs less
+/// than what a few more such polygons would).
+pub fn sums_due(hash: u64, len: u64, level: usize, work: u64, triangles: u64) -> bool {
+    SUMS.with(|c| {
         let mut c = c.borrow_mut();
         c.clock += 1;
         let now = c.clock;
@@ -471,14 +465,26 @@ pub fn count_flat_work(
         let e = &mut c.entries[i];
         e.last = now;
         e.work = e.work.saturating_add(work);
-        e.sums.is_none() && e.work >= triangles
-    });
+        e.sums.is_none() && e.work.saturating_mul(4) >= triangles
+    })
+}
+
+/// The sums of the value (hash, len) at `level` made with `make`
+/// (estimated at `bytes`) and kept; None when they would not fit in a
+/// quarter of `tinmerge.cache_size`.
+pub fn make_sums(
+    hash: u64,
+    len: u64,
+    level: usize,
+    bytes: usize,
+    make: impl FnOnce() -> Result<SubtreeSums, TinError>,
+) -> Option<Arc<SubtreeSums>> {
     let limit = cache_limit() / 4;
-    if !due || bytes > limit {
-        return;
+    if bytes > limit {
+        return None;
     }
     memory::reserve(bytes, || {
-        format!("the subtree sums of a stored tin's level {level} ({triangles} triangles)")
+        format!("the subtree sums of a stored tin's level {level}")
     });
     // made outside the borrow: an ERROR here must not leave it borrowed
     let sums = Arc::new(make().unwrap_or_else(|e| raise_tin(e)));
@@ -491,12 +497,13 @@ pub fn count_flat_work(
             .iter_mut()
             .find(|e| e.hash == hash && e.len == len && e.level == level)
         {
-            e.sums = Some(sums);
+            e.sums = Some(sums.clone());
             e.last = now;
         }
         let used = c.bytes();
         memory::set_cached_sums(used);
     });
+    Some(sums)
 }
 
 /// `tin_cache_stats()`: this backend's cache (hits, misses, entries, bytes).

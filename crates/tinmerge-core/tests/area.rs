@@ -1008,3 +1008,35 @@ fn strictly_convex_rings_agree_with_geo_and_are_valid() {
         [0.0, 0.0, 0.0]
     ]));
 }
+
+/// Each coarse triangle's subtree sums (made in one walk over the target
+/// level's triangles, parent links only) are, bit for bit, its children's
+/// sums added in order to an empty one, down to the target level's
+/// triangles: the definition, folded here recursively through `children`.
+#[test]
+fn subtree_sums_are_the_recursive_fold_bit_for_bit() {
+    fn fold(tin: &Tin, level: usize, l: usize, t: u32) -> SurfaceStats {
+        if l == level {
+            return SurfaceStats::of_triangle(&tin.corners(level, t));
+        }
+        let mut a = SurfaceStats::empty();
+        for c in tinmerge_core::tin::mesh::Mesh::children(tin, l, t).unwrap() {
+            a.add(&fold(tin, level, l + 1, c));
+        }
+        a
+    }
+    let tin = dem_tin();
+    for level in [1, 3, tin.num_levels() - 1] {
+        let sums = SubtreeSums::build(&tin, level, &mut no_interrupt).unwrap();
+        for l in 0..level {
+            for t in 0..tin.levels[l].tris.len() as u32 {
+                assert_eq!(
+                    sums.of(l, t),
+                    Some(&fold(&tin, level, l, t)),
+                    "level {level}: triangle {t} of level {l}"
+                );
+            }
+        }
+        assert_eq!(sums.of(level, 0), None);
+    }
+}

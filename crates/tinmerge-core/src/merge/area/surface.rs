@@ -132,13 +132,17 @@ pub fn plane(c: &[[f64; 3]; 3]) -> (f64, f64, f64) {
     (c[0][2], gx, gy)
 }
 
+/// What [`boundary_parts`] hands each boundary triangle to: its corners and
+/// its pieces of the polygon's boundary.
+type PartFn<'f> = dyn FnMut([[f64; 3]; 3], &[Chain]) -> Result<(), TinError> + 'f;
+
 /// Visit every boundary triangle of the target level with its pieces of
 /// the polygon's boundary, in order.
 fn boundary_parts<M: Mesh>(
     tin: &M,
     s: &Sweep,
     tk: &mut Ticker<'_, '_>,
-    f: &mut dyn FnMut([[f64; 3]; 3], &[Chain]) -> Result<(), TinError>,
+    f: &mut PartFn<'_>,
 ) -> Result<(), TinError>
 where
     TinError: From<M::Err>,
@@ -160,10 +164,131 @@ where
     Ok(())
 }
 
+/// What a subtree walk hands back for each triangle it finishes: its level,
+/// its id, its sums and its volume parts (against `base`, when given).
+type Finished<'f> = dyn FnMut(usize, u32, &SurfaceStats, &VolumeParts) + 'f;
+
+/// The triangles of the target level `leaves` (a contiguous range, all
+/// descendants of one triangle of level `top`, or a whole level) walked in
+/// order, each triangle of the levels `top..level` between them finished as
+/// soon as its last descendant is passed: its sums are its children's added
+/// in order to [`SurfaceStats::empty`] (as [`SubtreeSums::build`] adds
+/// them, so the same bits), its volume parts taken whole from its sums when
+/// its descendants are all strictly above or below `base`, otherwise its
+/// children's added in order. Reads each leaf and its parent links
+/// (sequential on a value read in slices), never a triangle's children.
+fn walk_leaves<M: Mesh>(
+    tin: &M,
+    level: usize,
+    top: usize,
+    leaves: std::ops::Range<u32>,
+    base: Option<f64>,
+    tk: &mut Ticker<'_, '_>,
+    finished: &mut Finished<'_>,
+) -> Result<(), TinError>
+where
+    TinError: From<M::Err>,
+{
+    // the open triangles, one per level top..level: id, sums, volume parts
+    let mut open: Vec<(u32, SurfaceStats, VolumeParts)> = Vec::with_capacity(level - top);
+    let close = |open: &mut Vec<(u32, SurfaceStats, VolumeParts)>, finished: &mut Finished<'_>| {
+        if let Some((id, a, v)) = open.pop() {
+            let v = base
+                .and_then(|b| VolumeParts::of_subtree(&a, b))
+                .unwrap_or(v);
+            finished(top + open.len(), id, &a, &v);
+            if let Some(up) = open.last_mut() {
+                up.1.add(&a);
+                up.2.add(&v);
+            }
+        }
+    };
+    let mut path: Vec<u32> = vec![0; level - top];
+    for i in leaves {
+        tk.tick()?;
+        // the leaf's ancestors, from its parent up, as far as they differ
+        // from the open ones
+        let mut k = level;
+        let mut id = i;
+        let mut same = 0;
+        while k > top {
+            id = tin.parent(k, id)?;
+            k -= 1;
+            path[k - top] = id;
+            if open.get(k - top).is_some_and(|o| o.0 == id) {
+                same = k - top + 1;
+                break;
+            }
+        }
+        while open.len() > same {
+            close(&mut open, finished);
+        }
+        for &p in &path[same..] {
+            open.push((p, SurfaceStats::empty(), VolumeParts::default()));
+        }
+        let cs = tin.corners(level, i)?;
+        let a = SurfaceStats::of_triangle(&cs);
+        let v = base.map_or_else(VolumeParts::default, |b| VolumeParts::of_part(&cs, None, b));
+        if let Some(up) = open.last_mut() {
+            up.1.add(&a);
+            up.2.add(&v);
+        }
+    }
+    while !open.is_empty() {
+        close(&mut open, finished);
+    }
+    Ok(())
+}
+
+/// The descendants of triangle `t` of level `l` at level `level`: a
+/// contiguous range (triangles are sorted by parent), from the children of
+/// its first and last descendant at each level.
+fn leaf_range<M: Mesh>(
+    tin: &M,
+    level: usize,
+    (l, t): (usize, u32),
+) -> Result<std::ops::Range<u32>, TinError>
+where
+    TinError: From<M::Err>,
+{
+    let mut r = t..t + 1;
+    for k in l..level {
+        if r.is_empty() {
+            break;
+        }
+        let first = tin.children(k, r.start)?.start;
+        let last = tin.children(k, r.end - 1)?.end;
+        r = first..last.max(first);
+    }
+    Ok(r)
+}
+
+/// Triangle `t` of level `l` (< `level`) over its descendants: its sums
+/// and its volume parts against `base`, by [`walk_leaves`].
+fn walk_subtree<M: Mesh>(
+    tin: &M,
+    level: usize,
+    (l, t): (usize, u32),
+    base: Option<f64>,
+    tk: &mut Ticker<'_, '_>,
+) -> Result<(SurfaceStats, VolumeParts), TinError>
+where
+    TinError: From<M::Err>,
+{
+    let mut out = (SurfaceStats::empty(), VolumeParts::default());
+    let leaves = leaf_range(tin, level, (l, t))?;
+    walk_leaves(tin, level, l, leaves, base, tk, &mut |k, id, a, v| {
+        if k == l && id == t {
+            out = (*a, *v);
+        }
+    })?;
+    Ok(out)
+}
+
 /// Triangle `t` of level `l`, wholly inside, over its descendants at the
-/// target level: from `sums` when they hold it, otherwise summed child by
-/// child, depth first, in the order and with the operations
-/// [`SubtreeSums::build`] uses, so both give the same bits.
+/// target level: from `sums` when they hold it, otherwise summed over its
+/// leaves by [`walk_leaves`], as [`SubtreeSums::build`] sums them, so both
+/// give the same bits.
 fn subtree<M: Mesh>(
     tin: &M,
     level: usize,
@@ -178,14 +303,10 @@ where
         tk.tick()?;
         return Ok(SurfaceStats::of_triangle(&tin.corners(level, t)?));
     }
-    if let Some(a) = sums.and_then(|u| u.of(l, t)) {
-        return Ok(*a);
+    match sums.and_then(|u| u.of(l, t)) {
+        Some(a) => Ok(*a),
+        None => Ok(walk_subtree(tin, level, (l, t), None, tk)?.0),
     }
-    let mut a = SurfaceStats::empty();
-    for c in tin.children(l, t)? {
-        a.add(&subtree(tin, level, (l + 1, c), sums, tk)?);
-    }
-    Ok(a)
 }
 
 /// Statistics of the surface clipped to the area.
@@ -372,11 +493,13 @@ where
             VolumeParts::of_part(&cs, None, base),
         ));
     }
-    if let Some(a) = sums.and_then(|u| u.of(l, t))
-        && let Some(v) = VolumeParts::of_subtree(a, base)
-    {
+    let Some(a) = sums.and_then(|u| u.of(l, t)) else {
+        return walk_subtree(tin, level, (l, t), Some(base), tk);
+    };
+    if let Some(v) = VolumeParts::of_subtree(a, base) {
         return Ok((*a, v));
     }
+    // reaching the base: into its children (whose sums may settle them)
     let (mut a, mut v) = (SurfaceStats::empty(), VolumeParts::default());
     for c in tin.children(l, t)? {
         let (ac, vc) = subtree_volume(tin, level, (l + 1, c), base, sums, tk)?;
@@ -466,7 +589,10 @@ pub struct SubtreeSums {
 }
 
 impl SubtreeSums {
-    /// The sums of every triangle of the levels coarser than `level`.
+    /// The sums of every triangle of the levels coarser than `level`: one
+    /// walk over the level's triangles in order ([`walk_leaves`]), each
+    /// coarser triangle finished as its last descendant is passed (its
+    /// children's sums added in order to [`SurfaceStats::empty`]).
     pub fn build<M: Mesh>(
         tin: &M,
         level: usize,
@@ -482,26 +608,29 @@ impl SubtreeSums {
             )));
         }
         let mut tk = Ticker::new(interrupt);
-        let mut coarse: Vec<Vec<SurfaceStats>> = vec![Vec::new(); level];
-        for l in (0..level).rev() {
-            let n = tin.num_triangles(l);
-            let mut here = Vec::with_capacity(n);
-            for t in 0..n as u32 {
-                let mut a = SurfaceStats::empty();
-                for c in tin.children(l, t)? {
-                    tk.tick()?;
-                    if l + 1 == level {
-                        a.add(&SurfaceStats::of_triangle(&tin.corners(level, c)?));
-                    } else {
-                        let below = coarse[l + 1].get(c as usize).ok_or_else(|| {
-                            TinError::corrupt(format!("child {c} of triangle {t} at level {l}"))
-                        })?;
-                        a.add(below);
-                    }
-                }
-                here.push(a);
+        let mut coarse: Vec<Vec<SurfaceStats>> = (0..level)
+            .map(|l| vec![SurfaceStats::empty(); tin.num_triangles(l)])
+            .collect();
+        if level > 0 {
+            let n = tin.num_triangles(level) as u32;
+            let mut bad = None;
+            walk_leaves(
+                tin,
+                level,
+                0,
+                0..n,
+                None,
+                &mut tk,
+                &mut |l, t, a, _| match coarse.get_mut(l).and_then(|c| c.get_mut(t as usize)) {
+                    Some(slot) => *slot = *a,
+                    None => bad = Some((l, t)),
+                },
+            )?;
+            if let Some((l, t)) = bad {
+                return Err(TinError::corrupt(format!(
+                    "triangle {t} of level {l} out of range"
+                )));
             }
-            coarse[l] = here;
         }
         Ok(SubtreeSums { level, coarse })
     }
