@@ -39,6 +39,7 @@ bench:
 	scripts/bench-overviews.sh
 	scripts/bench-giga.sh
 	scripts/bench-area.sh
+	scripts/bench-engine.sh
 
 clean:
 	scripts/cluster.sh stop

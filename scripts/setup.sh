@@ -56,10 +56,10 @@ fi
 # benchmark (exactextract: the coverage-weighted oracle for raster stats),
 # in target/venv from Debian's python3 (scripts/python.sh runs it)
 venv="$root/target/venv"
-if ! "$venv/bin/python3" -c "import numpy, matplotlib, shapely, exactextract" 2>/dev/null; then
+if ! "$venv/bin/python3" -c "import numpy, matplotlib, shapely, exactextract, pydelatin, tifffile" 2>/dev/null; then
   echo "== installing Python test libraries into target/venv"
   base=/usr/bin/python3
   [ -x "$base" ] || base=python3
   "$base" -m venv "$venv"
-  "$venv/bin/python3" -m pip install -q --disable-pip-version-check numpy matplotlib shapely exactextract
+  "$venv/bin/python3" -m pip install -q --disable-pip-version-check numpy matplotlib shapely exactextract pydelatin tifffile
 fi

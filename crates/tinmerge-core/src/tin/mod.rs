@@ -19,6 +19,7 @@ pub mod breaklines;
 pub mod build;
 pub mod check;
 pub mod compact;
+pub mod construct;
 pub mod cover;
 pub mod delaunay_ref;
 pub mod dense;

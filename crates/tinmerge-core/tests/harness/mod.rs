@@ -833,3 +833,81 @@ fn verify_cost() {
         100.0 * checks[2] / (build - checks[2])
     );
 }
+
+/// Build engine 2 (issue 74, `construct::build_band`, not yet what the SQL
+/// functions call) on the harness's terrains: every level conforming,
+/// nested, no triangle thinner than a millionth of a pixel, over the valid
+/// centres' hull, and within its tolerance at every valid centre and every
+/// crossing of an edge with a grid segment, by the same oracle as the
+/// builds above. `TINMERGE_ENGINE_TRIALS` trials (default 300) from seed
+/// `TINMERGE_HARNESS_SEED` (default 74000), stopped early past
+/// `TINMERGE_HARNESS_SECONDS`.
+#[test]
+fn engine_2_builds_on_real_terrain_are_exact() {
+    use tinmerge_core::tin::construct::build_band;
+    let trials = env_f64("TINMERGE_ENGINE_TRIALS").map_or(300, |n| n as u64);
+    let budget = Duration::from_secs_f64(env_f64("TINMERGE_HARNESS_SECONDS").unwrap_or(300.0));
+    let base = env_f64("TINMERGE_HARNESS_SEED").map_or(74_000, |s| s as u64);
+    let next = AtomicU64::new(base);
+    let failures: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let counts = Mutex::new((0usize, Counts::default()));
+    let start = Instant::now();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| {
+                loop {
+                    let seed = next.fetch_add(1, Ordering::Relaxed);
+                    if seed - base >= trials || start.elapsed() >= budget {
+                        break;
+                    }
+                    let mut rng = StdRng::seed_from_u64(seed);
+                    let r = terrain(&mut rng);
+                    let levels = rng.random_range(1..=5usize);
+                    let tol = log_uniform(&mut rng, 0.5, 20.0);
+                    let tols = default_tolerances(tol, levels as i32).unwrap();
+                    if r.valid() < 3 {
+                        continue;
+                    }
+                    let what = format!("seed {seed}: {}, tolerance {tol}, {levels} levels", r.desc);
+                    let out = std::panic::catch_unwind(|| {
+                        let t =
+                            match build_band(&r.z, r.w, r.h, &r.lat, &tols, r.srid, &mut || Ok(()))
+                            {
+                                Ok(t) => t,
+                                Err(TinError::Degenerate(_)) => return Ok(Counts::default()),
+                                Err(e) => return Err(format!("the build failed: {e}")),
+                            };
+                        let mut c =
+                            check_tin(&t, &raster_domain(&r, true), r.pixel(), LATTICE_THIN)?;
+                        c += check_tolerance(&t, &r, false, true)?;
+                        Ok(c)
+                    })
+                    .unwrap_or_else(|_| Err("panicked".to_string()));
+                    match out {
+                        Ok(c) => {
+                            let mut n = counts.lock().unwrap();
+                            n.0 += 1;
+                            n.1 += c;
+                        }
+                        Err(e) => failures.lock().unwrap().push(format!("{what}: {e}")),
+                    }
+                }
+            });
+        }
+    });
+    let (n, c) = counts.into_inner().unwrap();
+    eprintln!(
+        "engine 2: {n} builds in {:.0} s, {} levels, {} triangles, {} pixel centres, {} grid crossings checked",
+        start.elapsed().as_secs_f64(),
+        c.levels,
+        c.triangles,
+        c.centres,
+        c.crossings
+    );
+    let fs = failures.into_inner().unwrap();
+    for f in &fs {
+        eprintln!("FAILED {f}");
+    }
+    assert!(fs.is_empty(), "{} engine 2 builds failed (above)", fs.len());
+}

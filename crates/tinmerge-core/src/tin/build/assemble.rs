@@ -131,7 +131,7 @@ fn sort_keys(
 /// ([`crate::tin::check::verify_built`]): no build hands out a value that
 /// fails its own checks (issue 73). Triangles a caller gives
 /// (`from_triangles`) are assembled as they are.
-pub(super) fn assemble_verified(
+pub(crate) fn assemble_verified(
     verts: Vec<[f64; 3]>,
     raw: Vec<RawLevel>,
     srid: i32,

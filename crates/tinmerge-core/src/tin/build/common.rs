@@ -255,20 +255,20 @@ impl SeamLines<'_> {
 }
 
 /// One level of the build before [`assemble`](super::assemble::assemble).
-pub(super) struct RawLevel {
-    pub(super) tolerance: f64,
+pub(crate) struct RawLevel {
+    pub(crate) tolerance: f64,
     /// measured
-    pub(super) max_error: f64,
+    pub(crate) max_error: f64,
     /// vertices of this level and the coarser ones (a prefix of all)
-    pub(super) num_vertices: u32,
+    pub(crate) num_vertices: u32,
     /// counter-clockwise, by vertex index
-    pub(super) tris: Vec<[u32; 3]>,
+    pub(crate) tris: Vec<[u32; 3]>,
     /// each triangle's parent, by index in the previous level's `tris`;
     /// (empty at level 0)
-    pub(super) parents: Vec<u32>,
+    pub(crate) parents: Vec<u32>,
     /// which triangles are void (outside the domain; empty: none): at
     /// level 0 by [`mark_void`](super::levels::mark_void), at the finer ones as their parents
-    pub(super) void: Vec<bool>,
+    pub(crate) void: Vec<bool>,
 }
 
 /// Whether a parent is outside the domain (a build's boundary, a hole in

@@ -54,7 +54,9 @@ mod parents;
 mod raster;
 mod window;
 
+pub(crate) use self::assemble::assemble_verified;
 use self::assemble::*;
+pub(crate) use self::common::RawLevel;
 use self::common::*;
 pub use self::common::{
     Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
@@ -63,6 +65,7 @@ use self::levels::*;
 pub(crate) use self::levels::{dense_hull, dense_of};
 pub use self::raster::{RasterBand, RasterBuild, build_raster};
 pub use self::window::build_lattice_window_domain;
+pub(crate) use self::window::on_lattice;
 use super::breaklines::{Breakline, clip_to_hull};
 use super::delaunay_ref::DelaunayReference;
 use super::dense::Dense;

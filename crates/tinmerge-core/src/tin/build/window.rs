@@ -156,7 +156,7 @@ pub(super) fn in_frame(keep: &Border, origin: (i64, i64)) -> Border {
 
 /// A tin built in a window's frame put on the lattice: its vertices moved
 /// by `origin` (whole pixels: exact) and mapped to world coordinates.
-pub(super) fn on_lattice(
+pub(crate) fn on_lattice(
     mut tin: Tin,
     lattice: &Lattice,
     origin: (i64, i64),

@@ -1,0 +1,99 @@
+//! Build engine 2 against the build it replaces (issue 74): the same band
+//! built by `build_raster` (over the valid pixels' hull, `fill_gaps`) and
+//! by `construct::build_band`, one level and five, 2 m and 5 m, on both
+//! bundled DEMs: wall time (median of 3), triangles and vertices at the
+//! finest level, peak heap per pixel. `cargo bench --bench engine`.
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::time::Instant;
+use tinmerge_core::tin::Tin;
+use tinmerge_core::tin::build::{RasterBand, RasterBuild, build_raster, default_tolerances};
+use tinmerge_core::tin::construct::build_band;
+use tinmerge_core::tin::memory;
+
+#[global_allocator]
+static ALLOCATOR: memory::Counting = memory::Counting;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn main() {
+    let only: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    println!(
+        "| DEM | pixels (valid) | tolerance | levels | engine | ms (median of 3) | finest triangles | finest vertices | peak heap B/pixel |"
+    );
+    println!("|---|---:|---:|---:|---|---:|---:|---:|---:|");
+    for name in ["jacksboro_fault_dem_utm16n.tif", "jacksboro_fault_dem.tif"] {
+        let d = common::read_dem(name);
+        let z: Vec<f64> = d
+            .values
+            .iter()
+            .map(|&v| {
+                if Some(v) == d.nodata || !v.is_finite() {
+                    f64::NAN
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let valid = z.iter().filter(|v| !v.is_nan()).count();
+        let lattice = d.lattice();
+        // tolerances in the DEM's units of height (metres for both)
+        for (tol, levels) in [(2.0, 1), (5.0, 1), (2.0, 5), (5.0, 5)] {
+            let tols = default_tolerances(tol, levels).unwrap();
+            for engine in ["build_raster", "engine 2"] {
+                if !only.is_empty() && !only.iter().any(|o| engine.contains(o.as_str())) {
+                    continue;
+                }
+                let mut times = Vec::new();
+                let mut last: Option<Tin> = None;
+                let mut peak = 0usize;
+                for _ in 0..3 {
+                    memory::reset_peak();
+                    let base = memory::live();
+                    let t0 = Instant::now();
+                    let tin = if engine == "engine 2" {
+                        build_band(&z, d.width, d.height, &lattice, &tols, 0, &mut || Ok(()))
+                    } else {
+                        let band = RasterBand {
+                            z: z.clone(),
+                            width: d.width,
+                            height: d.height,
+                            lattice,
+                        };
+                        let with = RasterBuild {
+                            lines: &[],
+                            boundary: None,
+                            fill_gaps: true,
+                        };
+                        build_raster(band, with, &tols, 0, &mut |_, _| Ok(()), &mut || Ok(()))
+                    };
+                    times.push(t0.elapsed().as_secs_f64() * 1e3);
+                    peak = peak.max(memory::peak().saturating_sub(base));
+                    last = Some(tin.expect("build"));
+                }
+                let t = last.unwrap();
+                let f = t.levels.last().unwrap();
+                println!(
+                    "| {} | {} ({}) | {} | {} | {} | {:.0} | {} | {} | {:.0} |",
+                    name.trim_end_matches(".tif"),
+                    d.width * d.height,
+                    valid,
+                    tol,
+                    levels,
+                    engine,
+                    median(times),
+                    f.tris.len(),
+                    f.num_vertices,
+                    peak as f64 / (d.width * d.height) as f64
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,577 @@
+//! The driver: greedy insertion (Garland and Heckbert) into one
+//! triangulation that becomes every level in turn. Each triangle keeps its
+//! worst error and what fixes it ([`measure`]); a max-heap of triangles by
+//! error (stale entries skipped by a stamp) gives the next fix. A level
+//! ends when the worst triangle is within its tolerance; its triangles are
+//! copied out, each becomes the parent of what it holds at the next level,
+//! and every edge is locked: it is never flipped again, and is split only
+//! at a point on it (a pixel centre exactly on it, or the rounded point
+//! where it crosses a grid segment, with the segment's height), so the
+//! coarse edges persist as unions of finer ones and every triangle made
+//! later lies in one parent. Nothing is decided twice and no level is
+//! repaired after it is made.
+
+use super::measure::{Fix, Heights, Worst, measure};
+use super::mesh::{Mesh, NONE, next, prev};
+use crate::geom::{is_sliver, orient, orient_slack};
+use crate::interrupt::{Interrupt, Ticker};
+use crate::tin::TinError;
+use crate::tin::build::RawLevel;
+use std::collections::BinaryHeap;
+
+pub(super) struct Greedy<'g> {
+    m: Mesh,
+    g: &'g Heights<'g>,
+    /// the vertex at each pixel centre, or `NONE`
+    vid: Vec<u32>,
+    worst: Vec<Worst>,
+    stamp: Vec<u32>,
+    /// (error's bits, triangle, stamp)
+    heap: BinaryHeap<(u64, u32, u32)>,
+    /// the finest tolerance: a triangle within it is never queued
+    floor: f64,
+    stack: Vec<u32>,
+    touched: Vec<u32>,
+    /// the most vertices a build may make before it is called runaway
+    limit: usize,
+}
+
+fn internal(what: &str) -> TinError {
+    TinError::Internal(format!("the greedy build {what}"))
+}
+
+/// The convex hull of the valid pixel centres, counter-clockwise in
+/// lattice coordinates, without collinear points (Andrew's monotone
+/// chain, exact on whole numbers).
+fn hull(g: &Heights<'_>) -> Vec<[i64; 2]> {
+    let mut pts = Vec::new();
+    for r in 0..g.height as i64 {
+        let row: Vec<i64> = (0..g.width as i64)
+            .filter(|&c| g.at(c, r).is_some())
+            .collect();
+        if let (Some(&a), Some(&b)) = (row.first(), row.last()) {
+            pts.push([a, r]);
+            if b != a {
+                pts.push([b, r]);
+            }
+        }
+    }
+    pts.sort_unstable();
+    let cross = |o: &[i64; 2], a: &[i64; 2], b: &[i64; 2]| {
+        (a[0] - o[0]) as i128 * (b[1] - o[1]) as i128
+            - (a[1] - o[1]) as i128 * (b[0] - o[0]) as i128
+    };
+    let mut h: Vec<[i64; 2]> = Vec::new();
+    for pass in 0..2 {
+        let start = h.len();
+        let it: Box<dyn Iterator<Item = &[i64; 2]>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for p in it {
+            while h.len() >= start + 2 && cross(&h[h.len() - 2], &h[h.len() - 1], p) <= 0 {
+                h.pop();
+            }
+            h.push(*p);
+        }
+        h.pop();
+    }
+    h
+}
+
+impl<'g> Greedy<'g> {
+    /// The valid pixels' hull, triangulated (Delaunay), every triangle
+    /// measured.
+    pub(super) fn new(g: &'g Heights<'g>, floor: f64) -> Result<Self, TinError> {
+        let corners = hull(g);
+        if corners.len() < 3 {
+            return Err(TinError::Degenerate(
+                "the valid pixels lie on one line: no surface to triangulate".into(),
+            ));
+        }
+        let mut s = Greedy {
+            m: Mesh::new(),
+            g,
+            vid: vec![NONE; g.width * g.height],
+            worst: Vec::new(),
+            stamp: Vec::new(),
+            heap: BinaryHeap::new(),
+            floor,
+            stack: Vec::new(),
+            touched: Vec::new(),
+            limit: 4 * g.width * g.height + 1024,
+        };
+        for p in &corners {
+            let z = g
+                .at(p[0], p[1])
+                .ok_or_else(|| internal("lost a hull corner"))?;
+            let v = s.m.add_point([p[0] as f64, p[1] as f64, z]);
+            s.vid[p[1] as usize * g.width + p[0] as usize] = v;
+        }
+        for i in 1..corners.len() as u32 - 1 {
+            s.m.add_triangle(0, i, i + 1, 0);
+        }
+        s.m.link_all();
+        s.stack.extend(0..s.m.v.len() as u32);
+        s.legalize();
+        s.touched.clear();
+        for t in 0..s.m.triangles() {
+            s.rescan(t);
+        }
+        Ok(s)
+    }
+
+    /// Flip every edge on the stack that is not locally Delaunay and may
+    /// be flipped, and those it brings.
+    fn legalize(&mut self) {
+        while let Some(h) = self.stack.pop() {
+            if self.m.wants_flip(h) && self.m.flippable(h) {
+                let g = self.m.twin[h as usize];
+                self.touched.push(h / 3);
+                self.touched.push(g / 3);
+                let e = self.m.flip(h);
+                self.stack.extend_from_slice(&e);
+            }
+        }
+    }
+
+    fn rescan(&mut self, t: u32) {
+        let n = self.m.triangles() as usize;
+        if self.worst.len() < n {
+            self.worst.resize(n, Worst::NONE);
+            self.stamp.resize(n, 0);
+        }
+        let w = measure(&self.m, t, self.g, &self.vid);
+        self.worst[t as usize] = w;
+        self.stamp[t as usize] = self.stamp[t as usize].wrapping_add(1);
+        if w.err > self.floor {
+            self.heap.push((w.err.to_bits(), t, self.stamp[t as usize]));
+        }
+    }
+
+    /// The triangle holding point `p`, walking from `t`, and the
+    /// half-edge it lies on (up to rounding), if any.
+    fn locate(&self, mut t: u32, p: &[f64; 3]) -> Result<(u32, Option<u32>), TinError> {
+        let limit = self.m.triangles() as usize + 16;
+        for step in 0..limit {
+            let c = self.m.corners(t);
+            let mut on = None;
+            let mut moved = false;
+            for i in 0..3 {
+                let k = (i + step) % 3;
+                let (a, b) = (&c[k], &c[(k + 1) % 3]);
+                let (o, s) = (orient(a, b, p), orient_slack(a, b, p));
+                if o < -s {
+                    let g = self.m.twin[3 * t as usize + k];
+                    if g == NONE {
+                        return Err(internal("placed a point outside the hull"));
+                    }
+                    t = g / 3;
+                    moved = true;
+                    break;
+                }
+                if o <= s {
+                    if on.is_some() {
+                        return Err(internal(&format!(
+                            "placed a point on a vertex: {p:?} in {c:?}"
+                        )));
+                    }
+                    on = Some(3 * t + k as u32);
+                }
+            }
+            if !moved {
+                return Ok((t, on));
+            }
+        }
+        Err(internal("lost its way locating a point"))
+    }
+
+    /// Insert the pixel centre (c, r), found in or near triangle `t`.
+    fn insert_sample(&mut self, t: u32, c: u32, r: u32) -> Result<(), TinError> {
+        let i = r as usize * self.g.width + c as usize;
+        let z = self.g.z[i];
+        let p = [c as f64, r as f64, z];
+        let (t, on) = self.locate(t, &p)?;
+        let v = self.m.add_point(p);
+        self.vid[i] = v;
+        match on {
+            Some(h) => self.split_edge(h, v),
+            None => {
+                self.touched.push(t);
+                let e = self.m.split3(t, v);
+                self.stack.extend_from_slice(&e);
+            }
+        }
+        self.legalize();
+        Ok(())
+    }
+
+    fn split_edge(&mut self, h: u32, v: u32) {
+        let g = self.m.twin[h as usize];
+        self.touched.push(h / 3);
+        if g != NONE {
+            self.touched.push(g / 3);
+        }
+        let mut out = std::mem::take(&mut self.stack);
+        self.m.split_edge(h, v, &mut out);
+        self.stack = out;
+    }
+
+    /// Split the edge of `h` at point `p` on it (where it crosses a grid
+    /// segment, with the segment's height): the new vertex.
+    fn split_edge_at(&mut self, h: u32, p: [f64; 3]) -> Result<u32, TinError> {
+        let (a, b, c) = (*self.m.at(h), *self.m.at(next(h)), *self.m.at(prev(h)));
+        let bad =
+            |u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]| is_sliver(u, v, w) || orient(u, v, w) <= 0.0;
+        let mut thin = bad(&a, &p, &c) || bad(&p, &b, &c);
+        let g = self.m.twin[h as usize];
+        if g != NONE {
+            let d = *self.m.at(prev(g));
+            thin |= bad(&b, &p, &d) || bad(&p, &a, &d);
+        }
+        if thin {
+            return Err(internal(&format!(
+                "would make a sliver splitting the edge {a:?} - {b:?} at {p:?}"
+            )));
+        }
+        let v = self.m.add_point(p);
+        self.split_edge(h, v);
+        self.legalize();
+        Ok(v)
+    }
+
+    /// The half-edge p -> x whose triangle (p, x, y) holds the direction
+    /// from p to q (q left of or on p -> x, right of p -> y).
+    fn wedge(&self, p: u32, q: &[f64; 3]) -> Option<u32> {
+        let start = self.m.out[p as usize];
+        let pp = &self.m.pts[p as usize];
+        let mut h = start;
+        // turn clockwise to the hull (or round), then counter-clockwise
+        for _ in 0..64 {
+            let g = self.m.twin[h as usize];
+            if g == NONE {
+                break;
+            }
+            h = next(g);
+            if h == start {
+                break;
+            }
+        }
+        for _ in 0..64 {
+            let (x, y) = (self.m.at(next(h)), self.m.at(prev(h)));
+            if orient(pp, x, q) >= 0.0 && orient(pp, y, q) < 0.0 {
+                return Some(h);
+            }
+            // p -> y, the next triangle counter-clockwise
+            h = self.m.twin[prev(h) as usize];
+            if h == NONE {
+                return None;
+            }
+        }
+        None
+    }
+
+    /// Make the grid segment between vertices `p` and `q` an edge and lock
+    /// it (it has no crossings: no edge may cross it again). The free
+    /// triangles it crosses are taken out and each side of it triangulated
+    /// again (Delaunay in the pseudo-polygon, Anglada 1997); a locked edge
+    /// across it is split where it crosses, a vertex on it splits it, and
+    /// the parts are recovered alone. False, with nothing changed, when the
+    /// new triangles would not all be proper.
+    fn recover(&mut self, p: u32, q: u32, depth: u32) -> Result<bool, TinError> {
+        // each level of depth splits the segment at a vertex: bounded by
+        // the edges that cross it
+        if depth > 256 {
+            return Ok(false);
+        }
+        let (pp, qq) = (self.m.pts[p as usize], self.m.pts[q as usize]);
+        let Some(h) = self.wedge(p, &qq) else {
+            return Ok(false);
+        };
+        let x = self.m.v[next(h) as usize];
+        if x == q {
+            let g = self.m.twin[h as usize];
+            self.m.link(h, g, true);
+            return Ok(true);
+        }
+        if orient(&pp, &self.m.pts[x as usize], &qq) == 0.0 {
+            return Ok(self.recover(p, x, depth + 1)? && self.recover(x, q, depth + 1)?);
+        }
+        // the triangles the segment crosses, and the edges it crosses
+        let mut cavity = vec![h / 3];
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        let mut e = next(h);
+        loop {
+            if self.m.locked[e as usize] {
+                let cross = self.crossing_of(e, p, q);
+                let v = self.split_edge_at(e, cross)?;
+                return Ok(self.recover(p, v, depth + 1)? && self.recover(v, q, depth + 1)?);
+            }
+            // e runs from the right of p -> q to its left
+            let (u, w) = (self.m.v[e as usize], self.m.v[next(e) as usize]);
+            if right.last() != Some(&u) {
+                right.push(u);
+            }
+            if left.last() != Some(&w) {
+                left.push(w);
+            }
+            let g = self.m.twin[e as usize];
+            if g == NONE {
+                return Ok(false);
+            }
+            cavity.push(g / 3);
+            let apex = self.m.v[prev(g) as usize];
+            if apex == q {
+                break;
+            }
+            let o = orient(&pp, &qq, &self.m.pts[apex as usize]);
+            if o == 0.0 {
+                return Ok(self.recover(p, apex, depth + 1)? && self.recover(apex, q, depth + 1)?);
+            }
+            // g runs w -> u (left to right) in w, u, apex: the segment
+            // leaves by u -> apex when the apex is on its left, else by
+            // apex -> w (both run right to left)
+            e = if o > 0.0 { next(g) } else { prev(g) };
+            if cavity.len() > 4096 {
+                return Ok(false);
+            }
+        }
+        let mut tris = Vec::with_capacity(cavity.len());
+        let mut chain = vec![p];
+        chain.extend_from_slice(&left);
+        chain.push(q);
+        self.fill(&chain, &mut tris);
+        let mut chain = vec![q];
+        chain.extend(right.iter().rev());
+        chain.push(p);
+        self.fill(&chain, &mut tris);
+        let bad = |t: &[u32; 3]| {
+            let c = t.map(|v| self.m.pts[v as usize]);
+            is_sliver(&c[0], &c[1], &c[2]) || orient(&c[0], &c[1], &c[2]) <= 0.0
+        };
+        if tris.len() != cavity.len() || tris.iter().any(bad) {
+            return Ok(false);
+        }
+        self.replace(&cavity, &tris, (p, q));
+        Ok(true)
+    }
+
+    /// Triangulate the polygon of `chain` (its base from the first vertex
+    /// to the last, the others on the base's left) as Delaunay.
+    fn fill(&self, chain: &[u32], out: &mut Vec<[u32; 3]>) {
+        if chain.len() < 3 {
+            return;
+        }
+        let (a, b) = (chain[0], chain[chain.len() - 1]);
+        let pt = |v: u32| {
+            let p = &self.m.pts[v as usize];
+            robust::Coord { x: p[0], y: p[1] }
+        };
+        let mut k = 1;
+        for i in 2..chain.len() - 1 {
+            if robust::incircle(pt(a), pt(b), pt(chain[k]), pt(chain[i])) > 0.0 {
+                k = i;
+            }
+        }
+        out.push([a, b, chain[k]]);
+        self.fill(&chain[..=k], out);
+        self.fill(&chain[k..], out);
+    }
+
+    /// Put triangles `tris` in the slots of `cavity` (as many), linked to
+    /// each other and to the triangles around; the edge `locked` locked.
+    fn replace(&mut self, cavity: &[u32], tris: &[[u32; 3]], locked: (u32, u32)) {
+        use std::collections::HashMap;
+        let mut outer = HashMap::new();
+        let parent = self.m.parent[cavity[0] as usize];
+        for &t in cavity {
+            for h in 3 * t..3 * t + 3 {
+                let g = self.m.twin[h as usize];
+                if g == NONE || !cavity.contains(&(g / 3)) {
+                    let key = (self.m.v[h as usize], self.m.v[next(h) as usize]);
+                    outer.insert(key, (g, self.m.locked[h as usize]));
+                }
+            }
+        }
+        let mut inner = HashMap::new();
+        for (&t, tri) in cavity.iter().zip(tris) {
+            for k in 0..3 {
+                self.m.v[3 * t as usize + k] = tri[k];
+                inner.insert((tri[k], tri[(k + 1) % 3]), 3 * t + k as u32);
+            }
+            self.m.parent[t as usize] = parent;
+        }
+        for &t in cavity {
+            for h in 3 * t..3 * t + 3 {
+                let key = (self.m.v[h as usize], self.m.v[next(h) as usize]);
+                if let Some(&(g, lock)) = outer.get(&key) {
+                    self.m.link(h, g, lock);
+                } else if let Some(&g) = inner.get(&(key.1, key.0)) {
+                    let lock = key == locked || key == (locked.1, locked.0);
+                    self.m.link(h, g, lock);
+                }
+            }
+            self.m.refresh_out(t);
+            self.touched.push(t);
+        }
+    }
+
+    /// Where the edge of `e` crosses the grid segment from vertex `p` to
+    /// vertex `q` (one grid step apart), with the segment's height.
+    fn crossing_of(&self, e: u32, p: u32, q: u32) -> [f64; 3] {
+        let (u, w) = (self.m.at(e), self.m.at(next(e)));
+        let (pp, qq) = (&self.m.pts[p as usize], &self.m.pts[q as usize]);
+        // along x = const (a column's segment) or y = const (a row's)
+        let k = if pp[0] == qq[0] { 0 } else { 1 };
+        let s = (pp[k] - u[k]) / (w[k] - u[k]);
+        let other = u[1 - k] + s * (w[1 - k] - u[1 - k]);
+        let f = (other - pp[1 - k]) / (qq[1 - k] - pp[1 - k]);
+        let z = pp[2] + f * (qq[2] - pp[2]);
+        let mut x = [0.0, 0.0, z];
+        x[k] = pp[k];
+        x[1 - k] = other;
+        x
+    }
+
+    fn vertex_at(&self, p: &[u32; 2]) -> Option<u32> {
+        let v = self.vid[p[1] as usize * self.g.width + p[0] as usize];
+        (v != NONE).then_some(v)
+    }
+
+    /// Apply triangle `t`'s fix.
+    fn apply(&mut self, t: u32) -> Result<(), TinError> {
+        match self.worst[t as usize].fix {
+            Fix::None => Err(internal(
+                "found nothing to fix in a triangle over tolerance",
+            )),
+            Fix::Sample { c, r } => self.insert_sample(t, c, r),
+            Fix::Crossing { k, at, z, a, b } => {
+                let h = 3 * t + k as u32;
+                if self.m.locked[h as usize] || self.m.twin[h as usize] == NONE {
+                    return self.split_edge_at(h, [at[0], at[1], z]).map(|_| ());
+                }
+                // a free edge: a pixel of the segment it crosses, the one on
+                // this triangle's side first
+                let w = self.g.width;
+                let free = |p: &[u32; 2]| self.vid[p[1] as usize * w + p[0] as usize] == NONE;
+                let on_side = |p: &[u32; 2]| {
+                    orient(
+                        self.m.at(h),
+                        self.m.at(next(h)),
+                        &[p[0] as f64, p[1] as f64, 0.0],
+                    ) > 0.0
+                };
+                let (first, second) = if on_side(&a) { (a, b) } else { (b, a) };
+                match (free(&first), free(&second)) {
+                    (true, _) => self.insert_sample(t, first[0], first[1]),
+                    (false, true) => self.insert_sample(t, second[0], second[1]),
+                    (false, false) => {
+                        let vp = self.vertex_at(&a);
+                        let vq = self.vertex_at(&b);
+                        let (Some(vp), Some(vq)) = (vp, vq) else {
+                            return Err(internal("lost a pixel's vertex"));
+                        };
+                        let before = self.touched.len();
+                        if self.recover(vp, vq, 0)? || self.touched.len() != before {
+                            // made an edge, or flipped: measured again
+                            return Ok(());
+                        }
+                        // split where it crosses, and the segment's halves
+                        // made edges, so that nothing crosses it again
+                        let v = self.split_edge_at(h, [at[0], at[1], z])?;
+                        self.recover(vp, v, 1)?;
+                        self.recover(v, vq, 1)?;
+                        Ok(())
+                    }
+                }
+            }
+        }
+    }
+
+    /// Refine until every triangle is within `tol`.
+    pub(super) fn run(&mut self, tol: f64, interrupt: &mut Interrupt<'_>) -> Result<(), TinError> {
+        let mut tick = Ticker::new(interrupt);
+        while let Some(&(bits, t, st)) = self.heap.peek() {
+            if f64::from_bits(bits) <= tol {
+                break;
+            }
+            self.heap.pop();
+            if st != self.stamp[t as usize] {
+                continue;
+            }
+            let n0 = self.m.triangles();
+            self.apply(t)?;
+            let mut touched = std::mem::take(&mut self.touched);
+            // t itself too: a pixel its crossing asked for may have gone
+            // into a triangle beside it
+            touched.push(t);
+            touched.extend(n0..self.m.triangles());
+            touched.sort_unstable();
+            touched.dedup();
+            for &u in &touched {
+                self.rescan(u);
+            }
+            touched.clear();
+            self.touched = touched;
+            if self.m.pts.len() > self.limit {
+                return Err(internal(
+                    "did not converge (more vertices than four a pixel)",
+                ));
+            }
+            tick.tick()?;
+        }
+        Ok(())
+    }
+
+    /// The level just made, its triangles then made the parents of the
+    /// next and its edges locked.
+    pub(super) fn finish_level(&mut self, tol: f64, first: bool) -> RawLevel {
+        let n = self.m.triangles();
+        let tris = (0..n)
+            .map(|t| {
+                let h = 3 * t as usize;
+                [self.m.v[h], self.m.v[h + 1], self.m.v[h + 2]]
+            })
+            .collect();
+        let parents = if first {
+            Vec::new()
+        } else {
+            self.m.parent.clone()
+        };
+        let max_error = self.worst.iter().map(|w| w.err).fold(0.0, f64::max);
+        for (t, p) in self.m.parent.iter_mut().enumerate() {
+            *p = t as u32;
+        }
+        self.m.locked.iter_mut().for_each(|l| *l = true);
+        RawLevel {
+            tolerance: tol,
+            max_error,
+            num_vertices: self.m.pts.len() as u32,
+            tris,
+            parents,
+            void: Vec::new(),
+        }
+    }
+
+    pub(super) fn into_points(self) -> Vec<[f64; 3]> {
+        self.m.pts
+    }
+}
+
+/// Every level of the greedy build of a raster band, in lattice
+/// coordinates: its vertices and levels.
+pub(super) fn levels(
+    g: &Heights<'_>,
+    tolerances: &[f64],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
+    let floor = tolerances.last().copied().unwrap_or(0.0);
+    let mut s = Greedy::new(g, floor)?;
+    let mut raw = Vec::with_capacity(tolerances.len());
+    for (l, &tol) in tolerances.iter().enumerate() {
+        s.run(tol, interrupt)?;
+        raw.push(s.finish_level(tol, l == 0));
+    }
+    Ok((s.into_points(), raw))
+}

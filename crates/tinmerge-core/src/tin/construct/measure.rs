@@ -1,0 +1,243 @@
+//! How far a triangle is from the raster's surface, and where: the
+//! largest vertical error at the valid pixel centres in it (its rows of
+//! centres found from its edges, the centres near an edge decided by the
+//! exact orientation) and where its edges cross a grid segment between two
+//! valid centres (the segment's straight line between them is the surface
+//! there). The two together bound the error on the whole surface: inside a
+//! triangle the tin is linear, and on a grid segment so is the surface
+//! between the points where edges cross it.
+
+use super::mesh::{Mesh, NONE, next};
+use crate::geom::left_or_on_rounded;
+
+/// A raster band's heights in place, row by row, `NaN` where no data.
+pub struct Heights<'a> {
+    pub z: &'a [f64],
+    pub width: usize,
+    pub height: usize,
+}
+
+impl Heights<'_> {
+    #[inline]
+    pub(super) fn at(&self, c: i64, r: i64) -> Option<f64> {
+        if c < 0 || r < 0 || c >= self.width as i64 || r >= self.height as i64 {
+            return None;
+        }
+        let z = self.z[r as usize * self.width + c as usize];
+        (!z.is_nan()).then_some(z)
+    }
+}
+
+/// What refines a triangle most: a pixel centre to insert, or a crossing
+/// of one of its edges with a grid segment.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Fix {
+    None,
+    Sample {
+        c: u32,
+        r: u32,
+    },
+    /// edge `k` of the triangle (its half-edge `3t + k`) crosses the grid
+    /// segment from pixel `a` to pixel `b` (column, row) at `at`, where
+    /// the surface is `z`
+    Crossing {
+        k: u8,
+        at: [f64; 2],
+        z: f64,
+        a: [u32; 2],
+        b: [u32; 2],
+    },
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Worst {
+    pub(super) err: f64,
+    pub(super) fix: Fix,
+}
+
+impl Worst {
+    pub(super) const NONE: Worst = Worst {
+        err: 0.0,
+        fix: Fix::None,
+    };
+}
+
+/// The plane through three points: z at (x, y).
+struct Plane {
+    x0: f64,
+    y0: f64,
+    z0: f64,
+    zx: f64,
+    zy: f64,
+}
+
+impl Plane {
+    fn of(c: &[[f64; 3]; 3]) -> Plane {
+        let (ux, uy, uz) = (c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]);
+        let (vx, vy, vz) = (c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]);
+        let det = ux * vy - uy * vx;
+        Plane {
+            x0: c[0][0],
+            y0: c[0][1],
+            z0: c[0][2],
+            zx: (uz * vy - vz * uy) / det,
+            zy: (vz * ux - uz * vx) / det,
+        }
+    }
+    #[inline]
+    fn z(&self, x: f64, y: f64) -> f64 {
+        self.z0 + self.zx * (x - self.x0) + self.zy * (y - self.y0)
+    }
+}
+
+/// The worst error of triangle `t` and its fix. `vid[pixel]` is not
+/// `NONE` at the pixel centres that are vertices (their error is the rounding of
+/// the plane, not the surface's).
+pub(super) fn measure(m: &Mesh, t: u32, g: &Heights<'_>, vid: &[u32]) -> Worst {
+    let c = m.corners(t);
+    let mut worst = samples(&c, g, vid);
+    for k in 0..3u32 {
+        let h = 3 * t + k;
+        let (p, q) = (m.at(h), m.at(next(h)));
+        let w = crossings(p, q, g);
+        if let (true, Fix::Crossing { at, z, a, b, .. }) = (w.err > worst.err, w.fix) {
+            worst = Worst {
+                err: w.err,
+                fix: Fix::Crossing {
+                    k: k as u8,
+                    at,
+                    z,
+                    a,
+                    b,
+                },
+            };
+        }
+    }
+    worst
+}
+
+/// The worst valid pixel centre in the closed triangle (up to rounding:
+/// a centre on an edge counts in both triangles).
+fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
+    let plane = Plane::of(c);
+    let lo = c.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
+    let hi = c.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+    let r0 = (lo.ceil() as i64).max(0);
+    let r1 = (hi.floor() as i64).min(g.height as i64 - 1);
+    let mut worst = Worst::NONE;
+    let inside = |x: f64, y: f64| {
+        let q = [x, y, 0.0];
+        (0..3).all(|k| left_or_on_rounded(&c[k], &c[(k + 1) % 3], &q))
+    };
+    for r in r0..=r1 {
+        let y = r as f64;
+        let (mut xl, mut xr) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..3 {
+            let (p, q) = (&c[k], &c[(k + 1) % 3]);
+            if (p[1] - y) * (q[1] - y) > 0.0 {
+                continue;
+            }
+            if p[1] == q[1] {
+                xl = xl.min(p[0].min(q[0]));
+                xr = xr.max(p[0].max(q[0]));
+            } else {
+                let x = p[0] + (y - p[1]) * (q[0] - p[0]) / (q[1] - p[1]);
+                xl = xl.min(x);
+                xr = xr.max(x);
+            }
+        }
+        if xl > xr {
+            continue;
+        }
+        // centres more than a pixel inside both ends are inside; those
+        // near an end are decided exactly
+        let c0 = ((xl.ceil() as i64) - 1).max(0);
+        let c1 = ((xr.floor() as i64) + 1).min(g.width as i64 - 1);
+        let (sure0, sure1) = (xl.ceil() as i64 + 1, xr.floor() as i64 - 1);
+        let row = r as usize * g.width;
+        for col in c0..=c1 {
+            let i = row + col as usize;
+            let z = g.z[i];
+            if z.is_nan() || vid[i] != NONE {
+                continue;
+            }
+            let x = col as f64;
+            if (col < sure0 || col > sure1) && !inside(x, y) {
+                continue;
+            }
+            let e = (z - plane.z(x, y)).abs();
+            if e > worst.err {
+                worst = Worst {
+                    err: e,
+                    fix: Fix::Sample {
+                        c: col as u32,
+                        r: r as u32,
+                    },
+                };
+            }
+        }
+    }
+    worst
+}
+
+/// The worst crossing of edge p -> q with a grid segment between two valid
+/// pixel centres (not at a centre, which [`samples`] measures), the edge's
+/// height there against the segment's.
+pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
+    let mut worst = Worst::NONE;
+    // rows crossed: y = r, the segment from (c, r) to (c + 1, r)
+    let mut each = |along_rows: bool| {
+        let (pu, pv, qu, qv) = if along_rows {
+            (p[1], p[0], q[1], q[0])
+        } else {
+            (p[0], p[1], q[0], q[1])
+        };
+        if pu == qu {
+            return;
+        }
+        let (lo, hi) = (pu.min(qu), pu.max(qu));
+        // the grid lines strictly between the ends
+        let mut u = lo.floor() as i64 + 1;
+        while (u as f64) < hi {
+            let s = (u as f64 - pu) / (qu - pu);
+            let v = pv + s * (qv - pv);
+            let v0 = v.floor();
+            // at a centre (up to rounding, where an end is a rounded
+            // crossing): a sample, which the triangles measure
+            if (v - v.round()).abs() > 1e-9 {
+                let (a, b) = if along_rows {
+                    ([v0 as i64, u], [v0 as i64 + 1, u])
+                } else {
+                    ([u, v0 as i64], [u, v0 as i64 + 1])
+                };
+                if let (Some(za), Some(zb)) = (g.at(a[0], a[1]), g.at(b[0], b[1])) {
+                    let f = v - v0;
+                    let zs = za + f * (zb - za);
+                    let ze = p[2] + s * (q[2] - p[2]);
+                    let e = (ze - zs).abs();
+                    if e > worst.err {
+                        let at = if along_rows {
+                            [v, u as f64]
+                        } else {
+                            [u as f64, v]
+                        };
+                        worst = Worst {
+                            err: e,
+                            fix: Fix::Crossing {
+                                k: 0,
+                                at,
+                                z: zs,
+                                a: [a[0] as u32, a[1] as u32],
+                                b: [b[0] as u32, b[1] as u32],
+                            },
+                        };
+                    }
+                }
+            }
+            u += 1;
+        }
+    };
+    each(true);
+    each(false);
+    worst
+}

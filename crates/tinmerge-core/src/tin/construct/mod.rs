@@ -1,0 +1,83 @@
+//! Build engine 2 (issue 74): the hierarchy of a raster band by greedy
+//! insertion into one triangulation, exact by construction.
+//!
+//! - [`mesh`]: the triangulation (flat half-edges, locked edges, splits
+//!   and flips);
+//! - [`measure`]: a triangle's worst error at the valid pixel centres in
+//!   it and where its edges cross grid segments between them;
+//! - [`greedy`]: the driver, level after level in the same triangulation.
+//!
+//! Every vertex is a pixel centre (whole lattice numbers, so every test of
+//! which side is exact) or the point where a locked edge crosses a grid
+//! segment, made by splitting that edge: no vertex is ever placed "near"
+//! an edge, so no level can have a crack. Free edges are Delaunay, but
+//! for the grid segments a level makes edges of (and locks) where an edge
+//! crossed one too far from the surface with both its pixels already
+//! vertices: the levels are constrained Delaunay triangulations, their
+//! constraints the coarser levels' edges and those segments, so
+//! [`Tin::sanity_check`](crate::tin::Tin::sanity_check)'s Delaunay test
+//! does not apply to them.
+//!
+//! ```
+//! use tinmerge_core::tin::construct::build_band;
+//! use tinmerge_core::tin::lattice::Lattice;
+//! let (w, h) = (40, 30);
+//! let z: Vec<f64> = (0..w * h)
+//!     .map(|i| ((i % w) as f64 * 0.3).sin() * 10.0 + (i / w) as f64)
+//!     .collect();
+//! let lattice = Lattice { ip_x: 500.0, ip_y: 900.0, scale_x: 10.0, scale_y: -10.0, skew_x: 0.0, skew_y: 0.0 };
+//! let tin = build_band(&z, w, h, &lattice, &[4.0, 1.0, 0.25], 32616, &mut || Ok(())).unwrap();
+//! assert_eq!(tin.levels.len(), 3);
+//! assert!(tin.levels[2].max_error <= 0.25);
+//! tinmerge_core::tin::check::validate_structure(&tin).unwrap();
+//! ```
+
+mod greedy;
+mod measure;
+mod mesh;
+
+pub use measure::Heights;
+
+use super::build::{RawLevel, assemble_verified, check_tolerances, on_lattice};
+use super::lattice::Lattice;
+use super::{Tin, TinError};
+use crate::interrupt::Interrupt;
+
+/// The levels of a band in lattice coordinates (column, row): vertices
+/// and raw levels, before they are assembled.
+pub(crate) fn band_levels(
+    g: &Heights<'_>,
+    tolerances: &[f64],
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
+    check_tolerances(tolerances)?;
+    if g.z.len() != g.width * g.height {
+        return Err(TinError::InvalidParameter(format!(
+            "{} heights for a band of {} x {} pixels",
+            g.z.len(),
+            g.width,
+            g.height
+        )));
+    }
+    greedy::levels(g, tolerances, interrupt)
+}
+
+/// The hierarchy of a raster band (`z` row by row, `NaN` where no data)
+/// over its valid pixel centres' hull, on `lattice`, one level a
+/// tolerance (coarsest first), every level within its tolerance at every
+/// valid pixel centre and where its edges cross the grid segments between
+/// them. Verified before it is returned.
+pub fn build_band(
+    z: &[f64],
+    width: usize,
+    height: usize,
+    lattice: &Lattice,
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    let g = Heights { z, width, height };
+    let (pts, raw) = band_levels(&g, tolerances, interrupt)?;
+    let tin = assemble_verified(pts, raw, srid, false, interrupt)?;
+    on_lattice(tin, lattice, (0, 0))
+}
