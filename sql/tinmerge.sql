@@ -224,8 +224,8 @@ COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
 -- tins: flags, cost, rows, comments) that take the
 -- geometry itself. They pin this search_path, through which they find
 -- PostGIS's ST_IsValidReason (their validity verdict, called by OID) and,
--- for the two that measure in the SRID's units and refuse a geographic
--- tin, spatial_ref_sys (read once per backend per SRID, and only when the
+-- for the two that measure (in metres on the spheroid for a geographic
+-- tin), spatial_ref_sys (read once per backend per SRID, and only when the
 -- tin's extent could be in degrees).
 ALTER FUNCTION tin_area_triangles(tin, geometry, int, boolean) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_area_stats(tin, geometry, int) SET search_path FROM CURRENT;
@@ -250,7 +250,7 @@ $$ SELECT s.area3d FROM @extschema@.tin_area_stats($1, $2, $3) s $$
 LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
 SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
-'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. Planar SRIDs only.';
+'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. A tin in a geographic SRID answers in square metres on the SRID''s spheroid.';
 
 -- raster merge
 CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false, half_open boolean DEFAULT false)

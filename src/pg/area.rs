@@ -18,7 +18,7 @@ use super::cache;
 use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::tin_type::TinArg;
-use tinmerge_core::geom::is_strictly_convex_ring;
+use tinmerge_core::geom::{is_strictly_convex_ring, Spheroid, Units};
 use tinmerge_core::io::ewkb::{self, Ewkb, Geom};
 use tinmerge_core::io::gserialized;
 use tinmerge_core::merge::area::polygon::Area;
@@ -147,6 +147,42 @@ pub(super) fn srid_is_geographic(given: Option<bool>, srid: i32, b: &Bbox) -> bo
     g
 }
 
+thread_local! {
+    /// The spheroid of each geographic SRID this backend has measured on.
+    static SPHEROIDS: RefCell<HashMap<i32, Spheroid>> = RefCell::new(HashMap::new());
+}
+
+/// How the area functions measure a tin of `srid`: in its own units, or,
+/// when the SRID is geographic ([`srid_is_geographic`]), in metres on its
+/// spheroid (from spatial_ref_sys's proj4text, read once per SRID and
+/// backend; WGS84 when it names none). An error for a spheroid the core
+/// does not know.
+pub(super) fn area_units(geographic: Option<bool>, srid: i32, bbox: &Bbox, func: &str) -> Units {
+    if !srid_is_geographic(geographic, srid, bbox) {
+        return Units::Planar;
+    }
+    if let Some(s) = SPHEROIDS.with(|c| c.borrow().get(&srid).copied()) {
+        return Units::Degrees(s);
+    }
+    let def = Spi::get_one_with_args::<String>(
+        "SELECT s.proj4text FROM spatial_ref_sys s WHERE s.srid = $1",
+        &[srid.into()],
+    )
+    .ok()
+    .flatten()
+    .unwrap_or_default();
+    let Some(s) = Spheroid::from_proj4(&def) else {
+        raise(
+            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
+            format!(
+                "{func}: the spheroid of SRID {srid} ('{def}') is not one tinmerge knows; give it in spatial_ref_sys.proj4text as +a= and +rf="
+            ),
+        );
+    };
+    SPHEROIDS.with(|c| c.borrow_mut().insert(srid, s));
+    Units::Degrees(s)
+}
+
 pub(super) fn refuse_geographic(geographic: Option<bool>, srid: i32, bbox: &Bbox, func: &str) {
     if srid_is_geographic(geographic, srid, bbox) {
         raise(
@@ -251,6 +287,7 @@ fn swept<M: Indexed>(
     m: &M,
     l: usize,
     area: &Area,
+    units: Units,
 ) -> (Sweep, Option<std::sync::Arc<SubtreeSums>>)
 where
     TinError: From<M::Err>,
@@ -272,7 +309,7 @@ where
     let coarse: usize = (0..l).map(|k| m.num_triangles(k)).sum();
     let bytes = coarse * std::mem::size_of::<tinmerge_core::merge::area::surface::SurfaceStats>();
     let sums = cache::make_sums(key.0, key.1, l, bytes, || {
-        SubtreeSums::build(m, l, &mut interrupt)
+        SubtreeSums::build(m, l, units, &mut interrupt)
     });
     (s, sums)
 }
@@ -286,10 +323,10 @@ pub(super) fn stats_row(
 ) -> StatsRow {
     let key = value_key(t);
     let st = with_mesh!(t, level, |m, l, srid| {
-        refuse_geographic(geographic, srid, m.bbox(), "tin_area_stats");
+        let units = area_units(geographic, srid, m.bbox(), "tin_area_stats");
         let area = area(srid);
-        let (s, sums) = swept(key, m, l, &area);
-        stats_with(m, &area, &s, sums.as_deref(), &mut interrupt).or_raise()
+        let (s, sums) = swept(key, m, l, &area, units);
+        stats_with(m, &area, &s, sums.as_deref(), units, &mut interrupt).or_raise()
     });
     let some = |v: f64| (st.area2d > 0.0).then_some(v);
     (
@@ -333,7 +370,7 @@ extension_sql!(
     r#"
 ALTER FUNCTION tin_area_stats(tin, geometry, int) ROWS 1;
 COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
-'Statistics of the surface of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: planar area, surface area, min/max height, area-weighted mean height and slope (degrees), steepest slope. Heights are NULL when the polygon misses the domain. Planar SRIDs only: a geographic tin is an error.';
+'Statistics of the surface of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: planar area, surface area, min/max height, area-weighted mean height and slope (degrees), steepest slope. Heights are NULL when the polygon misses the domain. A tin in a geographic SRID (degrees, heights in metres) answers in metres on the SRID''s spheroid: areas in square metres, slopes with the metres a degree spans at each part''s latitude.';
 "#,
     name = "tin_area_stats_sql",
     requires = [tin_area_stats]
@@ -355,10 +392,11 @@ pub(super) fn volume_row(
     }
     let key = value_key(t);
     with_mesh!(t, level, |m, l, srid| {
-        refuse_geographic(geographic, srid, m.bbox(), "tin_volume");
+        let units = area_units(geographic, srid, m.bbox(), "tin_volume");
         let area = area(srid);
-        let (s, sums) = swept(key, m, l, &area);
-        let v = volume_parts_with(m, &area, &s, base, sums.as_deref(), &mut interrupt).or_raise();
+        let (s, sums) = swept(key, m, l, &area, units);
+        let v = volume_parts_with(m, &area, &s, base, sums.as_deref(), units, &mut interrupt)
+            .or_raise();
         (v.cut, v.fill)
     })
 }
@@ -382,7 +420,7 @@ extension_sql!(
     r#"
 ALTER FUNCTION tin_volume(tin, geometry, float8, int) ROWS 1;
 COMMENT ON FUNCTION tin_volume(tin, geometry, float8, int) IS
-'Volumes inside a POLYGON or MULTIPOLYGON between the surface of a level (NULL = finest) and the height base_z: cut = volume of surface above base_z, fill = volume of the space below base_z down to the surface (as a cut-and-fill or ArcGIS Surface Volume), exact for the linear surface. Planar SRIDs only.';
+'Volumes inside a POLYGON or MULTIPOLYGON between the surface of a level (NULL = finest) and the height base_z: cut = volume of surface above base_z, fill = volume of the space below base_z down to the surface (as a cut-and-fill or ArcGIS Surface Volume), exact for the linear surface. A tin in a geographic SRID (degrees, heights in metres) answers in cubic metres on the SRID''s spheroid.';
 "#,
     name = "tin_volume_sql",
     requires = [tin_volume]

@@ -266,3 +266,111 @@ pub fn is_strictly_convex_ring(ring: &[[f64; 3]]) -> bool {
     // the turns add up to 2 pi times the times the ring goes round
     (turned - std::f64::consts::TAU).abs() < std::f64::consts::PI
 }
+
+/// A spheroid: semi-major axis (metres) and flattening.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spheroid {
+    pub a: f64,
+    pub f: f64,
+}
+
+impl Spheroid {
+    pub const WGS84: Spheroid = Spheroid {
+        a: 6_378_137.0,
+        f: 1.0 / 298.257_223_563,
+    };
+
+    /// Metres per degree of longitude and of latitude at latitude `lat`
+    /// (degrees): the radii of curvature in the prime vertical (times the
+    /// cosine of the latitude) and in the meridian.
+    ///
+    /// ```
+    /// use tinmerge_core::geom::Spheroid;
+    /// let (kx, ky) = Spheroid::WGS84.metres_per_degree(0.0);
+    /// assert!((kx - 111_319.49).abs() < 0.01 && (ky - 110_574.39).abs() < 0.01);
+    /// ```
+    pub fn metres_per_degree(&self, lat: f64) -> (f64, f64) {
+        let e2 = self.f * (2.0 - self.f);
+        let phi = lat.to_radians();
+        let s = phi.sin();
+        let w = (1.0 - e2 * s * s).sqrt();
+        let n = self.a / w;
+        let m = self.a * (1.0 - e2) / (w * w * w);
+        let k = std::f64::consts::PI / 180.0;
+        (k * n * phi.cos(), k * m)
+    }
+
+    /// The spheroid a PROJ.4 definition names (`+a` with `+rf`, `+f` or
+    /// `+b`; `+ellps`; `+datum`), WGS84 when it names none; None for an
+    /// ellipsoid name this does not know.
+    pub fn from_proj4(def: &str) -> Option<Spheroid> {
+        let mut kv = std::collections::HashMap::new();
+        for t in def.split_whitespace() {
+            let t = t.trim_start_matches('+');
+            let (k, v) = t.split_once('=').unwrap_or((t, ""));
+            kv.insert(k, v);
+        }
+        let num = |k: &str| kv.get(k).and_then(|v| v.parse::<f64>().ok());
+        if let Some(a) = num("a").or_else(|| num("R")) {
+            let f = match (num("rf"), num("f"), num("b")) {
+                (Some(rf), _, _) if rf != 0.0 => 1.0 / rf,
+                (_, Some(f), _) => f,
+                (_, _, Some(b)) => 1.0 - b / a,
+                _ => 0.0,
+            };
+            return (a > 0.0 && (0.0..1.0).contains(&f)).then_some(Spheroid { a, f });
+        }
+        let named = |name: &str| -> Option<Spheroid> {
+            let (a, rf) = match name {
+                "WGS84" => (6_378_137.0, 298.257_223_563),
+                "GRS80" => (6_378_137.0, 298.257_222_101),
+                "WGS72" => (6_378_135.0, 298.26),
+                "clrk66" => (6_378_206.4, 294.978_698_213_898),
+                "clrk80" => (6_378_249.145, 293.4663),
+                "intl" => (6_378_388.0, 297.0),
+                "bessel" => (6_377_397.155, 299.152_812_8),
+                "krass" => (6_378_245.0, 298.3),
+                "airy" => (6_377_563.396, 299.324_964_6),
+                "aust_SA" => (6_378_160.0, 298.25),
+                _ => return None,
+            };
+            Some(Spheroid { a, f: 1.0 / rf })
+        };
+        if let Some(e) = kv.get("ellps") {
+            return named(e);
+        }
+        match kv.get("datum").copied() {
+            None | Some("WGS84") => Some(Spheroid::WGS84),
+            Some("NAD83") => named("GRS80"),
+            Some("NAD27") => named("clrk66"),
+            Some(_) => None,
+        }
+    }
+}
+
+/// How a tin's x and y measure, for areas, slopes and volumes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Units {
+    /// As they are (a projected SRID, heights in the same unit).
+    Planar,
+    /// Longitude and latitude in degrees on a spheroid, heights in metres:
+    /// areas in square metres (the spheroid's area element at each part's
+    /// latitude), slopes with the metres a degree spans there.
+    Degrees(Spheroid),
+}
+
+impl Units {
+    /// For a part of a plane whose centroid is at latitude `lat`: the area
+    /// of one square unit there and the gradient (`gx`, `gy` per unit) per
+    /// metre.
+    #[inline]
+    pub fn local(&self, lat: f64, gx: f64, gy: f64) -> (f64, f64, f64) {
+        match self {
+            Units::Planar => (1.0, gx, gy),
+            Units::Degrees(s) => {
+                let (kx, ky) = s.metres_per_degree(lat);
+                (kx * ky, gx / kx, gy / ky)
+            }
+        }
+    }
+}

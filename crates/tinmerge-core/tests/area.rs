@@ -13,6 +13,7 @@ use geo::orient::{Direction, Orient};
 use geo::{Coord, Line, LineIntersection, line_intersection::line_intersection};
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use std::collections::{BTreeMap, HashSet};
+use tinmerge_core::geom::Units;
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::surface::{
     SubtreeSums, SurfaceStats, stats, stats_with, volume, volume_parts, volume_parts_with,
@@ -813,21 +814,37 @@ fn stats_and_volumes_match_the_clipped_triangles() {
             check_against(&what, &st, (cut, fill), &o);
             // coarse triangles wholly inside taken whole from their
             // subtree sums: the same against the same oracle
-            let sums = SubtreeSums::build(&tin, l, &mut no_interrupt).unwrap();
+            let sums = SubtreeSums::build(&tin, l, Units::Planar, &mut no_interrupt).unwrap();
             let coarse: usize = s.inside.iter().take(l).map(|v| v.len()).sum();
             if name.starts_with("most") && method == Method::Hierarchy && l > 0 {
                 assert!(coarse > 0, "{what}: no coarse triangle inside");
             }
-            let f = stats_with(&tin, &area, &s, Some(&sums), &mut no_interrupt).unwrap();
+            let f = stats_with(
+                &tin,
+                &area,
+                &s,
+                Some(&sums),
+                Units::Planar,
+                &mut no_interrupt,
+            )
+            .unwrap();
             let w = format!("{what} with subtree sums");
-            let v =
-                volume_parts_with(&tin, &area, &s, base, Some(&sums), &mut no_interrupt).unwrap();
+            let v = volume_parts_with(
+                &tin,
+                &area,
+                &s,
+                base,
+                Some(&sums),
+                Units::Planar,
+                &mut no_interrupt,
+            )
+            .unwrap();
             check_against(&w, &f, (v.cut, v.fill), &o);
             // the same bits with or without the sums, and at bases below,
             // inside and above the terrain
             assert_eq!(
                 f,
-                stats_with(&tin, &area, &s, None, &mut no_interrupt).unwrap(),
+                stats_with(&tin, &area, &s, None, Units::Planar, &mut no_interrupt).unwrap(),
                 "{w}"
             );
             for b in [
@@ -837,8 +854,16 @@ fn stats_and_volumes_match_the_clipped_triangles() {
                 tin.bbox.max_z + 1.0,
             ] {
                 let flat = volume_parts(&tin, &area, &s, b, &mut no_interrupt).unwrap();
-                let fast =
-                    volume_parts_with(&tin, &area, &s, b, Some(&sums), &mut no_interrupt).unwrap();
+                let fast = volume_parts_with(
+                    &tin,
+                    &area,
+                    &s,
+                    b,
+                    Some(&sums),
+                    Units::Planar,
+                    &mut no_interrupt,
+                )
+                .unwrap();
                 assert_eq!(fast, flat, "{w} at base {b}");
             }
             println!(
@@ -1017,7 +1042,7 @@ fn strictly_convex_rings_agree_with_geo_and_are_valid() {
 fn subtree_sums_are_the_recursive_fold_bit_for_bit() {
     fn fold(tin: &Tin, level: usize, l: usize, t: u32) -> SurfaceStats {
         if l == level {
-            return SurfaceStats::of_triangle(&tin.corners(level, t));
+            return SurfaceStats::of_triangle(&tin.corners(level, t), Units::Planar);
         }
         let mut a = SurfaceStats::empty();
         for c in tinmerge_core::tin::mesh::Mesh::children(tin, l, t).unwrap() {
@@ -1027,7 +1052,7 @@ fn subtree_sums_are_the_recursive_fold_bit_for_bit() {
     }
     let tin = dem_tin();
     for level in [1, 3, tin.num_levels() - 1] {
-        let sums = SubtreeSums::build(&tin, level, &mut no_interrupt).unwrap();
+        let sums = SubtreeSums::build(&tin, level, Units::Planar, &mut no_interrupt).unwrap();
         for l in 0..level {
             for t in 0..tin.levels[l].tris.len() as u32 {
                 assert_eq!(
@@ -1039,4 +1064,190 @@ fn subtree_sums_are_the_recursive_fold_bit_for_bit() {
         }
         assert_eq!(sums.of(level, 0), None);
     }
+}
+
+/// A point of the WGS84 spheroid (longitude, latitude in degrees) in
+/// earth-centred coordinates, metres: the oracle's own geometry.
+fn ecef(lon: f64, lat: f64) -> [f64; 3] {
+    let (a, f) = (6_378_137.0, 1.0 / 298.257_223_563);
+    let e2 = f * (2.0 - f);
+    let (l, p) = (lon.to_radians(), lat.to_radians());
+    let n = a / (1.0 - e2 * p.sin() * p.sin()).sqrt();
+    [
+        n * p.cos() * l.cos(),
+        n * p.cos() * l.sin(),
+        n * (1.0 - e2) * p.sin(),
+    ]
+}
+
+/// Metres per degree east and north at (lon, lat), and the area of a
+/// square degree there, from the spheroid's surface by central
+/// differences of [`ecef`].
+fn jacobian(lon: f64, lat: f64) -> (f64, f64, f64) {
+    let h = 1e-5;
+    let d = |p: [f64; 3], q: [f64; 3]| {
+        [
+            (q[0] - p[0]) / (2.0 * h),
+            (q[1] - p[1]) / (2.0 * h),
+            (q[2] - p[2]) / (2.0 * h),
+        ]
+    };
+    let u = d(ecef(lon - h, lat), ecef(lon + h, lat));
+    let v = d(ecef(lon, lat - h), ecef(lon, lat + h));
+    let n = |w: [f64; 3]| (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let cross = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    (n(u), n(v), n(cross))
+}
+
+/// The integral over polygon `poly` (degrees, signed by orientation) of
+/// `g(point, metres-per-degree east, north)` against the spheroid's area
+/// element: each fan triangle by Dunavant's 7-point rule (degree 5).
+fn spheroid_integral(poly: &[P2], g: &dyn Fn(P2, f64, f64) -> f64) -> f64 {
+    const R: [(f64, f64, f64, f64); 7] = [
+        (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.225),
+        (
+            0.059_715_871_789_770,
+            0.470_142_064_105_115,
+            0.470_142_064_105_115,
+            0.132_394_152_788_506,
+        ),
+        (
+            0.470_142_064_105_115,
+            0.059_715_871_789_770,
+            0.470_142_064_105_115,
+            0.132_394_152_788_506,
+        ),
+        (
+            0.470_142_064_105_115,
+            0.470_142_064_105_115,
+            0.059_715_871_789_770,
+            0.132_394_152_788_506,
+        ),
+        (
+            0.797_426_985_353_087,
+            0.101_286_507_323_456,
+            0.101_286_507_323_456,
+            0.125_939_180_544_827,
+        ),
+        (
+            0.101_286_507_323_456,
+            0.797_426_985_353_087,
+            0.101_286_507_323_456,
+            0.125_939_180_544_827,
+        ),
+        (
+            0.101_286_507_323_456,
+            0.101_286_507_323_456,
+            0.797_426_985_353_087,
+            0.125_939_180_544_827,
+        ),
+    ];
+    let mut s = 0.0;
+    for i in 1..poly.len().saturating_sub(1) {
+        let (a, b, c) = (poly[0], poly[i], poly[i + 1]);
+        let ar = ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) / 2.0;
+        for (wa, wb, wc, w) in R {
+            let p = [
+                wa * a[0] + wb * b[0] + wc * c[0],
+                wa * a[1] + wb * b[1] + wc * c[1],
+            ];
+            let (kx, ky, da) = jacobian(p[0], p[1]);
+            s += ar * w * da * g(p, kx, ky);
+        }
+    }
+    s
+}
+
+/// Issue 76: a tin in degrees (the geographic DEM, EPSG:4326) answers in
+/// metres on the WGS84 spheroid, within 1e-6 of the oracle: the clipped
+/// triangles integrated against the spheroid's own area element and
+/// metres per degree (earth-centred coordinates differenced), point by
+/// point, not at each part's centroid as the code does.
+#[test]
+fn geographic_stats_are_metres_on_the_spheroid() {
+    use tinmerge_core::geom::Spheroid;
+    let tin = crate::common::geo_tin(2.0);
+    let units = Units::Degrees(Spheroid::WGS84);
+    let mut rng = StdRng::seed_from_u64(7601);
+    let mut worst: f64 = 0.0;
+    for case in 0..4 {
+        let polys = random_polys(&mut rng, &tin);
+        let area = Area::new(polys.clone());
+        for l in [1usize, 3] {
+            let s = sweep(&tin, l, &area, Method::Hierarchy, &mut no_interrupt).unwrap();
+            let st = stats_with(&tin, &area, &s, None, units, &mut no_interrupt).unwrap();
+            let base = st.min_z + 0.4 * (st.max_z - st.min_z);
+            let v =
+                volume_parts_with(&tin, &area, &s, base, None, units, &mut no_interrupt).unwrap();
+            let sums = SubtreeSums::build(&tin, l, units, &mut no_interrupt).unwrap();
+            assert_eq!(
+                st,
+                stats_with(&tin, &area, &s, Some(&sums), units, &mut no_interrupt).unwrap(),
+                "case {case} level {l}: the same bits with the sums"
+            );
+            let rings: Vec<&Vec<P2>> = polys.iter().flatten().collect();
+            let (mut a, mut a3, mut zi, mut si, mut cut, mut fill) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            for t in 0..tin.levels[l].tris.len() as u32 {
+                let c = tin.corners(l, t);
+                let tc = tri2(&tin, l, t);
+                let z = |p: P2| plane_z(&c, p);
+                let (gx, gy) = {
+                    let d = (c[1][0] - c[0][0]) * (c[2][1] - c[0][1])
+                        - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
+                    (
+                        ((c[1][2] - c[0][2]) * (c[2][1] - c[0][1])
+                            - (c[2][2] - c[0][2]) * (c[1][1] - c[0][1]))
+                            / d,
+                        ((c[1][0] - c[0][0]) * (c[2][2] - c[0][2])
+                            - (c[2][0] - c[0][0]) * (c[1][2] - c[0][2]))
+                            / d,
+                    )
+                };
+                let grad = |kx: f64, ky: f64| (gx / kx).hypot(gy / ky);
+                for r in &rings {
+                    let p = clip_ring(r, &tc);
+                    if p.len() < 3 || signed_area(&p) == 0.0 {
+                        continue;
+                    }
+                    a += spheroid_integral(&p, &|_, _, _| 1.0);
+                    a3 += spheroid_integral(&p, &|_, kx, ky| (1.0 + grad(kx, ky).powi(2)).sqrt());
+                    zi += spheroid_integral(&p, &|q, _, _| z(q));
+                    si += spheroid_integral(&p, &|_, kx, ky| grad(kx, ky).atan().to_degrees());
+                    let up = half_plane(&p, &|q| z(q) - base);
+                    if up.len() >= 3 {
+                        cut += spheroid_integral(&up, &|q, _, _| z(q) - base);
+                    }
+                    let down = half_plane(&p, &|q| base - z(q));
+                    if down.len() >= 3 {
+                        fill += spheroid_integral(&down, &|q, _, _| base - z(q));
+                    }
+                }
+            }
+            let mut rel = |x: f64, o: f64, scale: f64, what: &str| {
+                let e = (x - o).abs() / scale.abs();
+                worst = worst.max(e);
+                assert!(
+                    e <= 1e-6,
+                    "case {case} level {l}: {what} {x} against {o} ({e:.2e} relative)"
+                );
+            };
+            assert!(
+                a > 1e6,
+                "case {case}: the polygon should cover square kilometres, not {a} m²"
+            );
+            rel(st.area2d, a, a, "area");
+            rel(st.area3d, a3, a3, "surface area");
+            rel(st.z_integral, zi, zi, "integral of z");
+            rel(st.slope_integral, si, si, "integral of slope");
+            rel(v.cut, cut, zi, "cut");
+            rel(v.fill, fill, zi, "fill");
+        }
+    }
+    eprintln!(
+        "geographic statistics: worst relative difference from the spheroid oracle {worst:.2e}"
+    );
 }

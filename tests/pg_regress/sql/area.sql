@@ -161,8 +161,23 @@ SELECT count(*) FROM terrain, tin_area_triangles(t, 'SRID=32616;POLYGON EMPTY'::
 SELECT count(*) FROM terrain, tin_area_triangles(t, NULL::geometry);
 SELECT count(*) FROM tin_area_triangles(NULL::tin, 'SRID=32616;POLYGON((0 0,1 0,1 1,0 0))');
 SELECT count(*) FROM terrain, tin_volume(t, ST_Expand(tin_envelope(t), 1), NULL);
--- a geographic tin: area and volume measures are refused, the triangle list works
+-- a geographic tin (0.25.0): areas in square metres on the spheroid, as
+-- PostGIS's ST_Area(geography) of the polygon (its edges segmentized in
+-- degrees, so that geodesics follow the straight lines in degrees the tin
+-- clips along); cut - fill is the integral of (z - base), mean_z times area
 CREATE TABLE terrain_geo AS SELECT tin_from_raster(rast, 8.0, 2) AS t FROM dem_geo;
 SELECT count(*) > 0 FROM terrain_geo, tin_area_triangles(t, ST_Expand(tin_envelope(t), -0.01));
-SELECT try($$SELECT * FROM terrain_geo, tin_area_stats(t, ST_Expand(tin_envelope(t), -0.01))$$);
-SELECT try($$SELECT * FROM terrain_geo, tin_volume(t, ST_Expand(tin_envelope(t), -0.01), 0)$$);
+WITH p AS (SELECT t, ST_Expand(tin_envelope(t), -0.01) AS p FROM terrain_geo),
+s AS (SELECT p, s.*, v.* FROM p, tin_area_stats(t, p) s, tin_volume(t, p, 300) v)
+SELECT abs(area2d / ST_Area(ST_Segmentize(p, 0.0005)::geography) - 1) < 1e-6 AS area_as_postgis,
+       area2d > 5e8 AS square_metres,
+       area3d > area2d AND area3d < 1.1 * area2d AS surface_area,
+       mean_slope BETWEEN 1 AND 30 AS slope_in_degrees,
+       abs((cut - fill) - (mean_z - 300) * area2d) < 1e-9 * (cut + fill) AS volumes
+FROM s;
+-- the same for a polygon across the edge of the terrain, and tin_surface_area
+WITH p AS (SELECT t, ST_Buffer(ST_Centroid(tin_envelope(t)), 0.2, 64) AS p FROM terrain_geo),
+s AS (SELECT p, t, s.* FROM p, tin_area_stats(t, p) s)
+SELECT abs(area2d / ST_Area(ST_Segmentize(ST_Intersection(p, tin_envelope(t)), 0.0005)::geography) - 1) < 1e-6 AS clipped_area_as_postgis,
+       tin_surface_area(t, p) = area3d AS scalar_form
+FROM s;

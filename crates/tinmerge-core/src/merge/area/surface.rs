@@ -31,7 +31,7 @@
 //! assert!((v.area_above - 0.5).abs() < 1e-12 && (v.area_below - 0.5).abs() < 1e-12);
 //! ```
 
-use crate::geom::P2;
+use crate::geom::{P2, Units};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::merge::area::Sweep;
 use crate::merge::area::clip::{Chain, Moments, clip_chains, clip_convex, clipped_moments};
@@ -72,8 +72,8 @@ impl SurfaceStats {
 
     /// A triangle wholly inside: its corners' heights, and its area,
     /// integrals and slope unless it has no area (as the clipped parts
-    /// count them).
-    pub fn of_triangle(cs: &[[f64; 3]; 3]) -> SurfaceStats {
+    /// count them), in `units`.
+    pub fn of_triangle(cs: &[[f64; 3]; 3], units: Units) -> SurfaceStats {
         let mut st = SurfaceStats::empty();
         for v in cs {
             st.min_z = st.min_z.min(v[2]);
@@ -81,22 +81,24 @@ impl SurfaceStats {
         }
         let c2: [P2; 3] = cs.map(|v| [v[0], v[1]]);
         let (z0, gx, gy) = plane(cs);
-        st.add_part(&Moments::of_polygon(c2[0], &c2), z0, gx, gy);
+        st.add_part(c2[0], &Moments::of_polygon(c2[0], &c2), (z0, gx, gy), units);
         st
     }
 
     /// A region of one triangle's plane (z0, gx, gy, relative to the
-    /// moments' origin) with moments `m` (nothing when it has no area).
-    fn add_part(&mut self, m: &Moments, z0: f64, gx: f64, gy: f64) {
+    /// moments' origin `o`) with moments `m` (nothing when it has no
+    /// area), measured in `units` at the region's centroid.
+    fn add_part(&mut self, o: P2, m: &Moments, (z0, gx, gy): (f64, f64, f64), units: Units) {
         if m.a <= 0.0 {
             return;
         }
-        let grad = gx.hypot(gy);
+        let (k, mx, my) = units.local(o[1] + m.my / m.a, gx, gy);
+        let grad = mx.hypot(my);
         let slope = grad.atan().to_degrees();
-        self.area2d += m.a;
-        self.area3d += m.a * (1.0 + grad * grad).sqrt();
-        self.z_integral += m.linear(z0, gx, gy);
-        self.slope_integral += m.a * slope;
+        self.area2d += k * m.a;
+        self.area3d += k * m.a * (1.0 + grad * grad).sqrt();
+        self.z_integral += k * m.linear(z0, gx, gy);
+        self.slope_integral += k * m.a * slope;
         self.max_slope = self.max_slope.max(slope);
     }
 
@@ -182,7 +184,7 @@ fn walk_leaves<M: Mesh>(
     level: usize,
     top: usize,
     leaves: std::ops::Range<u32>,
-    base: Option<f64>,
+    Measure { units, base }: Measure,
     tk: &mut Ticker<'_, '_>,
     finished: &mut Finished<'_>,
 ) -> Result<(), TinError>
@@ -227,8 +229,10 @@ where
             open.push((p, SurfaceStats::empty(), VolumeParts::default()));
         }
         let cs = tin.corners(level, i)?;
-        let a = SurfaceStats::of_triangle(&cs);
-        let v = base.map_or_else(VolumeParts::default, |b| VolumeParts::of_part(&cs, None, b));
+        let a = SurfaceStats::of_triangle(&cs, units);
+        let v = base.map_or_else(VolumeParts::default, |b| {
+            VolumeParts::of_part(&cs, None, b, units)
+        });
         if let Some(up) = open.last_mut() {
             up.1.add(&a);
             up.2.add(&v);
@@ -269,7 +273,7 @@ fn walk_subtree<M: Mesh>(
     tin: &M,
     level: usize,
     (l, t): (usize, u32),
-    base: Option<f64>,
+    how: Measure,
     tk: &mut Ticker<'_, '_>,
 ) -> Result<(SurfaceStats, VolumeParts), TinError>
 where
@@ -277,7 +281,7 @@ where
 {
     let mut out = (SurfaceStats::empty(), VolumeParts::default());
     let leaves = leaf_range(tin, level, (l, t))?;
-    walk_leaves(tin, level, l, leaves, base, tk, &mut |k, id, a, v| {
+    walk_leaves(tin, level, l, leaves, how, tk, &mut |k, id, a, v| {
         if k == l && id == t {
             out = (*a, *v);
         }
@@ -294,6 +298,7 @@ fn subtree<M: Mesh>(
     level: usize,
     (l, t): (usize, u32),
     sums: Option<&SubtreeSums>,
+    units: Units,
     tk: &mut Ticker<'_, '_>,
 ) -> Result<SurfaceStats, TinError>
 where
@@ -301,12 +306,20 @@ where
 {
     if l == level {
         tk.tick()?;
-        return Ok(SurfaceStats::of_triangle(&tin.corners(level, t)?));
+        return Ok(SurfaceStats::of_triangle(&tin.corners(level, t)?, units));
     }
     match sums.and_then(|u| u.of(l, t)) {
         Some(a) => Ok(*a),
-        None => Ok(walk_subtree(tin, level, (l, t), None, tk)?.0),
+        None => Ok(walk_subtree(tin, level, (l, t), Measure { units, base: None }, tk)?.0),
     }
+}
+
+/// What a walk over leaves measures: in which units, and volumes against
+/// which base (none: sums only).
+#[derive(Clone, Copy)]
+struct Measure {
+    units: Units,
+    base: Option<f64>,
 }
 
 /// Statistics of the surface clipped to the area.
@@ -319,30 +332,32 @@ pub fn stats<M: Mesh>(
 where
     TinError: From<M::Err>,
 {
-    stats_with(tin, area, s, None, interrupt)
+    stats_with(tin, area, s, None, Units::Planar, interrupt)
 }
 
 /// [`stats`], a coarse triangle wholly inside taken whole from `sums`
 /// (when they are of the sweep's level) in O(1) instead of triangle by
 /// triangle. The same bits with or without them: a coarse triangle inside
 /// is always summed over its subtree as the sums are made, then added;
-/// then the boundary triangles' parts, in order.
+/// then the boundary triangles' parts, in order. Measured in `units`
+/// (the sums are used only when made in the same).
 pub fn stats_with<M: Mesh>(
     tin: &M,
     area: &Area,
     s: &Sweep,
     sums: Option<&SubtreeSums>,
+    units: Units,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<SurfaceStats, TinError>
 where
     TinError: From<M::Err>,
 {
-    let sums = sums.filter(|u| u.level() == s.level);
+    let sums = sums.filter(|u| u.level() == s.level && u.units == units);
     let mut tk = Ticker::new(interrupt);
     let mut st = SurfaceStats::empty();
     for (l, ts) in s.inside.iter().enumerate() {
         for &t in ts {
-            st.add(&subtree(tin, s.level, (l, t), sums, &mut tk)?);
+            st.add(&subtree(tin, s.level, (l, t), sums, units, &mut tk)?);
         }
     }
     boundary_parts(tin, s, &mut tk, &mut |cs, ch| {
@@ -364,7 +379,7 @@ where
             }
         }
         let m = clipped_moments(&c2, o, ch, &mut |q| area.locate(q));
-        st.add_part(&m, z0, gx, gy);
+        st.add_part(o, &m, (z0, gx, gy), units);
         Ok(())
     })?;
     Ok(st)
@@ -428,8 +443,14 @@ impl VolumeParts {
     }
 
     /// One triangle of the target level: wholly inside (`cut` None) or its
-    /// part inside the area through its pieces of the area's boundary.
-    fn of_part(cs: &[[f64; 3]; 3], cut: Option<(&[Chain], &Area)>, base: f64) -> VolumeParts {
+    /// part inside the area through its pieces of the area's boundary, in
+    /// `units` (each side of the base measured at its own centroid).
+    fn of_part(
+        cs: &[[f64; 3]; 3],
+        cut: Option<(&[Chain], &Area)>,
+        base: f64,
+        units: Units,
+    ) -> VolumeParts {
         let mut out = VolumeParts::default();
         let c2: [P2; 3] = cs.map(|v| [v[0], v[1]]);
         let o = c2[0];
@@ -456,13 +477,17 @@ impl VolumeParts {
                     clipped_moments(&side, o, &cut_chains, &mut |q| area.locate(q))
                 }
             };
-            let v = sign * m.linear(z0 - base, gx, gy);
+            if m.a <= 0.0 {
+                continue;
+            }
+            let k = units.local(o[1] + m.my / m.a, 0.0, 0.0).0;
+            let v = k * sign * m.linear(z0 - base, gx, gy);
             if sign > 0.0 {
                 out.cut += v.max(0.0);
-                out.area_above += m.a.max(0.0);
+                out.area_above += k * m.a;
             } else {
                 out.fill += v.max(0.0);
-                out.area_below += m.a.max(0.0);
+                out.area_below += k * m.a;
             }
         }
         out
@@ -480,6 +505,7 @@ fn subtree_volume<M: Mesh>(
     (l, t): (usize, u32),
     base: f64,
     sums: Option<&SubtreeSums>,
+    units: Units,
     tk: &mut Ticker<'_, '_>,
 ) -> Result<(SurfaceStats, VolumeParts), TinError>
 where
@@ -489,12 +515,16 @@ where
         tk.tick()?;
         let cs = tin.corners(level, t)?;
         return Ok((
-            SurfaceStats::of_triangle(&cs),
-            VolumeParts::of_part(&cs, None, base),
+            SurfaceStats::of_triangle(&cs, units),
+            VolumeParts::of_part(&cs, None, base, units),
         ));
     }
     let Some(a) = sums.and_then(|u| u.of(l, t)) else {
-        return walk_subtree(tin, level, (l, t), Some(base), tk);
+        let how = Measure {
+            units,
+            base: Some(base),
+        };
+        return walk_subtree(tin, level, (l, t), how, tk);
     };
     if let Some(v) = VolumeParts::of_subtree(a, base) {
         return Ok((*a, v));
@@ -502,7 +532,7 @@ where
     // reaching the base: into its children (whose sums may settle them)
     let (mut a, mut v) = (SurfaceStats::empty(), VolumeParts::default());
     for c in tin.children(l, t)? {
-        let (ac, vc) = subtree_volume(tin, level, (l + 1, c), base, sums, tk)?;
+        let (ac, vc) = subtree_volume(tin, level, (l + 1, c), base, sums, units, tk)?;
         a.add(&ac);
         v.add(&vc);
     }
@@ -521,35 +551,37 @@ pub fn volume_parts<M: Mesh>(
 where
     TinError: From<M::Err>,
 {
-    volume_parts_with(tin, area, s, base, None, interrupt)
+    volume_parts_with(tin, area, s, base, None, Units::Planar, interrupt)
 }
 
 /// [`volume_parts`], a coarse triangle wholly inside and with all its
 /// descendants strictly above (or below) the base taken whole from `sums`
 /// (when they are of the sweep's level) in O(1); one whose descendants
 /// reach the base is looked into, child by child. The same bits with or
-/// without them ([`subtree_volume`]).
+/// without them ([`subtree_volume`]). Measured in `units` (the sums are
+/// used only when made in the same).
 pub fn volume_parts_with<M: Mesh>(
     tin: &M,
     area: &Area,
     s: &Sweep,
     base: f64,
     sums: Option<&SubtreeSums>,
+    units: Units,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<VolumeParts, TinError>
 where
     TinError: From<M::Err>,
 {
-    let sums = sums.filter(|u| u.level() == s.level);
+    let sums = sums.filter(|u| u.level() == s.level && u.units == units);
     let mut tk = Ticker::new(interrupt);
     let mut out = VolumeParts::default();
     for (l, ts) in s.inside.iter().enumerate() {
         for &t in ts {
-            out.add(&subtree_volume(tin, s.level, (l, t), base, sums, &mut tk)?.1);
+            out.add(&subtree_volume(tin, s.level, (l, t), base, sums, units, &mut tk)?.1);
         }
     }
     boundary_parts(tin, s, &mut tk, &mut |cs, ch| {
-        out.add(&VolumeParts::of_part(&cs, Some((ch, area)), base));
+        out.add(&VolumeParts::of_part(&cs, Some((ch, area)), base, units));
         Ok(())
     })?;
     Ok(out)
@@ -567,6 +599,7 @@ where
 /// use tinmerge_core::merge::area::{sweep, Method};
 /// use tinmerge_core::merge::area::polygon::Area;
 /// use tinmerge_core::merge::area::surface::{stats, stats_with, SubtreeSums};
+/// use tinmerge_core::geom::Units;
 /// let mut pts = Vec::new();
 /// for i in 0..40 { for j in 0..40 {
 ///     let (x, y) = (i as f64, j as f64);
@@ -575,14 +608,15 @@ where
 /// let tin = build(pts, &[2.0, 0.5, 0.1], 0, &mut || Ok(())).unwrap();
 /// let a = Area::new(vec![vec![vec![[3.3, 2.1], [36.0, 5.5], [30.2, 35.7], [4.4, 30.0]]]]);
 /// let s = sweep(&tin, 2, &a, Method::Hierarchy, &mut || Ok(())).unwrap();
-/// let sums = SubtreeSums::build(&tin, 2, &mut || Ok(())).unwrap();
+/// let sums = SubtreeSums::build(&tin, 2, Units::Planar, &mut || Ok(())).unwrap();
 /// let flat = stats(&tin, &a, &s, &mut || Ok(())).unwrap();
-/// let fast = stats_with(&tin, &a, &s, Some(&sums), &mut || Ok(())).unwrap();
+/// let fast = stats_with(&tin, &a, &s, Some(&sums), Units::Planar, &mut || Ok(())).unwrap();
 /// // the same bits, with or without the sums
 /// assert_eq!(flat, fast);
 /// ```
 pub struct SubtreeSums {
     level: usize,
+    units: Units,
     /// `coarse[l][t]`: triangle t of level l < `level`, over its
     /// descendants at `level`.
     coarse: Vec<Vec<SurfaceStats>>,
@@ -596,6 +630,7 @@ impl SubtreeSums {
     pub fn build<M: Mesh>(
         tin: &M,
         level: usize,
+        units: Units,
         interrupt: &mut Interrupt<'_>,
     ) -> Result<SubtreeSums, TinError>
     where
@@ -619,7 +654,7 @@ impl SubtreeSums {
                 level,
                 0,
                 0..n,
-                None,
+                Measure { units, base: None },
                 &mut tk,
                 &mut |l, t, a, _| match coarse.get_mut(l).and_then(|c| c.get_mut(t as usize)) {
                     Some(slot) => *slot = *a,
@@ -632,7 +667,11 @@ impl SubtreeSums {
                 )));
             }
         }
-        Ok(SubtreeSums { level, coarse })
+        Ok(SubtreeSums {
+            level,
+            units,
+            coarse,
+        })
     }
 
     /// The target level.
