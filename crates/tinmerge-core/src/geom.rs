@@ -287,7 +287,7 @@ impl Spheroid {
     /// ```
     /// use tinmerge_core::geom::Spheroid;
     /// let (kx, ky) = Spheroid::WGS84.metres_per_degree(0.0);
-    /// assert!((kx - 111_319.49).abs() < 0.01 && (ky - 110_574.39).abs() < 0.01);
+    /// assert!((kx - 111_319.49).abs() < 0.01 && (ky - 110_574.27).abs() < 0.01);
     /// ```
     pub fn metres_per_degree(&self, lat: f64) -> (f64, f64) {
         let e2 = self.f * (2.0 - self.f);
