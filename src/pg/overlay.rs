@@ -183,14 +183,14 @@ fn tin_volume_between(
     };
     let func = "tin_volume";
     let ta = a.tin();
-    super::area::refuse_geographic(None, ta.srid, &ta.bbox, func);
+    let units = super::area::area_units(None, ta.srid, &ta.bbox, func);
     let area = super::area::geom_area(&g, ta.srid, func);
     let (o, srid) = overlay_args(&a, level_a, &b, level_b, func, true);
     memory::reserve(
         tinmerge_core::tin::build::build_bytes(o.pts.len(), 1),
         || format!("{func}: measuring {} overlay triangles", o.tris.len()),
     );
-    let v = volumes_in(&o, &area, srid, &mut interrupt).or_raise();
+    let v = volumes_in(&o, &area, srid, units, &mut interrupt).or_raise();
     TableIterator::new(vec![(
         v.cut,
         v.fill,
@@ -204,7 +204,7 @@ extension_sql!(
     r#"
 ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) ROWS 1;
 COMMENT ON FUNCTION tin_volume(tin, tin, geometry, int, int) IS
-'Cut and fill between two surfaces inside a POLYGON or MULTIPOLYGON (holes count out), each at a level (NULL = finest): two epochs of a survey, or a design against the ground, as ArcGIS Surface Difference and Cut Fill. cut = volume where a is above b, fill = volume where a is below b, area_cut and area_fill the planar areas where it is so, area_unchanged where the two are one plane (their triangles'' planes agree within 1e-9 of the height, as tin_difference); exact for the linear surfaces, over the overlay of the two (tin_overlay) clipped to the polygon. Only the common domain counts: the three areas sum to the polygon''s part of it. The tins must share their SRID, a projected one; the polygon must have it too. No row for a NULL tin or polygon.';
+'Cut and fill between two surfaces inside a POLYGON or MULTIPOLYGON (holes count out), each at a level (NULL = finest): two epochs of a survey, or a design against the ground, as ArcGIS Surface Difference and Cut Fill. cut = volume where a is above b, fill = volume where a is below b, area_cut and area_fill the planar areas where it is so, area_unchanged where the two are one plane (their triangles'' planes agree within 1e-9 of the height, as tin_difference); exact for the linear surfaces, over the overlay of the two (tin_overlay) clipped to the polygon. Only the common domain counts: the three areas sum to the polygon''s part of it. The tins must share their SRID and the polygon must have it too; tins in a geographic SRID answer in metres on its spheroid (as tin_area_stats). No row for a NULL tin or polygon.';
 "#,
     name = "tin_volume_between_sql",
     requires = [tin_volume_between]

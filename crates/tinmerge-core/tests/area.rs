@@ -1251,3 +1251,62 @@ fn geographic_stats_are_metres_on_the_spheroid() {
         "geographic statistics: worst relative difference from the spheroid oracle {worst:.2e}"
     );
 }
+
+/// The spheroid of a geographic SRID from its PROJ.4 text as PostGIS's
+/// spatial_ref_sys holds it (EPSG's constants for the expected values).
+#[test]
+fn spheroids_from_spatial_ref_sys() {
+    use tinmerge_core::geom::Spheroid;
+    let of = |s: &str| Spheroid::from_proj4(s).map(|e| (e.a, 1.0 / e.f));
+    let close = |got: Option<(f64, f64)>, a: f64, rf: f64| {
+        let (ga, grf) = got.expect("a spheroid");
+        assert!(
+            (ga - a).abs() < 1e-6 && (grf - rf).abs() < 1e-6,
+            "{ga} {grf} against {a} {rf}"
+        );
+    };
+    close(
+        of("+proj=longlat +datum=WGS84 +no_defs "),
+        6_378_137.0,
+        298.257_223_563,
+    );
+    close(
+        of("+proj=longlat +ellps=GRS80 +towgs84=0,0,0,0,0,0,0 +no_defs "),
+        6_378_137.0,
+        298.257_222_101,
+    );
+    close(
+        of("+proj=longlat +datum=NAD27 +no_defs "),
+        6_378_206.4,
+        294.978_698_213_898,
+    );
+    close(
+        of("+proj=longlat +ellps=intl +towgs84=-87,-98,-121,0,0,0,0 +no_defs "),
+        6_378_388.0,
+        297.0,
+    );
+    close(
+        of("+proj=longlat +a=6378137 +rf=298.257222101 +no_defs"),
+        6_378_137.0,
+        298.257_222_101,
+    );
+    close(
+        of("+proj=longlat +a=6378137 +b=6356752.314140356 +no_defs"),
+        6_378_137.0,
+        298.257_222_101,
+    );
+    // a sphere: no flattening
+    let s = Spheroid::from_proj4("+proj=longlat +R=6371000 +no_defs").unwrap();
+    assert_eq!((s.a, s.f), (6_371_000.0, 0.0));
+    // no definition at all (an SRID spatial_ref_sys does not hold): WGS84
+    assert_eq!(Spheroid::from_proj4(""), Some(Spheroid::WGS84));
+    assert_eq!(
+        Spheroid::from_proj4("+proj=longlat +ellps=nosuch +no_defs"),
+        None
+    );
+    assert_eq!(
+        Spheroid::from_proj4("+proj=longlat +datum=nosuch +no_defs"),
+        None
+    );
+    assert_eq!(Spheroid::from_proj4("+proj=longlat +a=-5 +rf=300"), None);
+}

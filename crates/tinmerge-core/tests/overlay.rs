@@ -1264,7 +1264,14 @@ fn volumes_between_two_surfaces_inside_polygons_against_exact_integration() {
                     ] {
                         mark_same(&mut o, a, la, b, lb);
                         let what = format!("{name}, levels {la}/{lb} ({:?})", o.fallback);
-                        let v = volumes_in(&o, &area, a.srid, &mut || Ok(())).unwrap();
+                        let v = volumes_in(
+                            &o,
+                            &area,
+                            a.srid,
+                            tinmerge_core::geom::Units::Planar,
+                            &mut || Ok(()),
+                        )
+                        .unwrap();
                         let vol = 1e-9 * (w.cut + w.fill).max(w.area) + w.fence_volume;
                         let ar = 1e-9 * w.area + w.fence_area;
                         assert!(

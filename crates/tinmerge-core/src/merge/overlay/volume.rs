@@ -33,8 +33,9 @@
 //! ```
 
 use super::Overlay;
+use crate::geom::Units;
 use crate::interrupt::Interrupt;
-use crate::merge::area::surface::volume_parts;
+use crate::merge::area::surface::volume_parts_with;
 use crate::merge::area::{Method, sweep};
 use crate::polygon::Area;
 use crate::tin::TinError;
@@ -57,12 +58,14 @@ pub struct Volumes {
 
 /// Cut, fill and their areas between the two surfaces of an overlay inside
 /// `area` (the common domain's part of it; [`super::mark_same`] first, so
-/// that where the surfaces are one plane counts as unchanged). `srid` is
+/// that where the surfaces are one plane counts as unchanged), measured in
+/// `units` (metres on the spheroid for a geographic overlay). `srid` is
 /// carried by the intermediate surfaces only.
 pub fn volumes_in(
     o: &Overlay,
     area: &Area,
     srid: i32,
+    units: Units,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Volumes, TinError> {
     let mut out = Volumes::default();
@@ -83,7 +86,7 @@ pub fn volumes_in(
     if changed_void.iter().any(|&v| !v) {
         let d = from_triangles_void(verts.clone(), o.tris.clone(), changed_void, srid, interrupt)?;
         let s = sweep(&d, 0, area, Method::Flat, interrupt)?;
-        let v = volume_parts(&d, area, &s, 0.0, interrupt)?;
+        let v = volume_parts_with(&d, area, &s, 0.0, None, units, interrupt)?;
         out.cut = v.cut;
         out.fill = v.fill;
         out.area_cut = v.area_above;
@@ -96,7 +99,8 @@ pub fn volumes_in(
         let flat: Vec<[f64; 3]> = verts.iter().map(|v| [v[0], v[1], 0.0]).collect();
         let d = from_triangles_void(flat, o.tris.clone(), same_void, srid, interrupt)?;
         let s = sweep(&d, 0, area, Method::Flat, interrupt)?;
-        out.area_unchanged = volume_parts(&d, area, &s, 1.0, interrupt)?.area_below;
+        out.area_unchanged =
+            volume_parts_with(&d, area, &s, 1.0, None, units, interrupt)?.area_below;
     }
     Ok(out)
 }
