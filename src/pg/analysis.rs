@@ -10,7 +10,7 @@ use super::errors::OrRaise;
 use super::interrupt::interrupt;
 use super::tin_type::{tin_level, TinArg};
 use tinmerge_core::analysis::contour::contours;
-use tinmerge_core::analysis::slope::slope_aspect;
+use tinmerge_core::analysis::slope::slope_aspect_in;
 use tinmerge_core::analysis::visibility::{line_of_sight, Curvature};
 use tinmerge_core::io::ewkb::Geom;
 use tinmerge_core::io::gserialized;
@@ -65,14 +65,14 @@ fn tin_slope_aspect(
         return TableIterator::new(Vec::new());
     };
     let (tin, l) = tin_level(&t, level);
-    super::area::refuse_geographic(None, tin.srid, &tin.bbox, "tin_slope_aspect");
+    let units = super::area::area_units(None, tin.srid, &tin.bbox, "tin_slope_aspect");
     let n = tin.levels[l].num_domain();
     let mut rows = Vec::with_capacity(n);
     let mut check = interrupt;
     let mut tick = tinmerge_core::interrupt::Ticker::new(&mut check);
     for tri in 0..n as u32 {
         tick.tick().or_raise();
-        let (s, a) = slope_aspect(&tin.corners(l, tri));
+        let (s, a) = slope_aspect_in(&tin.corners(l, tri), units);
         rows.push((tri as i32, s, a));
     }
     TableIterator::new(rows)
@@ -82,7 +82,7 @@ extension_sql!(
     r#"
 ALTER FUNCTION tin_slope_aspect(tin, int) ROWS 10000;
 COMMENT ON FUNCTION tin_slope_aspect(tin, int) IS
-'Slope and aspect of every triangle of a level (NULL = finest), exact for the plane of each triangle: slope in degrees from the horizontal, aspect the direction the triangle faces (steepest descent) in degrees clockwise from grid north, in [0, 360), NULL for a flat triangle; triangle as in tin_triangles. Planar SRIDs only (x, y in the unit of z): a geographic tin is an error.';
+'Slope and aspect of every triangle of a level (NULL = finest), exact for the plane of each triangle: slope in degrees from the horizontal, aspect the direction the triangle faces (steepest descent) in degrees clockwise from grid north, in [0, 360), NULL for a flat triangle; triangle as in tin_triangles. x, y in the unit of z, or, for a tin in a geographic SRID, each triangle in metres at its centroid''s latitude on the SRID''s spheroid (north then true north).';
 "#,
     name = "tin_slope_aspect_sql",
     requires = [tin_slope_aspect]

@@ -183,17 +183,6 @@ pub(super) fn area_units(geographic: Option<bool>, srid: i32, bbox: &Bbox, func:
     Units::Degrees(s)
 }
 
-pub(super) fn refuse_geographic(geographic: Option<bool>, srid: i32, bbox: &Bbox, func: &str) {
-    if srid_is_geographic(geographic, srid, bbox) {
-        raise(
-            PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,
-            format!(
-                "{func}: the tin's SRID {srid} is geographic (degrees): areas, slopes and volumes would mix degrees with height units; build the tin in a projected SRID (ST_Transform the raster before tin_from_raster)"
-            ),
-        );
-    }
-}
-
 type TriRow = (i32, i32, String, f64);
 
 /// The rows of `tin_area_triangles` for a polygon read by `area`.

@@ -300,6 +300,19 @@ impl Spheroid {
         (k * n * phi.cos(), k * m)
     }
 
+    /// The point at longitude `lon`, latitude `lat` (degrees) on the
+    /// spheroid, in earth-centred metres.
+    pub fn ecef(&self, lon: f64, lat: f64) -> [f64; 3] {
+        let e2 = self.f * (2.0 - self.f);
+        let (l, p) = (lon.to_radians(), lat.to_radians());
+        let n = self.a / (1.0 - e2 * p.sin() * p.sin()).sqrt();
+        [
+            n * p.cos() * l.cos(),
+            n * p.cos() * l.sin(),
+            n * (1.0 - e2) * p.sin(),
+        ]
+    }
+
     /// The spheroid a PROJ.4 definition names (`+a` with `+rf`, `+f` or
     /// `+b`; `+ellps`; `+datum`), WGS84 when it names none; None for an
     /// ellipsoid name this does not know.

@@ -69,5 +69,18 @@ SELECT count(*) FROM terrain, tin_contours(t, 0);
 SELECT count(*) FROM terrain, tin_contours(t, -5, 0);
 SELECT count(*) FROM terrain, tin_contours(t, 1e-6, 0);
 SELECT count(*) FROM terrain, tin_contours(t, 25, 9);
-SELECT count(*) FROM tin_slope_aspect(tin_from_points('SRID=4326;MULTIPOINT Z ((-84.1 36.2 300), (-84.0 36.2 310), (-84.05 36.3 320))'::geometry, 1.0, 1));
+-- a geographic tin (0.25.0): each triangle in the east and north metres
+-- of its centroid's tangent plane (the three points: 10 m over 8.97 km
+-- east, 20 m over 11.09 km north; computed apart in Python from the WGS84
+-- earth-centred coordinates: slope 0.10029321520, aspect 219.43581355)
+SELECT round(slope::numeric, 6) AS slope, round(aspect::numeric, 4) AS aspect
+FROM tin_slope_aspect(tin_from_points('SRID=4326;MULTIPOINT Z ((-84.1 36.2 300), (-84.0 36.2 310), (-84.05 36.3 320))'::geometry, 1.0, 1));
+-- and the geographic DEM's tin: the mean of its triangles' slopes weighted
+-- by PostGIS's geodesic area of each is tin_area_stats' mean slope
+CREATE TABLE an_geo AS SELECT tin_from_raster(rast, 8.0, 2) AS t FROM dem_geo;
+SELECT abs(sum(s.slope * ST_Area(tr.geom::geography)) / sum(ST_Area(tr.geom::geography)) - st.mean_slope) < 1e-6 * st.mean_slope AS weighted_mean
+FROM an_geo, tin_slope_aspect(t) s JOIN tin_triangles(t) tr ON tr.id = s.triangle,
+     tin_area_stats(t, ST_Expand(tin_envelope(t), 1)) st
+GROUP BY st.mean_slope;
+DROP TABLE an_geo;
 DROP TABLE an_tris, an_lines;

@@ -6,7 +6,9 @@
 //! (its steepest descent), in degrees clockwise from north (grid north of
 //! the tin's SRID), in `[0, 360)`; `None` for a flat triangle. Both take x,
 //! y and z in the same unit (a projected SRID in metres with heights in
-//! metres).
+//! metres); [`slope_aspect_in`] takes a tin in degrees too, its triangle
+//! laid out in local metres around its centroid (north is then true
+//! north).
 //!
 //! ```
 //! use tinmerge_core::analysis::slope::slope_aspect;
@@ -45,4 +47,48 @@ pub fn slope_aspect(c: &[[f64; 3]; 3]) -> (f64, Option<f64>) {
         a -= 360.0;
     }
     (slope, Some(a))
+}
+
+/// [`slope_aspect`] in `units`: a triangle in degrees is first laid out in
+/// metres around its centroid, its corners on the spheroid seen in the
+/// centroid's tangent plane (east, north) with their heights as up.
+///
+/// ```
+/// use tinmerge_core::analysis::slope::slope_aspect_in;
+/// use tinmerge_core::geom::{Spheroid, Units};
+/// // at the equator, a rise of 1,105.74 m over 0.01 degree of latitude
+/// let (s, a) = slope_aspect_in(
+///     &[[0.0, -0.005, 0.0], [0.01, -0.005, 0.0], [0.0, 0.005, 1105.7427582]],
+///     Units::Degrees(Spheroid::WGS84),
+/// );
+/// assert!((s - 45.0).abs() < 1e-3, "{s}");
+/// assert!((a.unwrap() - 180.0).abs() < 1e-6, "{a:?}");
+/// ```
+pub fn slope_aspect_in(c: &[[f64; 3]; 3], units: crate::geom::Units) -> (f64, Option<f64>) {
+    match units {
+        crate::geom::Units::Planar => slope_aspect(c),
+        crate::geom::Units::Degrees(sph) => {
+            let (cx, cy) = (
+                (c[0][0] + c[1][0] + c[2][0]) / 3.0,
+                (c[0][1] + c[1][1] + c[2][1]) / 3.0,
+            );
+            // the corners on the spheroid in earth-centred metres, seen in
+            // the east and north of the centroid's tangent plane, their
+            // heights as up: the plane through them in local metres
+            let (lon0, lat0) = (cx.to_radians(), cy.to_radians());
+            let east = [-lon0.sin(), lon0.cos(), 0.0];
+            let north = [
+                -lat0.sin() * lon0.cos(),
+                -lat0.sin() * lon0.sin(),
+                lat0.cos(),
+            ];
+            let o = sph.ecef(cx, cy);
+            slope_aspect(&c.map(|v| {
+                let p = sph.ecef(v[0], v[1]);
+                let d = [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
+                let dot = |u: [f64; 3]| d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
+                [dot(east), dot(north), v[2]]
+            }))
+        }
+    }
 }
