@@ -634,6 +634,36 @@ fn env_f64(name: &str) -> Option<f64> {
     std::env::var(name).ok().and_then(|s| s.parse().ok())
 }
 
+/// `trial(seed)` for seeds `base`, `base + 1`, ... on every core: at
+/// least one, then until `trials` seeds are taken or `budget` is spent; a
+/// thread stops when `trial` says false. The threads and the next seed.
+fn for_each_seed(
+    base: u64,
+    trials: u64,
+    budget: Duration,
+    trial: &(dyn Fn(u64) -> bool + Sync),
+) -> (usize, u64) {
+    let next = AtomicU64::new(base);
+    let start = Instant::now();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| {
+                loop {
+                    let seed = next.fetch_add(1, Ordering::Relaxed);
+                    if seed > base && (seed - base >= trials || start.elapsed() >= budget) {
+                        break;
+                    }
+                    if !trial(seed) {
+                        break;
+                    }
+                }
+            });
+        }
+    });
+    (threads, next.load(Ordering::Relaxed))
+}
+
 #[test]
 fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
     // `cargo test`: a fixed run of seeds (the same trials on every
@@ -653,53 +683,38 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
     } else {
         5
     };
-    let next = AtomicU64::new(base);
     let tally = Mutex::new(vec![Tally::default(); KINDS.len()]);
     let failures: Mutex<Vec<Failure>> = Mutex::new(Vec::new());
     let start = Instant::now();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    std::thread::scope(|s| {
-        for _ in 0..threads {
-            s.spawn(|| {
-                loop {
-                    let seed = next.fetch_add(1, Ordering::Relaxed);
-                    // at least one trial, then the run's seeds or until the
-                    // time is spent
-                    if seed > base && (seed - base >= trials || start.elapsed() >= budget) {
-                        break;
-                    }
-                    let out = std::panic::catch_unwind(|| trial(seed)).unwrap_or_else(|p| {
-                        let m = p
-                            .downcast_ref::<String>()
-                            .cloned()
-                            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                            .unwrap_or_default();
-                        Err(Failure {
-                            seed,
-                            what: format!("panicked: {m}"),
-                            sql: String::new(),
-                        })
-                    });
-                    match out {
-                        Ok(Some((kind, c, o, b))) => {
-                            let mut t = tally.lock().unwrap();
-                            t[kind].trials += 1;
-                            t[kind].builds += b;
-                            t[kind].overlays += o;
-                            t[kind].counts += c;
-                        }
-                        Ok(None) => tally.lock().unwrap()[0].skipped += 1,
-                        Err(f) => {
-                            let mut fs = failures.lock().unwrap();
-                            fs.push(f);
-                            if fs.len() >= max_failures {
-                                break;
-                            }
-                        }
-                    }
-                }
-            });
+    let (threads, next) = for_each_seed(base, trials, budget, &|seed| {
+        let out = std::panic::catch_unwind(|| trial(seed)).unwrap_or_else(|p| {
+            let m = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            Err(Failure {
+                seed,
+                what: format!("panicked: {m}"),
+                sql: String::new(),
+            })
+        });
+        match out {
+            Ok(Some((kind, c, o, b))) => {
+                let mut t = tally.lock().unwrap();
+                t[kind].trials += 1;
+                t[kind].builds += b;
+                t[kind].overlays += o;
+                t[kind].counts += c;
+            }
+            Ok(None) => tally.lock().unwrap()[0].skipped += 1,
+            Err(f) => {
+                let mut fs = failures.lock().unwrap();
+                fs.push(f);
+                return fs.len() < max_failures;
+            }
         }
+        true
     });
     let secs = start.elapsed().as_secs_f64();
     let t = tally.into_inner().unwrap();
@@ -707,7 +722,7 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
     eprintln!(
         "randomized harness: {total} trials in {secs:.0} s on {threads} threads ({:.0} a minute), seeds {base}..{}",
         total as f64 / secs * 60.0,
-        next.load(Ordering::Relaxed)
+        next
     );
     eprintln!(
         "| kind | trials | builds | overlays | levels | triangles | pixel centres | grid crossings |"
@@ -848,53 +863,39 @@ fn engine_2_builds_on_real_terrain_are_exact() {
     let trials = env_f64("TINMERGE_ENGINE_TRIALS").map_or(300, |n| n as u64);
     let budget = Duration::from_secs_f64(env_f64("TINMERGE_HARNESS_SECONDS").unwrap_or(300.0));
     let base = env_f64("TINMERGE_HARNESS_SEED").map_or(74_000, |s| s as u64);
-    let next = AtomicU64::new(base);
     let failures: Mutex<Vec<String>> = Mutex::new(Vec::new());
     let counts = Mutex::new((0usize, Counts::default()));
     let start = Instant::now();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    std::thread::scope(|s| {
-        for _ in 0..threads {
-            s.spawn(|| {
-                loop {
-                    let seed = next.fetch_add(1, Ordering::Relaxed);
-                    if seed - base >= trials || start.elapsed() >= budget {
-                        break;
-                    }
-                    let mut rng = StdRng::seed_from_u64(seed);
-                    let r = terrain(&mut rng);
-                    let levels = rng.random_range(1..=5usize);
-                    let tol = log_uniform(&mut rng, 0.5, 20.0);
-                    let tols = default_tolerances(tol, levels as i32).unwrap();
-                    if r.valid() < 3 {
-                        continue;
-                    }
-                    let what = format!("seed {seed}: {}, tolerance {tol}, {levels} levels", r.desc);
-                    let out = std::panic::catch_unwind(|| {
-                        let t =
-                            match build_band(&r.z, r.w, r.h, &r.lat, &tols, r.srid, &mut || Ok(()))
-                            {
-                                Ok(t) => t,
-                                Err(TinError::Degenerate(_)) => return Ok(Counts::default()),
-                                Err(e) => return Err(format!("the build failed: {e}")),
-                            };
-                        let mut c =
-                            check_tin(&t, &raster_domain(&r, true), r.pixel(), LATTICE_THIN)?;
-                        c += check_tolerance(&t, &r, false, true)?;
-                        Ok(c)
-                    })
-                    .unwrap_or_else(|_| Err("panicked".to_string()));
-                    match out {
-                        Ok(c) => {
-                            let mut n = counts.lock().unwrap();
-                            n.0 += 1;
-                            n.1 += c;
-                        }
-                        Err(e) => failures.lock().unwrap().push(format!("{what}: {e}")),
-                    }
-                }
-            });
+    for_each_seed(base, trials, budget, &|seed| {
+        let mut rng = StdRng::seed_from_u64(seed);
+        let r = terrain(&mut rng);
+        let levels = rng.random_range(1..=5usize);
+        let tol = log_uniform(&mut rng, 0.5, 20.0);
+        let tols = default_tolerances(tol, levels as i32).unwrap();
+        if r.valid() < 3 {
+            return true;
         }
+        let what = format!("seed {seed}: {}, tolerance {tol}, {levels} levels", r.desc);
+        let out = std::panic::catch_unwind(|| {
+            let t = match build_band(&r.z, r.w, r.h, &r.lat, &tols, r.srid, &mut || Ok(())) {
+                Ok(t) => t,
+                Err(TinError::Degenerate(_)) => return Ok(Counts::default()),
+                Err(e) => return Err(format!("the build failed: {e}")),
+            };
+            let mut c = check_tin(&t, &raster_domain(&r, true), r.pixel(), LATTICE_THIN)?;
+            c += check_tolerance(&t, &r, false, true)?;
+            Ok(c)
+        })
+        .unwrap_or_else(|_| Err("panicked".to_string()));
+        match out {
+            Ok(c) => {
+                let mut n = counts.lock().unwrap();
+                n.0 += 1;
+                n.1 += c;
+            }
+            Err(e) => failures.lock().unwrap().push(format!("{what}: {e}")),
+        }
+        true
     });
     let (n, c) = counts.into_inner().unwrap();
     eprintln!(
