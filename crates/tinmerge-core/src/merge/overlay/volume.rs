@@ -15,6 +15,7 @@
 //! use tinmerge_core::tin::build::build;
 //! use tinmerge_core::merge::overlay::{mark_same, overlay, volume::volumes_in};
 //! use tinmerge_core::polygon::Area;
+//! use tinmerge_core::geom::Units;
 //! // A: the plane z = x over [0, 4]^2; B: the flat plane z = 2
 //! let grid = |f: &dyn Fn(f64, f64) -> f64| {
 //!     let mut pts = Vec::new();
@@ -26,7 +27,7 @@
 //! mark_same(&mut o, &a, 0, &b, 0);
 //! // the square [1, 3] x [0, 1]: A - B runs from -1 to 1 across it
 //! let sq = Area::new(vec![vec![vec![[1.0, 0.0], [3.0, 0.0], [3.0, 1.0], [1.0, 1.0]]]]);
-//! let v = volumes_in(&o, &sq, 0, &mut || Ok(())).unwrap();
+//! let v = volumes_in(&o, &sq, 0, Units::Planar, &mut || Ok(())).unwrap();
 //! assert!((v.cut - 0.5).abs() < 1e-12 && (v.fill - 0.5).abs() < 1e-12);
 //! assert!((v.area_cut - 1.0).abs() < 1e-12 && (v.area_fill - 1.0).abs() < 1e-12);
 //! assert_eq!(v.area_unchanged, 0.0);
