@@ -373,9 +373,14 @@ pub enum Units {
 }
 
 impl Units {
-    /// For a part of a plane whose centroid is at latitude `lat`: the area
-    /// of one square unit there and the gradient (`gx`, `gy` per unit) per
-    /// metre.
+    /// The area of one square unit at latitude `lat` (1 when planar).
+    #[inline]
+    pub fn area_scale(&self, lat: f64) -> f64 {
+        self.local(lat, 0.0, 0.0).0
+    }
+
+    /// [`Units::area_scale`] at latitude `lat`, and the gradient (`gx`,
+    /// `gy` per unit) per metre there.
     #[inline]
     pub fn local(&self, lat: f64, gx: f64, gy: f64) -> (f64, f64, f64) {
         match self {

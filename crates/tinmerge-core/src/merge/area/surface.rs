@@ -480,7 +480,7 @@ impl VolumeParts {
             if m.a <= 0.0 {
                 continue;
             }
-            let k = units.local(o[1] + m.my / m.a, 0.0, 0.0).0;
+            let k = units.area_scale(o[1] + m.my / m.a);
             let v = k * sign * m.linear(z0 - base, gx, gy);
             if sign > 0.0 {
                 out.cut += v.max(0.0);

@@ -361,11 +361,23 @@ pub(super) fn refine_level0<S: Samples, T: Tri>(
 /// The convex hull of the valid samples of `d` (indices into it,
 /// counter-clockwise), from each row's first and last sample with data.
 pub(crate) fn dense_hull(d: &Dense) -> Vec<usize> {
+    lattice_hull(d.width, d.height, &|i| d.valid(i))
+}
+
+/// The convex hull (counter-clockwise, no collinear points) of the valid
+/// pixels of a `width` x `height` lattice (`valid` by pixel index, row by
+/// row), as pixel indices: only each row's first and last valid pixel can
+/// be on it.
+pub(crate) fn lattice_hull(
+    width: usize,
+    height: usize,
+    valid: &dyn Fn(usize) -> bool,
+) -> Vec<usize> {
     let mut ends: Vec<usize> = Vec::new();
-    for r in 0..d.height {
-        let row = r * d.width..(r + 1) * d.width;
-        let first = row.clone().find(|&i| d.valid(i));
-        let last = row.rev().find(|&i| d.valid(i));
+    for r in 0..height {
+        let row = r * width..(r + 1) * width;
+        let first = row.clone().find(|&i| valid(i));
+        let last = row.rev().find(|&i| valid(i));
         if let (Some(a), Some(b)) = (first, last) {
             ends.push(a);
             if b != a {
@@ -373,8 +385,12 @@ pub(crate) fn dense_hull(d: &Dense) -> Vec<usize> {
             }
         }
     }
-    ends.sort_by_key(|&i| d.col_row(i));
-    let pts: Vec<[f64; 3]> = ends.iter().map(|&i| d.point(i)).collect();
+    let col_row = |i: usize| (i % width, i / width);
+    ends.sort_by_key(|&i| col_row(i));
+    let pts: Vec<[f64; 3]> = ends
+        .iter()
+        .map(|&i| [col_row(i).0 as f64, col_row(i).1 as f64, 0.0])
+        .collect();
     convex_hull(&pts).into_iter().map(|k| ends[k]).collect()
 }
 

@@ -62,7 +62,7 @@ pub use self::common::{
     Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
 };
 use self::levels::*;
-pub(crate) use self::levels::{dense_hull, dense_of};
+pub(crate) use self::levels::{dense_hull, dense_of, lattice_hull};
 pub use self::raster::{RasterBand, RasterBuild, build_raster};
 pub use self::window::build_lattice_window_domain;
 pub(crate) use self::window::on_lattice;

@@ -12,11 +12,11 @@
 //! repaired after it is made.
 
 use super::measure::{Fix, Heights, Worst, measure};
-use super::mesh::{Mesh, NONE, next, prev};
-use crate::geom::{is_sliver, orient, orient_slack};
+use super::mesh::{Mesh, NONE, next, prev, proper};
+use crate::geom::{orient, orient_slack};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
-use crate::tin::build::RawLevel;
+use crate::tin::build::{RawLevel, lattice_hull};
 use std::collections::BinaryHeap;
 
 pub(super) struct Greedy<'g> {
@@ -40,51 +40,14 @@ fn internal(what: &str) -> TinError {
     TinError::Internal(format!("the greedy build {what}"))
 }
 
-/// The convex hull of the valid pixel centres, counter-clockwise in
-/// lattice coordinates, without collinear points (Andrew's monotone
-/// chain, exact on whole numbers).
-fn hull(g: &Heights<'_>) -> Vec<[i64; 2]> {
-    let mut pts = Vec::new();
-    for r in 0..g.height as i64 {
-        let row: Vec<i64> = (0..g.width as i64)
-            .filter(|&c| g.at(c, r).is_some())
-            .collect();
-        if let (Some(&a), Some(&b)) = (row.first(), row.last()) {
-            pts.push([a, r]);
-            if b != a {
-                pts.push([b, r]);
-            }
-        }
-    }
-    pts.sort_unstable();
-    let cross = |o: &[i64; 2], a: &[i64; 2], b: &[i64; 2]| {
-        (a[0] - o[0]) as i128 * (b[1] - o[1]) as i128
-            - (a[1] - o[1]) as i128 * (b[0] - o[0]) as i128
-    };
-    let mut h: Vec<[i64; 2]> = Vec::new();
-    for pass in 0..2 {
-        let start = h.len();
-        let it: Box<dyn Iterator<Item = &[i64; 2]>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for p in it {
-            while h.len() >= start + 2 && cross(&h[h.len() - 2], &h[h.len() - 1], p) <= 0 {
-                h.pop();
-            }
-            h.push(*p);
-        }
-        h.pop();
-    }
-    h
-}
-
 impl<'g> Greedy<'g> {
     /// The valid pixels' hull, triangulated (Delaunay), every triangle
     /// measured.
     pub(super) fn new(g: &'g Heights<'g>, floor: f64) -> Result<Self, TinError> {
-        let corners = hull(g);
+        let corners: Vec<[i64; 2]> = lattice_hull(g.width, g.height, &|i| !g.z[i].is_nan())
+            .into_iter()
+            .map(|i| [(i % g.width) as i64, (i / g.width) as i64])
+            .collect();
         if corners.len() < 3 {
             return Err(TinError::Degenerate(
                 "the valid pixels lie on one line: no surface to triangulate".into(),
@@ -222,8 +185,7 @@ impl<'g> Greedy<'g> {
     /// segment, with the segment's height): the new vertex.
     fn split_edge_at(&mut self, h: u32, p: [f64; 3]) -> Result<u32, TinError> {
         let (a, b, c) = (*self.m.at(h), *self.m.at(next(h)), *self.m.at(prev(h)));
-        let bad =
-            |u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]| is_sliver(u, v, w) || orient(u, v, w) <= 0.0;
+        let bad = |u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]| !proper(u, v, w);
         let mut thin = bad(&a, &p, &c) || bad(&p, &b, &c);
         let g = self.m.twin[h as usize];
         if g != NONE {
@@ -348,7 +310,7 @@ impl<'g> Greedy<'g> {
         self.fill(&chain, &mut tris);
         let bad = |t: &[u32; 3]| {
             let c = t.map(|v| self.m.pts[v as usize]);
-            is_sliver(&c[0], &c[1], &c[2]) || orient(&c[0], &c[1], &c[2]) <= 0.0
+            !proper(&c[0], &c[1], &c[2])
         };
         if tris.len() != cavity.len() || tris.iter().any(bad) {
             return Ok(false);

@@ -16,6 +16,13 @@ use crate::geom::{is_sliver, orient};
 /// No twin: the half-edge is on the hull.
 pub(super) const NONE: u32 = u32::MAX;
 
+/// Whether a, b, c make a proper triangle: counter-clockwise and not of
+/// zero area up to rounding (what every new triangle must be).
+#[inline]
+pub(super) fn proper(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    orient(a, b, c) > 0.0 && !is_sliver(a, b, c)
+}
+
 #[inline]
 pub(super) fn next(h: u32) -> u32 {
     if h % 3 == 2 { h - 2 } else { h + 1 }
@@ -203,7 +210,7 @@ impl Mesh {
         }
         let (a, b) = (self.at(h), self.at(next(h)));
         let (c, d) = (self.at(prev(h)), self.at(prev(g)));
-        orient(a, d, c) > 0.0 && orient(d, b, c) > 0.0 && !is_sliver(a, d, c) && !is_sliver(d, b, c)
+        proper(a, d, c) && proper(d, b, c)
     }
 
     /// Whether the edge of `h` is not locally Delaunay: the apex across it
