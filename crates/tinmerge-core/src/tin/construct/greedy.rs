@@ -9,8 +9,11 @@
 //! where it crosses a grid segment, with the segment's height), so the
 //! coarse edges persist as unions of finer ones and every triangle made
 //! later lies in one parent. Nothing is decided twice and no level is
-//! repaired after it is made.
+//! repaired after it is made. In a band without nodata the levels before
+//! the last start from [`aligned::cover`] and refine by bisection instead
+//! of insertion, so their edges run along the lattice.
 
+use super::aligned;
 use super::measure::{Fix, Heights, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
 use crate::geom::{orient, orient_slack};
@@ -34,6 +37,9 @@ pub(super) struct Greedy<'g> {
     touched: Vec<u32>,
     /// the most vertices a build may make before it is called runaway
     limit: usize,
+    /// refine by bisection (the levels before the last of a band
+    /// without nodata)
+    aligned: bool,
 }
 
 fn internal(what: &str) -> TinError {
@@ -53,8 +59,32 @@ impl<'g> Greedy<'g> {
                 "the valid pixels lie on one line: no surface to triangulate".into(),
             ));
         }
+        let mut m = Mesh::new();
+        for p in &corners {
+            let z = g
+                .at(p[0], p[1])
+                .ok_or_else(|| internal("lost a hull corner"))?;
+            m.add_point([p[0] as f64, p[1] as f64, z]);
+        }
+        for i in 1..corners.len() as u32 - 1 {
+            m.add_triangle(0, i, i + 1, 0);
+        }
+        m.link_all();
+        Ok(Self::with(g, floor, m, false))
+    }
+
+    /// A band without nodata: the coarsest lattice-aligned triangulation
+    /// of its pixel centres ([`aligned::cover`]), refined by bisection on
+    /// the levels before the last.
+    pub(super) fn new_aligned(g: &'g Heights<'g>, floor: f64) -> Result<Self, TinError> {
+        let w = g.width;
+        let m = aligned::cover(g.width, g.height, &mut |c, r| g.z[r as usize * w + c as usize])?;
+        Ok(Self::with(g, floor, m, true))
+    }
+
+    fn with(g: &'g Heights<'g>, floor: f64, m: Mesh, aligned: bool) -> Self {
         let mut s = Greedy {
-            m: Mesh::new(),
+            m,
             g,
             vid: vec![NONE; g.width * g.height],
             worst: Vec::new(),
@@ -64,25 +94,20 @@ impl<'g> Greedy<'g> {
             stack: Vec::new(),
             touched: Vec::new(),
             limit: 4 * g.width * g.height + 1024,
+            aligned,
         };
-        for p in &corners {
-            let z = g
-                .at(p[0], p[1])
-                .ok_or_else(|| internal("lost a hull corner"))?;
-            let v = s.m.add_point([p[0] as f64, p[1] as f64, z]);
-            s.vid[p[1] as usize * g.width + p[0] as usize] = v;
+        for (v, p) in s.m.pts.iter().enumerate() {
+            s.vid[p[1] as usize * g.width + p[0] as usize] = v as u32;
         }
-        for i in 1..corners.len() as u32 - 1 {
-            s.m.add_triangle(0, i, i + 1, 0);
+        if !aligned {
+            s.stack.extend(0..s.m.v.len() as u32);
+            s.legalize();
         }
-        s.m.link_all();
-        s.stack.extend(0..s.m.v.len() as u32);
-        s.legalize();
         s.touched.clear();
         for t in 0..s.m.triangles() {
             s.rescan(t);
         }
-        Ok(s)
+        s
     }
 
     /// Flip every edge on the stack that is not locally Delaunay and may
@@ -403,6 +428,24 @@ impl<'g> Greedy<'g> {
 
     /// Apply triangle `t`'s fix.
     fn apply(&mut self, t: u32) -> Result<(), TinError> {
+        if self.aligned {
+            let (w, z) = (self.g.width, self.g.z);
+            let mut scratch = std::mem::take(&mut self.stack);
+            let p = aligned::bisect(
+                &mut self.m,
+                t,
+                &mut |c, r| z[r as usize * w + c as usize],
+                &mut self.touched,
+                &mut scratch,
+                0,
+            )?;
+            self.stack = scratch;
+            if let Some(p) = p {
+                let q = self.m.pts[p as usize];
+                self.vid[q[1] as usize * w + q[0] as usize] = p;
+                return Ok(());
+            }
+        }
         match self.worst[t as usize].fix {
             Fix::None => Err(internal(
                 "found nothing to fix in a triangle over tolerance",
@@ -529,9 +572,19 @@ pub(super) fn levels(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
     let floor = tolerances.last().copied().unwrap_or(0.0);
-    let mut s = Greedy::new(g, floor)?;
+    // a band without nodata: coarse levels along the lattice, the last
+    // by free insertion into them
+    let full = !g.z.iter().any(|z| z.is_nan());
+    let mut s = if tolerances.len() > 1 && full {
+        Greedy::new_aligned(g, floor)?
+    } else {
+        Greedy::new(g, floor)?
+    };
     let mut raw = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {
+        if l + 1 == tolerances.len() && s.aligned {
+            s.aligned = false;
+        }
         s.run(tol, interrupt)?;
         raw.push(s.finish_level(tol, l == 0));
     }

@@ -5,6 +5,10 @@
 //!   and flips);
 //! - [`measure`]: a triangle's worst error at the valid pixel centres in
 //!   it and where its edges cross grid segments between them;
+//! - [`aligned`]: coarse levels along the pixel lattice (right isosceles
+//!   triangles split at their longest edge's middle), for a band without
+//!   nodata: their edges meet grid lines only at pixel centres, so the
+//!   levels below never split them at a crossing;
 //! - [`greedy`]: the driver, level after level in the same triangulation.
 //!
 //! Every vertex is a pixel centre (whole lattice numbers, so every test of
@@ -32,6 +36,7 @@
 //! tinmerge_core::tin::check::validate_structure(&tin).unwrap();
 //! ```
 
+mod aligned;
 mod greedy;
 mod measure;
 mod mesh;
