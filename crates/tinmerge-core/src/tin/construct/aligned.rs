@@ -14,7 +14,7 @@
 //! crossing that a finer tolerance refuses (issue 74: on the bundled UTM
 //! DEM, a level at 8 m under one at 2 m made the finest 23 % bigger).
 
-use super::mesh::{Mesh, NONE, next};
+use super::mesh::{Mesh, NONE, next, prev};
 use crate::geom::orient;
 use crate::tin::TinError;
 
@@ -39,26 +39,38 @@ pub(super) fn hypotenuse(m: &Mesh, t: u32) -> u32 {
     }
 }
 
-/// The middle of half-edge `h`, when it is a lattice point.
-fn middle(m: &Mesh, h: u32) -> Option<[i64; 2]> {
-    let (a, b) = (m.at(h), m.at(next(h)));
+/// Triangle `t`'s hypotenuse (half-edge) and its middle, when `t` is a
+/// right isosceles triangle with its legs along the lattice (rows and
+/// columns, or diagonals) and that middle is a lattice point.
+fn shape(m: &Mesh, t: u32) -> Option<(u32, [i64; 2])> {
+    let h = hypotenuse(m, t);
+    let (a, b, c) = (m.at(h), m.at(next(h)), m.at(prev(h)));
+    let (u, v) = ([a[0] - c[0], a[1] - c[1]], [b[0] - c[0], b[1] - c[1]]);
+    let along = |d: [f64; 2]| d[0] == 0.0 || d[1] == 0.0 || d[0].abs() == d[1].abs();
+    let right =
+        u[0] * v[0] + u[1] * v[1] == 0.0 && u[0] * u[0] + u[1] * u[1] == v[0] * v[0] + v[1] * v[1];
+    if !right || !along(u) || !along(v) {
+        return None;
+    }
     let (sx, sy) = (a[0] + b[0], a[1] + b[1]);
     if sx.fract() != 0.0 || sy.fract() != 0.0 {
         return None;
     }
     let (sx, sy) = (sx as i64, sy as i64);
-    (sx % 2 == 0 && sy % 2 == 0).then_some([sx / 2, sy / 2])
+    (sx % 2 == 0 && sy % 2 == 0).then_some((h, [sx / 2, sy / 2]))
 }
 
 /// Split triangle `t` at the middle of its hypotenuse, and its neighbour
-/// there with it (split first itself when its hypotenuse is longer, as
-/// often as it takes). `z` gives the new vertex its height; `touched`
-/// gets every triangle changed. `None` when the hypotenuse's middle is
-/// not a lattice point (the legs are a pixel long: nothing is inside).
+/// there with it: a coarser right triangle across it (whose leg it is) is
+/// bisected first, as often as it takes, so that no vertex is left
+/// hanging. `z` gives the middle's height (`None`: no data there);
+/// `touched` gets every triangle changed. `None`, with nothing changed,
+/// when `t` is not a lattice-aligned right triangle ([`shape`]) or its
+/// middle has no data.
 pub(super) fn bisect(
     m: &mut Mesh,
     t: u32,
-    z: &mut dyn FnMut(i64, i64) -> f64,
+    z: &mut dyn FnMut(i64, i64) -> Option<f64>,
     touched: &mut Vec<u32>,
     scratch: &mut Vec<u32>,
     depth: u32,
@@ -66,22 +78,30 @@ pub(super) fn bisect(
     if depth > 128 {
         return Err(internal("split its neighbours too deep"));
     }
-    let h = hypotenuse(m, t);
-    let Some(mid) = middle(m, h) else {
+    let Some((h, mid)) = shape(m, t) else {
+        return Ok(None);
+    };
+    let Some(height) = z(mid[0], mid[1]) else {
         return Ok(None);
     };
     loop {
         let g = m.twin[h as usize];
-        if g == NONE || hypotenuse(m, g / 3) == g {
+        if g == NONE {
             break;
         }
-        // the neighbour is coarser: split it first; t is left as it was
-        if bisect(m, g / 3, z, touched, scratch, depth + 1)?.is_none() {
-            return Err(internal("met a neighbour it could not split"));
+        match shape(m, g / 3) {
+            Some((hg, _)) if hg != g => {
+                // coarser: split it first (t is left as it was); when it
+                // cannot be, the shared edge is split in both
+                if bisect(m, g / 3, z, touched, scratch, depth + 1)?.is_none() {
+                    break;
+                }
+            }
+            _ => break,
         }
     }
     let g = m.twin[h as usize];
-    let p = m.add_point([mid[0] as f64, mid[1] as f64, z(mid[0], mid[1])]);
+    let p = m.add_point([mid[0] as f64, mid[1] as f64, height]);
     touched.push(t);
     if g != NONE {
         touched.push(g / 3);
@@ -91,55 +111,78 @@ pub(super) fn bisect(
     Ok(Some(p))
 }
 
-/// Whether triangle `c` (lattice corners) and the rectangle
-/// `[0, w] x [0, h]` share no area (a separating line: one of the
-/// rectangle's sides or one of the triangle's edges).
-fn apart(c: &[[f64; 3]; 3], w: f64, h: f64) -> bool {
-    if c.iter().all(|p| p[0] >= w)
-        || c.iter().all(|p| p[0] <= 0.0)
-        || c.iter().all(|p| p[1] >= h)
-        || c.iter().all(|p| p[1] <= 0.0)
-    {
-        return true;
-    }
-    let corners = [[0.0, 0.0, 0.0], [w, 0.0, 0.0], [w, h, 0.0], [0.0, h, 0.0]];
-    (0..3).any(|k| {
+/// Whether triangle `c` and the convex polygon `hull` (counter-clockwise)
+/// share no area: a separating line, one of the hull's sides or one of
+/// the triangle's edges.
+fn apart(c: &[[f64; 3]; 3], hull: &[[f64; 3]]) -> bool {
+    let n = hull.len();
+    (0..n).any(|k| {
+        let (a, b) = (&hull[k], &hull[(k + 1) % n]);
+        c.iter().all(|q| orient(a, b, q) <= 0.0)
+    }) || (0..3).any(|k| {
         let (a, b) = (&c[k], &c[(k + 1) % 3]);
-        // counter-clockwise: the inside is on the left
-        corners.iter().all(|q| orient(a, b, q) <= 0.0)
+        hull.iter().all(|q| orient(a, b, q) <= 0.0)
     })
 }
 
-fn inside(c: &[[f64; 3]; 3], w: f64, h: f64) -> bool {
+/// Whether every corner of `c` is in the closed convex polygon `hull`.
+fn within(c: &[[f64; 3]; 3], hull: &[[f64; 3]]) -> bool {
+    let n = hull.len();
     c.iter()
-        .all(|p| p[0] >= 0.0 && p[0] <= w && p[1] >= 0.0 && p[1] <= h)
+        .all(|q| (0..n).all(|k| orient(&hull[k], &hull[(k + 1) % n], q) >= 0.0))
 }
 
-/// The coarsest lattice-aligned triangulation of the pixel centres of a
-/// `width` x `height` band (corners (0, 0) and (width - 1, height - 1)):
-/// the RTIN of the smallest power-of-two square over it, bisected where a
-/// triangle reaches past it, and those past it left out. Heights from `z`.
+/// Legs no shorter than this are split where a triangle reaches past the
+/// valid centres' hull or over nodata.
+const MIN_LEG: f64 = 4.0;
+
+/// The coarsest lattice-aligned triangulation of a band's valid pixel
+/// centres' hull `hull` (lattice corners, counter-clockwise): the RTIN of
+/// the smallest power-of-two square over the band, bisected where a
+/// triangle reaches past the hull or has a corner without data (down to
+/// legs of [`MIN_LEG`]); the triangles within the hull with data at every
+/// corner kept, and the rest of the hull (a strip along its slanting
+/// sides, the nodata gaps) triangulated around them, constrained Delaunay
+/// (spade). `z` gives the height of a valid pixel centre, `None`
+/// elsewhere.
 pub(super) fn cover(
     width: usize,
     height: usize,
-    z: &mut dyn FnMut(i64, i64) -> f64,
+    hull: &[[i64; 2]],
+    z: &dyn Fn(i64, i64) -> Option<f64>,
+) -> Result<Mesh, TinError> {
+    let hull: Vec<[f64; 3]> = hull
+        .iter()
+        .map(|p| [p[0] as f64, p[1] as f64, 0.0])
+        .collect();
+    let keep = |c: &[[f64; 3]; 3]| {
+        within(c, &hull) && c.iter().all(|p| z(p[0] as i64, p[1] as i64).is_some())
+    };
+    let big = square(width, height, &hull, &keep)?;
+    let kept: Vec<[[f64; 3]; 3]> = (0..big.triangles())
+        .map(|t| big.corners(t))
+        .filter(|c| keep(c))
+        .collect();
+    around(&kept, &hull, z)
+}
+
+/// The RTIN of the smallest power-of-two square over a `width` x `height`
+/// band (heights 0), bisected where a triangle is not `keep` but reaches
+/// into `hull`, while its legs are longer than [`MIN_LEG`].
+fn square(
+    width: usize,
+    height: usize,
+    hull: &[[f64; 3]],
+    keep: &dyn Fn(&[[f64; 3]; 3]) -> bool,
 ) -> Result<Mesh, TinError> {
     let (w, h) = (width as i64 - 1, height as i64 - 1);
-    if w < 1 || h < 1 {
-        return Err(TinError::Degenerate(
-            "the valid pixels lie on one line: no surface to triangulate".into(),
-        ));
-    }
     let mut s = 1i64;
     while s < w.max(h) {
         s *= 2;
     }
-    // the square, its heights 0 outside the band (those triangles go)
     let mut big = Mesh::new();
-    let mut zz = |c: i64, r: i64| if c <= w && r <= h { z(c, r) } else { 0.0 };
-    let sq = [[0, 0], [s, 0], [s, s], [0, s]];
-    for p in sq {
-        big.add_point([p[0] as f64, p[1] as f64, zz(p[0], p[1])]);
+    for p in [[0, 0], [s, 0], [s, s], [0, s]] {
+        big.add_point([p[0] as f64, p[1] as f64, 0.0]);
     }
     for tri in [[0u32, 1, 2], [0, 2, 3]] {
         let c = tri.map(|v| big.pts[v as usize]);
@@ -150,43 +193,94 @@ pub(super) fn cover(
         }
     }
     big.link_all();
-    let (wf, hf) = (w as f64, h as f64);
+    let leg = |m: &Mesh, t: u32| {
+        let h = hypotenuse(m, t);
+        let (a, b) = (m.at(h), m.at(next(h)));
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() / std::f64::consts::SQRT_2
+    };
     let (mut touched, mut scratch) = (Vec::new(), Vec::new());
+    let mut flat = |_: i64, _: i64| Some(0.0);
     loop {
         let mut changed = false;
         let mut t = 0;
         while t < big.triangles() {
             let c = big.corners(t);
-            if !inside(&c, wf, hf) && !apart(&c, wf, hf) {
-                if bisect(&mut big, t, &mut zz, &mut touched, &mut scratch, 0)?.is_none() {
-                    return Err(internal("could not split a triangle across the band's side"));
-                }
+            if !keep(&c)
+                && leg(&big, t) > MIN_LEG
+                && !apart(&c, hull)
+                && bisect(&mut big, t, &mut flat, &mut touched, &mut scratch, 0)?.is_some()
+            {
                 changed = true;
                 continue;
             }
             t += 1;
         }
         if !changed {
-            break;
+            return Ok(big);
         }
     }
-    // the triangles inside, their vertices numbered again
+}
+
+/// The constrained Delaunay triangulation (spade) of the hull's corners
+/// and the `kept` triangles' corners, their edges constraints: the kept
+/// triangles and the rest of the hull around them, heights from `z`.
+fn around(
+    kept: &[[[f64; 3]; 3]],
+    hull: &[[f64; 3]],
+    z: &dyn Fn(i64, i64) -> Option<f64>,
+) -> Result<Mesh, TinError> {
+    use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+    type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+    let mut cdt = Cdt::default();
+    let mut handle = std::collections::HashMap::new();
+    let mut add = |cdt: &mut Cdt, p: &[f64; 3]| {
+        let key = (p[0] as i64, p[1] as i64);
+        if let Some(&v) = handle.get(&key) {
+            return Ok(v);
+        }
+        let v = cdt
+            .insert(Point2::new(p[0], p[1]))
+            .map_err(|e| internal(&format!("could not place a vertex: {e:?}")))?;
+        handle.insert(key, v);
+        Ok::<_, TinError>(v)
+    };
+    for p in hull {
+        add(&mut cdt, p)?;
+    }
+    let mut edges = Vec::with_capacity(3 * kept.len());
+    for c in kept {
+        let v = [
+            add(&mut cdt, &c[0])?,
+            add(&mut cdt, &c[1])?,
+            add(&mut cdt, &c[2])?,
+        ];
+        for k in 0..3 {
+            edges.push((v[k], v[(k + 1) % 3]));
+        }
+    }
+    for (a, b) in edges {
+        cdt.try_add_constraint(a, b);
+    }
     let mut out = Mesh::new();
-    let mut map = vec![NONE; big.pts.len()];
-    for t in 0..big.triangles() {
-        let c = big.corners(t);
-        if !inside(&c, wf, hf) {
-            continue;
-        }
+    let mut map = vec![NONE; cdt.num_vertices()];
+    for f in cdt.inner_faces() {
         let mut tri = [0u32; 3];
-        for (k, slot) in tri.iter_mut().enumerate() {
-            let v = big.v[3 * t as usize + k] as usize;
-            if map[v] == NONE {
-                map[v] = out.add_point(big.pts[v]);
+        for (slot, v) in tri.iter_mut().zip(f.vertices()) {
+            let i = v.fix().index();
+            if map[i] == NONE {
+                let p = v.position();
+                let zz = z(p.x as i64, p.y as i64)
+                    .ok_or_else(|| internal("made a vertex without data"))?;
+                map[i] = out.add_point([p.x, p.y, zz]);
             }
-            *slot = map[v];
+            *slot = map[i];
         }
-        out.add_triangle(tri[0], tri[1], tri[2], 0);
+        let c = tri.map(|v| out.pts[v as usize]);
+        if orient(&c[0], &c[1], &c[2]) > 0.0 {
+            out.add_triangle(tri[0], tri[1], tri[2], 0);
+        } else {
+            out.add_triangle(tri[0], tri[2], tri[1], 0);
+        }
     }
     out.link_all();
     Ok(out)

@@ -37,8 +37,8 @@ pub(super) struct Greedy<'g> {
     touched: Vec<u32>,
     /// the most vertices a build may make before it is called runaway
     limit: usize,
-    /// refine by bisection (the levels before the last of a band
-    /// without nodata)
+    /// refine by bisection where a triangle is a lattice-aligned right
+    /// triangle (the levels before the last)
     aligned: bool,
 }
 
@@ -47,9 +47,11 @@ fn internal(what: &str) -> TinError {
 }
 
 impl<'g> Greedy<'g> {
-    /// The valid pixels' hull, triangulated (Delaunay), every triangle
+    /// The valid pixels' hull, triangulated: Delaunay, or with
+    /// `aligned`, along the lattice ([`aligned::cover`]) and refined by
+    /// bisection until [`Greedy::aligned`] is cleared. Every triangle
     /// measured.
-    pub(super) fn new(g: &'g Heights<'g>, floor: f64) -> Result<Self, TinError> {
+    pub(super) fn new(g: &'g Heights<'g>, floor: f64, aligned: bool) -> Result<Self, TinError> {
         let corners: Vec<[i64; 2]> = lattice_hull(g.width, g.height, &|i| !g.z[i].is_nan())
             .into_iter()
             .map(|i| [(i % g.width) as i64, (i / g.width) as i64])
@@ -58,6 +60,10 @@ impl<'g> Greedy<'g> {
             return Err(TinError::Degenerate(
                 "the valid pixels lie on one line: no surface to triangulate".into(),
             ));
+        }
+        if aligned {
+            let m = aligned::cover(g.width, g.height, &corners, &|c, r| g.at(c, r))?;
+            return Ok(Self::with(g, floor, m, true));
         }
         let mut m = Mesh::new();
         for p in &corners {
@@ -71,15 +77,6 @@ impl<'g> Greedy<'g> {
         }
         m.link_all();
         Ok(Self::with(g, floor, m, false))
-    }
-
-    /// A band without nodata: the coarsest lattice-aligned triangulation
-    /// of its pixel centres ([`aligned::cover`]), refined by bisection on
-    /// the levels before the last.
-    pub(super) fn new_aligned(g: &'g Heights<'g>, floor: f64) -> Result<Self, TinError> {
-        let w = g.width;
-        let m = aligned::cover(g.width, g.height, &mut |c, r| g.z[r as usize * w + c as usize])?;
-        Ok(Self::with(g, floor, m, true))
     }
 
     fn with(g: &'g Heights<'g>, floor: f64, m: Mesh, aligned: bool) -> Self {
@@ -429,20 +426,24 @@ impl<'g> Greedy<'g> {
     /// Apply triangle `t`'s fix.
     fn apply(&mut self, t: u32) -> Result<(), TinError> {
         if self.aligned {
-            let (w, z) = (self.g.width, self.g.z);
+            let (g, w) = (self.g, self.g.width);
+            let first = self.m.pts.len() as u32;
             let mut scratch = std::mem::take(&mut self.stack);
             let p = aligned::bisect(
                 &mut self.m,
                 t,
-                &mut |c, r| z[r as usize * w + c as usize],
+                &mut |c, r| g.at(c, r),
                 &mut self.touched,
                 &mut scratch,
                 0,
             )?;
             self.stack = scratch;
             if let Some(p) = p {
-                let q = self.m.pts[p as usize];
-                self.vid[q[1] as usize * w + q[0] as usize] = p;
+                // the middles of the neighbours split first too
+                for v in first..=p {
+                    let q = self.m.pts[v as usize];
+                    self.vid[q[1] as usize * w + q[0] as usize] = v;
+                }
                 return Ok(());
             }
         }
@@ -572,14 +573,9 @@ pub(super) fn levels(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
     let floor = tolerances.last().copied().unwrap_or(0.0);
-    // a band without nodata: coarse levels along the lattice, the last
-    // by free insertion into them
-    let full = !g.z.iter().any(|z| z.is_nan());
-    let mut s = if tolerances.len() > 1 && full {
-        Greedy::new_aligned(g, floor)?
-    } else {
-        Greedy::new(g, floor)?
-    };
+    // coarse levels along the lattice, the last by free insertion into
+    // them
+    let mut s = Greedy::new(g, floor, tolerances.len() > 1)?;
     let mut raw = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {
         if l + 1 == tolerances.len() && s.aligned {
