@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh >/dev/null
-echo "## engine 2 and build_raster ($(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores)"
+echo "## engine 2 and the old engine ($(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores)"
 cargo bench -q -p tinmerge-core --bench engine 2>/dev/null | grep '^|'
 echo
 echo "## pydelatin"

@@ -356,7 +356,7 @@ fn build_raster_constrained(
     boundary: Option<&[u8]>,
     fill_gaps: bool,
 ) -> TinOut {
-    if hard.is_none() && soft.is_none() && boundary.is_none() && fill_gaps {
+    if hard.is_none() && soft.is_none() && boundary.is_none() && fill_gaps && keep_border {
         return build_raster(rast, tols, band, keep_border);
     }
     if keep_border && (hard.is_some() || soft.is_some() || boundary.is_some()) {
@@ -522,6 +522,10 @@ COMMENT ON FUNCTION _tin_tiles(bytea, int, float8, int, int, boolean) IS 'Intern
 
 /// The build behind both `tin_from_raster` forms.
 fn build_raster(rast: &[u8], tols: &[f64], band: i32, keep_border: bool) -> TinOut {
+    if !keep_border {
+        // over the valid pixels' hull: the core's build of a whole band
+        return build_raster_constrained(rast, tols, band, false, None, None, None, true);
+    }
     let (pts, lattice, srid, _) = raster_samples(rast, band);
     // between the samples, tiles (keep_border) too: tin_tiles decides each
     // tile in its own frame, as this raster's

@@ -1,14 +1,16 @@
 //! Build engine 2 against the build it replaces (issue 74): the same band
-//! built by `build_raster` (over the valid pixels' hull, `fill_gaps`) and
-//! by `construct::build_band`, one level and five, 2 m and 5 m, on both
-//! bundled DEMs: wall time (median of 3), triangles and vertices at the
-//! finest level, peak heap per pixel. `cargo bench --bench engine`.
+//! built by the old engine (`build_lattice` between the samples, what
+//! `build_raster` called over the valid pixels' hull until 0.26.0) and by
+//! `construct::build_band` (engine 2, what it calls now), one level and
+//! five, 2 m and 5 m, on both bundled DEMs: wall time (median of 3),
+//! triangles and vertices at the finest level, peak heap per pixel.
+//! `cargo bench --bench engine`.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
 use std::time::Instant;
 use tinmerge_core::tin::Tin;
-use tinmerge_core::tin::build::{RasterBand, RasterBuild, build_raster, default_tolerances};
+use tinmerge_core::tin::build::{BuildOptions, build_lattice, default_tolerances};
 use tinmerge_core::tin::construct::build_band;
 use tinmerge_core::tin::memory;
 
@@ -47,7 +49,7 @@ fn main() {
         // tolerances in the DEM's units of height (metres for both)
         for (tol, levels) in [(2.0, 1), (5.0, 1), (2.0, 5), (5.0, 5)] {
             let tols = default_tolerances(tol, levels).unwrap();
-            for engine in ["build_raster", "engine 2"] {
+            for engine in ["old engine", "engine 2"] {
                 if !only.is_empty() && !only.iter().any(|o| engine.contains(o.as_str())) {
                     continue;
                 }
@@ -61,18 +63,16 @@ fn main() {
                     let tin = if engine == "engine 2" {
                         build_band(&z, d.width, d.height, &lattice, &tols, 0, &mut || Ok(()))
                     } else {
-                        let band = RasterBand {
-                            z: z.clone(),
-                            width: d.width,
-                            height: d.height,
-                            lattice,
+                        let w = d.width;
+                        let pts: Vec<[f64; 3]> = (0..z.len())
+                            .filter(|&i| !z[i].is_nan())
+                            .map(|i| [(i % w) as f64, (i / w) as f64, z[i]])
+                            .collect();
+                        let opts = BuildOptions {
+                            keep_border: false,
+                            between_samples: true,
                         };
-                        let with = RasterBuild {
-                            lines: &[],
-                            boundary: None,
-                            fill_gaps: true,
-                        };
-                        build_raster(band, with, &tols, 0, &mut |_, _| Ok(()), &mut || Ok(()))
+                        build_lattice(pts, &lattice, &tols, 0, opts, &mut || Ok(()))
                     };
                     times.push(t0.elapsed().as_secs_f64() * 1e3);
                     peak = peak.max(memory::peak().saturating_sub(base));

@@ -63,9 +63,11 @@ SELECT l AS level, count(*) AS seam_points, min(tiles) AS min_tiles, max(tiles) 
        count(*) FILTER (WHERE off > 2.0 * 2 ^ (2 - l) + 1e-9) AS beyond_tolerance
 FROM per GROUP BY l ORDER BY l;
 
--- the tiles cost the surface no more triangles than one tin of the window
--- (to a tenth: built between samples, 0.6 to 0.8 % more),
--- at any level (until 0.7.0 keep_border made every border pixel a vertex of
+-- the tiles against one tin of the window: the tiles are still built by
+-- the old engine (tin/build), the one tin by build engine 2 since issue
+-- 74 (its coarse levels along the lattice: more triangles there, fewer at
+-- the finest); until then 1.0 at every level (0.6 to 0.8 % more)
+-- (until 0.7.0 keep_border made every border pixel a vertex of
 -- every level: fans of slivers at the coarse levels that persisted into
 -- the finest; on the 3.1 m tiles of scripts/bench-big.sh, 3.6x the
 -- triangles of free builds and draped lines up to 2.8x too long)

@@ -5,8 +5,7 @@
 //! decided here once for the SQL function and for the tests that check it.
 
 use super::{
-    BuildOptions, boundary_holds_all, build_domain_raster, build_lattice,
-    domain_raster_build_bytes, lattice_build_bytes,
+    boundary_holds_all, build_domain_raster, domain_raster_build_bytes, lattice_build_bytes,
 };
 use crate::interrupt::Interrupt;
 use crate::polygon::Area;
@@ -81,9 +80,10 @@ pub struct RasterBuild<'a> {
 }
 
 /// The build of `tin_from_raster` (without `keep_border`), in world
-/// coordinates: on the pixel lattice ([`build_lattice`], between the
-/// samples) when it covers the hull of the valid pixels (no nodata, or
-/// `fill_gaps`) and has no lines or boundary that leaves out a sample;
+/// coordinates: on the pixel lattice (build engine 2,
+/// [`crate::tin::construct::build_band`], between the samples) when it
+/// covers the hull of the valid pixels (no nodata, or `fill_gaps`) and has
+/// no lines or boundary that leaves out a sample;
 /// otherwise over the valid pixels' squares (holes included), the boundary
 /// and the lines in world coordinates ([`build_domain_raster`]).
 /// `reserve(samples, bytes)` is told the build's memory estimate before it
@@ -106,17 +106,17 @@ pub fn build_raster(
     }
     let mut on_lattice =
         |band: RasterBand, reserve: &mut dyn FnMut(usize, usize) -> Result<(), TinError>| {
-            let pts = band.samples();
-            drop(band);
-            reserve(
-                pts.len(),
-                lattice_build_bytes(pts.len(), tolerances.len(), true),
-            )?;
-            let opts = BuildOptions {
-                keep_border: false,
-                between_samples: true,
-            };
-            build_lattice(pts, &lattice, tolerances, srid, opts, interrupt)
+            let n = band.z.iter().filter(|v| !v.is_nan()).count();
+            reserve(n, lattice_build_bytes(n, tolerances.len(), true))?;
+            crate::tin::construct::build_band(
+                &band.z,
+                band.width,
+                band.height,
+                &lattice,
+                tolerances,
+                srid,
+                interrupt,
+            )
         };
     let RasterBuild {
         lines,

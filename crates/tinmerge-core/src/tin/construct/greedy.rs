@@ -57,9 +57,12 @@ impl<'g> Greedy<'g> {
             .map(|i| [(i % g.width) as i64, (i / g.width) as i64])
             .collect();
         if corners.len() < 3 {
-            return Err(TinError::Degenerate(
-                "the valid pixels lie on one line: no surface to triangulate".into(),
-            ));
+            let n = g.z.iter().filter(|z| !z.is_nan()).count();
+            return Err(TinError::Degenerate(if n < 3 {
+                format!("need at least 3 valid pixels to build a tin, got {n}")
+            } else {
+                format!("all {n} valid pixels lie on one line: a tin needs 3 that do not")
+            }));
         }
         if aligned {
             let m = aligned::cover(g.width, g.height, &corners, &|c, r| g.at(c, r))?;
