@@ -9,7 +9,8 @@
 # first session got NOTICE lines in that form; after it ends, no row and
 # no file of it is left. Then the same build cancelled (pg_cancel_backend)
 # halfway leaves no file either, a tin_from_raster build reports its
-# levels, and with tinmerge.progress_interval = 0 no NOTICE comes. Needs
+# levels (the old engine's over the valid squares, engine 2's over the
+# hull), and with tinmerge.progress_interval = 0 no NOTICE comes. Needs
 # the running test cluster and tinmerge_regress (table dem).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -104,5 +105,9 @@ echo "ok: a build cancelled past 20 % left no progress file; no NOTICE with the 
 run_a 1 "SELECT tin_num_vertices(tin_from_raster(ST_Rescale(rast, ST_ScaleX(rast) / 4, ST_ScaleY(rast) / 4, 'Bilinear'), 0.25, 4)) FROM dem;"
 grep -E '^NOTICE:  tin_from_raster: refining a level parent by parent \([0-9] of [0-9]\): [0-9]+ of [0-9]+ triangles' "$out/a.err" | head -2 ||
   { echo "progress: tin_from_raster gave no NOTICE of its levels:"; cat "$out/a.err"; exit 1; }
+# and so does one built by build engine 2 (over the valid centres' hull)
+run_a 1 "SELECT tin_num_vertices(tin_from_raster(ST_Rescale(rast, ST_ScaleX(rast) / 4, ST_ScaleY(rast) / 4, 'Bilinear'), 0.25, 4, fill_gaps => true)) FROM dem;"
+grep -E '^NOTICE:  tin_from_raster: building level [0-9] of [0-9]: [0-9]+ vertices' "$out/a.err" | head -2 ||
+  { echo "progress: tin_from_raster (engine 2) gave no NOTICE of its levels:"; cat "$out/a.err"; exit 1; }
 q -c "DROP TABLE progress_tiles"
 echo "progress: all checks passed"

@@ -184,14 +184,8 @@ fn square(
     for p in [[0, 0], [s, 0], [s, s], [0, s]] {
         big.add_point([p[0] as f64, p[1] as f64, 0.0]);
     }
-    for tri in [[0u32, 1, 2], [0, 2, 3]] {
-        let c = tri.map(|v| big.pts[v as usize]);
-        if orient(&c[0], &c[1], &c[2]) > 0.0 {
-            big.add_triangle(tri[0], tri[1], tri[2], 0);
-        } else {
-            big.add_triangle(tri[0], tri[2], tri[1], 0);
-        }
-    }
+    big.add_ccw([0, 1, 2], 0);
+    big.add_ccw([0, 2, 3], 0);
     big.link_all();
     let leg = |m: &Mesh, t: u32| {
         let h = hypotenuse(m, t);
@@ -275,12 +269,7 @@ fn around(
             }
             *slot = map[i];
         }
-        let c = tri.map(|v| out.pts[v as usize]);
-        if orient(&c[0], &c[1], &c[2]) > 0.0 {
-            out.add_triangle(tri[0], tri[1], tri[2], 0);
-        } else {
-            out.add_triangle(tri[0], tri[2], tri[1], 0);
-        }
+        out.add_ccw(tri, 0);
     }
     out.link_all();
     Ok(out)

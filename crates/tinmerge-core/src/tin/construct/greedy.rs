@@ -498,9 +498,16 @@ impl<'g> Greedy<'g> {
         }
     }
 
-    /// Refine until every triangle is within `tol`.
-    pub(super) fn run(&mut self, tol: f64, interrupt: &mut Interrupt<'_>) -> Result<(), TinError> {
+    /// Refine until every triangle is within `tol`, the vertices made so
+    /// far reported as `phase`'s progress ([`crate::progress::step`]).
+    pub(super) fn run(
+        &mut self,
+        tol: f64,
+        phase: &str,
+        interrupt: &mut Interrupt<'_>,
+    ) -> Result<(), TinError> {
         let mut tick = Ticker::new(interrupt);
+        let mut fixes = 0u32;
         while let Some(&(bits, t, st)) = self.heap.peek() {
             if f64::from_bits(bits) <= tol {
                 break;
@@ -529,6 +536,10 @@ impl<'g> Greedy<'g> {
                 ));
             }
             tick.tick()?;
+            fixes = fixes.wrapping_add(1);
+            if fixes % 1024 == 0 {
+                crate::progress::step(phase, "vertices", self.m.pts.len() as u64, 0);
+            }
         }
         Ok(())
     }
@@ -584,7 +595,8 @@ pub(super) fn levels(
         if l + 1 == tolerances.len() && s.aligned {
             s.aligned = false;
         }
-        s.run(tol, interrupt)?;
+        let phase = format!("building level {} of {}", l + 1, tolerances.len());
+        s.run(tol, &phase, interrupt)?;
         raw.push(s.finish_level(tol, l == 0));
     }
     Ok((s.into_points(), raw))

@@ -96,6 +96,16 @@ impl Mesh {
         t
     }
 
+    /// A new triangle of vertices `tri` turned counter-clockwise, unlinked.
+    pub(super) fn add_ccw(&mut self, tri: [u32; 3], parent: u32) -> u32 {
+        let c = tri.map(|v| self.pts[v as usize]);
+        if orient(&c[0], &c[1], &c[2]) > 0.0 {
+            self.add_triangle(tri[0], tri[1], tri[2], parent)
+        } else {
+            self.add_triangle(tri[0], tri[2], tri[1], parent)
+        }
+    }
+
     /// Record triangle `t`'s half-edges as leaving their vertices.
     #[inline]
     pub(super) fn refresh_out(&mut self, t: u32) {
