@@ -537,7 +537,7 @@ impl<'g> Greedy<'g> {
             }
             tick.tick()?;
             fixes = fixes.wrapping_add(1);
-            if fixes % 1024 == 0 {
+            if fixes.is_multiple_of(1024) {
                 crate::progress::step(phase, "vertices", self.m.pts.len() as u64, 0);
             }
         }
