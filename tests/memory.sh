@@ -69,7 +69,7 @@ out=$(session "SET tinmerge.max_memory = '256MB';
 SELECT tin_num_vertices(tin_from_raster(rast, 2.0, 5)) FROM noise;" \
     "SELECT 'again', $small;")
 echo "$out"
-grep -Eq 'ERROR:  53400: this call has used [0-9]+ MB (of heap and grown the backend by [0-9]+ MB .private resident memory., past seven eighths of|, more than) tinmerge.max_memory .256 MB.' <<<"$out" \
+grep -Eq 'ERROR:  53400: this call has used [0-9]+ MB( of heap and grown the backend by [0-9]+ MB .private resident memory., past seven eighths of|, more than) tinmerge.max_memory .256 MB.' <<<"$out" \
     || { echo "FAIL: the noise build was not stopped by the running check"; exit 1; }
 grep -q '^again|2$' <<<"$out" || { echo "FAIL: the session did not answer after the refusal"; exit 1; }
 before=$(kb before <<<"$out"); after=$(kb after <<<"$out")
