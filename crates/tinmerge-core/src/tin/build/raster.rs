@@ -106,8 +106,7 @@ pub fn build_raster(
     }
     let mut on_lattice =
         |band: RasterBand, reserve: &mut dyn FnMut(usize, usize) -> Result<(), TinError>| {
-            let n = band.z.iter().filter(|v| !v.is_nan()).count();
-            reserve(n, lattice_build_bytes(n, tolerances.len(), true))?;
+            reserve(valid, lattice_build_bytes(valid, tolerances.len(), true))?;
             crate::tin::construct::build_band(
                 &band.z,
                 band.width,

@@ -9,9 +9,10 @@
 //! where it crosses a grid segment, with the segment's height), so the
 //! coarse edges persist as unions of finer ones and every triangle made
 //! later lies in one parent. Nothing is decided twice and no level is
-//! repaired after it is made. In a band without nodata the levels before
-//! the last start from [`aligned::cover`] and refine by bisection instead
-//! of insertion, so their edges run along the lattice.
+//! repaired after it is made. With more than one level, the levels before
+//! the last start from [`aligned::cover`] and refine by bisection where a
+//! triangle runs along the lattice, so their edges meet grid lines only at
+//! pixel centres.
 
 use super::aligned;
 use super::measure::{Fix, Heights, Worst, measure};
@@ -592,7 +593,7 @@ pub(super) fn levels(
     let mut s = Greedy::new(g, floor, tolerances.len() > 1)?;
     let mut raw = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {
-        if l + 1 == tolerances.len() && s.aligned {
+        if l + 1 == tolerances.len() {
             s.aligned = false;
         }
         let phase = format!("building level {} of {}", l + 1, tolerances.len());
