@@ -360,9 +360,10 @@ impl Tin {
         self.sanity_check_constrained(&|_, _| false)
     }
 
-    /// [`Tin::sanity_check`] for a tin built with breaklines: a level-0
-    /// edge for which `constraint(a, b)` holds (the test's own knowledge
-    /// of where its breaklines run) need not be locally Delaunay.
+    /// [`Tin::sanity_check`] for a tin built with constraints: an edge
+    /// for which `constraint(a, b)` holds (the test's own knowledge of
+    /// where its breaklines run, or of the segments of the surface a build
+    /// makes edges of) need not be locally Delaunay.
     pub fn sanity_check_constrained(
         &self,
         constraint: &dyn Fn(&[f64; 3], &[f64; 3]) -> bool,
@@ -503,8 +504,8 @@ impl Tin {
                     self.verts[tri[(j + 1) % 3] as usize],
                     self.verts[tri[(j + 2) % 3] as usize],
                 );
-                if l == 0 && constraint(&ea, &eb) {
-                    continue; // a breakline
+                if constraint(&ea, &eb) {
+                    continue; // a breakline, a segment of the surface
                 }
                 let ot = lv.tris[nb as usize];
                 let k = (0..3)

@@ -174,6 +174,26 @@ impl Reference for DelaunayReference {
     /// directions of a query name it alike; `pix`, the edge's two samples
     /// nearest first, then the far corners of its two triangles.
     fn for_each_crossing(&self, a: &[f64; 3], b: &[f64; 3], f: &mut dyn FnMut(&Crossing)) {
+        self.for_each_crossing_of(a, b, &mut |x, _| f(x));
+    }
+}
+
+impl DelaunayReference {
+    /// How many samples it holds (fewer than it was given when some were
+    /// the same point).
+    pub(crate) fn num_samples(&self) -> usize {
+        self.dt.num_vertices()
+    }
+
+    /// [`Reference::for_each_crossing`], each crossing with the numbers of
+    /// the crossed edge's two samples (in the order they were given to
+    /// [`DelaunayReference::new`]), `seg`'s order.
+    pub(crate) fn for_each_crossing_of(
+        &self,
+        a: &[f64; 3],
+        b: &[f64; 3],
+        f: &mut dyn FnMut(&Crossing, [usize; 2]),
+    ) {
         if !(a[0].is_finite() && a[1].is_finite() && b[0].is_finite() && b[1].is_finite())
             || a[..2] == b[..2]
             || self.dt.num_inner_faces() == 0
@@ -215,10 +235,11 @@ impl Reference for DelaunayReference {
                 continue;
             }
             // the edge from its smaller end
-            let (p, q, s) = if (v3[0], v3[1]) < (u3[0], u3[1]) {
-                (v3, u3, 1.0 - s)
+            let (iu, iv) = (e.from().fix().index(), e.to().fix().index());
+            let (p, q, s, ends) = if (v3[0], v3[1]) < (u3[0], u3[1]) {
+                (v3, u3, 1.0 - s, [iv, iu])
             } else {
-                (u3, v3, s)
+                (u3, v3, s, [iu, iv])
             };
             let z = p[2] + s * (q[2] - p[2]);
             let (near, far) = if s <= 0.5 { (p, q) } else { (q, p) };
@@ -238,13 +259,16 @@ impl Reference for DelaunayReference {
                 [far[0], far[1]],
             ];
             let pt = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), z];
-            f(&Crossing {
-                t,
-                p: pt,
-                pix,
-                seg: [p, q],
-                s,
-            });
+            f(
+                &Crossing {
+                    t,
+                    p: pt,
+                    pix,
+                    seg: [p, q],
+                    s,
+                },
+                ends,
+            );
         }
     }
 }

@@ -122,7 +122,7 @@ pub fn prepare_samples(mut pts: Vec<[f64; 3]>) -> Result<Vec<[f64; 3]>, TinError
 
 /// Convex hull (counter-clockwise, no collinear points) by Andrew's monotone
 /// chain on samples sorted by (x, y); returns sample indices.
-pub(super) fn convex_hull(pts: &[[f64; 3]]) -> Vec<usize> {
+pub(crate) fn convex_hull(pts: &[[f64; 3]]) -> Vec<usize> {
     let n = pts.len();
     let mut h: Vec<usize> = Vec::with_capacity(64);
     let turn = |h: &Vec<usize>, i: usize| {

@@ -56,8 +56,7 @@ mod window;
 
 pub(crate) use self::assemble::assemble_verified;
 use self::assemble::*;
-pub(crate) use self::common::RawLevel;
-use self::common::*;
+pub(crate) use self::common::{RawLevel, convex_hull};
 pub use self::common::{
     Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
 };

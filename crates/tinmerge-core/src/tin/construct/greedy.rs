@@ -15,18 +15,18 @@
 //! pixel centres.
 
 use super::aligned;
-use super::measure::{Fix, Heights, Worst, measure};
+use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
-use crate::geom::{orient, orient_slack};
+use crate::geom::{is_sliver, orient, orient_slack};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
-use crate::tin::build::{RawLevel, lattice_hull};
+use crate::tin::build::RawLevel;
 use std::collections::BinaryHeap;
 
-pub(super) struct Greedy<'g> {
+pub(super) struct Greedy<'g, S: Source + ?Sized> {
     m: Mesh,
-    g: &'g Heights<'g>,
-    /// the vertex at each pixel centre, or `NONE`
+    g: &'g S,
+    /// the vertex at each sample, or `NONE`
     vid: Vec<u32>,
     worst: Vec<Worst>,
     stamp: Vec<u32>,
@@ -47,58 +47,55 @@ fn internal(what: &str) -> TinError {
     TinError::Internal(format!("the greedy build {what}"))
 }
 
-impl<'g> Greedy<'g> {
-    /// The valid pixels' hull, triangulated: Delaunay, or with
-    /// `aligned`, along the lattice ([`aligned::cover`]) and refined by
-    /// bisection until [`Greedy::aligned`] is cleared. Every triangle
-    /// measured.
-    pub(super) fn new(g: &'g Heights<'g>, floor: f64, aligned: bool) -> Result<Self, TinError> {
-        let corners: Vec<[i64; 2]> = lattice_hull(g.width, g.height, &|i| !g.z[i].is_nan())
-            .into_iter()
-            .map(|i| [(i % g.width) as i64, (i / g.width) as i64])
-            .collect();
-        if corners.len() < 3 {
-            let n = g.z.iter().filter(|z| !z.is_nan()).count();
-            return Err(TinError::Degenerate(if n < 3 {
-                format!("need at least 3 valid pixels to build a tin, got {n}")
-            } else {
-                format!("all {n} valid pixels lie on one line: a tin needs 3 that do not")
-            }));
-        }
-        if aligned {
-            let m = aligned::cover(g.width, g.height, &corners, &|c, r| g.at(c, r))?;
-            return Ok(Self::with(g, floor, m, true));
+impl<'g, S: Source + ?Sized> Greedy<'g, S> {
+    /// The samples' hull, triangulated: Delaunay, or with `aligned` (a
+    /// raster band only), along the lattice ([`aligned::cover`]) and
+    /// refined by bisection until [`Greedy::aligned`] is cleared. Every
+    /// triangle measured.
+    pub(super) fn new(g: &'g S, floor: f64, aligned: bool) -> Result<Self, TinError> {
+        let corners = g.hull()?;
+        if let (true, Some(band)) = (aligned, g.lattice()) {
+            let w = band.width;
+            let lattice: Vec<[i64; 2]> = corners
+                .iter()
+                .map(|&i| [(i as usize % w) as i64, (i as usize / w) as i64])
+                .collect();
+            let m = aligned::cover(band.width, band.height, &lattice, &|c, r| band.at(c, r))?;
+            let ids = m
+                .pts
+                .iter()
+                .map(|p| (p[1] as usize * w + p[0] as usize) as u32)
+                .collect();
+            return Ok(Self::with(g, floor, m, ids, true));
         }
         let mut m = Mesh::new();
-        for p in &corners {
-            let z = g
-                .at(p[0], p[1])
-                .ok_or_else(|| internal("lost a hull corner"))?;
-            m.add_point([p[0] as f64, p[1] as f64, z]);
+        for &id in &corners {
+            m.add_point(g.point(id));
         }
         for i in 1..corners.len() as u32 - 1 {
             m.add_triangle(0, i, i + 1, 0);
         }
         m.link_all();
-        Ok(Self::with(g, floor, m, false))
+        Ok(Self::with(g, floor, m, corners, false))
     }
 
-    fn with(g: &'g Heights<'g>, floor: f64, m: Mesh, aligned: bool) -> Self {
+    /// `ids`: the sample at each of `m`'s vertices.
+    fn with(g: &'g S, floor: f64, m: Mesh, ids: Vec<u32>, aligned: bool) -> Self {
         let mut s = Greedy {
             m,
             g,
-            vid: vec![NONE; g.width * g.height],
+            vid: vec![NONE; g.count()],
             worst: Vec::new(),
             stamp: Vec::new(),
             heap: BinaryHeap::new(),
             floor,
             stack: Vec::new(),
             touched: Vec::new(),
-            limit: 4 * g.width * g.height + 1024,
+            limit: 4 * g.count() + 1024,
             aligned,
         };
-        for (v, p) in s.m.pts.iter().enumerate() {
-            s.vid[p[1] as usize * g.width + p[0] as usize] = v as u32;
+        for (v, &id) in ids.iter().enumerate() {
+            s.vid[id as usize] = v as u32;
         }
         if !aligned {
             s.stack.extend(0..s.m.v.len() as u32);
@@ -176,14 +173,12 @@ impl<'g> Greedy<'g> {
         Err(internal("lost its way locating a point"))
     }
 
-    /// Insert the pixel centre (c, r), found in or near triangle `t`.
-    fn insert_sample(&mut self, t: u32, c: u32, r: u32) -> Result<(), TinError> {
-        let i = r as usize * self.g.width + c as usize;
-        let z = self.g.z[i];
-        let p = [c as f64, r as f64, z];
+    /// Insert sample `id`, found in or near triangle `t`.
+    fn insert_sample(&mut self, t: u32, id: u32) -> Result<(), TinError> {
+        let p = self.g.point(id);
         let (t, on) = self.locate(t, &p)?;
         let v = self.m.add_point(p);
-        self.vid[i] = v;
+        self.vid[id as usize] = v;
         match on {
             Some(h) => self.split_edge(h, v),
             None => {
@@ -210,15 +205,8 @@ impl<'g> Greedy<'g> {
     /// Split the edge of `h` at point `p` on it (where it crosses a grid
     /// segment, with the segment's height): the new vertex.
     fn split_edge_at(&mut self, h: u32, p: [f64; 3]) -> Result<u32, TinError> {
-        let (a, b, c) = (*self.m.at(h), *self.m.at(next(h)), *self.m.at(prev(h)));
-        let bad = |u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]| !proper(u, v, w);
-        let mut thin = bad(&a, &p, &c) || bad(&p, &b, &c);
-        let g = self.m.twin[h as usize];
-        if g != NONE {
-            let d = *self.m.at(prev(g));
-            thin |= bad(&b, &p, &d) || bad(&p, &a, &d);
-        }
-        if thin {
+        if self.thin_split(h, &p) {
+            let (a, b) = (self.m.at(h), self.m.at(next(h)));
             return Err(internal(&format!(
                 "would make a sliver splitting the edge {a:?} - {b:?} at {p:?}"
             )));
@@ -227,6 +215,20 @@ impl<'g> Greedy<'g> {
         self.split_edge(h, v);
         self.legalize();
         Ok(v)
+    }
+
+    /// Whether splitting the edge of `h` at `p` would make a triangle
+    /// that is not proper (`p` within rounding of an end).
+    fn thin_split(&self, h: u32, p: &[f64; 3]) -> bool {
+        let (a, b, c) = (self.m.at(h), self.m.at(next(h)), self.m.at(prev(h)));
+        let bad = |u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]| !proper(u, v, w);
+        let mut thin = bad(a, p, c) || bad(p, b, c);
+        let g = self.m.twin[h as usize];
+        if g != NONE {
+            let d = self.m.at(prev(g));
+            thin |= bad(b, p, d) || bad(p, a, d);
+        }
+        thin
     }
 
     /// The half-edge p -> x whose triangle (p, x, y) holds the direction
@@ -293,6 +295,20 @@ impl<'g> Greedy<'g> {
         loop {
             if self.m.locked[e as usize] {
                 let cross = self.crossing_of(e, p, q);
+                let (u3, w3) = (self.m.at(e), self.m.at(next(e)));
+                if is_sliver(u3, w3, &pp) || is_sliver(u3, w3, &qq) {
+                    // the edge passes within rounding of an end of the
+                    // segment: no vertex of its own there
+                    return Ok(false);
+                }
+                if self.thin_split(e, &cross) {
+                    // the segment passes within rounding of an end of the
+                    // edge (scattered samples): made through that end
+                    let (u, w) = (self.m.v[e as usize], self.m.v[next(e) as usize]);
+                    let off = |v: u32| orient(&pp, &qq, &self.m.pts[v as usize]).abs();
+                    let x = if off(u) <= off(w) { u } else { w };
+                    return Ok(self.recover(p, x, depth + 1)? && self.recover(x, q, depth + 1)?);
+                }
                 let v = self.split_edge_at(e, cross)?;
                 return Ok(self.recover(p, v, depth + 1)? && self.recover(v, q, depth + 1)?);
             }
@@ -405,32 +421,23 @@ impl<'g> Greedy<'g> {
         }
     }
 
-    /// Where the edge of `e` crosses the grid segment from vertex `p` to
-    /// vertex `q` (one grid step apart), with the segment's height.
+    /// Where the edge of `e` crosses the segment from vertex `p` to
+    /// vertex `q` (two samples), with the segment's height.
     fn crossing_of(&self, e: u32, p: u32, q: u32) -> [f64; 3] {
         let (u, w) = (self.m.at(e), self.m.at(next(e)));
         let (pp, qq) = (&self.m.pts[p as usize], &self.m.pts[q as usize]);
-        // along x = const (a column's segment) or y = const (a row's)
-        let k = if pp[0] == qq[0] { 0 } else { 1 };
-        let s = (pp[k] - u[k]) / (w[k] - u[k]);
-        let other = u[1 - k] + s * (w[1 - k] - u[1 - k]);
-        let f = (other - pp[1 - k]) / (qq[1 - k] - pp[1 - k]);
-        let z = pp[2] + f * (qq[2] - pp[2]);
-        let mut x = [0.0, 0.0, z];
-        x[k] = pp[k];
-        x[1 - k] = other;
-        x
+        self.g.crossing_of(u, w, pp, qq)
     }
 
-    fn vertex_at(&self, p: &[u32; 2]) -> Option<u32> {
-        let v = self.vid[p[1] as usize * self.g.width + p[0] as usize];
+    fn vertex_at(&self, id: u32) -> Option<u32> {
+        let v = self.vid[id as usize];
         (v != NONE).then_some(v)
     }
 
     /// Apply triangle `t`'s fix.
     fn apply(&mut self, t: u32) -> Result<(), TinError> {
-        if self.aligned {
-            let (g, w) = (self.g, self.g.width);
+        if let (true, Some(g)) = (self.aligned, self.g.lattice()) {
+            let w = g.width;
             let first = self.m.pts.len() as u32;
             let mut scratch = std::mem::take(&mut self.stack);
             let p = aligned::bisect(
@@ -455,36 +462,34 @@ impl<'g> Greedy<'g> {
             Fix::None => Err(internal(
                 "found nothing to fix in a triangle over tolerance",
             )),
-            Fix::Sample { c, r } => self.insert_sample(t, c, r),
+            Fix::Sample(id) => self.insert_sample(t, id),
             Fix::Crossing { k, at, z, a, b } => {
                 let h = 3 * t + k as u32;
                 if self.m.locked[h as usize] || self.m.twin[h as usize] == NONE {
                     return self.split_edge_at(h, [at[0], at[1], z]).map(|_| ());
                 }
-                // a free edge: a pixel of the segment it crosses, the one on
-                // this triangle's side first
-                let w = self.g.width;
-                let free = |p: &[u32; 2]| self.vid[p[1] as usize * w + p[0] as usize] == NONE;
-                let on_side = |p: &[u32; 2]| {
-                    orient(
-                        self.m.at(h),
-                        self.m.at(next(h)),
-                        &[p[0] as f64, p[1] as f64, 0.0],
-                    ) > 0.0
-                };
-                let (first, second) = if on_side(&a) { (a, b) } else { (b, a) };
-                match (free(&first), free(&second)) {
-                    (true, _) => self.insert_sample(t, first[0], first[1]),
-                    (false, true) => self.insert_sample(t, second[0], second[1]),
+                // a free edge: a sample of the segment it crosses, the one
+                // on this triangle's side first
+                let free = |id: u32| self.vid[id as usize] == NONE;
+                let on_side =
+                    |id: u32| orient(self.m.at(h), self.m.at(next(h)), &self.g.point(id)) > 0.0;
+                let (first, second) = if on_side(a) { (a, b) } else { (b, a) };
+                match (free(first), free(second)) {
+                    (true, _) => self.insert_sample(t, first),
+                    (false, true) => self.insert_sample(t, second),
                     (false, false) => {
-                        let vp = self.vertex_at(&a);
-                        let vq = self.vertex_at(&b);
+                        let vp = self.vertex_at(a);
+                        let vq = self.vertex_at(b);
                         let (Some(vp), Some(vq)) = (vp, vq) else {
                             return Err(internal("lost a pixel's vertex"));
                         };
                         let before = self.touched.len();
-                        if self.recover(vp, vq, 0)? || self.touched.len() != before {
-                            // made an edge, or flipped: measured again
+                        // made an edge, or flipped: measured again (edges
+                        // already along the segment, bent by a vertex put
+                        // on it within rounding, change nothing: split
+                        // where it crosses)
+                        self.recover(vp, vq, 0)?;
+                        if self.touched.len() != before {
                             return Ok(());
                         }
                         // split where it crosses, and the segment's halves
@@ -509,6 +514,9 @@ impl<'g> Greedy<'g> {
     ) -> Result<(), TinError> {
         let mut tick = Ticker::new(interrupt);
         let mut fixes = 0u32;
+        // fixes since a vertex was last made: each of them makes an edge
+        // of a segment, so as many as there are edges at most
+        let (mut idle, mut made) = (0usize, self.m.pts.len());
         while let Some(&(bits, t, st)) = self.heap.peek() {
             if f64::from_bits(bits) <= tol {
                 break;
@@ -518,7 +526,19 @@ impl<'g> Greedy<'g> {
                 continue;
             }
             let n0 = self.m.triangles();
+            let fix = self.worst[t as usize];
             self.apply(t)?;
+            if self.m.pts.len() == made {
+                idle += 1;
+                if idle > 3 * self.m.triangles() as usize + 1024 {
+                    return Err(internal(&format!(
+                        "made no progress: {fix:?} in {:?}",
+                        self.m.corners(t)
+                    )));
+                }
+            } else {
+                (idle, made) = (0, self.m.pts.len());
+            }
             let mut touched = std::mem::take(&mut self.touched);
             // t itself too: a pixel its crossing asked for may have gone
             // into a triangle beside it
@@ -580,10 +600,10 @@ impl<'g> Greedy<'g> {
     }
 }
 
-/// Every level of the greedy build of a raster band, in lattice
-/// coordinates: its vertices and levels.
-pub(super) fn levels(
-    g: &Heights<'_>,
+/// Every level of the greedy build of a source, in its frame (a raster
+/// band's lattice coordinates): its vertices and levels.
+pub(super) fn levels<S: Source + ?Sized>(
+    g: &S,
     tolerances: &[f64],
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {

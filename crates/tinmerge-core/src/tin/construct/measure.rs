@@ -1,20 +1,109 @@
-//! How far a triangle is from the raster's surface, and where: the
-//! largest vertical error at the valid pixel centres in it (its rows of
-//! centres found from its edges, the centres near an edge decided by the
-//! exact orientation) and where its edges cross a grid segment between two
-//! valid centres (the segment's straight line between them is the surface
-//! there). The two together bound the error on the whole surface: inside a
-//! triangle the tin is linear, and on a grid segment so is the surface
-//! between the points where edges cross it.
+//! How far a triangle is from its source's surface, and where: the
+//! largest vertical error at the samples in it and where its edges cross
+//! a segment of the source's own surface between two samples (where that
+//! surface is the straight line between them). The two together bound the
+//! error on the whole surface: inside a triangle the tin is linear, and on
+//! such a segment so is the surface between the points where edges cross
+//! it.
+//!
+//! A [`Source`] gives both. A raster band ([`Heights`]): the valid pixel
+//! centres in a triangle (its rows of centres found from its edges, the
+//! centres near an edge decided by the exact orientation) and the grid
+//! segments between two valid centres. Scattered samples
+//! ([`super::points::Scattered`]): the samples in a triangle from their
+//! buckets, and the edges of their Delaunay triangulation.
 
 use super::mesh::{Mesh, NONE, next};
-use crate::geom::left_or_on_rounded;
+use crate::geom::{left_or_on_rounded, orient};
+use crate::tin::TinError;
+use crate::tin::build::lattice_hull;
 
 /// A raster band's heights in place, row by row, `NaN` where no data.
 pub struct Heights<'a> {
     pub z: &'a [f64],
     pub width: usize,
     pub height: usize,
+}
+
+/// Where an engine 2 build's samples and surface come from. Samples are
+/// numbered `0..count()`; a build's vertices are samples or points on a
+/// coarser edge where it crosses a segment between two samples.
+pub(super) trait Source {
+    /// How many sample numbers there are (some may have no sample: a
+    /// raster's nodata pixels).
+    fn count(&self) -> usize;
+    /// Sample `id`: x, y, z in the build's frame.
+    fn point(&self, id: u32) -> [f64; 3];
+    /// The samples' convex hull, counter-clockwise, without collinear
+    /// corners; an error when they have no area.
+    fn hull(&self) -> Result<Vec<u32>, TinError>;
+    /// The worst sample in the closed triangle `c` that is not a vertex
+    /// (`vid[id] == NONE`).
+    fn worst_sample(&self, c: &[[f64; 3]; 3], vid: &[u32]) -> Worst;
+    /// The worst crossing of edge p -> q with a segment between two
+    /// samples (`k` left 0).
+    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst;
+    /// Where edge u -> w crosses the segment from sample point `a` to
+    /// sample point `b`, with the segment's height there.
+    fn crossing_of(&self, u: &[f64; 3], w: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+        let (oa, ob) = (orient(u, w, a), orient(u, w, b));
+        let f = if oa == ob { 0.5 } else { oa / (oa - ob) };
+        let (ou, ow) = (orient(a, b, u), orient(a, b, w));
+        let s = if ou == ow { 0.5 } else { ou / (ou - ow) };
+        [
+            u[0] + s * (w[0] - u[0]),
+            u[1] + s * (w[1] - u[1]),
+            a[2] + f * (b[2] - a[2]),
+        ]
+    }
+    /// The band's heights when the source is a raster band: its coarse
+    /// levels may then run along the lattice ([`super::aligned`]).
+    fn lattice(&self) -> Option<&Heights<'_>> {
+        None
+    }
+}
+
+impl Source for Heights<'_> {
+    fn count(&self) -> usize {
+        self.width * self.height
+    }
+    fn point(&self, id: u32) -> [f64; 3] {
+        let (c, r) = (id as usize % self.width, id as usize / self.width);
+        [c as f64, r as f64, self.z[id as usize]]
+    }
+    fn hull(&self) -> Result<Vec<u32>, TinError> {
+        let corners = lattice_hull(self.width, self.height, &|i| !self.z[i].is_nan());
+        if corners.len() < 3 {
+            let n = self.z.iter().filter(|z| !z.is_nan()).count();
+            return Err(TinError::Degenerate(if n < 3 {
+                format!("need at least 3 valid pixels to build a tin, got {n}")
+            } else {
+                format!("all {n} valid pixels lie on one line: a tin needs 3 that do not")
+            }));
+        }
+        Ok(corners.into_iter().map(|i| i as u32).collect())
+    }
+    fn worst_sample(&self, c: &[[f64; 3]; 3], vid: &[u32]) -> Worst {
+        samples(c, self, vid)
+    }
+    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst {
+        crossings(p, q, self)
+    }
+    /// Exact in the segment's own coordinate (a column's x, a row's y).
+    fn crossing_of(&self, u: &[f64; 3], w: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+        // along x = const (a column's segment) or y = const (a row's)
+        let k = if a[0] == b[0] { 0 } else { 1 };
+        let s = (a[k] - u[k]) / (w[k] - u[k]);
+        let other = u[1 - k] + s * (w[1 - k] - u[1 - k]);
+        let f = (other - a[1 - k]) / (b[1 - k] - a[1 - k]);
+        let mut x = [0.0, 0.0, a[2] + f * (b[2] - a[2])];
+        x[k] = a[k];
+        x[1 - k] = other;
+        x
+    }
+    fn lattice(&self) -> Option<&Heights<'_>> {
+        Some(self)
+    }
 }
 
 impl Heights<'_> {
@@ -28,24 +117,21 @@ impl Heights<'_> {
     }
 }
 
-/// What refines a triangle most: a pixel centre to insert, or a crossing
-/// of one of its edges with a grid segment.
+/// What refines a triangle most: a sample to insert, or a crossing of one
+/// of its edges with a segment between two samples.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Fix {
     None,
-    Sample {
-        c: u32,
-        r: u32,
-    },
-    /// edge `k` of the triangle (its half-edge `3t + k`) crosses the grid
-    /// segment from pixel `a` to pixel `b` (column, row) at `at`, where
-    /// the surface is `z`
+    Sample(u32),
+    /// edge `k` of the triangle (its half-edge `3t + k`) crosses the
+    /// segment from sample `a` to sample `b` at `at`, where the surface is
+    /// `z`
     Crossing {
         k: u8,
         at: [f64; 2],
         z: f64,
-        a: [u32; 2],
-        b: [u32; 2],
+        a: u32,
+        b: u32,
     },
 }
 
@@ -63,7 +149,7 @@ impl Worst {
 }
 
 /// The plane through three points: z at (x, y).
-struct Plane {
+pub(super) struct Plane {
     x0: f64,
     y0: f64,
     z0: f64,
@@ -72,7 +158,7 @@ struct Plane {
 }
 
 impl Plane {
-    fn of(c: &[[f64; 3]; 3]) -> Plane {
+    pub(super) fn of(c: &[[f64; 3]; 3]) -> Plane {
         let (ux, uy, uz) = (c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]);
         let (vx, vy, vz) = (c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]);
         let det = ux * vy - uy * vx;
@@ -85,21 +171,21 @@ impl Plane {
         }
     }
     #[inline]
-    fn z(&self, x: f64, y: f64) -> f64 {
+    pub(super) fn z(&self, x: f64, y: f64) -> f64 {
         self.z0 + self.zx * (x - self.x0) + self.zy * (y - self.y0)
     }
 }
 
-/// The worst error of triangle `t` and its fix. `vid[pixel]` is not
-/// `NONE` at the pixel centres that are vertices (their error is the rounding of
+/// The worst error of triangle `t` and its fix. `vid[sample]` is not
+/// `NONE` at the samples that are vertices (their error is the rounding of
 /// the plane, not the surface's).
-pub(super) fn measure(m: &Mesh, t: u32, g: &Heights<'_>, vid: &[u32]) -> Worst {
+pub(super) fn measure<S: Source + ?Sized>(m: &Mesh, t: u32, g: &S, vid: &[u32]) -> Worst {
     let c = m.corners(t);
-    let mut worst = samples(&c, g, vid);
+    let mut worst = g.worst_sample(&c, vid);
     for k in 0..3u32 {
         let h = 3 * t + k;
         let (p, q) = (m.at(h), m.at(next(h)));
-        let w = crossings(p, q, g);
+        let w = g.worst_crossing(p, q);
         if let (true, Fix::Crossing { at, z, a, b, .. }) = (w.err > worst.err, w.fix) {
             worst = Worst {
                 err: w.err,
@@ -169,10 +255,7 @@ fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
             if e > worst.err {
                 worst = Worst {
                     err: e,
-                    fix: Fix::Sample {
-                        c: col as u32,
-                        r: r as u32,
-                    },
+                    fix: Fix::Sample(i as u32),
                 };
             }
         }
@@ -227,8 +310,8 @@ pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
                                 k: 0,
                                 at,
                                 z: zs,
-                                a: [a[0] as u32, a[1] as u32],
-                                b: [b[0] as u32, b[1] as u32],
+                                a: (a[1] as usize * g.width + a[0] as usize) as u32,
+                                b: (b[1] as usize * g.width + b[0] as usize) as u32,
                             },
                         };
                     }

@@ -40,10 +40,11 @@ mod aligned;
 mod greedy;
 mod measure;
 mod mesh;
+mod points;
 
 pub use measure::Heights;
 
-use super::build::{RawLevel, assemble_verified, check_tolerances, on_lattice};
+use super::build::{RawLevel, assemble_verified, check_tolerances, on_lattice, prepare_samples};
 use super::lattice::Lattice;
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
@@ -85,4 +86,39 @@ pub fn build_band(
     let (pts, raw) = band_levels(&g, tolerances, interrupt)?;
     let tin = assemble_verified(pts, raw, srid, false, interrupt)?;
     on_lattice(tin, lattice, (0, 0))
+}
+
+/// The hierarchy of scattered samples (x, y, z; what `tin_from_points`
+/// builds), one level a tolerance (coarsest first), every level within
+/// its tolerance at every sample and where its edges cross the edges of
+/// the samples' Delaunay triangulation (the surface between them, as
+/// every tool triangulates them). Duplicates in x, y are merged (their
+/// mean height). Verified before it is returned.
+///
+/// ```
+/// use tinmerge_core::tin::construct::build_scattered;
+/// let pts: Vec<[f64; 3]> = (0..900)
+///     .map(|i| {
+///         let (x, y) = ((i % 30) as f64 + 0.3 * ((i * 7) % 11) as f64 / 11.0, (i / 30) as f64);
+///         [x, y, (x * 0.3).sin() * 5.0 + y * 0.1]
+///     })
+///     .collect();
+/// let tin = build_scattered(pts, &[1.0, 0.25], 0, &mut || Ok(())).unwrap();
+/// assert!(tin.levels[1].max_error <= 0.25);
+/// tin.sanity_check().unwrap();
+/// ```
+pub fn build_scattered(
+    samples: Vec<[f64; 3]>,
+    tolerances: &[f64],
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    check_tolerances(tolerances)?;
+    let samples = prepare_samples(samples)?;
+    interrupt()?;
+    let source = points::Scattered::new(samples)?;
+    interrupt()?;
+    let (pts, raw) = greedy::levels(&source, tolerances, interrupt)?;
+    drop(source);
+    assemble_verified(pts, raw, srid, true, interrupt)
 }

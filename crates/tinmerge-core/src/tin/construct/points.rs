@@ -1,0 +1,114 @@
+//! Scattered samples as engine 2's source (`tin_from_points`): the
+//! samples in a triangle come from their buckets ([`SampleGrid`]), and the
+//! surface between them is their Delaunay triangulation
+//! ([`DelaunayReference`]), whose edges are the segments a level's edges
+//! are measured at where they cross them.
+
+use super::measure::{Fix, Plane, Source, Worst};
+use super::mesh::NONE;
+use crate::tin::TinError;
+use crate::tin::build::convex_hull;
+use crate::tin::delaunay_ref::DelaunayReference;
+use crate::tin::samples::SampleGrid;
+
+/// Samples bucketed, numbered in their buckets' order, and their Delaunay
+/// triangulation.
+pub(super) struct Scattered {
+    grid: SampleGrid,
+    reference: DelaunayReference,
+    hull: Vec<u32>,
+}
+
+impl Scattered {
+    /// `samples`: [`crate::tin::build::prepare_samples`]'s (finite,
+    /// distinct in x, y, sorted by x then y).
+    pub(super) fn new(samples: Vec<[f64; 3]>) -> Result<Scattered, TinError> {
+        if samples.len() < 3 {
+            return Err(TinError::Degenerate(format!(
+                "need at least 3 samples with distinct x,y to build a tin, got {}",
+                samples.len()
+            )));
+        }
+        let hull: Vec<[f64; 3]> = convex_hull(&samples)
+            .into_iter()
+            .map(|k| samples[k])
+            .collect();
+        if hull.len() < 3 {
+            return Err(TinError::Degenerate(
+                "all samples are collinear: a tin needs at least 3 non-collinear samples".into(),
+            ));
+        }
+        let grid = SampleGrid::new(samples, 2.0);
+        let hull = hull
+            .iter()
+            .map(|p| grid.find(p[0], p[1]).map(|i| i as u32))
+            .collect::<Option<Vec<u32>>>()
+            .ok_or_else(|| TinError::Internal("lost a hull corner in its bucket".into()))?;
+        let reference = DelaunayReference::new(&grid.pts)?;
+        if reference.num_samples() != grid.pts.len() {
+            return Err(TinError::Internal(format!(
+                "the samples' Delaunay triangulation holds {} of {} samples",
+                reference.num_samples(),
+                grid.pts.len()
+            )));
+        }
+        Ok(Scattered {
+            grid,
+            reference,
+            hull,
+        })
+    }
+}
+
+impl Source for Scattered {
+    fn count(&self) -> usize {
+        self.grid.pts.len()
+    }
+
+    fn point(&self, id: u32) -> [f64; 3] {
+        self.grid.pts[id as usize]
+    }
+
+    fn hull(&self) -> Result<Vec<u32>, TinError> {
+        Ok(self.hull.clone())
+    }
+
+    fn worst_sample(&self, c: &[[f64; 3]; 3], vid: &[u32]) -> Worst {
+        let plane = Plane::of(c);
+        let mut worst = Worst::NONE;
+        self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
+            if vid[i] != NONE {
+                return;
+            }
+            let e = (p[2] - plane.z(p[0], p[1])).abs();
+            if e > worst.err {
+                worst = Worst {
+                    err: e,
+                    fix: Fix::Sample(i as u32),
+                };
+            }
+        });
+        worst
+    }
+
+    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst {
+        let mut worst = Worst::NONE;
+        self.reference.for_each_crossing_of(p, q, &mut |x, ends| {
+            let e = x.error(p, q);
+            if e > worst.err {
+                worst = Worst {
+                    err: e,
+                    fix: Fix::Crossing {
+                        k: 0,
+                        at: [x.p[0], x.p[1]],
+                        z: x.p[2],
+                        a: ends[0] as u32,
+                        b: ends[1] as u32,
+                    },
+                };
+            }
+        });
+        worst
+    }
+}
+
