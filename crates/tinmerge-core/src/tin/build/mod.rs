@@ -56,10 +56,10 @@ mod window;
 
 pub(crate) use self::assemble::assemble_verified;
 use self::assemble::*;
-pub(crate) use self::common::{RawLevel, convex_hull};
 pub use self::common::{
     Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
 };
+pub(crate) use self::common::{RawLevel, convex_hull};
 use self::levels::*;
 pub(crate) use self::levels::{dense_hull, dense_of, lattice_hull};
 pub use self::raster::{RasterBand, RasterBuild, build_raster};
@@ -109,7 +109,10 @@ pub fn build_with(
 /// every level at its crossings with the reference's edges, coarse edges
 /// split there level by level, so each level is within its tolerance of
 /// that surface everywhere, not only at the samples. What
-/// `tin_from_points` builds.
+/// `tin_from_points` builds: build engine 2's
+/// ([`super::construct::build_scattered`]), whose levels are
+/// constrained Delaunay (the reference's edges it made edges of are
+/// constraints).
 ///
 /// ```
 /// use tinmerge_core::tin::build::build_points;
@@ -121,7 +124,8 @@ pub fn build_with(
 ///     }
 /// }
 /// let tin = build_points(pts, &[1.0, 0.25], 0, &mut || Ok(())).unwrap();
-/// tin.sanity_check().unwrap();
+/// tinmerge_core::tin::check::validate_structure(&tin).unwrap();
+/// assert!(tinmerge_core::tin::check::problems(&tin, &mut || Ok(())).unwrap().is_empty());
 /// assert!(tin.levels[1].max_error <= 0.25);
 /// ```
 pub fn build_points(
@@ -130,7 +134,8 @@ pub fn build_points(
     srid: i32,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
-    build_points_domain(samples, &[], &[], tolerances, srid, interrupt)
+    // build engine 2 (issue 74): greedy insertion into one triangulation
+    super::construct::build_scattered(samples, tolerances, srid, interrupt)
 }
 
 /// [`build_domain`] of points, measured between the samples against

@@ -301,7 +301,8 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                     // segment: no vertex of its own there
                     return Ok(false);
                 }
-                if self.thin_split(e, &cross) {
+                let near = |v: &[f64; 3]| is_sliver(&pp, &qq, v);
+                if near(u3) || near(w3) || self.thin_split(e, &cross) {
                     // the segment passes within rounding of an end of the
                     // edge (scattered samples): made through that end
                     let (u, w) = (self.m.v[e as usize], self.m.v[next(e) as usize]);

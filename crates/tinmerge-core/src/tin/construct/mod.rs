@@ -93,7 +93,8 @@ pub fn build_band(
 /// its tolerance at every sample and where its edges cross the edges of
 /// the samples' Delaunay triangulation (the surface between them, as
 /// every tool triangulates them). Duplicates in x, y are merged (their
-/// mean height). Verified before it is returned.
+/// mean height). Verified before it is returned. What
+/// [`crate::tin::build::build_points`] (`tin_from_points`) calls.
 ///
 /// ```
 /// use tinmerge_core::tin::construct::build_scattered;
@@ -105,7 +106,7 @@ pub fn build_band(
 ///     .collect();
 /// let tin = build_scattered(pts, &[1.0, 0.25], 0, &mut || Ok(())).unwrap();
 /// assert!(tin.levels[1].max_error <= 0.25);
-/// tin.sanity_check().unwrap();
+/// tinmerge_core::tin::check::validate_structure(&tin).unwrap();
 /// ```
 pub fn build_scattered(
     samples: Vec<[f64; 3]>,

@@ -6,6 +6,7 @@
 
 use super::measure::{Fix, Plane, Source, Worst};
 use super::mesh::NONE;
+use crate::geom::{is_sliver, left_or_on_rounded, max_abs_xy};
 use crate::tin::TinError;
 use crate::tin::build::convex_hull;
 use crate::tin::delaunay_ref::DelaunayReference;
@@ -76,8 +77,21 @@ impl Source for Scattered {
     fn worst_sample(&self, c: &[[f64; 3]; 3], vid: &[u32]) -> Worst {
         let plane = Plane::of(c);
         let mut worst = Worst::NONE;
-        self.grid.for_each_in_triangle(&c[0], &c[1], &c[2], |i, p| {
-            if vid[i] != NONE {
+        // in the triangle up to rounding, as a raster band's centres are:
+        // a sample a rounding outside the hull's side that a sample on it
+        // up to rounding made (`Greedy::locate`) is still measured
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in c {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let pad = 1e-12 * max_abs_xy(&c[0], &c[1], &c[2]);
+        let inside = |p: &[f64; 3]| (0..3).all(|k| left_or_on_rounded(&c[k], &c[(k + 1) % 3], p));
+        let (x0, y0, x1, y1) = (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad);
+        self.grid.for_each_in_box(x0, y0, x1, y1, |i, p| {
+            if vid[i] != NONE || !inside(p) {
                 return;
             }
             let e = (p[2] - plane.z(p[0], p[1])).abs();
@@ -94,6 +108,11 @@ impl Source for Scattered {
     fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst {
         let mut worst = Worst::NONE;
         self.reference.for_each_crossing_of(p, q, &mut |x, ends| {
+            // through a sample up to rounding: that sample, measured as
+            // itself (a vertex there would stand beside it)
+            if is_sliver(p, q, &x.seg[0]) || is_sliver(p, q, &x.seg[1]) {
+                return;
+            }
             let e = x.error(p, q);
             if e > worst.err {
                 worst = Worst {
@@ -111,4 +130,3 @@ impl Source for Scattered {
         worst
     }
 }
-
