@@ -1,24 +1,31 @@
-//! Build engine 2 (issue 74): the hierarchy of a raster band by greedy
-//! insertion into one triangulation, exact by construction.
+//! Build engine 2 (issue 74): the hierarchy of a raster band
+//! ([`build_band`]) or of scattered samples ([`build_scattered`]) by
+//! greedy insertion into one triangulation, exact by construction.
 //!
 //! - [`mesh`]: the triangulation (flat half-edges, locked edges, splits
 //!   and flips);
-//! - [`measure`]: a triangle's worst error at the valid pixel centres in
-//!   it and where its edges cross grid segments between them;
+//! - [`measure`]: a triangle's worst error at the samples in it and where
+//!   its edges cross segments of the surface between them, through a
+//!   [`measure::Source`] (a band's [`Heights`]: the valid pixel centres
+//!   and the grid segments between them);
+//! - [`points`]: scattered samples as a source, with their Delaunay
+//!   triangulation as the surface between them;
 //! - [`aligned`]: coarse levels along the pixel lattice (right isosceles
 //!   triangles split at their longest edge's middle), for a band without
 //!   nodata: their edges meet grid lines only at pixel centres, so the
 //!   levels below never split them at a crossing;
 //! - [`greedy`]: the driver, level after level in the same triangulation.
 //!
-//! Every vertex is a pixel centre (whole lattice numbers, so every test of
-//! which side is exact) or the point where a locked edge crosses a grid
-//! segment, made by splitting that edge: no vertex is ever placed "near"
-//! an edge, so no level can have a crack. Free edges are Delaunay, but
-//! for the grid segments a level makes edges of (and locks) where an edge
-//! crossed one too far from the surface with both its pixels already
-//! vertices: the levels are constrained Delaunay triangulations, their
-//! constraints the coarser levels' edges and those segments, so
+//! Every vertex is a sample (a pixel centre: whole lattice numbers, so
+//! every test of which side is exact; a scattered sample, on an edge when
+//! it is on it up to rounding) or the point where a locked edge crosses a
+//! segment of the surface, made by splitting that edge: no vertex is ever
+//! placed "near" an edge, so no level can have a crack. Free edges are
+//! Delaunay, but for the segments a level makes edges of (and locks)
+//! where an edge crossed one too far from the surface with both its
+//! samples already vertices: the levels are constrained Delaunay
+//! triangulations, their constraints the coarser levels' edges and those
+//! segments, so
 //! [`Tin::sanity_check`](crate::tin::Tin::sanity_check)'s Delaunay test
 //! does not apply to them.
 //!
