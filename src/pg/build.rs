@@ -16,9 +16,10 @@ use tinmerge_core::io::{ewkb, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    build_lattice, build_points, check_tolerances, default_tolerances, points_build_bytes,
-    BuildOptions, RasterBand, RasterBuild,
+    build_lattice, check_tolerances, default_tolerances, points_build_bytes, BuildOptions,
+    RasterBand, RasterBuild,
 };
+use tinmerge_core::tin::construct::build_points;
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tile_domain::build_tile_window;
 use tinmerge_core::tin::tiles::build_tiles;

@@ -13,7 +13,8 @@ use pgrx::{pg_sys, Internal, PgMemoryContexts};
 use super::args::GeomArg;
 use super::build::{boundary_of, breaklines_of, build_points_domain, reserve_build_bytes};
 use tinmerge_core::io::gserialized;
-use tinmerge_core::tin::build::{build_points, default_tolerances, points_build_bytes};
+use tinmerge_core::tin::build::{default_tolerances, points_build_bytes};
+use tinmerge_core::tin::construct::build_points;
 
 /// The state of the `tin_from_points_agg` aggregate: every vertex (with Z)
 /// of the rows so far, their SRID, and the build's arguments (from the

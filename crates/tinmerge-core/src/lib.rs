@@ -52,5 +52,6 @@ pub use crate::merge::point::{footprint, height};
 pub use crate::merge::raster::sweep as raster_sweep;
 pub use crate::polygon::Area;
 pub use crate::tin::Tin;
-pub use crate::tin::build::{BuildOptions, build, build_lattice, build_points};
+pub use crate::tin::build::{BuildOptions, build, build_lattice};
+pub use crate::tin::construct::build_points;
 pub use crate::tin::sliced::SlicedTin;

@@ -13,7 +13,8 @@ use crate::common;
 
 use std::time::Instant;
 use tinmerge_core::tin::Tin;
-use tinmerge_core::tin::build::{build, build_points, default_tolerances};
+use tinmerge_core::tin::build::{build, default_tolerances};
+use tinmerge_core::tin::construct::build_points;
 
 /// xorshift, seeded: the same samples on every run.
 struct Rng(u64);

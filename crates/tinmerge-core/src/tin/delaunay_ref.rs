@@ -48,7 +48,7 @@ impl HasPosition for Sample {
 }
 
 /// The Delaunay triangulation of samples, as a build's reference
-/// ([`super::build::build_points`]). About 200 bytes a sample
+/// ([`super::construct::build_points`]). About 200 bytes a sample
 /// ([`DelaunayReference::BYTES_PER_SAMPLE`]).
 pub struct DelaunayReference {
     dt: DelaunayTriangulation<Sample, (), (), (), HierarchyHintGenerator<f64>>,

@@ -53,8 +53,9 @@ use terrain::{Raster, terrain};
 use tinmerge_core::merge::overlay::{overlay, overlay_constrained};
 use tinmerge_core::tin::breaklines::Breakline;
 use tinmerge_core::tin::build::{
-    RasterBand, RasterBuild, boundary, build_points, build_raster, default_tolerances,
+    RasterBand, RasterBuild, boundary, build_raster, default_tolerances,
 };
+use tinmerge_core::tin::construct::build_points;
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::tiles::build_tiles;
 use tinmerge_core::tin::{Tin, TinError};

@@ -104,42 +104,9 @@ pub fn build_with(
     build_inner(samples, &Spec::new(tolerances, srid, opts), interrupt)
 }
 
-/// [`build`] measured between the samples too: against the Delaunay
-/// triangulation of all of them ([`DelaunayReference`]), every edge of
-/// every level at its crossings with the reference's edges, coarse edges
-/// split there level by level, so each level is within its tolerance of
-/// that surface everywhere, not only at the samples. What
-/// `tin_from_points` builds: build engine 2's
-/// ([`super::construct::build_scattered`]), whose levels are
-/// constrained Delaunay (the reference's edges it made edges of are
-/// constraints).
-///
-/// ```
-/// use tinmerge_core::tin::build::build_points;
-/// let mut pts = Vec::new();
-/// for i in 0..30 {
-///     for j in 0..30 {
-///         let (x, y) = (i as f64 + 0.3 * ((i * j) % 7) as f64 / 7.0, j as f64);
-///         pts.push([x, y, (x * 0.3).sin() * 5.0 + y * 0.1]);
-///     }
-/// }
-/// let tin = build_points(pts, &[1.0, 0.25], 0, &mut || Ok(())).unwrap();
-/// tinmerge_core::tin::check::validate_structure(&tin).unwrap();
-/// assert!(tinmerge_core::tin::check::problems(&tin, &mut || Ok(())).unwrap().is_empty());
-/// assert!(tin.levels[1].max_error <= 0.25);
-/// ```
-pub fn build_points(
-    samples: Vec<[f64; 3]>,
-    tolerances: &[f64],
-    srid: i32,
-    interrupt: &mut Interrupt<'_>,
-) -> Result<Tin, TinError> {
-    // build engine 2 (issue 74): greedy insertion into one triangulation
-    super::construct::build_scattered(samples, tolerances, srid, interrupt)
-}
-
 /// [`build_domain`] of points, measured between the samples against
-/// their whole Delaunay triangulation as [`build_points`] is: soft lines
+/// their whole Delaunay triangulation as
+/// [`build_points`](crate::tin::construct::build_points) is: soft lines
 /// and boundary rings take their heights from it, and the edges of it a
 /// hard line cuts are left out ([`DelaunayReference::cut_by`]: the surface
 /// there is the line's).
@@ -572,7 +539,7 @@ pub fn lattice_build_bytes(samples: usize, levels: usize, between_samples: bool)
     samples.saturating_mul(per).saturating_add(1 << 20)
 }
 
-/// [`build_bytes`] for [`build_points`] and [`build_points_domain`]: the
+/// [`build_bytes`] for [`build_points`](crate::tin::construct::build_points) and [`build_points_domain`]: the
 /// reference triangulation of all the samples
 /// ([`DelaunayReference::BYTES_PER_SAMPLE`]) held through the build, whose
 /// vertices at crossings cost as a raster's between samples do.

@@ -1,5 +1,5 @@
 //! Build engine 2 (issue 74): the hierarchy of a raster band
-//! ([`build_band`]) or of scattered samples ([`build_scattered`]) by
+//! ([`build_band`]) or of scattered samples ([`build_points`]) by
 //! greedy insertion into one triangulation, exact by construction.
 //!
 //! - [`mesh`]: the triangulation (flat half-edges, locked edges, splits
@@ -100,22 +100,23 @@ pub fn build_band(
 /// its tolerance at every sample and where its edges cross the edges of
 /// the samples' Delaunay triangulation (the surface between them, as
 /// every tool triangulates them). Duplicates in x, y are merged (their
-/// mean height). Verified before it is returned. What
-/// [`crate::tin::build::build_points`] (`tin_from_points`) calls.
+/// mean height). Verified before it is returned. What `tin_from_points`
+/// and its aggregate build; with lines or a boundary, the old engine's
+/// [`crate::tin::build::build_points_domain`].
 ///
 /// ```
-/// use tinmerge_core::tin::construct::build_scattered;
+/// use tinmerge_core::tin::construct::build_points;
 /// let pts: Vec<[f64; 3]> = (0..900)
 ///     .map(|i| {
 ///         let (x, y) = ((i % 30) as f64 + 0.3 * ((i * 7) % 11) as f64 / 11.0, (i / 30) as f64);
 ///         [x, y, (x * 0.3).sin() * 5.0 + y * 0.1]
 ///     })
 ///     .collect();
-/// let tin = build_scattered(pts, &[1.0, 0.25], 0, &mut || Ok(())).unwrap();
+/// let tin = build_points(pts, &[1.0, 0.25], 0, &mut || Ok(())).unwrap();
 /// assert!(tin.levels[1].max_error <= 0.25);
 /// tinmerge_core::tin::check::validate_structure(&tin).unwrap();
 /// ```
-pub fn build_scattered(
+pub fn build_points(
     samples: Vec<[f64; 3]>,
     tolerances: &[f64],
     srid: i32,
