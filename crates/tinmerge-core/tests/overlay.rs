@@ -131,7 +131,14 @@ fn edges(t: &Tin, l: usize) -> Vec<(P, P)> {
 
 /// Segment (p, q) clipped to the convex polygon (Cyrus-Beck), or None.
 fn clip_segment(poly: &[P], p: P, q: P) -> Option<(P, P)> {
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    // where the segment crosses a side itself, not the side's line: the
+    // common domain's corners are computed, so two sides along one hull
+    // line can turn a rounding the wrong way at the corner between them,
+    // and the other side's line then clips a micrometre off (harness seed
+    // 91719)
+    let (mut on0, mut on1) = (None::<f64>, None::<f64>);
+    let at = |t: f64| [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
     for i in 0..poly.len() {
         let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
         let side = |r: P| (b[0] - a[0]) * (r[1] - a[1]) - (b[1] - a[1]) * (r[0] - a[0]);
@@ -139,12 +146,27 @@ fn clip_segment(poly: &[P], p: P, q: P) -> Option<(P, P)> {
         if sp < 0.0 && sq < 0.0 {
             return None;
         }
+        let within = |t: f64| {
+            let x = at(t);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let u = ((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / (dx * dx + dy * dy);
+            (-1e-9..=1.0 + 1e-9).contains(&u)
+        };
         if sp < 0.0 {
-            t0 = t0.max(sp / (sp - sq));
+            let t = sp / (sp - sq);
+            lo = lo.max(t);
+            if within(t) {
+                on0 = Some(on0.map_or(t, |o| o.max(t)));
+            }
         } else if sq < 0.0 {
-            t1 = t1.min(sp / (sp - sq));
+            let t = sp / (sp - sq);
+            hi = hi.min(t);
+            if within(t) {
+                on1 = Some(on1.map_or(t, |o| o.min(t)));
+            }
         }
     }
+    let (mut t0, mut t1) = (on0.unwrap_or(lo), on1.unwrap_or(hi));
     // an end on the polygon up to rounding is that end
     if t0 < 1e-6 {
         t0 = 0.0;
@@ -152,7 +174,6 @@ fn clip_segment(poly: &[P], p: P, q: P) -> Option<(P, P)> {
     if t1 > 1.0 - 1e-6 {
         t1 = 1.0;
     }
-    let at = |t: f64| [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
     (t1 - t0 > 1e-12).then(|| (at(t0), at(t1)))
 }
 

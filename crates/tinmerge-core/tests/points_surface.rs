@@ -152,9 +152,10 @@ fn sample_errors(tin: &Tin, samples: &[[f64; 3]]) -> Vec<f64> {
 }
 
 /// Whether an edge runs along an edge of the samples' Delaunay
-/// triangulation (spade's, made here): from a sample, along one of its
-/// Delaunay edges up to rounding, or between two vertices that are not
-/// samples (both where a coarser edge crossed such an edge).
+/// triangulation (spade's, made here): both its ends within a thousandth
+/// of that edge's length of it (the engine makes a segment of the surface
+/// through a vertex that near it, rather than split an edge beside a thin
+/// fan: its `ROUTE`), or within rounding.
 fn along_reference(pts: &[[f64; 3]]) -> impl Fn(&[f64; 3], &[f64; 3]) -> bool {
     use spade::{DelaunayTriangulation, Point2, Triangulation};
     use std::collections::HashMap;
@@ -162,25 +163,46 @@ fn along_reference(pts: &[[f64; 3]]) -> impl Fn(&[f64; 3], &[f64; 3]) -> bool {
         pts.iter().map(|p| Point2::new(p[0], p[1])).collect(),
     )
     .unwrap();
-    let key = |p: &[f64; 3]| (p[0].to_bits(), p[1].to_bits());
-    let mut nbrs: HashMap<(u64, u64), Vec<[f64; 3]>> = HashMap::new();
-    for e in dt.undirected_edges() {
-        let [u, v] = e.positions();
-        let (u, v) = ([u.x, u.y, 0.0], [v.x, v.y, 0.0]);
-        nbrs.entry(key(&u)).or_default().push(v);
-        nbrs.entry(key(&v)).or_default().push(u);
+    let segs: Vec<[[f64; 2]; 2]> = dt
+        .undirected_edges()
+        .map(|e| {
+            let [u, v] = e.positions();
+            [[u.x, u.y], [v.x, v.y]]
+        })
+        .collect();
+    let len = |s: &[[f64; 2]; 2]| (s[1][0] - s[0][0]).hypot(s[1][1] - s[0][1]);
+    let cell = segs.iter().map(len).sum::<f64>() / segs.len() as f64;
+    let scale = pts
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let slack = 1e-12 * scale;
+    let key = move |x: f64, y: f64| ((x / cell).floor() as i64, (y / cell).floor() as i64);
+    let mut grid: HashMap<(i64, i64), Vec<u32>> = HashMap::new();
+    for (i, s) in segs.iter().enumerate() {
+        let pad = 1e-3 * len(s) + slack;
+        let lo = key(s[0][0].min(s[1][0]) - pad, s[0][1].min(s[1][1]) - pad);
+        let hi = key(s[0][0].max(s[1][0]) + pad, s[0][1].max(s[1][1]) + pad);
+        for cx in lo.0..=hi.0 {
+            for cy in lo.1..=hi.1 {
+                grid.entry((cx, cy)).or_default().push(i as u32);
+            }
+        }
     }
+    // distance from p to the closed segment s
+    let dist = |s: &[[f64; 2]; 2], p: &[f64; 3]| {
+        let (dx, dy) = (s[1][0] - s[0][0], s[1][1] - s[0][1]);
+        let t =
+            (((p[0] - s[0][0]) * dx + (p[1] - s[0][1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+        (p[0] - s[0][0] - t * dx).hypot(p[1] - s[0][1] - t * dy)
+    };
     move |a, b| {
-        let on = |s: &[f64; 3], t: &[f64; 3]| {
-            nbrs.get(&key(s)).is_some_and(|ns| {
-                ns.iter().any(|n| {
-                    tinmerge_core::geom::is_sliver(s, n, t)
-                        && (t[0] - s[0]) * (n[0] - s[0]) + (t[1] - s[1]) * (n[1] - s[1]) > 0.0
-                })
+        grid.get(&key(a[0], a[1])).is_some_and(|ids| {
+            ids.iter().any(|&i| {
+                let s = &segs[i as usize];
+                let tol = 1e-3 * len(s) + slack;
+                dist(s, a) <= tol && dist(s, b) <= tol
             })
-        };
-        let (sa, sb) = (nbrs.contains_key(&key(a)), nbrs.contains_key(&key(b)));
-        on(a, b) || on(b, a) || (!sa && !sb)
+        })
     }
 }
 

@@ -17,7 +17,7 @@
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
-use crate::geom::{is_sliver, orient, orient_slack};
+use crate::geom::{orient, orient_slack};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
 use crate::tin::build::RawLevel;
@@ -42,6 +42,22 @@ pub(super) struct Greedy<'g, S: Source + ?Sized> {
     /// triangle (the levels before the last)
     aligned: bool,
 }
+
+/// How many roundings ([`orient_slack`]) off a line a point may be and
+/// still be taken as on it when a segment is recovered: a vertex made
+/// closer than this to another would leave the next split beside them a
+/// sliver.
+const NEAR: f64 = 256.0;
+
+/// Whether `c` is within [`NEAR`] roundings of the line through `a`, `b`.
+fn close(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    orient(a, b, c).abs() <= NEAR * orient_slack(a, b, c)
+}
+
+/// How far off a segment being recovered (a fraction of its length) an
+/// edge's end may be for the segment to be made through it rather than
+/// split beside a thin fan.
+const ROUTE: f64 = 1e-3;
 
 fn internal(what: &str) -> TinError {
     TinError::Internal(format!("the greedy build {what}"))
@@ -205,7 +221,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     /// Split the edge of `h` at point `p` on it (where it crosses a grid
     /// segment, with the segment's height): the new vertex.
     fn split_edge_at(&mut self, h: u32, p: [f64; 3]) -> Result<u32, TinError> {
-        if self.thin_split(h, &p) {
+        if self.thin_split(h, &p, false) {
             let (a, b) = (self.m.at(h), self.m.at(next(h)));
             return Err(internal(&format!(
                 "would make a sliver splitting the edge {a:?} - {b:?} at {p:?}"
@@ -218,10 +234,12 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     }
 
     /// Whether splitting the edge of `h` at `p` would make a triangle
-    /// that is not proper (`p` within rounding of an end).
-    fn thin_split(&self, h: u32, p: &[f64; 3]) -> bool {
+    /// that is not proper (`p` within rounding of an end), or with `near`
+    /// one within [`NEAR`] roundings of a line.
+    fn thin_split(&self, h: u32, p: &[f64; 3], near: bool) -> bool {
         let (a, b, c) = (self.m.at(h), self.m.at(next(h)), self.m.at(prev(h)));
-        let bad = |u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]| !proper(u, v, w);
+        let bad =
+            |u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]| !proper(u, v, w) || (near && close(u, v, w));
         let mut thin = bad(a, p, c) || bad(p, b, c);
         let g = self.m.twin[h as usize];
         if g != NONE {
@@ -296,18 +314,29 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             if self.m.locked[e as usize] {
                 let cross = self.crossing_of(e, p, q);
                 let (u3, w3) = (self.m.at(e), self.m.at(next(e)));
-                if is_sliver(u3, w3, &pp) || is_sliver(u3, w3, &qq) {
-                    // the edge passes within rounding of an end of the
-                    // segment: no vertex of its own there
+                if close(u3, w3, &pp) || close(u3, w3, &qq) {
+                    // the edge passes within a few roundings of an end of
+                    // the segment: no vertex of its own there (it would
+                    // stand beside that end, and the next split beside it
+                    // would make a sliver)
                     return Ok(false);
                 }
-                let near = |v: &[f64; 3]| is_sliver(&pp, &qq, v);
-                if near(u3) || near(w3) || self.thin_split(e, &cross) {
-                    // the segment passes within rounding of an end of the
-                    // edge (scattered samples): made through that end
-                    let (u, w) = (self.m.v[e as usize], self.m.v[next(e) as usize]);
-                    let off = |v: u32| orient(&pp, &qq, &self.m.pts[v as usize]).abs();
-                    let x = if off(u) <= off(w) { u } else { w };
+                let near = |v: &[f64; 3]| close(&pp, &qq, v);
+                let (u, w) = (self.m.v[e as usize], self.m.v[next(e) as usize]);
+                let off = |v: u32| orient(&pp, &qq, &self.m.pts[v as usize]).abs();
+                let x = if off(u) <= off(w) { u } else { w };
+                // made through the edge's end nearer the segment when the
+                // segment passes within rounding of it (scattered samples),
+                // when a split would not be proper, or when it would make a
+                // triangle within a few roundings of a line (a thin fan: the
+                // next split beside it would make a sliver) and that end is
+                // within a thousandth of the segment's length of it
+                let len2 = (qq[0] - pp[0]).powi(2) + (qq[1] - pp[1]).powi(2);
+                let route = near(u3)
+                    || near(w3)
+                    || self.thin_split(e, &cross, false)
+                    || (off(x) <= ROUTE * len2 && self.thin_split(e, &cross, true));
+                if route {
                     return Ok(self.recover(p, x, depth + 1)? && self.recover(x, q, depth + 1)?);
                 }
                 let v = self.split_edge_at(e, cross)?;
