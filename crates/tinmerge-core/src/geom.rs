@@ -111,7 +111,14 @@ pub fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
 /// [`orient_slack`]).
 #[inline]
 pub fn is_sliver(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    orient(a, b, c).abs() <= orient_slack(a, b, c)
+    within_roundings(a, b, c, 1.0)
+}
+
+/// Whether c is within `k` roundings ([`orient_slack`]) of the line
+/// through a and b: [`is_sliver`] with `k` 1.
+#[inline]
+pub(crate) fn within_roundings(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], k: f64) -> bool {
+    orient(a, b, c).abs() <= k * orient_slack(a, b, c)
 }
 
 /// Whether c is left of or on the line a -> b, up to rounding.

@@ -17,7 +17,7 @@
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
-use crate::geom::{orient, orient_slack};
+use crate::geom::{orient, orient_slack, within_roundings};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
 use crate::tin::build::RawLevel;
@@ -43,15 +43,15 @@ pub(super) struct Greedy<'g, S: Source + ?Sized> {
     aligned: bool,
 }
 
-/// How many roundings ([`orient_slack`]) off a line a point may be and
-/// still be taken as on it when a segment is recovered: a vertex made
-/// closer than this to another would leave the next split beside them a
-/// sliver.
+/// How many roundings ([`orient_slack`]) off a line a point
+/// may be and still be taken as on it when a segment is recovered: a
+/// vertex made closer than this to another would leave the next split
+/// beside them a sliver.
 const NEAR: f64 = 256.0;
 
 /// Whether `c` is within [`NEAR`] roundings of the line through `a`, `b`.
 fn close(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    orient(a, b, c).abs() <= NEAR * orient_slack(a, b, c)
+    within_roundings(a, b, c, NEAR)
 }
 
 /// How far off a segment being recovered (a fraction of its length) an
