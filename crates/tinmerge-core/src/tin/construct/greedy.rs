@@ -17,7 +17,7 @@
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
-use crate::geom::{orient, orient_slack, within_roundings};
+use crate::geom::{is_sliver, orient, orient_slack, within_roundings};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
 use crate::tin::build::RawLevel;
@@ -44,14 +44,29 @@ pub(super) struct Greedy<'g, S: Source + ?Sized> {
 }
 
 /// How many roundings ([`orient_slack`]) off a line a point
-/// may be and still be taken as on it when a segment is recovered: a
-/// vertex made closer than this to another would leave the next split
-/// beside them a sliver.
+/// may be and still be taken as on it when a segment is recovered or a
+/// sample inserted: a vertex made closer than this to another would leave
+/// the next split beside them a sliver.
 const NEAR: f64 = 256.0;
 
 /// Whether `c` is within [`NEAR`] roundings of the line through `a`, `b`.
 fn close(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
     within_roundings(a, b, c, NEAR)
+}
+
+/// The point of the line through `a` and `b` nearest `p` (to rounding),
+/// with `p`'s height.
+fn foot(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> [f64; 3] {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let s = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy);
+    [a[0] + s * dx, a[1] + s * dy, p[2]]
+}
+
+/// Whether `c` lies strictly between `a` and `b` along the line from `a`
+/// to `b`.
+fn between(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    (c[0] - a[0]) * dx + (c[1] - a[1]) * dy > 0.0 && (b[0] - c[0]) * dx + (b[1] - c[1]) * dy > 0.0
 }
 
 /// How far off a segment being recovered (a fraction of its length) an
@@ -189,10 +204,28 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         Err(internal("lost its way locating a point"))
     }
 
-    /// Insert sample `id`, found in or near triangle `t`.
+    /// Insert sample `id`, found in or near triangle `t`. A sample within
+    /// [`NEAR`] roundings of an edge of its triangle (pixel centres on one
+    /// lattice line, their coordinates rounded) splits that edge rather
+    /// than make a nearly flat triangle with it: a free edge at the sample
+    /// (bent by less than a micrometre), a locked one at the sample's foot
+    /// on it (so that the coarse edge stays the union of its parts), which
+    /// then stands for the sample.
     fn insert_sample(&mut self, t: u32, id: u32) -> Result<(), TinError> {
-        let p = self.g.point(id);
-        let (t, on) = self.locate(t, &p)?;
+        let mut p = self.g.point(id);
+        let (t, mut on) = self.locate(t, &p)?;
+        if on.is_none()
+            && let Some(h) = self.beside(t, &p)
+        {
+            let (a, b) = (self.m.at(h), self.m.at(next(h)));
+            let f = foot(a, b, &p);
+            if !self.m.locked[h as usize] {
+                on = Some(h);
+            } else if is_sliver(a, b, &f) && !self.thin_split(h, &f, false) {
+                p = f;
+                on = Some(h);
+            }
+        }
         let v = self.m.add_point(p);
         self.vid[id as usize] = v;
         match on {
@@ -205,6 +238,25 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         }
         self.legalize();
         Ok(())
+    }
+
+    /// The half-edge of triangle `t` whose line `p` (inside it) is nearest
+    /// to, when within [`NEAR`] roundings of it and the split there would
+    /// make proper triangles.
+    fn beside(&self, t: u32, p: &[f64; 3]) -> Option<u32> {
+        let mut best: Option<(f64, u32)> = None;
+        for h in 3 * t..3 * t + 3 {
+            let (a, b) = (self.m.at(h), self.m.at(next(h)));
+            if !close(a, b, p) {
+                continue;
+            }
+            let r = orient(a, b, p).abs() / orient_slack(a, b, p);
+            if best.is_none_or(|(q, _)| r < q) {
+                best = Some((r, h));
+            }
+        }
+        let (_, h) = best?;
+        (!self.thin_split(h, p, false)).then_some(h)
     }
 
     fn split_edge(&mut self, h: u32, v: u32) {
@@ -303,8 +355,17 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             self.m.link(h, g, true);
             return Ok(true);
         }
-        if orient(&pp, &self.m.pts[x as usize], &qq) == 0.0 {
-            return Ok(self.recover(p, x, depth + 1)? && self.recover(x, q, depth + 1)?);
+        // a vertex on the segment, or within a few roundings of it (a
+        // crossing made on it before): the segment is made through it, or
+        // the triangles beside it would not be proper
+        let on = |c: &[f64; 3]| {
+            orient(&pp, &qq, c) == 0.0 || (close(&pp, &qq, c) && between(&pp, &qq, c))
+        };
+        let y = self.m.v[prev(h) as usize];
+        for v in [x, y] {
+            if v != q && on(&self.m.pts[v as usize]) {
+                return Ok(self.recover(p, v, depth + 1)? && self.recover(v, q, depth + 1)?);
+            }
         }
         // the triangles the segment crosses, and the edges it crosses
         let mut cavity = vec![h / 3];
@@ -360,7 +421,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                 break;
             }
             let o = orient(&pp, &qq, &self.m.pts[apex as usize]);
-            if o == 0.0 {
+            if on(&self.m.pts[apex as usize]) {
                 return Ok(self.recover(p, apex, depth + 1)? && self.recover(apex, q, depth + 1)?);
             }
             // g runs w -> u (left to right) in w, u, apex: the segment
