@@ -17,7 +17,7 @@
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
-use crate::geom::{is_sliver, orient, orient_slack, within_roundings};
+use crate::geom::{orient, orient_slack, within_roundings};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
 use crate::tin::build::RawLevel;
@@ -52,14 +52,6 @@ const NEAR: f64 = 256.0;
 /// Whether `c` is within [`NEAR`] roundings of the line through `a`, `b`.
 fn close(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
     within_roundings(a, b, c, NEAR)
-}
-
-/// The point of the line through `a` and `b` nearest `p` (to rounding),
-/// with `p`'s height.
-fn foot(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> [f64; 3] {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let s = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy);
-    [a[0] + s * dx, a[1] + s * dy, p[2]]
 }
 
 /// Whether `c` lies strictly between `a` and `b` along the line from `a`
@@ -205,27 +197,17 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     }
 
     /// Insert sample `id`, found in or near triangle `t`. A sample within
-    /// [`NEAR`] roundings of an edge of its triangle (pixel centres on one
-    /// lattice line, their coordinates rounded) splits that edge rather
-    /// than make a nearly flat triangle with it: a free edge at the sample
-    /// (bent by less than a micrometre), a locked one at the sample's foot
-    /// on it (so that the coarse edge stays the union of its parts), which
-    /// then stands for the sample.
+    /// [`NEAR`] roundings of a free interior edge of its triangle (pixel
+    /// centres on one lattice line, their coordinates rounded) splits that
+    /// edge, bent by less than a micrometre, rather than make a nearly flat
+    /// triangle with it. One as near a locked edge or the hull is put
+    /// inside: a vertex at its foot would not be on the surface where the
+    /// samples' own triangulation is that flat (harness soak of
+    /// 2026-12-06, seeds 120000..124428), nor the hull convex.
     fn insert_sample(&mut self, t: u32, id: u32) -> Result<(), TinError> {
-        let mut p = self.g.point(id);
-        let (t, mut on) = self.locate(t, &p)?;
-        if on.is_none()
-            && let Some(h) = self.beside(t, &p)
-        {
-            let (a, b) = (self.m.at(h), self.m.at(next(h)));
-            let f = foot(a, b, &p);
-            if !self.m.locked[h as usize] {
-                on = Some(h);
-            } else if is_sliver(a, b, &f) && !self.thin_split(h, &f, false) {
-                p = f;
-                on = Some(h);
-            }
-        }
+        let p = self.g.point(id);
+        let (t, on) = self.locate(t, &p)?;
+        let on = on.or_else(|| self.beside(t, &p));
         let v = self.m.add_point(p);
         self.vid[id as usize] = v;
         match on {
@@ -240,14 +222,14 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         Ok(())
     }
 
-    /// The half-edge of triangle `t` whose line `p` (inside it) is nearest
-    /// to, when within [`NEAR`] roundings of it and the split there would
-    /// make proper triangles.
+    /// The free interior half-edge of triangle `t` whose line `p` (inside
+    /// it) is nearest to, when within [`NEAR`] roundings of it and a split
+    /// there at `p` would make proper triangles.
     fn beside(&self, t: u32, p: &[f64; 3]) -> Option<u32> {
         let mut best: Option<(f64, u32)> = None;
         for h in 3 * t..3 * t + 3 {
             let (a, b) = (self.m.at(h), self.m.at(next(h)));
-            if !close(a, b, p) {
+            if self.m.locked[h as usize] || self.m.twin[h as usize] == NONE || !close(a, b, p) {
                 continue;
             }
             let r = orient(a, b, p).abs() / orient_slack(a, b, p);
@@ -375,11 +357,14 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             if self.m.locked[e as usize] {
                 let cross = self.crossing_of(e, p, q);
                 let (u3, w3) = (self.m.at(e), self.m.at(next(e)));
-                if close(u3, w3, &pp) || close(u3, w3, &qq) {
+                if (close(u3, w3, &pp) || close(u3, w3, &qq)) && self.thin_split(e, &cross, false) {
                     // the edge passes within a few roundings of an end of
-                    // the segment: no vertex of its own there (it would
-                    // stand beside that end, and the next split beside it
-                    // would make a sliver)
+                    // the segment and a vertex where they cross would not
+                    // be proper: nothing made (nor routed past that end).
+                    // A proper one is made: the segment may start at a
+                    // vertex just made on a locked edge that runs within
+                    // a few roundings of this one (two sides of a needle
+                    // near its tip, harness seed 104678)
                     return Ok(false);
                 }
                 let near = |v: &[f64; 3]| close(&pp, &qq, v);
