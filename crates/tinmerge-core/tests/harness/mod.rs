@@ -752,6 +752,55 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
     assert!(fs.is_empty(), "{} trials failed (above)", fs.len());
 }
 
+/// Seeds a soak found failing, each fixed since: run on every `cargo
+/// test`, so that no later change brings one back. 85279, 98240, 104678,
+/// 106797, 112606, 113489, 116568: `tin_from_points` on pixel centres
+/// nearly collinear after rounding (slivers beside thin fans, a hull
+/// corner on its neighbours' line, a sample a few roundings off an edge,
+/// two locked edges within a few roundings near a segment's end); 91719:
+/// an overlay (the oracle's clip, fixed in `clip_segment`); 120286 to
+/// 124213: what putting a sample at its foot on a locked edge did (a
+/// vertex off the samples' surface where their triangulation is flat, a
+/// hull bent inwards, a triangle poking out of its parent), found by the
+/// soak of 2026-12-06 and undone.
+const FOUND: &[u64] = &[
+    85279, 91719, 98240, 104678, 106797, 112606, 113489, 116568, 120286, 120314, 120355, 120712,
+    121326, 121390, 121457, 121540, 122026, 122153, 122383, 122396, 122785, 122921, 123167, 123273,
+    123597, 124213,
+];
+
+#[test]
+fn seeds_the_soaks_found_stay_fixed() {
+    let next = AtomicU64::new(0);
+    let failures: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| {
+                while let Some(&seed) = FOUND.get(next.fetch_add(1, Ordering::Relaxed) as usize) {
+                    let out = std::panic::catch_unwind(|| trial(seed));
+                    let what = match out {
+                        Ok(Ok(_)) => continue,
+                        Ok(Err(f)) => f.what,
+                        Err(_) => "panicked".to_string(),
+                    };
+                    failures
+                        .lock()
+                        .unwrap()
+                        .push(format!("seed {seed}: {what}"));
+                }
+            });
+        }
+    });
+    let fs = failures.into_inner().unwrap();
+    assert!(
+        fs.is_empty(),
+        "{} seeds failed again:\n{}",
+        fs.len(),
+        fs.join("\n")
+    );
+}
+
 /// Issue 73's reproduction: the bundled UTM DEM's window (the pixels
 /// `ST_Clip` keeps of the envelope 731209.22 4048256.16, 745609.22
 /// 4063196.16) on a geographic grid of 1/32400-degree pixels, at 5 m, 2
