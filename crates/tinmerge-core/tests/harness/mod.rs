@@ -762,11 +762,14 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
 /// 124213: what putting a sample at its foot on a locked edge did (a
 /// vertex off the samples' surface where their triangulation is flat, a
 /// hull bent inwards, a triangle poking out of its parent), found by the
-/// soak of 2026-12-06 and undone.
+/// soak of 2026-12-06 and undone; 100153, 100392, 11002805, 11005163,
+/// 11008806, 11013559, 11019560, 11022110: builds the engine before
+/// engine 2 failed (needle parents along a LiDAR-like scan line, a panic
+/// in spade's point location, cracks refused).
 const FOUND: &[u64] = &[
-    85279, 91719, 98240, 104678, 106797, 112606, 113489, 116568, 120286, 120314, 120355, 120712,
-    121326, 121390, 121457, 121540, 122026, 122153, 122383, 122396, 122785, 122921, 123167, 123273,
-    123597, 124213,
+    85279, 91719, 98240, 100153, 100392, 104678, 106797, 112606, 113489, 116568, 120286, 120314,
+    120355, 120712, 121326, 121390, 121457, 121540, 122026, 122153, 122383, 122396, 122785, 122921,
+    123167, 123273, 123597, 124213, 11002805, 11005163, 11008806, 11013559, 11019560, 11022110,
 ];
 
 #[test]

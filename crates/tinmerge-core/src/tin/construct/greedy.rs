@@ -199,7 +199,8 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     /// Insert sample `id`, found in or near triangle `t`. A sample within
     /// [`NEAR`] roundings of a free interior edge of its triangle (pixel
     /// centres on one lattice line, their coordinates rounded) splits that
-    /// edge, bent by less than a micrometre, rather than make a nearly flat
+    /// edge at the sample, bending it by at most 7e-12 of the coordinates'
+    /// magnitude (50 um at UTM northings), rather than make a nearly flat
     /// triangle with it. One as near a locked edge or the hull is put
     /// inside: a vertex at its foot would not be on the surface where the
     /// samples' own triangulation is that flat (harness soak of
