@@ -358,7 +358,8 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             if self.m.locked[e as usize] {
                 let cross = self.crossing_of(e, p, q);
                 let (u3, w3) = (self.m.at(e), self.m.at(next(e)));
-                if (close(u3, w3, &pp) || close(u3, w3, &qq)) && self.thin_split(e, &cross, false) {
+                let improper = self.thin_split(e, &cross, false);
+                if improper && (close(u3, w3, &pp) || close(u3, w3, &qq)) {
                     // the edge passes within a few roundings of an end of
                     // the segment and a vertex where they cross would not
                     // be proper: nothing made (nor routed past that end).
@@ -379,9 +380,9 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                 // next split beside it would make a sliver) and that end is
                 // within a thousandth of the segment's length of it
                 let len2 = (qq[0] - pp[0]).powi(2) + (qq[1] - pp[1]).powi(2);
-                let route = near(u3)
+                let route = improper
+                    || near(u3)
                     || near(w3)
-                    || self.thin_split(e, &cross, false)
                     || (off(x) <= ROUTE * len2 && self.thin_split(e, &cross, true));
                 if route {
                     return Ok(self.recover(p, x, depth + 1)? && self.recover(x, q, depth + 1)?);
