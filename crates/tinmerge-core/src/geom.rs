@@ -121,6 +121,14 @@ pub(crate) fn within_roundings(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], k: f64)
     orient(a, b, c).abs() <= k * orient_slack(a, b, c)
 }
 
+/// Whether c lies strictly between a and b along the line from a to b
+/// (its projection on that line inside the open segment).
+#[inline]
+pub(crate) fn strictly_between(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    (c[0] - a[0]) * dx + (c[1] - a[1]) * dy > 0.0 && (b[0] - c[0]) * dx + (b[1] - c[1]) * dy > 0.0
+}
+
 /// Whether c is left of or on the line a -> b, up to rounding.
 #[inline]
 pub(crate) fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {

@@ -665,6 +665,22 @@ fn for_each_seed(
     (threads, next.load(Ordering::Relaxed))
 }
 
+/// [`trial`], a panic in it a failure that quotes the panic's message.
+fn caught_trial(seed: u64) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
+    std::panic::catch_unwind(|| trial(seed)).unwrap_or_else(|p| {
+        let m = p
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_default();
+        Err(Failure {
+            seed,
+            what: format!("panicked: {m}"),
+            sql: String::new(),
+        })
+    })
+}
+
 #[test]
 fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
     // `cargo test`: a fixed run of seeds (the same trials on every
@@ -688,19 +704,7 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
     let failures: Mutex<Vec<Failure>> = Mutex::new(Vec::new());
     let start = Instant::now();
     let (threads, next) = for_each_seed(base, trials, budget, &|seed| {
-        let out = std::panic::catch_unwind(|| trial(seed)).unwrap_or_else(|p| {
-            let m = p
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default();
-            Err(Failure {
-                seed,
-                what: format!("panicked: {m}"),
-                sql: String::new(),
-            })
-        });
-        match out {
+        match caught_trial(seed) {
             Ok(Some((kind, c, o, b))) => {
                 let mut t = tally.lock().unwrap();
                 t[kind].trials += 1;
@@ -774,26 +778,17 @@ const FOUND: &[u64] = &[
 
 #[test]
 fn seeds_the_soaks_found_stay_fixed() {
-    let next = AtomicU64::new(0);
     let failures: Mutex<Vec<String>> = Mutex::new(Vec::new());
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    std::thread::scope(|s| {
-        for _ in 0..threads {
-            s.spawn(|| {
-                while let Some(&seed) = FOUND.get(next.fetch_add(1, Ordering::Relaxed) as usize) {
-                    let out = std::panic::catch_unwind(|| trial(seed));
-                    let what = match out {
-                        Ok(Ok(_)) => continue,
-                        Ok(Err(f)) => f.what,
-                        Err(_) => "panicked".to_string(),
-                    };
-                    failures
-                        .lock()
-                        .unwrap()
-                        .push(format!("seed {seed}: {what}"));
-                }
-            });
+    // the k-th of FOUND for k = 0, 1, ...
+    for_each_seed(0, FOUND.len() as u64, Duration::MAX, &|k| {
+        let seed = FOUND[k as usize];
+        if let Err(f) = caught_trial(seed) {
+            failures
+                .lock()
+                .unwrap()
+                .push(format!("seed {seed}: {}", f.what));
         }
+        true
     });
     let fs = failures.into_inner().unwrap();
     assert!(

@@ -17,7 +17,7 @@
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
-use crate::geom::{orient, orient_slack, within_roundings};
+use crate::geom::{orient, orient_slack, strictly_between, within_roundings};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
 use crate::tin::build::RawLevel;
@@ -52,13 +52,6 @@ const NEAR: f64 = 256.0;
 /// Whether `c` is within [`NEAR`] roundings of the line through `a`, `b`.
 fn close(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
     within_roundings(a, b, c, NEAR)
-}
-
-/// Whether `c` lies strictly between `a` and `b` along the line from `a`
-/// to `b`.
-fn between(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    (c[0] - a[0]) * dx + (c[1] - a[1]) * dy > 0.0 && (b[0] - c[0]) * dx + (b[1] - c[1]) * dy > 0.0
 }
 
 /// How far off a segment being recovered (a fraction of its length) an
@@ -229,12 +222,13 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     fn beside(&self, t: u32, p: &[f64; 3]) -> Option<u32> {
         let mut best: Option<(f64, u32)> = None;
         for h in 3 * t..3 * t + 3 {
-            let (a, b) = (self.m.at(h), self.m.at(next(h)));
-            if self.m.locked[h as usize] || self.m.twin[h as usize] == NONE || !close(a, b, p) {
+            if self.m.locked[h as usize] || self.m.twin[h as usize] == NONE {
                 continue;
             }
+            // roundings off the edge's line ([`close`]'s test)
+            let (a, b) = (self.m.at(h), self.m.at(next(h)));
             let r = orient(a, b, p).abs() / orient_slack(a, b, p);
-            if best.is_none_or(|(q, _)| r < q) {
+            if r <= NEAR && best.is_none_or(|(q, _)| r < q) {
                 best = Some((r, h));
             }
         }
@@ -342,7 +336,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         // crossing made on it before): the segment is made through it, or
         // the triangles beside it would not be proper
         let on = |c: &[f64; 3]| {
-            orient(&pp, &qq, c) == 0.0 || (close(&pp, &qq, c) && between(&pp, &qq, c))
+            orient(&pp, &qq, c) == 0.0 || (close(&pp, &qq, c) && strictly_between(&pp, &qq, c))
         };
         let y = self.m.v[prev(h) as usize];
         for v in [x, y] {
