@@ -399,7 +399,10 @@ pub fn tiles_and_seams_of(
 /// step): the tests' own clipper, independent of the extension's.
 pub fn clip_half(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
     // keep the side left of a->b
-    let side = |p: [f64; 2]| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+    // exact signs, values up to a rounding: a crossing is then where the
+    // exact one is up to a rounding of its parameter
+    let co = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+    let side = |p: [f64; 2]| robust::orient2d(co(a), co(b), co(p));
     let mut out = Vec::with_capacity(poly.len() + 1);
     for i in 0..poly.len() {
         let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);

@@ -2,7 +2,7 @@
 //! build asks of single lines: their validity, hard segments, samples
 //! they drop and soft profiles.
 
-use crate::geom::{crossing, is_sliver, orient, param_along, z_along};
+use crate::geom::{crossing, is_sliver, orient, param_along, within_roundings, z_along};
 use crate::interrupt::Interrupt;
 use crate::tin::TinError;
 use rustc_hash::FxHashMap;
@@ -257,6 +257,18 @@ impl Verts {
     }
 
     fn add(&mut self, x: f64, y: f64, z: Option<f64>) -> Result<u32, TinError> {
+        self.add_where(x, y, z, &|_| true)
+    }
+
+    /// [`Verts::add`], merged only with a vertex within `snap` that `ok`
+    /// accepts.
+    fn add_where(
+        &mut self,
+        x: f64,
+        y: f64,
+        z: Option<f64>,
+        ok: &dyn Fn(&[f64; 3]) -> bool,
+    ) -> Result<u32, TinError> {
         let key = (x.to_bits(), y.to_bits());
         if let Some(&k) = self.index.get(&key) {
             self.set_z(k, z)?;
@@ -268,7 +280,7 @@ impl Verts {
             for j in cy - 1..=cy + 1 {
                 for &k in self.cells.get(&(i, j)).into_iter().flatten() {
                     let p = self.pts[k as usize];
-                    if (p[0] - x).abs() <= self.snap && (p[1] - y).abs() <= self.snap {
+                    if (p[0] - x).abs() <= self.snap && (p[1] - y).abs() <= self.snap && ok(&p) {
                         near = Some(near.map_or(k, |n: u32| n.min(k)));
                     }
                 }
@@ -416,6 +428,11 @@ fn segments(
     Ok(segs)
 }
 
+/// How many roundings ([`crate::geom::orient_slack`]) off both segments
+/// a vertex may be for a crossing of theirs within `snap` of it to be
+/// that vertex.
+const MERGE: f64 = 256.0;
+
 /// Crossings: a new vertex on both segments (each segment's cuts).
 fn cut_at_crossings(
     segs: &[Seg],
@@ -452,7 +469,18 @@ fn cut_at_crossings(
             let p = [x[0], x[1], 0.0];
             let zi = segs[i].1.then(|| along(&a, &b, &p));
             let zj = segs[j].1.then(|| along(&c, &d, &p));
-            let k = v.add(x[0], x[1], zi)?;
+            // one with a vertex near it only where that vertex is on both
+            // segments up to rounding (the same crossing computed from
+            // lines that overlap up to rounding): a line's end 1.3 mm
+            // beyond a boundary ring (cut at the samples' hull, which runs
+            // outside the valid pixels' squares there) is within `snap`
+            // of the crossing at 8.9e6 m northings, and the ring bent
+            // through it took that sliver of nodata into the domain
+            // (harness seed 151551)
+            let on_both = |q: &[f64; 3]| {
+                within_roundings(&a, &b, q, MERGE) && within_roundings(&c, &d, q, MERGE)
+            };
+            let k = v.add_where(x[0], x[1], zi, &on_both)?;
             v.set_z(k, zj)?;
             cuts[i].push(k);
             cuts[j].push(k);
@@ -620,6 +648,55 @@ mod tests {
             .position(|p| p[0] == 4.0 && p[1] == 5.0)
             .unwrap();
         assert_eq!(n.verts[k][2], 9.0);
+    }
+
+    #[test]
+    fn a_line_ending_within_snap_beyond_a_ring_leaves_the_ring_straight() {
+        // harness seed 151551: at 8.9e6 m northings `snap` is 2 mm; a hard
+        // line cut at the samples' hull ends 1.3 mm beyond a footprint
+        // ring's side. Its crossing with that side is a vertex of its own
+        // on the side, not the line's end (which bent the ring through it)
+        let y = 8921199.903360482f64;
+        let ring = Breakline {
+            pts: vec![
+                [409010.0, y, f64::NAN],
+                [409030.0, y, f64::NAN],
+                [409030.0, y + 20.0, f64::NAN],
+                [409010.0, y + 20.0, f64::NAN],
+                [409010.0, y, f64::NAN],
+            ],
+            hard: false,
+        };
+        let end = [409017.5144042035, y - 1.334e-3, 541.0];
+        let line = Breakline {
+            pts: vec![[409007.0, y + 10.0, 500.0], end],
+            hard: true,
+        };
+        let n = net(vec![ring, line]).unwrap();
+        // every vertex on the ring's bottom side is on its line exactly
+        // or is the line's end, which is apart from it
+        let on_side: Vec<_> = n
+            .verts
+            .iter()
+            .filter(|p| (p[1] - y).abs() < 0.01 && p[0] > 409010.0 && p[0] < 409030.0)
+            .collect();
+        assert_eq!(on_side.len(), 2, "{on_side:?}");
+        assert!(on_side.iter().any(|p| p[1] == y), "{on_side:?}");
+        assert!(
+            on_side.iter().any(|p| p[0] == end[0] && p[1] == end[1]),
+            "{on_side:?}"
+        );
+        // and the ring's side runs through the crossing, not the line's end
+        let k = |q: &[f64; 3]| {
+            let at = n.verts.iter().position(|p| p[0] == q[0] && p[1] == q[1]);
+            at.expect("a vertex there") as u32
+        };
+        let cross = **on_side.iter().find(|p| p[1] == y).unwrap();
+        let (kc, ke) = (k(&cross), k(&end));
+        let (kl, kr) = (k(&[409010.0, y, 0.0]), k(&[409030.0, y, 0.0]));
+        let has = |a: u32, b: u32| n.segs.contains(&[a.min(b), a.max(b)]);
+        assert!(has(kl, kc) && has(kc, kr), "{:?}", n.segs);
+        assert!(has(kc, ke), "{:?}", n.segs);
     }
 
     #[test]
