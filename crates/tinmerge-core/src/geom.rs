@@ -129,6 +129,13 @@ pub(crate) fn strictly_between(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool
     (c[0] - a[0]) * dx + (c[1] - a[1]) * dy > 0.0 && (b[0] - c[0]) * dx + (b[1] - c[1]) * dy > 0.0
 }
 
+/// How many roundings ([`orient_slack`]) a child's vertex may lie outside
+/// its parent's edge: a sample a rounding or two beside a coarse edge
+/// (pixel centres on one scan line, collinear only up to rounding) splits
+/// that edge at itself; every triangle beside it would otherwise be too
+/// flat to split again (harness seeds 143164, 158431).
+pub(crate) const BEND: f64 = 4.0;
+
 /// Whether c is left of or on the line a -> b, up to rounding.
 #[inline]
 pub(crate) fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {

@@ -21,7 +21,7 @@
 //! two sides of that edge disagrees).
 
 use super::{MAX_LEVELS, NONE, Tin, TinError, par};
-use crate::geom::vco;
+use crate::geom::{BEND, vco};
 use crate::interrupt::Interrupt;
 use robust::{incircle, orient2d};
 
@@ -254,7 +254,8 @@ fn check_triangle(tin: &Tin, l: usize, t: usize) -> Result<(), TinError> {
 
 /// Level `l`'s parents: none at level 0; otherwise in range, sorted, void
 /// exactly when the parent is, each triangle inside its parent (up to
-/// rounding), and the coarser level's child offsets those of the parents.
+/// rounding, [`BEND`]), and the coarser level's child offsets those of the
+/// parents.
 fn check_parents(
     tin: &Tin,
     l: usize,
@@ -289,8 +290,9 @@ fn check_parents(
                 // up to rounding: a vertex on a parent's edge in the
                 // frame the build decided topology in (the pixel
                 // lattice) may lie a hair beside it in world
-                // coordinates
-                if !crate::geom::left_or_on_rounded(&pt[j], &pt[(j + 1) % 3], q) {
+                // coordinates, a sample a few roundings ([`BEND`])
+                let (a, b) = (&pt[j], &pt[(j + 1) % 3]);
+                if crate::geom::orient(a, b, q) < -BEND * crate::geom::orient_slack(a, b, q) {
                     return Err(bad(format!(
                         "level {l}: triangle {t} is not inside its parent {p}"
                     )));
@@ -465,9 +467,9 @@ impl Tin {
                 let (a, e) = area2(self, t);
                 let c = t.map(|v| self.verts[v as usize]);
                 sum += a;
-                // a child corner may be a hair outside (see
-                // validate_structure)
-                err += e + crate::geom::orient_slack(&c[0], &c[1], &c[2]);
+                // a child corner may be a hair outside, up to [`BEND`]
+                // roundings (see validate_structure)
+                err += e + BEND * crate::geom::orient_slack(&c[0], &c[1], &c[2]);
             }
             let (pa, pe) = area2(self, tri);
             if e == s || (sum - pa).abs() > err + pe + 1e-12 * pa {

@@ -17,7 +17,7 @@
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
-use crate::geom::{orient, orient_slack, strictly_between, within_roundings};
+use crate::geom::{BEND, orient, orient_slack, strictly_between, within_roundings};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
 use crate::tin::build::RawLevel;
@@ -194,7 +194,12 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     /// centres on one lattice line, their coordinates rounded) splits that
     /// edge at the sample, bending it by at most 7e-12 of the coordinates'
     /// magnitude (50 um at UTM northings), rather than make a nearly flat
-    /// triangle with it. One as near a locked edge or the hull is put
+    /// triangle with it. One within [`BEND`] roundings of a locked
+    /// interior edge (a coarse level's) splits that edge at the sample,
+    /// bending it by no more than the validator allows a child outside its
+    /// parent: the triangles beside a sample that near would be too flat
+    /// for any later split of the edge to be proper (harness seeds 143164,
+    /// 158431). One further from a locked edge, or near the hull, is put
     /// inside: a vertex at its foot would not be on the surface where the
     /// samples' own triangulation is that flat (harness soak of
     /// 2026-12-06, seeds 120000..124428), nor the hull convex.
@@ -216,19 +221,24 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         Ok(())
     }
 
-    /// The free interior half-edge of triangle `t` whose line `p` (inside
-    /// it) is nearest to, when within [`NEAR`] roundings of it and a split
-    /// there at `p` would make proper triangles.
+    /// The interior half-edge of triangle `t` whose line `p` (inside it) is
+    /// nearest to, when within [`NEAR`] roundings of it ([`BEND`] for a
+    /// locked one) and a split there at `p` would make proper triangles.
     fn beside(&self, t: u32, p: &[f64; 3]) -> Option<u32> {
         let mut best: Option<(f64, u32)> = None;
         for h in 3 * t..3 * t + 3 {
-            if self.m.locked[h as usize] || self.m.twin[h as usize] == NONE {
+            if self.m.twin[h as usize] == NONE {
                 continue;
             }
+            let reach = if self.m.locked[h as usize] {
+                BEND
+            } else {
+                NEAR
+            };
             // roundings off the edge's line ([`close`]'s test)
             let (a, b) = (self.m.at(h), self.m.at(next(h)));
             let r = orient(a, b, p).abs() / orient_slack(a, b, p);
-            if r <= NEAR && best.is_none_or(|(q, _)| r < q) {
+            if r <= reach && best.is_none_or(|(q, _)| r < q) {
                 best = Some((r, h));
             }
         }
