@@ -469,8 +469,9 @@ fn cut_at_crossings(
             let p = [x[0], x[1], 0.0];
             let zi = segs[i].1.then(|| along(&a, &b, &p));
             let zj = segs[j].1.then(|| along(&c, &d, &p));
-            // one with a vertex near it only where that vertex is on both
-            // segments up to rounding (the same crossing computed from
+            // the crossing is merged with a vertex within `snap` of it
+            // only where that vertex is on both segments up to rounding
+            // (the same crossing computed from
             // lines that overlap up to rounding): a line's end 1.3 mm
             // beyond a boundary ring (cut at the samples' hull, which runs
             // outside the valid pixels' squares there) is within `snap`
