@@ -139,7 +139,14 @@ pub(crate) const BEND: f64 = 4.0;
 /// Whether c is left of or on the line a -> b, up to rounding.
 #[inline]
 pub(crate) fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    orient(a, b, c) >= -orient_slack(a, b, c)
+    left_or_within_roundings(a, b, c, 1.0)
+}
+
+/// Whether c is left of the line a -> b or within `k` roundings
+/// ([`orient_slack`]) right of it.
+#[inline]
+pub(crate) fn left_or_within_roundings(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], k: f64) -> bool {
+    orient(a, b, c) >= -k * orient_slack(a, b, c)
 }
 
 /// Distance from p to the closed segment ab.

@@ -235,25 +235,13 @@ impl<'a> Index<'a> {
     /// The output vertex nearest `p` within the oracle's tolerance and
     /// `slack` more.
     fn find(&self, p: P, slack: f64) -> Option<u32> {
-        let (cx, cy) = (
-            (p[0] / self.unit).floor() as i64,
-            (p[1] / self.unit).floor() as i64,
-        );
-        let tol = TOL * self.unit + slack;
-        let r = (tol / self.unit).ceil() as i64;
-        let mut best: Option<(f64, u32)> = None;
-        for dx in -r..=r {
-            for dy in -r..=r {
-                for &i in self.cells.get(&(cx + dx, cy + dy)).into_iter().flatten() {
-                    let q = self.o.pts[i as usize];
-                    let d = (q[0] - p[0]).hypot(q[1] - p[1]);
-                    if d <= tol && best.is_none_or(|b| d < b.0) {
-                        best = Some((d, i));
-                    }
-                }
-            }
-        }
-        best.map(|b| b.1)
+        let d = |i: &u32| {
+            let q = self.o.pts[*i as usize];
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        };
+        self.within(p, TOL * self.unit + slack)
+            .into_iter()
+            .min_by(|x, y| d(x).total_cmp(&d(y)))
     }
     /// The output vertex nearest `p` and its distance, for a message.
     fn nearest(&self, p: P) -> String {
@@ -268,18 +256,19 @@ impl<'a> Index<'a> {
             None => "none".into(),
         }
     }
-    /// The output vertices within the oracle's tolerance of `p`.
-    fn all_near(&self, p: P) -> Vec<u32> {
+    /// The output vertices within `tol` of `p`.
+    fn within(&self, p: P, tol: f64) -> Vec<u32> {
         let (cx, cy) = (
             (p[0] / self.unit).floor() as i64,
             (p[1] / self.unit).floor() as i64,
         );
+        let r = (tol / self.unit).ceil() as i64;
         let mut out = Vec::new();
-        for dx in -1..=1 {
-            for dy in -1..=1 {
+        for dx in -r..=r {
+            for dy in -r..=r {
                 for &i in self.cells.get(&(cx + dx, cy + dy)).into_iter().flatten() {
                     let q = self.o.pts[i as usize];
-                    if (q[0] - p[0]).hypot(q[1] - p[1]) <= TOL * self.unit {
+                    if (q[0] - p[0]).hypot(q[1] - p[1]) <= tol {
                         out.push(i);
                     }
                 }
@@ -336,7 +325,7 @@ impl<'a> Index<'a> {
             }
             // from this vertex, or another a rounding from it (two output
             // points the oracle's tolerance apart, one on each input's edge)
-            let twins = self.all_near(c);
+            let twins = self.within(c, TOL * self.unit);
             let mut next: Vec<(f64, u32)> = Vec::new();
             for &v in twins.iter().flat_map(|&w| &self.adj[w as usize]) {
                 let q = self.o.pts[v as usize];

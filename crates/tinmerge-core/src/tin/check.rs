@@ -292,7 +292,7 @@ fn check_parents(
                 // lattice) may lie a hair beside it in world
                 // coordinates, a sample a few roundings ([`BEND`])
                 let (a, b) = (&pt[j], &pt[(j + 1) % 3]);
-                if crate::geom::orient(a, b, q) < -BEND * crate::geom::orient_slack(a, b, q) {
+                if !crate::geom::left_or_within_roundings(a, b, q, BEND) {
                     return Err(bad(format!(
                         "level {l}: triangle {t} is not inside its parent {p}"
                     )));

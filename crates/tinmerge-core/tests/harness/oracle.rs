@@ -185,13 +185,6 @@ pub enum Domain {
     Unknown,
 }
 
-/// Every structural verdict on one tin: each level conforming, the
-/// triangles (void included) covering the convex hull of its vertices,
-/// the non-void ones the expected domain, each triangle inside its parent
-/// (exact orientation, up to `slack` world units for a lattice build's
-/// rounding) and the children of each triangle covering it. No triangle
-/// is thinner than `thin` of `unit` (a pixel: see the harness's module
-/// doc for which builds are held to what).
 /// How far (times the edge's length) a point may be beside the edge u-v
 /// and still be taken as on it: four of the build's roundings of an
 /// orientation, 64 units in the last place of the largest coordinate
@@ -207,6 +200,14 @@ fn bent(u: P, v: P, q: P) -> f64 {
     4.0 * 64.0 * f64::EPSILON * m * (d(u, v) + d(v, q) + d(q, u))
 }
 
+/// Every structural verdict on one tin: each level conforming, the
+/// triangles (void included) covering the convex hull of its vertices,
+/// the non-void ones the expected domain, each triangle inside its parent
+/// (exact orientation, up to `slack` world units for a lattice build's
+/// rounding or [`bent`] of a side) and the children of each triangle
+/// covering it. No triangle
+/// is thinner than `thin` of `unit` (a pixel: see the harness's module
+/// doc for which builds are held to what).
 pub fn check_tin(t: &Tin, dom: &Domain, unit: f64, thin: f64) -> Result<Counts, String> {
     let (min_alt, slack) = (thin * unit, 1e-7 * unit);
     let mut n = Counts::default();
