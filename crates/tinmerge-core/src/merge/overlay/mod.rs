@@ -15,8 +15,9 @@
 //! convex, so every piece does too. The pieces go into one bulk-loaded
 //! constrained Delaunay triangulation (spade); pieces that rounding of
 //! crossing points made cross again (near-parallel edges) are added
-//! afterwards with spade's splitting insertion, so the result is always a
-//! valid triangulation with strictly positive (exact) orientation.
+//! afterwards, split where they cross at points computed as every crossing
+//! is (`constrained::add_splitting`), so the result is always a valid
+//! triangulation with strictly positive (exact) orientation.
 //!
 //! Cost: O(N + M + K) for the walks and the lists plus the CDT bulk load
 //! (O(V log V) for V = output vertices), against the naive method
