@@ -776,7 +776,10 @@ fn randomized_builds_and_overlays_on_real_terrain_are_exact() {
 /// 2008145: the constrained overlay's pieces that rounding made cross
 /// again, split by spade at a crossing computed off both lines (a child
 /// edge along its coarse edge: a triangle turned clockwise, an edge bent
-/// 7 cm; fixed by `add_splitting`); 120286 to
+/// 7 cm; fixed by `add_splitting`); 223268, 226663, 227170, 232599: long
+/// edges meeting at a tiny angle, split by `add_splitting` without end at
+/// crossings a rounding from where they meet (an end of one on the other
+/// up to a rounding is now their crossing); 120286 to
 /// 124213: what putting a sample at its foot on a locked edge did (a
 /// vertex off the samples' surface where their triangulation is flat, a
 /// hull bent inwards, a triangle poking out of its parent), found by the
@@ -788,7 +791,8 @@ const FOUND: &[u64] = &[
     85279, 91719, 98240, 100153, 100392, 104678, 106797, 112606, 113489, 116568, 120286, 120314,
     120355, 120712, 121326, 121390, 121457, 121540, 122026, 122153, 122383, 122396, 122785, 122921,
     123167, 123273, 123597, 124213, 137591, 143164, 150023, 151551, 152471, 155230, 156972, 158431,
-    196277, 197197, 202371, 2008145, 11002805, 11005163, 11008806, 11013559, 11019560, 11022110,
+    196277, 197197, 202371, 223268, 226663, 227170, 232599, 2008145, 11002805, 11005163, 11008806,
+    11013559, 11019560, 11022110,
 ];
 
 #[test]

@@ -19,7 +19,9 @@
 use super::faces::HullBuckets;
 use super::output::{Overlay, drop_unused};
 use super::outside::{Cdt, beyond_hull_edges, outside_slivers};
-use crate::geom::{co, crossing, point_segment_nearest, xy, z_along};
+use crate::geom::{
+    co, crossing, point_segment_nearest, strictly_between, within_roundings, xy, z_along,
+};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::{NONE, Tin, TinError, interpolate, locate};
 use robust::orient2d;
@@ -597,15 +599,39 @@ fn add_splitting(
                 } else {
                     (p2, p1)
                 };
-                let x = crossing(s, t, s2, t2);
-                let near = [u, v, w1, w2].into_iter().find(|&h| {
-                    let p = pos(cdt, h);
-                    (p[0] - x[0]).abs() <= eps && (p[1] - x[1]).abs() <= eps
-                });
+                // an end of either piece on the other up to a rounding is
+                // where they cross: two long pieces meeting at a tiny angle
+                // cross a rounding from where they meet, and points computed
+                // there only move the crossing along them (harness seed
+                // 226663: 1.8 km edges 1/1800 apart, split without end)
+                let p3 = |p: [f64; 2]| [p[0], p[1], 0.0];
+                let (u3, v3, a3, b3) = (p3(pu), p3(pv), p3(p1), p3(p2));
+                let on = |c: &[f64; 3], a: &[f64; 3], b: &[f64; 3]| {
+                    within_roundings(a, b, c, 1.0) && strictly_between(a, b, c)
+                };
+                // Ok: the vertex where they cross; Err: a new point there
+                let at = if on(&u3, &a3, &b3) {
+                    Ok(u)
+                } else if on(&v3, &a3, &b3) {
+                    Ok(v)
+                } else if on(&a3, &u3, &v3) {
+                    Ok(w1)
+                } else if on(&b3, &u3, &v3) {
+                    Ok(w2)
+                } else {
+                    let x = crossing(s, t, s2, t2);
+                    [u, v, w1, w2]
+                        .into_iter()
+                        .find(|&h| {
+                            let p = pos(cdt, h);
+                            (p[0] - x[0]).abs() <= eps && (p[1] - x[1]).abs() <= eps
+                        })
+                        .map_or(Err(x), Ok)
+                };
                 cdt.remove_constraint_edge(e);
-                let h = match near {
-                    Some(h) => h,
-                    None => cdt.insert(Point2::new(x[0], x[1])).map_err(|e| {
+                let h = match at {
+                    Ok(h) => h,
+                    Err(x) => cdt.insert(Point2::new(x[0], x[1])).map_err(|e| {
                         TinError::Degenerate(format!("overlay: a crossing point: {e:?}"))
                     })?,
                 };
