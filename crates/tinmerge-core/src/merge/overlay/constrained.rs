@@ -626,7 +626,7 @@ fn add_splitting(
                             let p = pos(cdt, h);
                             (p[0] - x[0]).abs() <= eps && (p[1] - x[1]).abs() <= eps
                         })
-                        .map_or(Err(x), Ok)
+                        .ok_or(x)
                 };
                 cdt.remove_constraint_edge(e);
                 let h = match at {
