@@ -53,6 +53,7 @@ pub mod constrained;
 pub mod faces;
 mod output;
 mod outside;
+mod split;
 pub mod volume;
 
 pub use output::{Overlay, SAME_PLANE, difference};
