@@ -11,8 +11,9 @@ use spade::{Intersection, LineIntersectionIterator, Point2, Triangulation};
 
 /// Adds the piece `from`-`to` to `cdt`, splitting it and every piece it
 /// crosses at their crossing, computed as [`crossing`] does (from exact
-/// orientations, so the point lies on both pieces up to rounding; a
-/// crossing within `eps` of an end of either is that end).
+/// orientations, so the point lies on both pieces up to rounding), or at
+/// an end of either that lies on the other up to a rounding or within
+/// `eps` of that point.
 ///
 /// spade's own splitting insertion computes the crossing of the two lines
 /// in floating point and, where that lands off both (nearly parallel
@@ -76,17 +77,6 @@ pub(super) fn add_splitting(
             }
             Some(Ok((w1, w2, e))) => {
                 let (pu, pv, p1, p2) = (pos(cdt, u), pos(cdt, v), pos(cdt, w1), pos(cdt, w2));
-                // canonical order: the same point whichever piece comes first
-                let (s, t) = if u.index() < v.index() {
-                    (pu, pv)
-                } else {
-                    (pv, pu)
-                };
-                let (s2, t2) = if w1.index() < w2.index() {
-                    (p1, p2)
-                } else {
-                    (p2, p1)
-                };
                 // an end of either piece on the other up to a rounding is
                 // where they cross: two long pieces meeting at a tiny angle
                 // cross a rounding from where they meet, and points computed
@@ -107,6 +97,17 @@ pub(super) fn add_splitting(
                 } else if on(&b3, &u3, &v3) {
                     Ok(w2)
                 } else {
+                    // canonical order: the same point whichever piece comes first
+                    let (s, t) = if u.index() < v.index() {
+                        (pu, pv)
+                    } else {
+                        (pv, pu)
+                    };
+                    let (s2, t2) = if w1.index() < w2.index() {
+                        (p1, p2)
+                    } else {
+                        (p2, p1)
+                    };
                     let x = crossing(s, t, s2, t2);
                     [u, v, w1, w2]
                         .into_iter()
