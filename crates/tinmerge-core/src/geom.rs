@@ -121,6 +121,45 @@ pub(crate) fn within_roundings(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], k: f64)
     orient(a, b, c).abs() <= k * orient_slack(a, b, c)
 }
 
+/// The largest |coordinate| a point may have for [`whole`] to give it:
+/// below it a triangle of whole points has its rounding
+/// ([`orient_slack`]) under one unit of orientation, so "left or on up
+/// to rounding" is exactly "left or on", and [`incircle`]'s determinant
+/// fits an `i128`.
+pub(crate) const WHOLE: f64 = (1u64 << 20) as f64;
+
+/// The point's x and y as integers, when both are whole numbers under
+/// [`WHOLE`] (a pixel centre in lattice coordinates).
+#[inline]
+pub(crate) fn whole(p: &[f64; 3]) -> Option<[i64; 2]> {
+    let ok = |v: f64| v.abs() < WHOLE && v == (v as i64) as f64;
+    (ok(p[0]) && ok(p[1])).then(|| [p[0] as i64, p[1] as i64])
+}
+
+/// Whether d lies strictly inside the circle through the
+/// counter-clockwise a, b, c, exactly: in integers when all four are
+/// [`whole`] (lattice points are often cocircular, where the adaptive
+/// float test is slowest), else by `robust::incircle`.
+pub(crate) fn in_circle(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> bool {
+    if let (Some(a), Some(b), Some(c), Some(d)) = (whole(a), whole(b), whole(c), whole(d)) {
+        let rel = |p: [i64; 2]| [(p[0] - d[0]) as i128, (p[1] - d[1]) as i128];
+        let (a, b, c) = (rel(a), rel(b), rel(c));
+        let lift = |p: [i128; 2]| p[0] * p[0] + p[1] * p[1];
+        let cross = |p: [i128; 2], q: [i128; 2]| p[0] * q[1] - p[1] * q[0];
+        let det = lift(a) * cross(b, c) + lift(b) * cross(c, a) + lift(c) * cross(a, b);
+        return det > 0;
+    }
+    robust::incircle(vco(a), vco(b), vco(c), vco(d)) > 0.0
+}
+
+/// `v.floor()` without a call into libm (the baseline x86-64 target has
+/// no rounding instruction), for |v| < 2^63.
+#[inline]
+pub(crate) fn floor_fast(v: f64) -> f64 {
+    let t = (v as i64) as f64;
+    if t > v { t - 1.0 } else { t }
+}
+
 /// Whether c lies strictly between a and b along the line from a to b
 /// (its projection on that line inside the open segment).
 #[inline]

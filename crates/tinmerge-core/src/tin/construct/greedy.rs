@@ -1,7 +1,7 @@
 //! The driver: greedy insertion (Garland and Heckbert) into one
 //! triangulation that becomes every level in turn. Each triangle keeps its
-//! worst error and what fixes it ([`measure`]); a max-heap of triangles by
-//! error (stale entries skipped by a stamp) gives the next fix. A level
+//! worst error and what fixes it ([`measure`]); a queue of triangles by
+//! error ([`Queue`], each triangle in it once) gives the next fix. A level
 //! ends when the worst triangle is within its tolerance; its triangles are
 //! copied out, each becomes the parent of what it holds at the next level,
 //! and every edge is locked: it is never flipped again, and is split only
@@ -17,11 +17,11 @@
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
+use super::queue::Queue;
 use crate::geom::{BEND, orient, orient_slack, strictly_between, within_roundings};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
 use crate::tin::build::RawLevel;
-use std::collections::BinaryHeap;
 
 pub(super) struct Greedy<'g, S: Source + ?Sized> {
     m: Mesh,
@@ -29,9 +29,8 @@ pub(super) struct Greedy<'g, S: Source + ?Sized> {
     /// the vertex at each sample, or `NONE`
     vid: Vec<u32>,
     worst: Vec<Worst>,
-    stamp: Vec<u32>,
-    /// (error's bits, triangle, stamp)
-    heap: BinaryHeap<(u64, u32, u32)>,
+    /// the triangles over `floor`, by error
+    queue: Queue,
     /// the finest tolerance: a triangle within it is never queued
     floor: f64,
     stack: Vec<u32>,
@@ -102,8 +101,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             g,
             vid: vec![NONE; g.count()],
             worst: Vec::new(),
-            stamp: Vec::new(),
-            heap: BinaryHeap::new(),
+            queue: Queue::default(),
             floor,
             stack: Vec::new(),
             touched: Vec::new(),
@@ -142,14 +140,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         let n = self.m.triangles() as usize;
         if self.worst.len() < n {
             self.worst.resize(n, Worst::NONE);
-            self.stamp.resize(n, 0);
         }
         let w = measure(&self.m, t, self.g, &self.vid);
         self.worst[t as usize] = w;
-        self.stamp[t as usize] = self.stamp[t as usize].wrapping_add(1);
-        if w.err > self.floor {
-            self.heap.push((w.err.to_bits(), t, self.stamp[t as usize]));
-        }
+        let key = (w.err > self.floor).then(|| w.err.to_bits());
+        self.queue.set(t, key);
     }
 
     /// The triangle holding point `p`, walking from `t`, and the
@@ -599,14 +594,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         // fixes since a vertex was last made: each of them makes an edge
         // of a segment, so as many as there are edges at most
         let (mut idle, mut made) = (0usize, self.m.pts.len());
-        while let Some(&(bits, t, st)) = self.heap.peek() {
+        while let Some((bits, t)) = self.queue.peek() {
             if f64::from_bits(bits) <= tol {
                 break;
             }
-            self.heap.pop();
-            if st != self.stamp[t as usize] {
-                continue;
-            }
+            self.queue.pop();
             let n0 = self.m.triangles();
             let fix = self.worst[t as usize];
             self.apply(t)?;

@@ -14,7 +14,7 @@
 //! buckets, and the edges of their Delaunay triangulation.
 
 use super::mesh::{Mesh, NONE, next};
-use crate::geom::{left_or_on_rounded, orient};
+use crate::geom::{self, floor_fast, left_or_on_rounded, orient};
 use crate::tin::TinError;
 use crate::tin::build::lattice_hull;
 
@@ -206,15 +206,40 @@ pub(super) fn measure<S: Source + ?Sized>(m: &Mesh, t: u32, g: &S, vid: &[u32]) 
 /// a centre on an edge counts in both triangles).
 fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
     let plane = Plane::of(c);
+    let mut worst = Worst::NONE;
+    let mut scan = |r: i64, c0: i64, c1: i64, keep: &dyn Fn(i64) -> bool| {
+        let (y, row) = (r as f64, r as usize * g.width);
+        for col in c0.max(0)..=c1.min(g.width as i64 - 1) {
+            let i = row + col as usize;
+            let z = g.z[i];
+            if z.is_nan() || vid[i] != NONE || !keep(col) {
+                continue;
+            }
+            let e = (z - plane.z(col as f64, y)).abs();
+            if e > worst.err {
+                worst = Worst {
+                    err: e,
+                    fix: Fix::Sample(i as u32),
+                };
+            }
+        }
+    };
+    if let Some(corners) = whole(c) {
+        // corners at pixel centres: each row's span from the edges
+        // exactly, in integers
+        let lo = corners.iter().map(|p| p[1]).min().unwrap_or(0).max(0);
+        let hi = corners.iter().map(|p| p[1]).max().unwrap_or(-1);
+        for r in lo..=hi.min(g.height as i64 - 1) {
+            if let Some((c0, c1)) = span(&corners, r) {
+                scan(r, c0, c1, &|_| true);
+            }
+        }
+        return worst;
+    }
     let lo = c.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
     let hi = c.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
     let r0 = (lo.ceil() as i64).max(0);
     let r1 = (hi.floor() as i64).min(g.height as i64 - 1);
-    let mut worst = Worst::NONE;
-    let inside = |x: f64, y: f64| {
-        let q = [x, y, 0.0];
-        (0..3).all(|k| left_or_on_rounded(&c[k], &c[(k + 1) % 3], &q))
-    };
     for r in r0..=r1 {
         let y = r as f64;
         let (mut xl, mut xr) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -237,30 +262,45 @@ fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
         }
         // centres more than a pixel inside both ends are inside; those
         // near an end are decided exactly
-        let c0 = ((xl.ceil() as i64) - 1).max(0);
-        let c1 = ((xr.floor() as i64) + 1).min(g.width as i64 - 1);
         let (sure0, sure1) = (xl.ceil() as i64 + 1, xr.floor() as i64 - 1);
-        let row = r as usize * g.width;
-        for col in c0..=c1 {
-            let i = row + col as usize;
-            let z = g.z[i];
-            if z.is_nan() || vid[i] != NONE {
-                continue;
-            }
-            let x = col as f64;
-            if (col < sure0 || col > sure1) && !inside(x, y) {
-                continue;
-            }
-            let e = (z - plane.z(x, y)).abs();
-            if e > worst.err {
-                worst = Worst {
-                    err: e,
-                    fix: Fix::Sample(i as u32),
-                };
-            }
-        }
+        let inside = |col: i64| {
+            let q = [col as f64, y, 0.0];
+            (sure0..=sure1).contains(&col)
+                || (0..3).all(|k| left_or_on_rounded(&c[k], &c[(k + 1) % 3], &q))
+        };
+        scan(r, xl.ceil() as i64 - 1, xr.floor() as i64 + 1, &inside);
     }
     worst
+}
+
+/// The corners as whole lattice numbers, when they all are (every corner
+/// a pixel centre, under [`geom::WHOLE`]): "left or on up to rounding"
+/// is then exactly "left or on", which [`span`] decides in integers.
+fn whole(c: &[[f64; 3]; 3]) -> Option<[[i64; 2]; 3]> {
+    Some([
+        geom::whole(&c[0])?,
+        geom::whole(&c[1])?,
+        geom::whole(&c[2])?,
+    ])
+}
+
+/// The columns of row `r` in the closed counter-clockwise triangle with
+/// whole corners `c`: on or left of each edge, exactly.
+fn span(c: &[[i64; 2]; 3], r: i64) -> Option<(i64, i64)> {
+    let (mut c0, mut c1) = (i64::MIN, i64::MAX);
+    for k in 0..3 {
+        let (p, q) = (c[k], c[(k + 1) % 3]);
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        // left or on: dx (r - py) - dy (x - px) >= 0, i.e. a x + b >= 0
+        let (a, b) = (-dy, dx * (r - p[1]) + dy * p[0]);
+        match a.signum() {
+            1 => c0 = c0.max(-b.div_euclid(a)),
+            -1 => c1 = c1.min(b.div_euclid(-a)),
+            _ if b < 0 => return None,
+            _ => {}
+        }
+    }
+    (c0 <= c1).then_some((c0, c1))
 }
 
 /// The worst crossing of edge p -> q with a grid segment between two valid
@@ -280,21 +320,21 @@ pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
         }
         let (lo, hi) = (pu.min(qu), pu.max(qu));
         // the grid lines strictly between the ends
-        let mut u = lo.floor() as i64 + 1;
+        let mut u = floor_fast(lo) as i64 + 1;
         while (u as f64) < hi {
             let s = (u as f64 - pu) / (qu - pu);
             let v = pv + s * (qv - pv);
-            let v0 = v.floor();
+            let v0 = floor_fast(v);
             // at a centre (up to rounding, where an end is a rounded
             // crossing): a sample, which the triangles measure
-            if (v - v.round()).abs() > 1e-9 {
+            let f = v - v0;
+            if f > 1e-9 && 1.0 - f > 1e-9 {
                 let (a, b) = if along_rows {
                     ([v0 as i64, u], [v0 as i64 + 1, u])
                 } else {
                     ([u, v0 as i64], [u, v0 as i64 + 1])
                 };
                 if let (Some(za), Some(zb)) = (g.at(a[0], a[1]), g.at(b[0], b[1])) {
-                    let f = v - v0;
                     let zs = za + f * (zb - za);
                     let ze = p[2] + s * (q[2] - p[2]);
                     let e = (ze - zs).abs();
@@ -323,4 +363,104 @@ pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
     each(true);
     each(false);
     worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{span, whole};
+    use crate::geom::{in_circle, left_or_on_rounded, orient};
+
+    /// A seeded xorshift, so a failure repeats.
+    fn rng(mut s: u64) -> impl FnMut(i64) -> i64 {
+        move |n| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % n as u64) as i64
+        }
+    }
+
+    /// Every row's span against the exact side test at each centre of a
+    /// wider range, on random whole triangles small and large (slivers
+    /// and right triangles along the lattice among them).
+    #[test]
+    fn a_rows_span_is_what_the_side_tests_hold() {
+        let mut r = rng(0x9e37_79b9_7f4a_7c15);
+        for trial in 0..20_000 {
+            let size = [3, 12, 200, 500_000][trial % 4];
+            let base = r(1 << 19);
+            let mut c: [[f64; 3]; 3] =
+                std::array::from_fn(|_| [(base + r(size)) as f64, (base + r(size)) as f64, 0.0]);
+            if trial % 7 == 0 {
+                // along the lattice: a right isosceles triangle
+                let (x, y, l) = (c[0][0], c[0][1], (1 + r(40)) as f64);
+                c = [[x, y, 0.0], [x + l, y, 0.0], [x, y + l, 0.0]];
+            }
+            let o = orient(&c[0], &c[1], &c[2]);
+            if o == 0.0 {
+                continue;
+            }
+            if o < 0.0 {
+                c.swap(1, 2);
+            }
+            let w = whole(&c).expect("whole corners");
+            let lo = w.iter().map(|p| p[1]).min().unwrap();
+            let hi = w.iter().map(|p| p[1]).max().unwrap();
+            let (x0, x1) = (
+                w.iter().map(|p| p[0]).min().unwrap(),
+                w.iter().map(|p| p[0]).max().unwrap(),
+            );
+            for _ in 0..4 {
+                let row = lo - 1 + r(hi - lo + 3);
+                // a window of columns around the span and the bounds
+                let got = span(&w, row);
+                let probe: Vec<i64> = match got {
+                    Some((a, b)) => vec![a - 1, a, b, b + 1, x0 - 1, x1 + 1],
+                    None => (0..8).map(|_| x0 - 1 + r(x1 - x0 + 3)).collect(),
+                };
+                for col in probe {
+                    let q = [col as f64, row as f64, 0.0];
+                    let inside = (0..3).all(|k| left_or_on_rounded(&c[k], &c[(k + 1) % 3], &q));
+                    let spanned = got.is_some_and(|(a, b)| (a..=b).contains(&col));
+                    assert_eq!(
+                        inside, spanned,
+                        "trial {trial}: {c:?} row {row} col {col} span {got:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The integer in-circle test against `robust`'s on lattice points,
+    /// where four points are often on one circle.
+    #[test]
+    fn the_whole_in_circle_test_is_robusts() {
+        let mut r = rng(0x2545_f491_4f6c_dd1d);
+        let (mut inside, mut on) = (0, 0);
+        for trial in 0..200_000 {
+            let span = [3, 8, 1000, 1 << 20][trial % 4];
+            let base = if span == 1 << 20 { 0 } else { r(1 << 19) };
+            let p: [[f64; 3]; 4] =
+                std::array::from_fn(|_| [(base + r(span)) as f64, (base + r(span)) as f64, 0.0]);
+            let (mut a, mut b, c) = (p[0], p[1], p[2]);
+            let o = orient(&a, &b, &c);
+            if o == 0.0 {
+                continue;
+            }
+            if o < 0.0 {
+                std::mem::swap(&mut a, &mut b);
+            }
+            let co = |q: &[f64; 3]| robust::Coord { x: q[0], y: q[1] };
+            let want = robust::incircle(co(&a), co(&b), co(&c), co(&p[3]));
+            assert_eq!(
+                in_circle(&a, &b, &c, &p[3]),
+                want > 0.0,
+                "trial {trial}: {p:?}"
+            );
+            inside += usize::from(want > 0.0);
+            on += usize::from(want == 0.0);
+        }
+        // the trials reach both sides and the circle itself
+        assert!(inside > 1000 && on > 1000, "inside {inside}, on {on}");
+    }
 }

@@ -236,8 +236,7 @@ impl Mesh {
             self.at(prev(h)),
             self.at(prev(g)),
         );
-        let co = |p: &[f64; 3]| robust::Coord { x: p[0], y: p[1] };
-        robust::incircle(co(a), co(b), co(c), co(d)) > 0.0
+        crate::geom::in_circle(a, b, c, d)
     }
 
     /// Flip the free edge of `h` (a -> b in a, b, c; b -> a in b, a, d) to

@@ -48,6 +48,7 @@ mod greedy;
 mod measure;
 mod mesh;
 mod points;
+mod queue;
 
 pub use measure::Heights;
 
