@@ -33,10 +33,18 @@ pub(super) fn reorder_vertices(verts: Vec<[f64; 3]>, raw: &mut [RawLevel]) -> Ve
     for r in raw.iter() {
         let end = (r.num_vertices as usize).min(verts.len());
         if end > start {
-            order[start..end].sort_by_key(|&v| {
-                let p = verts[v as usize];
-                (morton(&bbox, p[0], p[1]), v)
-            });
+            // each key computed once, not at every comparison
+            let mut keyed: Vec<(u32, u32)> = order[start..end]
+                .iter()
+                .map(|&v| {
+                    let p = verts[v as usize];
+                    (morton(&bbox, p[0], p[1]), v)
+                })
+                .collect();
+            keyed.sort_unstable();
+            for (o, k) in order[start..end].iter_mut().zip(keyed) {
+                *o = k.1;
+            }
             start = end;
         }
     }
