@@ -194,6 +194,13 @@ pub(crate) fn left_or_on_rounded(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bo
 /// ([`orient_slack`]) right of it.
 #[inline]
 pub(crate) fn left_or_within_roundings(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], k: f64) -> bool {
+    // the float determinant is within orient2d's error bound of the
+    // exact one, and that bound is under one rounding: not negative, it
+    // says yes, without the exact test or the slack
+    let det = (a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0]);
+    if det >= 0.0 && k >= 1.0 {
+        return true;
+    }
     orient(a, b, c) >= -k * orient_slack(a, b, c)
 }
 

@@ -368,7 +368,9 @@ pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
 #[cfg(test)]
 mod tests {
     use super::{span, whole};
-    use crate::geom::{in_circle, left_or_on_rounded, orient};
+    use crate::geom::{
+        in_circle, left_or_on_rounded, left_or_within_roundings, orient, orient_slack,
+    };
 
     /// A seeded xorshift, so a failure repeats.
     fn rng(mut s: u64) -> impl FnMut(i64) -> i64 {
@@ -462,5 +464,42 @@ mod tests {
         }
         // the trials reach both sides and the circle itself
         assert!(inside > 1000 && on > 1000, "inside {inside}, on {on}");
+    }
+
+    /// The side test's float shortcut says what the exact test with its
+    /// slack says, on points placed within a few roundings of lines at
+    /// UTM and geographic magnitudes (where the slack decides).
+    #[test]
+    fn the_side_tests_shortcut_agrees_with_the_exact_test() {
+        let mut r = rng(0x51_7cc1_b727_220a);
+        let mut near = 0;
+        for trial in 0..200_000 {
+            let scale = [1.0, 1e-3, 5e5, 4e6][trial % 4];
+            let f = |r: &mut dyn FnMut(i64) -> i64| (r(2_000_001) - 1_000_000) as f64 / 1e6;
+            let a = [scale * (1.0 + f(&mut r)), scale * (2.0 + f(&mut r)), 0.0];
+            let b = [
+                a[0] + scale * f(&mut r) * 1e-2,
+                a[1] + scale * f(&mut r) * 1e-2,
+                0.0,
+            ];
+            // a point on the line a-b, moved a few ulps
+            let s = f(&mut r) * 2.0;
+            let mut c = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), 0.0];
+            for v in c.iter_mut().take(2) {
+                let ulps = r(9) - 4;
+                *v = f64::from_bits((v.to_bits() as i64 + ulps) as u64);
+            }
+            for k in [1.0, 4.0, 256.0] {
+                let exact = orient(&a, &b, &c) >= -k * orient_slack(&a, &b, &c);
+                assert_eq!(
+                    left_or_within_roundings(&a, &b, &c, k),
+                    exact,
+                    "trial {trial}: {a:?} {b:?} {c:?} k {k}"
+                );
+            }
+            near += usize::from(orient(&a, &b, &c) < 0.0);
+        }
+        // the points fall on the wrong side often, where the slack decides
+        assert!(near > 10_000, "{near}");
     }
 }
