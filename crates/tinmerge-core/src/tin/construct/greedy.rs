@@ -506,6 +506,15 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         self.g.crossing_of(u, w, pp, qq)
     }
 
+    /// Where the edge of `h` crosses the segment between samples `a` and
+    /// `b`: the point its triangle's measure found.
+    fn measured_crossing(&self, h: u32, a: u32, b: u32) -> Result<[f64; 3], TinError> {
+        let (p, q) = (self.m.at(h), self.m.at(next(h)));
+        self.g
+            .crossing_point(p, q, a, b)
+            .ok_or_else(|| internal("lost a crossing it measured"))
+    }
+
     fn vertex_at(&self, id: u32) -> Option<u32> {
         let v = self.vid[id as usize];
         (v != NONE).then_some(v)
@@ -540,10 +549,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                 "found nothing to fix in a triangle over tolerance",
             )),
             Fix::Sample(id) => self.insert_sample(t, id),
-            Fix::Crossing { k, at, z, a, b } => {
+            Fix::Crossing { k, a, b } => {
                 let h = 3 * t + k as u32;
                 if self.m.locked[h as usize] || self.m.twin[h as usize] == NONE {
-                    return self.split_edge_at(h, [at[0], at[1], z]).map(|_| ());
+                    let x = self.measured_crossing(h, a, b)?;
+                    return self.split_edge_at(h, x).map(|_| ());
                 }
                 // a free edge: a sample of the segment it crosses, the one
                 // on this triangle's side first
@@ -571,7 +581,8 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                         }
                         // split where it crosses, and the segment's halves
                         // made edges, so that nothing crosses it again
-                        let v = self.split_edge_at(h, [at[0], at[1], z])?;
+                        let x = self.measured_crossing(h, a, b)?;
+                        let v = self.split_edge_at(h, x)?;
                         self.recover(vp, v, 1)?;
                         self.recover(v, vq, 1)?;
                         Ok(())

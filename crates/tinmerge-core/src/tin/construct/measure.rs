@@ -43,6 +43,11 @@ pub(super) trait Source {
     /// The worst crossing of edge p -> q with a segment between two
     /// samples (`k` left 0).
     fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst;
+    /// Where edge p -> q crosses the segment between samples `a` and `b`
+    /// (a crossing [`Source::worst_crossing`] gave), with the segment's
+    /// height there: the very point it measured, so a triangle's worst
+    /// keeps only the segment's ends.
+    fn crossing_point(&self, p: &[f64; 3], q: &[f64; 3], a: u32, b: u32) -> Option<[f64; 3]>;
     /// Where edge u -> w crosses the segment from sample point `a` to
     /// sample point `b`, with the segment's height there.
     fn crossing_of(&self, u: &[f64; 3], w: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
@@ -89,6 +94,12 @@ impl Source for Heights<'_> {
     fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst {
         crossings(p, q, self)
     }
+    /// [`Source::crossing_of`] of this band, the same arithmetic as
+    /// [`crossings`]: the fraction along the edge from the segment's own
+    /// coordinate, the height at the fraction along the segment.
+    fn crossing_point(&self, p: &[f64; 3], q: &[f64; 3], a: u32, b: u32) -> Option<[f64; 3]> {
+        Some(self.crossing_of(p, q, &self.point(a), &self.point(b)))
+    }
     /// Exact in the segment's own coordinate (a column's x, a row's y).
     fn crossing_of(&self, u: &[f64; 3], w: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
         // along x = const (a column's segment) or y = const (a row's)
@@ -124,12 +135,10 @@ pub(super) enum Fix {
     None,
     Sample(u32),
     /// edge `k` of the triangle (its half-edge `3t + k`) crosses the
-    /// segment from sample `a` to sample `b` at `at`, where the surface is
-    /// `z`
+    /// segment from sample `a` to sample `b` (where:
+    /// [`Source::crossing_point`])
     Crossing {
         k: u8,
-        at: [f64; 2],
-        z: f64,
         a: u32,
         b: u32,
     },
@@ -186,16 +195,10 @@ pub(super) fn measure<S: Source + ?Sized>(m: &Mesh, t: u32, g: &S, vid: &[u32]) 
         let h = 3 * t + k;
         let (p, q) = (m.at(h), m.at(next(h)));
         let w = g.worst_crossing(p, q);
-        if let (true, Fix::Crossing { at, z, a, b, .. }) = (w.err > worst.err, w.fix) {
+        if let (true, Fix::Crossing { a, b, .. }) = (w.err > worst.err, w.fix) {
             worst = Worst {
                 err: w.err,
-                fix: Fix::Crossing {
-                    k: k as u8,
-                    at,
-                    z,
-                    a,
-                    b,
-                },
+                fix: Fix::Crossing { k: k as u8, a, b },
             };
         }
     }
@@ -339,17 +342,10 @@ pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
                     let ze = p[2] + s * (q[2] - p[2]);
                     let e = (ze - zs).abs();
                     if e > worst.err {
-                        let at = if along_rows {
-                            [v, u as f64]
-                        } else {
-                            [u as f64, v]
-                        };
                         worst = Worst {
                             err: e,
                             fix: Fix::Crossing {
                                 k: 0,
-                                at,
-                                z: zs,
                                 a: (a[1] as usize * g.width + a[0] as usize) as u32,
                                 b: (b[1] as usize * g.width + b[0] as usize) as u32,
                             },

@@ -118,6 +118,18 @@ impl Source for Scattered {
         worst
     }
 
+    /// The crossing walked again: the point the walk measured, found by
+    /// its ends (a line crosses a segment once).
+    fn crossing_point(&self, p: &[f64; 3], q: &[f64; 3], a: u32, b: u32) -> Option<[f64; 3]> {
+        let mut found = None;
+        self.reference.for_each_crossing_of(p, q, &mut |x, ends| {
+            if ends == [a as usize, b as usize] {
+                found = Some(x.p);
+            }
+        });
+        found
+    }
+
     fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst {
         let mut worst = Worst::NONE;
         self.reference.for_each_crossing_of(p, q, &mut |x, ends| {
@@ -132,8 +144,6 @@ impl Source for Scattered {
                     err: e,
                     fix: Fix::Crossing {
                         k: 0,
-                        at: [x.p[0], x.p[1]],
-                        z: x.p[2],
                         a: ends[0] as u32,
                         b: ends[1] as u32,
                     },
