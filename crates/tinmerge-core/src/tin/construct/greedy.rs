@@ -651,8 +651,19 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     }
 
     /// The level just made, its triangles then made the parents of the
-    /// next and its edges locked.
-    pub(super) fn finish_level(&mut self, tol: f64, first: bool) -> RawLevel {
+    /// next and its edges locked. After the `last` level the measures and
+    /// the queue are let go before its triangles are copied out (the
+    /// build's peak).
+    pub(super) fn finish_level(&mut self, tol: f64, first: bool, last: bool) -> RawLevel {
+        let max_error = self.worst.iter().map(|w| w.err).fold(0.0, f64::max);
+        if last {
+            self.worst = Vec::new();
+            self.queue = Queue::default();
+            self.vid = Vec::new();
+            self.m.twin = Vec::new();
+            self.m.locked = Vec::new();
+            self.m.out = Vec::new();
+        }
         let n = self.m.triangles();
         let tris = (0..n)
             .map(|t| {
@@ -662,10 +673,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             .collect();
         let parents = if first {
             Vec::new()
+        } else if last {
+            std::mem::take(&mut self.m.parent)
         } else {
             self.m.parent.clone()
         };
-        let max_error = self.worst.iter().map(|w| w.err).fold(0.0, f64::max);
         for (t, p) in self.m.parent.iter_mut().enumerate() {
             *p = t as u32;
         }
@@ -703,7 +715,7 @@ pub(super) fn levels<S: Source + ?Sized>(
         }
         let phase = format!("building level {} of {}", l + 1, tolerances.len());
         s.run(tol, &phase, interrupt)?;
-        raw.push(s.finish_level(tol, l == 0));
+        raw.push(s.finish_level(tol, l == 0, l + 1 == tolerances.len()));
     }
     Ok((s.into_points(), raw))
 }
