@@ -130,33 +130,7 @@ pub(super) fn build_inner(
         let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border, reference)?;
         build_levels(b, &grid, &sides, spec, interrupt)?
     } else {
-        // each soft segment's samples from end to end (a hard one: none),
-        // chosen level by level as a tile's seam is; reserved from the
-        // greedy refinement of level 0
-        let find = |p: &[f64; 3]| grid.find(p[0], p[1]);
-        let segment_sides = net
-            .segs
-            .iter()
-            .zip(&profiles)
-            .map(|(s, prof)| {
-                if prof.is_empty() {
-                    return Some(Vec::new());
-                }
-                let (a, b) = (&net.verts[s[0] as usize], &net.verts[s[1] as usize]);
-                let mut side = vec![find(a)?];
-                for p in prof {
-                    side.push(find(p)?);
-                }
-                side.push(find(b)?);
-                // a seam's samples in the order the tile beside it takes
-                // them (a lattice side's)
-                if seams.is_some_and(|sl| sl.holds(a, b)) && (b[0], b[1]) < (a[0], a[1]) {
-                    side.reverse();
-                }
-                Some(side)
-            })
-            .collect::<Option<Vec<Vec<usize>>>>()
-            .ok_or_else(|| TinError::Degenerate("internal: a profile sample was lost".into()))?;
+        let segment_sides = segment_sides(&net, &profiles, &grid, seams)?;
         drop(profiles);
         let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, true, reference)?;
         let kept = if seams.is_some() { border.at(0) } else { &[] };
@@ -184,6 +158,39 @@ pub(super) fn build_inner(
     drop(grid);
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
     assemble_verified(verts, raw_levels, srid, !on_lattice, interrupt)
+}
+
+/// Each soft segment's samples from end to end (a hard one: none), chosen
+/// level by level as a tile's seam is; reserved from the greedy
+/// refinement of level 0. A seam's samples come in the order the tile
+/// beside it takes them (a lattice side's).
+fn segment_sides(
+    net: &Network,
+    profiles: &[Vec<[f64; 3]>],
+    grid: &SampleGrid,
+    seams: Option<&SeamLines>,
+) -> Result<Vec<Vec<usize>>, TinError> {
+    let find = |p: &[f64; 3]| grid.find(p[0], p[1]);
+    net.segs
+        .iter()
+        .zip(profiles)
+        .map(|(s, prof)| {
+            if prof.is_empty() {
+                return Some(Vec::new());
+            }
+            let (a, b) = (&net.verts[s[0] as usize], &net.verts[s[1] as usize]);
+            let mut side = vec![find(a)?];
+            for p in prof {
+                side.push(find(p)?);
+            }
+            side.push(find(b)?);
+            if seams.is_some_and(|sl| sl.holds(a, b)) && (b[0], b[1]) < (a[0], a[1]) {
+                side.reverse();
+            }
+            Some(side)
+        })
+        .collect::<Option<Vec<Vec<usize>>>>()
+        .ok_or_else(|| TinError::Degenerate("internal: a profile sample was lost".into()))
 }
 
 /// The error of a boundary that leaves nothing of the samples' extent.
