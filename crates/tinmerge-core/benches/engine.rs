@@ -4,7 +4,8 @@
 //! `construct::build_band` (engine 2, what it calls now), one level and
 //! five, 2 m and 5 m, on both bundled DEMs: wall time (median of 3),
 //! triangles and vertices at the finest level, peak heap per pixel.
-//! `cargo bench --bench engine`.
+//! `cargo bench --bench engine`; with `TERRACES=8`, engine 2 alone on
+//! the DEMs made terraces of 8 x 8 pixels a pixel ([`terraces_run`]).
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -22,7 +23,77 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Each pixel made `k` x `k` pixels of the same height (nearest
+/// neighbour at 1/k of the pixel: terraces).
+fn terraces(z: &[f64], w: usize, h: usize, k: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(w * h * k * k);
+    for r in 0..h * k {
+        for c in 0..w * k {
+            out.push(z[(r / k) * w + c / k]);
+        }
+    }
+    out
+}
+
+/// `TERRACES=k`: engine 2 alone on both DEMs made terraces of `k` x `k`
+/// pixels a pixel (8: the UTM DEM at 11.25 m, 7.56 M valid pixels, the
+/// issue's big case), 2 m, one level and five, one run each.
+fn terraces_run(k: usize) {
+    println!(
+        "| DEM x{k} | pixels (valid) | tolerance | levels | ms | finest triangles | finest vertices | peak heap B/pixel | triangles by level |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---|");
+    for name in ["jacksboro_fault_dem_utm16n.tif", "jacksboro_fault_dem.tif"] {
+        let d = common::read_dem(name);
+        let z: Vec<f64> = d
+            .values
+            .iter()
+            .map(|&v| {
+                if Some(v) == d.nodata || !v.is_finite() {
+                    f64::NAN
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let (w, h) = (d.width * k, d.height * k);
+        let z = terraces(&z, d.width, d.height, k);
+        let valid = z.iter().filter(|v| !v.is_nan()).count();
+        let mut lattice = d.lattice();
+        lattice.scale_x /= k as f64;
+        lattice.scale_y /= k as f64;
+        for levels in [1, 5] {
+            let tols = default_tolerances(2.0, levels).unwrap();
+            memory::reset_peak();
+            let base = memory::live();
+            let t0 = Instant::now();
+            let tin = build_band(&z, w, h, &lattice, &tols, 0, &mut || Ok(())).expect("build");
+            let ms = t0.elapsed().as_secs_f64() * 1e3;
+            let peak = memory::peak().saturating_sub(base);
+            let f = tin.levels.last().unwrap();
+            let by: Vec<String> = tin
+                .levels
+                .iter()
+                .map(|l| l.tris.len().to_string())
+                .collect();
+            println!(
+                "| {} | {} ({valid}) | 2 | {levels} | {ms:.0} | {} | {} | {:.0} | {} |",
+                name.trim_end_matches(".tif"),
+                w * h,
+                f.tris.len(),
+                f.num_vertices,
+                peak as f64 / (w * h) as f64,
+                by.join(", ")
+            );
+        }
+    }
+}
+
 fn main() {
+    if let Some(k) = std::env::var("TERRACES").ok().and_then(|v| v.parse().ok()) {
+        terraces_run(k);
+        return;
+    }
     let only: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with('-'))
