@@ -916,6 +916,99 @@ fn verify_cost() {
     );
 }
 
+/// Engine 2 on terraces: random real windows on random lattices, each
+/// pixel made k x k pixels of its height (k from 4 to 8, what a DEM
+/// resampled by nearest neighbour is), where the coarse levels are
+/// bisected only down to a size and refined below it by insertion (the
+/// path `engine_2_builds_on_real_terrain_are_exact` does not reach: its
+/// terraces are of 2 and 3 pixels): the same oracle, and the finest of
+/// several levels beside a one-level build's size.
+#[test]
+fn engine_2_builds_on_terraces_are_exact() {
+    use tinmerge_core::tin::construct::build_band;
+    let trials = env_f64("TINMERGE_ENGINE_TRIALS").map_or(24, |n| n as u64);
+    let budget = Duration::from_secs_f64(env_f64("TINMERGE_HARNESS_SECONDS").unwrap_or(120.0));
+    let base = env_f64("TINMERGE_HARNESS_SEED").map_or(77_000, |s| s as u64);
+    let failures: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let sizes: Mutex<Vec<(usize, usize)>> = Mutex::new(Vec::new());
+    for_each_seed(base, trials, budget, &|seed| {
+        let mut rng = StdRng::seed_from_u64(seed);
+        let r0 = terrain(&mut rng);
+        let k = rng.random_range(4..=8usize);
+        let (w0, h0) = (r0.w.min(240 / k), r0.h.min(240 / k));
+        let (w, h) = (w0 * k, h0 * k);
+        let mut z = vec![f64::NAN; w * h];
+        for (i, v) in z.iter_mut().enumerate() {
+            *v = r0.z[(i / w / k) * r0.w + (i % w) / k];
+        }
+        let mut lat = r0.lat;
+        for s in [
+            &mut lat.scale_x,
+            &mut lat.scale_y,
+            &mut lat.skew_x,
+            &mut lat.skew_y,
+        ] {
+            *s /= k as f64;
+        }
+        let r = Raster {
+            z,
+            w,
+            h,
+            lat,
+            srid: r0.srid,
+            desc: format!("{}, cut to {w0}x{h0}, terraces x{k}", r0.desc),
+            sql: String::new(),
+            sql_exact: false,
+        };
+        let levels = rng.random_range(2..=5usize);
+        let tol = log_uniform(&mut rng, 0.5, 20.0);
+        if r.valid() < 3 {
+            return true;
+        }
+        let what = format!("seed {seed}: {}, tolerance {tol}, {levels} levels", r.desc);
+        let out = std::panic::catch_unwind(|| {
+            let build = |n: usize| {
+                let tols = default_tolerances(tol, n as i32).unwrap();
+                build_band(&r.z, r.w, r.h, &r.lat, &tols, r.srid, &mut || Ok(()))
+            };
+            let t = match build(levels) {
+                Ok(t) => t,
+                Err(TinError::Degenerate(_)) => return Ok(None),
+                Err(e) => return Err(format!("the build failed: {e}")),
+            };
+            check_tin(&t, &raster_domain(&r, true), r.pixel(), LATTICE_THIN)?;
+            check_tolerance(&t, &r, false, true)?;
+            let one = build(1).map_err(|e| format!("one level: {e}"))?;
+            let n = |t: &tinmerge_core::tin::Tin| t.levels.last().map_or(0, |l| l.tris.len());
+            Ok(Some((n(&t), n(&one))))
+        })
+        .unwrap_or_else(|_| Err("panicked".to_string()));
+        match out {
+            Ok(Some(s)) => sizes.lock().unwrap().push(s),
+            Ok(None) => {}
+            Err(e) => failures.lock().unwrap().push(format!("{what}: {e}")),
+        }
+        true
+    });
+    let sizes = sizes.into_inner().unwrap();
+    let (many, one) = sizes.iter().fold((0, 0), |a, s| (a.0 + s.0, a.1 + s.1));
+    eprintln!(
+        "engine 2 on terraces: {} builds, finest levels {many} triangles, one level {one} ({:.2}x)",
+        sizes.len(),
+        many as f64 / one.max(1) as f64
+    );
+    let fs = failures.into_inner().unwrap();
+    for f in &fs {
+        eprintln!("FAILED {f}");
+    }
+    assert!(
+        fs.is_empty(),
+        "{} engine 2 builds on terraces failed (above)",
+        fs.len()
+    );
+    assert!(!sizes.is_empty(), "no build on terraces was checked");
+}
+
 /// Build engine 2 (issue 74, `construct::build_band`, not yet what the SQL
 /// functions call) on the harness's terrains: every level conforming,
 /// nested, no triangle thinner than a millionth of a pixel, over the valid

@@ -12,7 +12,9 @@
 //! repaired after it is made. With more than one level, the levels before
 //! the last start from [`aligned::cover`] and refine by bisection where a
 //! triangle runs along the lattice, so their edges meet grid lines only at
-//! pixel centres.
+//! pixel centres; on terraces (a raster resampled by nearest neighbour)
+//! only down to a size ([`bisect_from`]), below which a triangle takes
+//! its worst sample.
 
 use super::aligned;
 use super::measure::{Fix, Source, Worst, measure};
@@ -40,6 +42,30 @@ pub(super) struct Greedy<'g, S: Source + ?Sized> {
     /// refine by bisection where a triangle is a lattice-aligned right
     /// triangle (the levels before the last)
     aligned: bool,
+    /// the shortest longest side (across or along, in pixels) a triangle
+    /// is bisected at ([`bisect_from`]); shorter ones take the sample
+    bisect_from: f64,
+}
+
+/// How many pixels a row's runs of one height must hold on average
+/// ([`super::measure::Heights::plateau`]) for a band to be terraces
+/// (measured terrain: 1.00-1.04; a DEM resampled by nearest neighbour to
+/// 1/k of its pixel: k to k + 0.3).
+const PLATEAU: f64 = 3.5;
+
+/// The shortest longest side a lattice-aligned triangle of `g` is
+/// bisected at: any on measured terrain; on terraces (plateaus of `l`
+/// pixels) `1.5 l`, shorter ones taking their worst sample. Right
+/// triangles cannot follow the step between two plateaus, so bisecting
+/// below that size lines every step with the smallest of them. The
+/// finest of five levels at 2 m of the bundled DEMs resampled to 1/8 of
+/// their pixel had 3.8-3.9x the triangles of one level; with this, 1.13x
+/// (1/4: 2.0x, now 1.18x). At 1/2 and 1/3 bisecting all costs no more.
+fn bisect_from<S: Source + ?Sized>(g: &S) -> f64 {
+    match g.lattice().map(|h| h.plateau()) {
+        Some(l) if l >= PLATEAU => 1.5 * l,
+        _ => 0.0,
+    }
 }
 
 /// How many roundings ([`orient_slack`]) off a line a point
@@ -107,6 +133,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             touched: Vec::new(),
             limit: 4 * g.count() + 1024,
             aligned,
+            bisect_from: if aligned { bisect_from(g) } else { 0.0 },
         };
         for (v, &id) in ids.iter().enumerate() {
             s.vid[id as usize] = v as u32;
@@ -522,7 +549,12 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
 
     /// Apply triangle `t`'s fix.
     fn apply(&mut self, t: u32) -> Result<(), TinError> {
-        if let (true, Some(g)) = (self.aligned, self.g.lattice()) {
+        let big = self.bisect_from == 0.0 || {
+            let c = self.m.corners(t);
+            let d = |a: &[f64; 3], b: &[f64; 3]| (a[0] - b[0]).abs().max((a[1] - b[1]).abs());
+            d(&c[0], &c[1]).max(d(&c[1], &c[2])).max(d(&c[2], &c[0])) >= self.bisect_from
+        };
+        if let (true, true, Some(g)) = (self.aligned, big, self.g.lattice()) {
             let w = g.width;
             let first = self.m.pts.len() as u32;
             let mut scratch = std::mem::take(&mut self.stack);

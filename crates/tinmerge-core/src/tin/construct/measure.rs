@@ -118,6 +118,25 @@ impl Source for Heights<'_> {
 }
 
 impl Heights<'_> {
+    /// How many pixels a row's runs of one height hold on average (the
+    /// valid pixels over the runs of equal valid heights along rows): near
+    /// 1 on measured terrain, k on a raster resampled by nearest neighbour
+    /// to 1/k of its pixel (terraces).
+    pub(super) fn plateau(&self) -> f64 {
+        let (mut valid, mut runs) = (0usize, 0usize);
+        for row in self.z.chunks(self.width.max(1)) {
+            let mut last = f64::NAN;
+            for &z in row {
+                if !z.is_nan() {
+                    valid += 1;
+                    runs += usize::from(z != last);
+                }
+                last = z;
+            }
+        }
+        valid as f64 / runs.max(1) as f64
+    }
+
     #[inline]
     pub(super) fn at(&self, c: i64, r: i64) -> Option<f64> {
         if c < 0 || r < 0 || c >= self.width as i64 || r >= self.height as i64 {
