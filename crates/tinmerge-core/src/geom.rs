@@ -124,7 +124,7 @@ pub(crate) fn within_roundings(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], k: f64)
 /// The largest |coordinate| a point may have for [`whole`] to give it:
 /// below it a triangle of whole points has its rounding
 /// ([`orient_slack`]) under one unit of orientation, so "left or on up
-/// to rounding" is exactly "left or on", and [`incircle`]'s determinant
+/// to rounding" is exactly "left or on", and [`in_circle`]'s determinant
 /// fits an `i128`.
 pub(crate) const WHOLE: f64 = (1u64 << 20) as f64;
 
