@@ -35,6 +35,23 @@ fn terraces(z: &[f64], w: usize, h: usize, k: usize) -> Vec<f64> {
     out
 }
 
+/// A bundled DEM and its heights, `NaN` where no data.
+fn heights(name: &str) -> (common::Dem, Vec<f64>) {
+    let d = common::read_dem(name);
+    let z = d
+        .values
+        .iter()
+        .map(|&v| {
+            if Some(v) == d.nodata || !v.is_finite() {
+                f64::NAN
+            } else {
+                v
+            }
+        })
+        .collect();
+    (d, z)
+}
+
 /// `TERRACES=k`: engine 2 alone on both DEMs made terraces of `k` x `k`
 /// pixels a pixel (8: the UTM DEM at 11.25 m, 7.56 M valid pixels, the
 /// issue's big case), 2 m, one level and five, one run each.
@@ -44,18 +61,7 @@ fn terraces_run(k: usize) {
     );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---|");
     for name in ["jacksboro_fault_dem_utm16n.tif", "jacksboro_fault_dem.tif"] {
-        let d = common::read_dem(name);
-        let z: Vec<f64> = d
-            .values
-            .iter()
-            .map(|&v| {
-                if Some(v) == d.nodata || !v.is_finite() {
-                    f64::NAN
-                } else {
-                    v
-                }
-            })
-            .collect();
+        let (d, z) = heights(name);
         let (w, h) = (d.width * k, d.height * k);
         let z = terraces(&z, d.width, d.height, k);
         let valid = z.iter().filter(|v| !v.is_nan()).count();
@@ -103,18 +109,7 @@ fn main() {
     );
     println!("|---|---:|---:|---:|---|---:|---:|---:|---:|");
     for name in ["jacksboro_fault_dem_utm16n.tif", "jacksboro_fault_dem.tif"] {
-        let d = common::read_dem(name);
-        let z: Vec<f64> = d
-            .values
-            .iter()
-            .map(|&v| {
-                if Some(v) == d.nodata || !v.is_finite() {
-                    f64::NAN
-                } else {
-                    v
-                }
-            })
-            .collect();
+        let (d, z) = heights(name);
         let valid = z.iter().filter(|v| !v.is_nan()).count();
         let lattice = d.lattice();
         // tolerances in the DEM's units of height (metres for both)
