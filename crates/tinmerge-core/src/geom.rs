@@ -142,17 +142,8 @@ pub(crate) fn whole(p: &[f64; 3]) -> Option<[i64; 2]> {
 /// float test is slowest), else by `robust::incircle`.
 pub(crate) fn in_circle(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> bool {
     if let (Some(a), Some(b), Some(c), Some(d)) = (whole(a), whole(b), whole(c), whole(d)) {
-        let rel = |p: [i64; 2]| [p[0] - d[0], p[1] - d[1]];
+        let rel = |p: [i64; 2]| [(p[0] - d[0]) as i128, (p[1] - d[1]) as i128];
         let (a, b, c) = (rel(a), rel(b), rel(c));
-        if [a, b, c].iter().flatten().all(|v| v.abs() < 1 << 14) {
-            // each term under 2^58, their sum under 2^60
-            let lift = |p: [i64; 2]| p[0] * p[0] + p[1] * p[1];
-            let cross = |p: [i64; 2], q: [i64; 2]| p[0] * q[1] - p[1] * q[0];
-            let det = lift(a) * cross(b, c) + lift(b) * cross(c, a) + lift(c) * cross(a, b);
-            return det > 0;
-        }
-        let wide = |p: [i64; 2]| [p[0] as i128, p[1] as i128];
-        let (a, b, c) = (wide(a), wide(b), wide(c));
         let lift = |p: [i128; 2]| p[0] * p[0] + p[1] * p[1];
         let cross = |p: [i128; 2], q: [i128; 2]| p[0] * q[1] - p[1] * q[0];
         let det = lift(a) * cross(b, c) + lift(b) * cross(c, a) + lift(c) * cross(a, b);

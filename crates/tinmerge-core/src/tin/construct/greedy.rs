@@ -547,14 +547,20 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         (v != NONE).then_some(v)
     }
 
+    /// Whether triangle `t` is big enough to be bisected
+    /// ([`Greedy::bisect_from`]).
+    fn bisects(&self, t: u32) -> bool {
+        if self.bisect_from == 0.0 {
+            return true;
+        }
+        let c = self.m.corners(t);
+        let d = |a: &[f64; 3], b: &[f64; 3]| (a[0] - b[0]).abs().max((a[1] - b[1]).abs());
+        d(&c[0], &c[1]).max(d(&c[1], &c[2])).max(d(&c[2], &c[0])) >= self.bisect_from
+    }
+
     /// Apply triangle `t`'s fix.
     fn apply(&mut self, t: u32) -> Result<(), TinError> {
-        let big = self.bisect_from == 0.0 || {
-            let c = self.m.corners(t);
-            let d = |a: &[f64; 3], b: &[f64; 3]| (a[0] - b[0]).abs().max((a[1] - b[1]).abs());
-            d(&c[0], &c[1]).max(d(&c[1], &c[2])).max(d(&c[2], &c[0])) >= self.bisect_from
-        };
-        if let (true, true, Some(g)) = (self.aligned, big, self.g.lattice()) {
+        if let (true, Some(g)) = (self.aligned && self.bisects(t), self.g.lattice()) {
             let w = g.width;
             let first = self.m.pts.len() as u32;
             let mut scratch = std::mem::take(&mut self.stack);
