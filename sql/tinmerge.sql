@@ -219,7 +219,7 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
 'tin_line_climb of a line given as text (WKT or EWKT, e.g. an untyped literal): the value for line::geometry.';
 
--- Area merge: tin_area_triangles, tin_area_stats and tin_volume are Rust
+-- Area merge: tin_area_triangles, tin_area_stats, tin_surface_area and tin_volume are Rust
 -- functions (src/pg/area.rs, and src/pg/overlay.rs for tin_volume of two
 -- tins: flags, cost, rows, comments) that take the
 -- geometry itself. They pin this search_path, through which they find
@@ -230,6 +230,7 @@ COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
 ALTER FUNCTION tin_area_triangles(tin, geometry, int, boolean) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_area_stats(tin, geometry, int) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_volume(tin, geometry, float8, int) SET search_path FROM CURRENT;
+ALTER FUNCTION tin_surface_area(tin, geometry, int) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) SET search_path FROM CURRENT;
 -- tin_slope_aspect (src/pg/analysis.rs) refuses a geographic tin the same way
 ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
@@ -243,14 +244,6 @@ ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8, geom
 ALTER FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text, boolean, boolean) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8, geometry, boolean) SET search_path FROM CURRENT;
 ALTER FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text, boolean, boolean) SET search_path FROM CURRENT;
-
-CREATE FUNCTION tin_surface_area(t tin, area geometry, level int DEFAULT NULL)
-RETURNS float8 AS
-$$ SELECT s.area3d FROM @extschema@.tin_area_stats($1, $2, $3) s $$
-LANGUAGE sql IMMUTABLE PARALLEL SAFE COST 10000 SUPPORT _tin_plan_support
-SET search_path FROM CURRENT;
-COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
-'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. A tin in a geographic SRID answers in square metres on the SRID''s spheroid.';
 
 -- raster merge
 CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false, half_open boolean DEFAULT false)

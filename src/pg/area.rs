@@ -23,6 +23,7 @@ use tinmerge_core::io::ewkb::{self, Ewkb, Geom};
 use tinmerge_core::io::gserialized;
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::merge::area::surface::{stats_with, volume_parts_with, SubtreeSums};
+use tinmerge_core::merge::area::whole;
 use tinmerge_core::merge::area::{area_rows, sweep, Method, Sweep};
 use tinmerge_core::tin::mesh::Indexed;
 use tinmerge_core::tin::Bbox;
@@ -303,6 +304,28 @@ where
     (s, sums)
 }
 
+/// The polygon read by `area` in the tin's SRID, and, when it holds the
+/// whole terrain and the header stores each level's sums (format 6 or 7)
+/// in the units the tin is measured in (its own: not a geographic SRID),
+/// what `from_header` answers from them: no triangle is read
+/// (`merge::area::whole`; a tile wholly inside a county).
+fn with_header<T>(
+    t: &TinArg,
+    level: Option<i32>,
+    geographic: Option<bool>,
+    area: &dyn Fn(i32) -> Area,
+    from_header: impl Fn(&tinmerge_core::tin::layout::Header, usize, &Area) -> Option<T>,
+) -> (Area, Option<T>) {
+    let h = t.header();
+    let a = area(h.srid);
+    if h.sums.is_empty() || srid_is_geographic(geographic, h.srid, &h.bbox) {
+        return (a, None);
+    }
+    let l = tinmerge_core::tin::resolve_level(level, h.levels.len()).or_raise();
+    let got = from_header(&h, l, &a);
+    (a, got)
+}
+
 /// The row of `tin_area_stats` for a polygon read by `area`.
 pub(super) fn stats_row(
     t: &TinArg,
@@ -311,11 +334,13 @@ pub(super) fn stats_row(
     area: &dyn Fn(i32) -> Area,
 ) -> StatsRow {
     let key = value_key(t);
-    let st = with_mesh!(t, level, |m, l, srid| {
-        let units = area_units(geographic, srid, m.bbox(), "tin_area_stats");
-        let area = area(srid);
-        let (s, sums) = swept(key, m, l, &area, units);
-        stats_with(m, &area, &s, sums.as_deref(), units, &mut interrupt).or_raise()
+    let (area, got) = with_header(t, level, geographic, area, whole::stats_from_header);
+    let st = got.unwrap_or_else(|| {
+        with_mesh!(t, level, |m, l, srid| {
+            let units = area_units(geographic, srid, m.bbox(), "tin_area_stats");
+            let (s, sums) = swept(key, m, l, &area, units);
+            stats_with(m, &area, &s, sums.as_deref(), units, &mut interrupt).or_raise()
+        })
     });
     let some = |v: f64| (st.area2d > 0.0).then_some(v);
     (
@@ -365,6 +390,30 @@ COMMENT ON FUNCTION tin_area_stats(tin, geometry, int) IS
     requires = [tin_area_stats]
 );
 
+/// `tin_surface_area`: the area3d of `tin_area_stats` as a scalar, a Rust
+/// function since 0.26.0 (an SQL wrapper before, which the planner could
+/// not inline: each call ran the SQL function executor).
+#[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]
+fn tin_surface_area(
+    t: Option<TinArg>,
+    area: Option<GeomArg>,
+    level: default!(Option<i32>, "NULL"),
+) -> Option<f64> {
+    let (Some(t), Some(g)) = (t, area) else {
+        return None;
+    };
+    Some(stats_row(&t, level, None, &|srid| geom_area(&g, srid, "tin_surface_area")).1)
+}
+
+extension_sql!(
+    r#"
+COMMENT ON FUNCTION tin_surface_area(tin, geometry, int) IS
+'Surface (3D) area of a level (NULL = finest) clipped exactly to a POLYGON or MULTIPOLYGON: the area3d of tin_area_stats as a scalar (0 when the polygon misses the domain; NULL when an argument other than level is NULL), so it can be used where a set-returning call cannot, e.g. pushed down to a postgres_fdw shard. A tin in a geographic SRID answers in square metres on the SRID''s spheroid.';
+"#,
+    name = "tin_surface_area_sql",
+    requires = [tin_surface_area]
+);
+
 /// Cut and fill of a polygon read by `area` against `base`.
 pub(super) fn volume_row(
     t: &TinArg,
@@ -380,14 +429,18 @@ pub(super) fn volume_row(
         );
     }
     let key = value_key(t);
-    with_mesh!(t, level, |m, l, srid| {
-        let units = area_units(geographic, srid, m.bbox(), "tin_volume");
-        let area = area(srid);
-        let (s, sums) = swept(key, m, l, &area, units);
-        let v = volume_parts_with(m, &area, &s, base, sums.as_deref(), units, &mut interrupt)
-            .or_raise();
-        (v.cut, v.fill)
-    })
+    let (area, got) = with_header(t, level, geographic, area, |h, l, a| {
+        whole::volume_from_header(h, l, a, base)
+    });
+    let v = got.unwrap_or_else(|| {
+        with_mesh!(t, level, |m, l, srid| {
+            let units = area_units(geographic, srid, m.bbox(), "tin_volume");
+            let (s, sums) = swept(key, m, l, &area, units);
+            volume_parts_with(m, &area, &s, base, sums.as_deref(), units, &mut interrupt)
+                .or_raise()
+        })
+    });
+    (v.cut, v.fill)
 }
 
 #[pg_extern(support = _tin_plan_support, immutable, parallel_safe, cost = 10000, requires = ["tin_type"])]

@@ -16,6 +16,7 @@ use super::errors::{raise, OrRaise};
 use super::interrupt::interrupt;
 use super::memory;
 use super::varlena::{hex_input, recv_bytes, varlena_datum};
+use tinmerge_core::merge::area::whole;
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::layout::{self, Header, HEADER_LEN};
 use tinmerge_core::tin::sliced::SlicedTin;
@@ -204,10 +205,7 @@ impl TinArg {
                 .clamp(1, PREFIX_CHUNKS)
                 * TOAST_CHUNK;
             let prefix = self.slice(0, want.min(k.header.total_len) as usize);
-            let head = prefix.get(..HEADER_LEN).ok_or_else(|| {
-                TinError::Corrupt(format!("value of {} bytes has no header", prefix.len()))
-            })?;
-            SlicedTin::new(head)
+            SlicedTin::new(prefix)
                 .map(|s| s.map(|s| s.with_units(TOAST_CHUNK, READ_AHEAD).with_prefix(prefix)))
         }) {
             Some(s) => MeshSource::Sliced(s),
@@ -310,14 +308,28 @@ unsafe impl BoxRet for TinOut {
 pgrx::pgrx_sql_entity_graph::impl_sql_translatable!(TinOut, "tin");
 
 impl TinOut {
+    /// A tin in the current storage format, each level's whole sums in its
+    /// header (format 6 or 7: `merge::area::whole`).
     pub fn from_tin(t: &Tin) -> TinOut {
-        TinOut(layout::encode(t))
+        Self::encode(t, None)
     }
 
     /// A tin built on a raster's pixel lattice: vertices stored as lattice
     /// indices and float32 heights when they are exactly that.
     pub fn from_tin_on(t: &Tin, lattice: &Lattice) -> TinOut {
-        TinOut(layout::encode_on(t, Some(lattice)))
+        Self::encode(t, Some(lattice))
+    }
+
+    /// Pure (no PostgreSQL call): tiles are encoded on worker threads. The
+    /// sums cost a walk of each level, a few percent of a build. Should
+    /// they fail (a sweep around the terrain crossing a triangle: a bug,
+    /// never seen) the value is written without them (format 4 or 5),
+    /// whose answers come from its triangles, the same.
+    fn encode(t: &Tin, lattice: Option<&Lattice>) -> TinOut {
+        match whole::level_sums(t, &mut || Ok(())) {
+            Ok(sums) => TinOut(layout::encode_with_sums(t, lattice, &sums)),
+            Err(_) => TinOut(layout::encode_on(t, lattice)),
+        }
     }
 }
 
@@ -419,7 +431,7 @@ COMMENT ON TYPE tin IS 'A terrain surface as an adaptive hierarchical triangulat
 /// per-row point functions read it in slices).
 #[pg_extern(support = _tin_plan_support, immutable, strict, parallel_safe, cost = 10000, requires = ["tin_type"])]
 fn tin_rewrite(t: TinArg) -> TinOut {
-    if t.header().version == layout::VERSION {
+    if t.header().version == layout::VERSION_6 || t.header().version == layout::VERSION_7 {
         return TinOut(t.bytes().to_vec());
     }
     TinOut::from_tin(&t.tin())
@@ -427,7 +439,7 @@ fn tin_rewrite(t: TinArg) -> TinOut {
 
 extension_sql!(
     r#"
-COMMENT ON FUNCTION tin_rewrite(tin) IS 'The same tin in the current storage format (format 4: compressed groups with their own checksums, about a fifth of format 3, read in slices by the point, line and area functions); a value already in it is returned as it is. Answers do not change. UPDATE terrain SET t = tin_rewrite(t) converts stored values (docs/upgrading.md).';
+COMMENT ON FUNCTION tin_rewrite(tin) IS 'The same tin in the current storage format (format 6, or 7 with void triangles: compressed groups with their own checksums, about a fifth of format 3, read in slices by the point, line and area functions, and each level''s whole statistics in the header, so a tile wholly inside a polygon is answered from its header); a value already in it is returned as it is. Answers do not change. UPDATE terrain SET t = tin_rewrite(t) converts stored values (docs/upgrading.md).';
 "#,
     name = "tin_rewrite_sql",
     requires = [tin_rewrite]

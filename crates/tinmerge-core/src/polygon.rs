@@ -185,6 +185,44 @@ impl Area {
         }
     }
 
+    /// Whether the closed rectangle `b` (min x, min y, max x, max y, with
+    /// min < max) lies within the area: no ring segment meets its open
+    /// inside (exact separating axes: the rectangle's sides and the
+    /// segment's line) and its centre is inside. Then every triangle in it
+    /// is wholly inside, as the area sweep decides.
+    pub fn contains_box(&self, b: [f64; 4]) -> bool {
+        let [x0, y0, x1, y1] = b;
+        if self.rings.is_empty()
+            || !(x0 < x1 && y0 < y1)
+            || x0 < self.bbox[0]
+            || y0 < self.bbox[1]
+            || x1 > self.bbox[2]
+            || y1 > self.bbox[3]
+        {
+            return false;
+        }
+        let corners = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]].map(co);
+        let meets = |a: P2, q: P2| {
+            if a[0].max(q[0]) <= x0 || a[0].min(q[0]) >= x1 {
+                return false;
+            }
+            if a[1].max(q[1]) <= y0 || a[1].min(q[1]) >= y1 {
+                return false;
+            }
+            let o = corners.map(|c| orient2d(co(a), co(q), c));
+            !(o.iter().all(|&v| v >= 0.0) || o.iter().all(|&v| v <= 0.0))
+        };
+        let (k0, k1) = (self.strip_of(y0), self.strip_of(y1));
+        let (s, e) = (self.offsets[k0] as usize, self.offsets[k1 + 1] as usize);
+        for &(r, i) in &self.entries[s..e] {
+            let ring = &self.rings[r as usize];
+            if meets(ring[i as usize], ring[i as usize + 1]) {
+                return false;
+            }
+        }
+        self.locate([(x0 + x1) / 2.0, (y0 + y1) / 2.0]) == Where::Inside
+    }
+
     /// Exact point-in-polygon test.
     pub fn locate(&self, p: P2) -> Where {
         if self.rings.is_empty()

@@ -35,3 +35,4 @@ mod tiles;
 mod validate;
 mod viewshed;
 mod visibility;
+mod whole;

@@ -39,7 +39,7 @@
 //! ```
 
 use super::compact::{Group, Plan, Stream};
-use super::layout::{self, BLOCK_PAYLOAD, HEADER_LEN_V4, Header, LevelSections};
+use super::layout::{self, BLOCK_PAYLOAD, Header, LevelSections};
 use super::mesh::{Indexed, Mesh};
 use super::{Bbox, NONE, TinError};
 use rustc_hash::FxHashMap as HashMap;
@@ -93,11 +93,11 @@ impl SlicedTin {
         let header = layout::read_header(head)?;
         let counts = header.level_counts();
         let (plan, kind) = match header.version {
-            layout::VERSION | layout::VERSION_5 => {
+            v if layout::is_compact(v) => {
                 let plan = layout::plan(&header);
                 // the directory and a checksummed byte per group at least
-                let least =
-                    (HEADER_LEN_V4 as u64).saturating_add(plan.num_groups().saturating_mul(13));
+                let least = (header.header_len() as u64)
+                    .saturating_add(plan.num_groups().saturating_mul(13));
                 if header.total_len < least {
                     return Err(TinError::corrupt(format!(
                         "length mismatch: header says {} bytes, its groups need at least {least}",
@@ -188,7 +188,7 @@ impl SlicedTin {
     /// the directory page by page.
     pub fn prefix_len(header: &Header) -> u64 {
         let end = match header.version {
-            layout::VERSION | layout::VERSION_5 => (HEADER_LEN_V4 as u64)
+            v if layout::is_compact(v) => (header.header_len() as u64)
                 .saturating_add(layout::plan(header).num_groups().saturating_mul(4)),
             _ => layout::HEADER_LEN as u64,
         };
@@ -400,7 +400,8 @@ impl Reader<'_> {
         k: u64,
     ) -> Result<(u64, u64), TinError> {
         let ng = self.s.plan.num_groups();
-        let data = HEADER_LEN_V4 as u64 + 4 * ng;
+        let hl = self.s.header.header_len() as u64;
+        let data = hl + 4 * ng;
         let entry = |e: u64| -> Result<u64, TinError> {
             let p = e / DIR_PAGE;
             let held = pages.borrow().get(&p).cloned();
@@ -408,7 +409,7 @@ impl Reader<'_> {
                 Some(pg) => pg,
                 None => {
                     let n = DIR_PAGE.min(ng - p * DIR_PAGE) as usize;
-                    let raw = self.fetch(HEADER_LEN_V4 as u64 + 4 * p * DIR_PAGE, 4 * n)?;
+                    let raw = self.fetch(hl + 4 * p * DIR_PAGE, 4 * n)?;
                     let pg: Rc<[u32]> = raw
                         .chunks_exact(4)
                         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))

@@ -63,6 +63,7 @@ pub mod clip;
 pub use crate::polygon;
 pub mod surface;
 mod sweep;
+pub mod whole;
 
 pub(crate) use self::sweep::corners2;
 pub use self::sweep::{Method, Sweep, sweep};

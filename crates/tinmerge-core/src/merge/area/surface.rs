@@ -424,7 +424,7 @@ impl VolumeParts {
 
     /// A subtree whose descendants are all strictly above or all strictly
     /// below `base`, from its sums; None when they reach the base.
-    fn of_subtree(a: &SurfaceStats, base: f64) -> Option<VolumeParts> {
+    pub fn of_subtree(a: &SurfaceStats, base: f64) -> Option<VolumeParts> {
         if a.min_z > base {
             Some(VolumeParts {
                 cut: (a.z_integral - base * a.area2d).max(0.0),

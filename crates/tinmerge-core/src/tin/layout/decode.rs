@@ -2,7 +2,7 @@
 //! the heap that takes.
 
 use super::read::{
-    BLOCK_LEN, FIXED_LEN, HEADER_LEN_V3, HEADER_LEN_V4, Header, LevelInfo, Rd, VERSION_1,
+    BLOCK_LEN, FIXED_LEN, HEADER_LEN_V3, Header, LevelInfo, Rd, VERSION_1, header_len_of,
     is_compact, read_header, stored_header_hash, value_len,
 };
 use super::seal::{check_block, check_group, content_hash, plan};
@@ -132,16 +132,17 @@ fn level_of(
 /// from its directory; an error unless the groups fill the value exactly.
 pub fn group_ranges(b: &[u8], plan: &Plan) -> Result<Vec<std::ops::Range<usize>>, TinError> {
     let ng = plan.num_groups() as usize;
+    let hl = header_len_of(b);
     let data = ng
         .checked_mul(4)
-        .and_then(|d| d.checked_add(HEADER_LEN_V4))
+        .and_then(|d| d.checked_add(hl))
         .filter(|&d| d <= b.len())
         .ok_or_else(|| {
             TinError::corrupt("the directory of groups runs past the end of the value")
         })?;
     let mut out = Vec::with_capacity(ng);
     let mut start = 0u64;
-    for (k, e) in b[HEADER_LEN_V4..data].chunks_exact(4).enumerate() {
+    for (k, e) in b[hl..data].chunks_exact(4).enumerate() {
         let end = u32::from_le_bytes([e[0], e[1], e[2], e[3]]) as u64;
         let (a, z) = group_place(k as u64, data as u64, start, end, b.len() as u64)?;
         out.push(a as usize..z as usize);

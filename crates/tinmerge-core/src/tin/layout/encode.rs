@@ -2,8 +2,9 @@
 //! ones (for tests and upgrades).
 
 use super::read::{
-    BLOCK_PAYLOAD, FIXED_LEN, HEADER_LEN, HEADER_LEN_V3, HEADER_LEN_V4, LEVEL_RECORD, MAGIC,
-    VERSION, VERSION_1, VERSION_3, VERSION_5, header_hash, num_blocks,
+    BLOCK_PAYLOAD, FIXED_LEN, HEADER_LEN, HEADER_LEN_V3, HEADER_LEN_V4, HEADER_LEN_V6,
+    LEVEL_RECORD, LevelSums, MAGIC, SUMS_RECORD, VERSION, VERSION_1, VERSION_3, VERSION_5,
+    VERSION_6, VERSION_7, header_hash, num_blocks,
 };
 use super::seal::{block_checksum, content_hash};
 use crate::par;
@@ -21,6 +22,19 @@ pub fn encode(tin: &Tin) -> Vec<u8> {
 /// vertex is a pixel centre of `lattice` (and every height a float32
 /// value), vertices are stored as lattice indices and `f32` heights.
 pub fn encode_on(tin: &Tin, lattice: Option<&Lattice>) -> Vec<u8> {
+    encode_compact(tin, lattice, &[])
+}
+
+/// [`encode_on`] with each level's sums in the header (format 6, or 7 with
+/// void triangles): `sums` has one entry per level, what
+/// `merge::area::whole::level_sums` makes of `tin`.
+pub fn encode_with_sums(tin: &Tin, lattice: Option<&Lattice>, sums: &[LevelSums]) -> Vec<u8> {
+    assert_eq!(sums.len(), tin.levels.len(), "one sum per level");
+    encode_compact(tin, lattice, sums)
+}
+
+/// The compact formats: 4 or 5 without sums, 6 or 7 with them.
+fn encode_compact(tin: &Tin, lattice: Option<&Lattice>, sums: &[LevelSums]) -> Vec<u8> {
     let coding = compact::vertex_coding(lattice, &tin.verts);
     let idx = match (coding, lattice) {
         (VertexCoding::Raw, _) | (_, None) => None,
@@ -48,13 +62,15 @@ pub fn encode_on(tin: &Tin, lattice: Option<&Lattice>) -> Vec<u8> {
         ))
     });
     let mut out = fixed_header(tin, VERSION_1);
-    let version = if tin.levels.iter().any(|l| l.num_void > 0) {
-        VERSION_5
-    } else {
-        VERSION
+    let void = tin.levels.iter().any(|l| l.num_void > 0);
+    let (version, hl) = match (void, sums.is_empty()) {
+        (false, true) => (VERSION, HEADER_LEN_V4),
+        (true, true) => (VERSION_5, HEADER_LEN_V4),
+        (false, false) => (VERSION_6, HEADER_LEN_V6),
+        (true, false) => (VERSION_7, HEADER_LEN_V6),
     };
     out[4..6].copy_from_slice(&version.to_le_bytes());
-    out[8..12].copy_from_slice(&(HEADER_LEN_V4 as u32).to_le_bytes());
+    out[8..12].copy_from_slice(&(hl as u32).to_le_bytes());
     let lat = lattice.filter(|_| coding != VertexCoding::Raw);
     for v in lat.map_or([0.0; 6], |l| {
         [l.ip_x, l.ip_y, l.scale_x, l.scale_y, l.skew_x, l.skew_y]
@@ -63,12 +79,22 @@ pub fn encode_on(tin: &Tin, lattice: Option<&Lattice>) -> Vec<u8> {
     }
     out.extend_from_slice(&(coding as u32).to_le_bytes());
     out.extend_from_slice(&0u32.to_le_bytes());
+    if !sums.is_empty() {
+        for i in 0..MAX_LEVELS {
+            let a = sums.get(i).map_or([0.0; 7], LevelSums::to_array);
+            for v in a {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+            out.extend_from_slice(&[0u8; SUMS_RECORD - 56]);
+        }
+    }
     let data: usize = groups.iter().map(|g| g.len() + 8).sum();
-    let total = HEADER_LEN_V4 + 4 * groups.len() + data;
+    let total = hl + 4 * groups.len() + data;
     out[24..32].copy_from_slice(&(total as u64).to_le_bytes());
     out.extend_from_slice(&[0u8; 8]);
+    debug_assert_eq!(out.len(), hl);
     let hh = header_hash(&out);
-    out[HEADER_LEN_V4 - 8..].copy_from_slice(&hh.to_le_bytes());
+    out[hl - 8..].copy_from_slice(&hh.to_le_bytes());
     out.reserve(total - out.len());
     let mut end = 0usize;
     for g in &groups {

@@ -11,9 +11,22 @@ pub const VERSION: u16 = 4;
 /// Format 4 with void triangles (a domain that is not the convex hull):
 /// written when a level has any, so that a reader of format 4 refuses it.
 pub const VERSION_5: u16 = 5;
-/// Formats 4 and 5 (compact, in groups).
+/// Format 4 with each level's whole-surface sums in the header
+/// ([`LevelSums`]): written since 0.26.0.
+pub const VERSION_6: u16 = 6;
+/// Format 5 (void triangles) with the sums of format 6.
+pub const VERSION_7: u16 = 7;
+/// Formats 4 to 7 (compact, in groups).
 pub(crate) fn is_compact(version: u16) -> bool {
-    version == VERSION || version == VERSION_5
+    (VERSION..=VERSION_7).contains(&version)
+}
+/// Formats that may have void triangles (5 and 7).
+pub(crate) fn has_void(version: u16) -> bool {
+    version == VERSION_5 || version == VERSION_7
+}
+/// Formats whose header holds each level's sums (6 and 7).
+pub(crate) fn has_sums(version: u16) -> bool {
+    version == VERSION_6 || version == VERSION_7
 }
 /// Format 3: the body of format 1 in checksummed blocks.
 pub const VERSION_3: u16 = 3;
@@ -27,9 +40,18 @@ pub const HEADER_LEN_V3: usize = FIXED_LEN + 8;
 /// Length of a version-4 header (the fixed fields, the lattice, the
 /// vertex coding and the header hash).
 pub const HEADER_LEN_V4: usize = FIXED_LEN + 48 + 8 + 8;
-/// Bytes that hold the header of any version. Every value is longer than
-/// this.
-pub const HEADER_LEN: usize = HEADER_LEN_V4;
+/// Bytes of one level's sums in a format-6 or -7 header.
+pub const SUMS_RECORD: usize = 64;
+/// Where the sums start in a format-6 or -7 header (after the fields of
+/// format 4 but its hash).
+pub const SUMS_AT: usize = HEADER_LEN_V4 - 8;
+/// Length of a format-6 or -7 header: format 4's, with 16 level sums
+/// before the header hash.
+pub const HEADER_LEN_V6: usize = HEADER_LEN_V4 + MAX_LEVELS * SUMS_RECORD;
+/// Bytes that hold the header of any version (within the first TOAST chunk
+/// of a stored value). Every value written since format 6 is longer than
+/// this; an older one may be shorter (its header is shorter too).
+pub const HEADER_LEN: usize = HEADER_LEN_V6;
 /// Body bytes per version-3 block (two PostgreSQL TOAST chunks, about).
 pub const BLOCK_PAYLOAD: usize = 4080;
 /// A version-3 block as stored: payload and checksum.
@@ -49,6 +71,73 @@ pub struct LevelInfo {
     pub num_void: u32,
 }
 
+/// The sums over a whole level's surface (its triangles that are not void)
+/// in the tin's own units, stored in format 6 and 7 headers, so a tile
+/// wholly inside a polygon answers from its header alone. They are what
+/// the area merge sums over the level, in its order
+/// (`merge::area::whole`): planar and surface area, min and max height,
+/// the integrals of height and of slope (degrees) over the planar area, the
+/// steepest slope.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelSums {
+    pub area2d: f64,
+    pub area3d: f64,
+    pub min_z: f64,
+    pub max_z: f64,
+    pub z_integral: f64,
+    pub slope_integral: f64,
+    pub max_slope: f64,
+}
+
+impl LevelSums {
+    /// The seven numbers in their stored order.
+    pub fn to_array(&self) -> [f64; 7] {
+        [
+            self.area2d,
+            self.area3d,
+            self.min_z,
+            self.max_z,
+            self.z_integral,
+            self.slope_integral,
+            self.max_slope,
+        ]
+    }
+
+    fn from_array(a: [f64; 7]) -> LevelSums {
+        LevelSums {
+            area2d: a[0],
+            area3d: a[1],
+            min_z: a[2],
+            max_z: a[3],
+            z_integral: a[4],
+            slope_integral: a[5],
+            max_slope: a[6],
+        }
+    }
+
+    /// Why stored sums cannot be a surface's (None when they can): every
+    /// number finite, areas positive and the surface's at least the
+    /// plane's (up to rounding), heights ordered and within the bbox,
+    /// slopes in 0..90 degrees.
+    fn fault(&self, bbox: &Bbox) -> Option<&'static str> {
+        let a = self.to_array();
+        if a.iter().any(|v| !v.is_finite()) {
+            return Some("a sum is not finite");
+        }
+        if self.area2d <= 0.0 || self.area3d < self.area2d * (1.0 - 1e-12) {
+            return Some("the areas are not a surface's");
+        }
+        if self.min_z > self.max_z || self.min_z < bbox.min_z || self.max_z > bbox.max_z {
+            return Some("the heights are not within the bounding box");
+        }
+        let s = self.slope_integral / self.area2d;
+        if !(0.0..=90.0).contains(&self.max_slope) || !(-1e-9..=90.0 + 1e-9).contains(&s) {
+            return Some("the slopes are not in 0..90 degrees");
+        }
+        None
+    }
+}
+
 /// The fixed header, readable from the first [`HEADER_LEN`] bytes alone.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Header {
@@ -64,11 +153,24 @@ pub struct Header {
     pub lattice: Option<Lattice>,
     /// Version 4: how the vertices are coded (versions 1 and 3: raw).
     pub vertex_coding: VertexCoding,
+    /// Versions 6 and 7: each level's sums (empty before).
+    pub sums: Vec<LevelSums>,
 }
 
 impl Header {
     pub fn num_levels(&self) -> usize {
         self.levels.len()
+    }
+
+    /// Bytes of this header in the value (where a compact value's
+    /// directory starts).
+    pub fn header_len(&self) -> usize {
+        header_len(self.version).unwrap_or(FIXED_LEN)
+    }
+
+    /// The stored sums of level `l` (formats 6 and 7).
+    pub fn level_sums(&self, l: usize) -> Option<&LevelSums> {
+        self.sums.get(l)
     }
 
     /// Per level: triangles and grid cells.
@@ -150,7 +252,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         Some(l) => l,
         None => {
             return Err(TinError::corrupt(format!(
-                "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3}, {VERSION} and {VERSION_5})"
+                "format version {version} is not supported (this build reads versions {VERSION_1}, {VERSION_3} and {VERSION} to {VERSION_7})"
             )));
         }
     };
@@ -205,7 +307,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
             num_void: r.u32()?,
         };
         r.take(4)?;
-        if version != VERSION_5 && li.num_void != 0 {
+        if !has_void(version) && li.num_void != 0 {
             return Err(TinError::corrupt(format!(
                 "level {l}: void triangles in a format-{version} value"
             )));
@@ -241,6 +343,22 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
     } else {
         (None, VertexCoding::Raw)
     };
+    let mut sums = Vec::new();
+    if has_sums(version) {
+        r.pos = SUMS_AT;
+        for l in 0..nl {
+            let mut a = [0.0; 7];
+            for v in &mut a {
+                *v = r.f64()?;
+            }
+            r.take(SUMS_RECORD - 56)?;
+            let s = LevelSums::from_array(a);
+            if let Some(why) = s.fault(&bbox) {
+                return Err(TinError::corrupt(format!("level {l}'s stored sums: {why}")));
+            }
+            sums.push(s);
+        }
+    }
     Ok(Header {
         version,
         srid,
@@ -251,6 +369,7 @@ pub fn read_header(b: &[u8]) -> Result<Header, TinError> {
         levels,
         lattice,
         vertex_coding,
+        sums,
     })
 }
 
@@ -260,6 +379,7 @@ pub(crate) fn header_len(version: u16) -> Option<usize> {
         VERSION_1 => Some(FIXED_LEN),
         VERSION_3 => Some(HEADER_LEN_V3),
         VERSION | VERSION_5 => Some(HEADER_LEN_V4),
+        VERSION_6 | VERSION_7 => Some(HEADER_LEN_V6),
         _ => None,
     }
 }

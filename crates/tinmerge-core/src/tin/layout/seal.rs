@@ -53,7 +53,9 @@ pub fn content_hash(b: &[u8]) -> u64 {
 /// craft values: structural validation, not the hashes, must reject them).
 #[cfg(feature = "bench")]
 pub fn reseal(b: &mut [u8]) {
-    use super::read::{HEADER_LEN_V4, VERSION, VERSION_3, VERSION_5, header_hash, read_header};
+    use super::read::{
+        HEADER_LEN_V4, VERSION_3, header_hash, header_len_of, is_compact, read_header,
+    };
     if b.len() >= HEADER_LEN_V3 && b[4..6] == VERSION_3.to_le_bytes() {
         let hh = header_hash(b);
         b[FIXED_LEN..HEADER_LEN_V3].copy_from_slice(&hh.to_le_bytes());
@@ -66,18 +68,17 @@ pub fn reseal(b: &mut [u8]) {
             }
         }
     }
-    if b.len() >= HEADER_LEN_V4
-        && (b[4..6] == VERSION.to_le_bytes() || b[4..6] == VERSION_5.to_le_bytes())
-    {
+    let hl = header_len_of(b);
+    if b.len() >= hl.max(HEADER_LEN_V4) && is_compact(u16::from_le_bytes([b[4], b[5]])) {
         let hh = header_hash(b);
-        b[HEADER_LEN_V4 - 8..HEADER_LEN_V4].copy_from_slice(&hh.to_le_bytes());
+        b[hl - 8..hl].copy_from_slice(&hh.to_le_bytes());
         // the groups the directory names, as far as it and the value go
         if let Ok(h) = read_header(b) {
             let ng = plan(&h).num_groups() as usize;
-            let data = HEADER_LEN_V4 + 4 * ng;
+            let data = hl + 4 * ng;
             let mut start = 0usize;
             for k in 0..ng {
-                let Some(e) = b.get(HEADER_LEN_V4 + 4 * k..HEADER_LEN_V4 + 4 * k + 4) else {
+                let Some(e) = b.get(hl + 4 * k..hl + 4 * k + 4) else {
                     break;
                 };
                 let end = u32::from_le_bytes([e[0], e[1], e[2], e[3]]) as usize;
