@@ -215,11 +215,11 @@ SELECT count(*) AS compared,
        bool_and(w.min_z = o.min_z AND w.max_z = o.max_z) AS extremes_ok,
        bool_and(w.area3d >= w.area2d AND w.mean_slope BETWEEN 0 AND w.max_slope) AS slopes_ok
 FROM area_whole w JOIN o USING (tx, ty, l);
--- the same over every tile the circle meets, the usual query: tiles inside
--- from their headers, the others through their triangles; the planar area
--- is the circle's within the window's domain (PostGIS: the union of the
--- tiles' triangles), the mean height the oracle's over the clipped
--- triangles
+-- the same over every tile the circle meets, the usual query (no
+-- ST_Intersection with the tiles: their domains meet on the seams): tiles
+-- inside from their headers, the others through their triangles; the
+-- planar area is PostGIS's of the tiles' triangles clipped to the circle,
+-- and most of it lies in triangles wholly inside
 WITH ours AS (
   SELECT sum(s.area2d) AS area2d, sum(s.mean_z * s.area2d) / sum(s.area2d) AS mean_z
   FROM area_tiles, area_circle c, tin_area_stats(t, c.geom) s

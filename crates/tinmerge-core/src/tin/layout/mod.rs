@@ -4,10 +4,12 @@
 //! ```text
 //! offset size  field
 //!      0    4  magic "TINM"
-//!      4    2  format version (4 written, 5 when a level has void
-//!              triangles; 1 and 3 still read)
+//!      4    2  format version (6 with the sums, 7 with the sums and void
+//!              triangles: what the extension writes; 4 and 5 without
+//!              the sums; 1 and 3 still read)
 //!      6    2  flags (0)
-//!      8    4  header length (version 1: 856, version 3: 864, version 4: 920)
+//!      8    4  header length (version 1: 856, version 3: 864, versions 4
+//!              and 5: 920, versions 6 and 7: 1944)
 //!     12    4  SRID (i32)
 //!     16    4  number of levels L (1..16)
 //!     20    4  number of vertices V (all levels)
@@ -28,9 +30,21 @@
 //!    908    4  (version 4) reserved (0)
 //!    912    8  (version 4) header hash: xxh3-64 of bytes 0..912 with the
 //!              content hash zeroed
+//!    912 1024  (version 6) 16 level sums of 64 bytes (unused ones zero):
+//!              planar area, surface area, min z, max z, integral of z,
+//!              integral of slope, steepest slope (f64), reserved 8
+//!              ([`LevelSums`])
+//!   1936    8  (version 6) header hash: xxh3-64 of bytes 0..1936 with the
+//!              content hash zeroed
 //! ```
 //! Version 5 is version 4 with void triangles (see [`super::Level::num_void`]):
-//! an older reader must refuse it, not show the void as terrain.
+//! an older reader must refuse it, not show the void as terrain. Versions 6
+//! and 7 are versions 4 and 5 with each level's sums over its whole surface
+//! in the header (`merge::area::whole` makes them; written since 0.26.0),
+//! so a polygon that holds the terrain is answered from the first TOAST
+//! chunk alone; a reader checks them for sense ([`read_header`]: finite,
+//! areas positive, heights within the bbox, slopes in 0..90), the header
+//! hash for damage.
 //! Version 4 is compact ([`super::compact`]): after the header, a directory
 //! of one u32 per group (where the group ends, counted from the end of the
 //! directory), then the groups, each a codec byte, its coded or
