@@ -18,9 +18,15 @@ use tinmerge_core::tin::{Tin, TinError};
 /// (0.5.0's), which is read in slices too: (name, bytes, read unit).
 fn formats(tin: &Tin) -> Vec<(&'static str, Vec<u8>, u64)> {
     let v4 = layout::encode(tin);
+    let sums = tinmerge_core::merge::area::whole::level_sums(tin, &mut || Ok(())).unwrap();
     vec![
         ("v4", v4.clone(), 0),
         ("v4 in 1,996-byte chunks", v4, 1996),
+        (
+            "v6 in 1,996-byte chunks",
+            layout::encode_with_sums(tin, None, &sums),
+            1996,
+        ),
         ("v3", layout::encode_v3(tin), 0),
     ]
 }

@@ -17,7 +17,8 @@ use tinmerge_core::merge::area::whole::{level_sums, stats_from_header, volume_fr
 use tinmerge_core::merge::area::{Method, sweep};
 use tinmerge_core::tin::Tin;
 use tinmerge_core::tin::layout::{
-    LevelSums, VERSION_6, VERSION_7, decode, encode_with_sums, read_header,
+    HEADER_LEN_V6, LevelSums, SUMS_AT, VERSION_6, VERSION_7, decode, encode_with_sums,
+    read_header, reseal,
 };
 
 type P2 = [f64; 2];
@@ -285,4 +286,42 @@ fn contains_box_agrees_with_geo() {
     assert!(!diamond.contains_box([-5.0, -5.0, 5.000001, 5.0]));
     assert!(diamond.contains_box([-1.0, -9.0, 1.0, 9.0]));
     assert!(!diamond.contains_box([-1.0, -9.5, 1.0, 9.5]));
+}
+
+/// Damaged sums are an error naming them: a changed byte fails the header
+/// hash; sums that cannot be a surface's fail the reader's sense checks
+/// even under a valid hash (a crafted value), never an answer.
+#[test]
+fn damaged_or_crafted_sums_are_errors() {
+    let tin = common::dem_tin();
+    let sums = level_sums(&tin, &mut no_interrupt).unwrap();
+    let good = encode_with_sums(&tin, None, &sums);
+    assert_eq!(read_header(&good).unwrap().sums, sums);
+    let mut b = good.clone();
+    b[SUMS_AT + 3] ^= 0x10;
+    let e = read_header(&b).unwrap_err().to_string();
+    assert!(e.contains("header hash"), "{e}");
+    assert!(decode(&b).is_err());
+    let put = |b: &mut Vec<u8>, level: usize, field: usize, v: f64| {
+        let at = SUMS_AT + level * 64 + field * 8;
+        b[at..at + 8].copy_from_slice(&v.to_le_bytes());
+    };
+    let cases: Vec<(&str, usize, usize, f64)> = vec![
+        ("a NaN integral", 2, 4, f64::NAN),
+        ("an infinite area", 0, 0, f64::INFINITY),
+        ("a negative area", 4, 0, -1.0),
+        ("a surface smaller than its plane", 1, 1, sums[1].area2d / 2.0),
+        ("a height under the bbox", 3, 2, tin.bbox.min_z - 1.0),
+        ("min over max", 3, 2, sums[3].max_z + 1.0),
+        ("a slope over 90 degrees", 0, 6, 91.0),
+    ];
+    for (what, level, field, v) in cases {
+        let mut b = good.clone();
+        put(&mut b, level, field, v);
+        reseal(&mut b);
+        let e = read_header(&b).unwrap_err().to_string();
+        assert!(e.contains(&format!("level {level}'s stored sums")), "{what}: {e}");
+        assert!(decode(&b).is_err(), "{what}");
+    }
+    assert!(good.len() > HEADER_LEN_V6);
 }
