@@ -240,12 +240,15 @@ fn lookup(hash: u64, len: u64, count_miss: bool) -> Option<Arc<Tin>> {
 /// is decoded whole: a join of many rows with one terrain then pays one
 /// decode, as before, while a query touching a few points never does.
 pub const SLICED_CALLS: u64 = 2000;
-/// Most stored values read in slices at once per backend.
-const MAX_SLICED: usize = 64;
+/// Most stored values read in slices at once per backend: enough for the
+/// tiles a county's boundary meets (a query that cycles through more
+/// values than are kept reads every one again on every pass: with 64, the
+/// 72 boundary tiles of a 5 km circle over 3 m tiles were all read again
+/// each time). Their blocks stay within `tinmerge.cache_size` whatever
+/// their number.
+const MAX_SLICED: usize = 4096;
 
 struct SlicedEntry {
-    hash: u64,
-    len: u64,
     tin: Rc<SlicedTin>,
     calls: u64,
     last: u64,
@@ -253,8 +256,16 @@ struct SlicedEntry {
 
 #[derive(Default)]
 struct Sliced {
-    entries: Vec<SlicedEntry>,
+    /// by (content hash, length)
+    entries: FxHashMap<(u64, u64), SlicedEntry>,
     clock: u64,
+}
+
+impl Sliced {
+    /// The least recently used entry's key.
+    fn oldest(&self) -> Option<(u64, u64)> {
+        self.entries.iter().min_by_key(|(_, e)| e.last).map(|(k, _)| *k)
+    }
 }
 
 thread_local! {
@@ -280,16 +291,12 @@ pub fn sliced(
         let mut c = c.borrow_mut();
         c.clock += 1;
         let now = c.clock;
-        let i = c
-            .entries
-            .iter()
-            .position(|e| e.hash == hash && e.len == len)?;
-        let e = &mut c.entries[i];
+        let e = c.entries.get_mut(&(hash, len))?;
         e.calls += 1;
         e.last = now;
         let (held, total) = e.tin.blocks();
         if e.calls > SLICED_CALLS || held as u64 * 8 > total {
-            c.entries.swap_remove(i);
+            c.entries.remove(&(hash, len));
             return Some(None);
         }
         Some(Some(e.tin.clone()))
@@ -302,30 +309,33 @@ pub fn sliced(
             SLICED.with(|c| {
                 let mut c = c.borrow_mut();
                 if c.entries.len() >= MAX_SLICED {
-                    if let Some(i) = (0..c.entries.len()).min_by_key(|&i| c.entries[i].last) {
-                        c.entries.swap_remove(i);
+                    if let Some(k) = c.oldest() {
+                        c.entries.remove(&k);
                     }
                 }
                 let last = c.clock;
-                c.entries.push(SlicedEntry {
-                    hash,
-                    len,
-                    tin: t.clone(),
-                    calls: 1,
-                    last,
-                });
+                c.entries.insert(
+                    (hash, len),
+                    SlicedEntry {
+                        tin: t.clone(),
+                        calls: 1,
+                        last,
+                    },
+                );
             });
             t
         }
     };
     SLICED.with(|c| {
         let mut c = c.borrow_mut();
-        let mut used: usize = c.entries.iter().map(|e| e.tin.cached_bytes()).sum();
+        let mut used: usize = c.entries.values().map(|e| e.tin.cached_bytes()).sum();
         while used > limit && c.entries.len() > 1 {
-            let Some(i) = (0..c.entries.len()).min_by_key(|&i| c.entries[i].last) else {
+            let Some(k) = c.oldest() else {
                 break;
             };
-            used -= c.entries.swap_remove(i).tin.cached_bytes();
+            if let Some(e) = c.entries.remove(&k) {
+                used -= e.tin.cached_bytes();
+            }
         }
     });
     Some(tin)
@@ -337,8 +347,8 @@ pub fn sliced_stats() -> (usize, usize, usize) {
         let c = c.borrow();
         (
             c.entries.len(),
-            c.entries.iter().map(|e| e.tin.blocks().0).sum(),
-            c.entries.iter().map(|e| e.tin.cached_bytes()).sum(),
+            c.entries.values().map(|e| e.tin.blocks().0).sum(),
+            c.entries.values().map(|e| e.tin.cached_bytes()).sum(),
         )
     })
 }
