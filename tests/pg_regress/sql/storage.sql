@@ -1,5 +1,6 @@
--- Storage (format 5 here: compact groups with void triangles; 4 without
--- them): the per-row point functions read a stored terrain in slices (a
+-- Storage (format 7 here: compact groups with void triangles and each
+-- level's whole sums in the header; 6 without void triangles; 5 and 4,
+-- without the sums, before 0.26.0): the per-row point functions read a stored terrain in slices (a
 -- few blocks, each checked against its own checksum) until they have been
 -- called often enough on it to decode it whole. Answers are the same
 -- either way; format 1 values still read and tin_rewrite converts them.
