@@ -64,7 +64,7 @@ FROM (SELECT i, ST_SetSRID(ST_MakePoint(x0 + 700 + random() * (w - 1400), y0 + 7
 DELETE FROM zones_km WHERE base IS NULL;
 ANALYZE zones; ANALYZE zones_km;
 SQL
-q -F ' | ' -c "SELECT kind, count(*) AS polygons, round(avg(ST_Area(geom)) / 1e6, 3) AS km2_each, max(ST_NPoints(geom)) AS vertices,
+q -F ' | ' -c "SELECT kind, count(*) AS polygons, round((avg(ST_Area(geom)) / 1e6)::numeric, 3) AS km2_each, max(ST_NPoints(geom)) AS vertices,
   round(avg((SELECT count(*) FROM big_tins k WHERE tin_envelope(k.t) && z.geom)), 1) AS tiles_met_each,
   round(avg((SELECT count(*) FROM big_tins k WHERE ST_Covers(z.geom, tin_envelope(k.t)))), 1) AS tiles_inside_each
 FROM zones z GROUP BY kind ORDER BY min(ST_Area(geom))"

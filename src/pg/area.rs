@@ -12,6 +12,7 @@
 use pgrx::prelude::*;
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::rc::Rc;
 
 use super::args::{check_srid, GeomArg};
 use super::cache;
@@ -90,7 +91,7 @@ thread_local! {
     /// A join of one polygon with many tiles (a county over a tiled
     /// terrain) reads, checks and indexes it once, not once per tile:
     /// PostGIS's validity verdict on 4,000 vertices is a millisecond.
-    static LAST_AREA: RefCell<Option<(Vec<u8>, i32, Area)>> = const { RefCell::new(None) };
+    static LAST_AREA: RefCell<Option<(Vec<u8>, i32, Rc<Area>)>> = const { RefCell::new(None) };
 }
 
 /// Polygons up to this many serialised bytes are kept by [`LAST_AREA`].
@@ -100,7 +101,7 @@ const LAST_AREA_BYTES: usize = 16 << 20;
 /// PostGIS's validity verdict asked for only once it is known to be polygonal
 /// (the same bytes as the last call's, for the same SRID: the area checked
 /// then, the same bits).
-pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Area {
+pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Rc<Area> {
     let bytes = g.bytes();
     let held = LAST_AREA.with(|c| {
         c.borrow()
@@ -111,12 +112,12 @@ pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Area {
     if let Some(a) = held {
         return a;
     }
-    let a = area_arg(
+    let a = Rc::new(area_arg(
         gserialized::read(bytes).or_raise(),
         &|| Some(g.postgis_validity()),
         tin_srid,
         func,
-    );
+    ));
     if bytes.len() <= LAST_AREA_BYTES {
         LAST_AREA.with(|c| *c.borrow_mut() = Some((bytes.to_vec(), tin_srid, a.clone())));
     }
@@ -125,13 +126,13 @@ pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Area {
 
 /// An EWKB argument of the `_tin_*` entry points of 0.6.0 and earlier, with
 /// the verdict their SQL wrapper computed.
-pub(super) fn ewkb_area(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> Area {
-    area_arg(
+pub(super) fn ewkb_area(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> Rc<Area> {
+    Rc::new(area_arg(
         ewkb::read(bytes).or_raise(),
         &|| validity.map(str::to_string),
         tin_srid,
         func,
-    )
+    ))
 }
 
 thread_local! {
@@ -219,7 +220,7 @@ pub(super) fn triangles_rows(
     t: &TinArg,
     level: Option<i32>,
     compact: bool,
-    area: &dyn Fn(i32) -> Area,
+    area: &dyn Fn(i32) -> Rc<Area>,
 ) -> Vec<TriRow> {
     let rows = with_mesh!(t, level, |m, l, srid| {
         let area = area(srid);
@@ -341,9 +342,9 @@ fn with_header<T>(
     t: &TinArg,
     level: Option<i32>,
     geographic: Option<bool>,
-    area: &dyn Fn(i32) -> Area,
+    area: &dyn Fn(i32) -> Rc<Area>,
     from_header: impl Fn(&tinmerge_core::tin::layout::Header, usize, &Area) -> Option<T>,
-) -> (Area, Option<T>) {
+) -> (Rc<Area>, Option<T>) {
     let h = t.header();
     let a = area(h.srid);
     if h.sums.is_empty() || srid_is_geographic(geographic, h.srid, &h.bbox) {
@@ -359,7 +360,7 @@ pub(super) fn stats_row(
     t: &TinArg,
     level: Option<i32>,
     geographic: Option<bool>,
-    area: &dyn Fn(i32) -> Area,
+    area: &dyn Fn(i32) -> Rc<Area>,
 ) -> StatsRow {
     let key = value_key(t);
     let (area, got) = with_header(t, level, geographic, area, whole::stats_from_header);
@@ -448,7 +449,7 @@ pub(super) fn volume_row(
     base: f64,
     level: Option<i32>,
     geographic: Option<bool>,
-    area: &dyn Fn(i32) -> Area,
+    area: &dyn Fn(i32) -> Rc<Area>,
 ) -> (f64, f64) {
     if !base.is_finite() {
         raise(

@@ -382,44 +382,58 @@ pub fn stats() -> (u64, u64, usize, usize) {
 /// makes them. Bounded by a quarter of `tinmerge.cache_size`, least
 /// recently used out first.
 struct SumsEntry {
-    hash: u64,
-    len: u64,
-    level: usize,
     work: u64,
     sums: Option<Arc<SubtreeSums>>,
     last: u64,
 }
 
+/// Most (value, level) work counters kept: enough for the tiles a county's
+/// boundary meets, level by level (with 256, a cycle through 411 boundary
+/// tiles dropped every tile's counter and sums before its next turn, and
+/// made its sums again on every pass). An entry is a few dozen bytes; the
+/// sums themselves stay within a quarter of `tinmerge.cache_size`.
+const MAX_SUMS_ENTRIES: usize = 1 << 16;
+
 #[derive(Default)]
 struct SumsCache {
-    entries: Vec<SumsEntry>,
+    /// by (content hash, length, level)
+    entries: FxHashMap<(u64, u64, usize), SumsEntry>,
     clock: u64,
 }
 
 impl SumsCache {
     fn bytes(&self) -> usize {
         self.entries
-            .iter()
+            .values()
             .filter_map(|e| e.sums.as_ref().map(|s| s.bytes()))
             .sum()
     }
 
     /// Drop the least recently used sums until `extra` more bytes fit in
-    /// `limit` (work counters stay, up to a few hundred).
+    /// `limit`; past [`MAX_SUMS_ENTRIES`] counters, the older half of them.
     fn trim(&mut self, limit: usize, extra: usize) {
         let mut used = self.bytes();
         while used + extra > limit {
-            let Some(i) = (0..self.entries.len())
-                .filter(|&i| self.entries[i].sums.is_some())
-                .min_by_key(|&i| self.entries[i].last)
+            let Some(k) = self
+                .entries
+                .iter()
+                .filter(|(_, e)| e.sums.is_some())
+                .min_by_key(|(_, e)| e.last)
+                .map(|(k, _)| *k)
             else {
                 break;
             };
-            used -= self.entries[i].sums.take().map(|s| s.bytes()).unwrap_or(0);
+            if let Some(e) = self.entries.get_mut(&k) {
+                used -= e.sums.take().map(|s| s.bytes()).unwrap_or(0);
+            }
         }
-        if self.entries.len() > 256 {
-            self.entries.sort_by_key(|e| std::cmp::Reverse(e.last));
-            self.entries.truncate(128);
+        if self.entries.len() > MAX_SUMS_ENTRIES {
+            let mut lasts: Vec<u64> = self.entries.values().map(|e| e.last).collect();
+            let mid = lasts.len() / 2;
+            let (_, cut, _) = lasts.select_nth_unstable(mid);
+            let cut = *cut;
+            self.entries.retain(|_, e| e.last >= cut);
+            used = self.bytes();
         }
         memory::set_cached_sums(used);
     }
@@ -435,10 +449,7 @@ pub fn subtree_sums(hash: u64, len: u64, level: usize) -> Option<Arc<SubtreeSums
         let mut c = c.borrow_mut();
         c.clock += 1;
         let now = c.clock;
-        let e = c
-            .entries
-            .iter_mut()
-            .find(|e| e.hash == hash && e.len == len && e.level == level)?;
+        let e = c.entries.get_mut(&(hash, len, level))?;
         e.last = now;
         e.sums.clone()
     })
@@ -454,25 +465,11 @@ pub fn sums_due(hash: u64, len: u64, level: usize, work: u64, triangles: u64) ->
         let mut c = c.borrow_mut();
         c.clock += 1;
         let now = c.clock;
-        let i = match c
-            .entries
-            .iter()
-            .position(|e| e.hash == hash && e.len == len && e.level == level)
-        {
-            Some(i) => i,
-            None => {
-                c.entries.push(SumsEntry {
-                    hash,
-                    len,
-                    level,
-                    work: 0,
-                    sums: None,
-                    last: now,
-                });
-                c.entries.len() - 1
-            }
-        };
-        let e = &mut c.entries[i];
+        let e = c.entries.entry((hash, len, level)).or_insert(SumsEntry {
+            work: 0,
+            sums: None,
+            last: now,
+        });
         e.last = now;
         e.work = e.work.saturating_add(work);
         e.sums.is_none() && e.work.saturating_mul(4) >= triangles
@@ -502,14 +499,13 @@ pub fn make_sums(
         let mut c = c.borrow_mut();
         c.trim(limit, sums.bytes());
         let now = c.clock;
-        if let Some(e) = c
-            .entries
-            .iter_mut()
-            .find(|e| e.hash == hash && e.len == len && e.level == level)
-        {
-            e.sums = Some(sums.clone());
-            e.last = now;
-        }
+        let e = c.entries.entry((hash, len, level)).or_insert(SumsEntry {
+            work: 0,
+            sums: None,
+            last: now,
+        });
+        e.sums = Some(sums.clone());
+        e.last = now;
         let used = c.bytes();
         memory::set_cached_sums(used);
     });
