@@ -104,15 +104,17 @@ SET client_min_messages = warning;
 SET max_parallel_workers_per_gather = 0;
 DROP TABLE IF EXISTS zonal_tin, zonal_pg, zonal_cut_tin, zonal_cut_pg;
 CREATE TABLE zonal_tin AS $(tin_q "%" | sed "s/z.kind = '%'/true/; s/SELECT z.id,/SELECT z.kind, z.id,/; s/GROUP BY z.id/GROUP BY z.kind, z.id/");
-CREATE TABLE zonal_pg AS $(pg_q "%" | sed "s/z.kind = '%'/true/; s/SELECT z.id,/SELECT z.kind, z.id,/; s/GROUP BY z.id/GROUP BY z.kind, z.id/");
+CREATE TABLE zonal_pg AS $(pg_q "%" | sed "s/z.kind = '%'/true/; s/SELECT z.id,/SELECT z.kind, z.id, (ST_SummaryStatsAgg(ST_Clip(r.rast, z.geom), 1, true)).count AS valid,/; s/GROUP BY z.id/GROUP BY z.kind, z.id/");
 CREATE TABLE zonal_cut_tin AS $CUT_TIN;
 CREATE TABLE zonal_cut_pg AS $CUT_PG;
 SQL
-q -F ' | ' <<'SQL'
+q -F ' | ' <<SQL
 SELECT kind, count(*) AS compared,
        round(percentile_cont(0.5) WITHIN GROUP (ORDER BY abs(a.mean_z - b.mean_z))::numeric, 3) AS median_abs_mean_z_diff_m,
        round(max(abs(a.mean_z - b.mean_z))::numeric, 3) AS max_abs_mean_z_diff_m,
-       max(abs(a.area2d - ST_Area(z.geom)) / ST_Area(z.geom)) AS max_rel_area_diff_from_st_area
+       count(*) FILTER (WHERE b.valid * $px2 < 0.99 * ST_Area(z.geom)) AS over_nodata_by_postgis_pixels,
+       count(*) FILTER (WHERE a.area2d < 0.99 * ST_Area(z.geom)) AS over_nodata_by_tinmerge_area,
+       max(abs(a.area2d - ST_Area(z.geom)) / ST_Area(z.geom)) FILTER (WHERE b.valid * $px2 >= 0.99 * ST_Area(z.geom)) AS max_rel_area_diff_from_st_area_elsewhere
 FROM zonal_tin a JOIN zonal_pg b USING (kind, id) JOIN zones z USING (kind, id)
 GROUP BY kind ORDER BY min(ST_Area(z.geom));
 SELECT 'cut and fill of 1 km²' AS what, count(*) AS compared,
