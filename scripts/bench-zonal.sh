@@ -75,11 +75,14 @@ px2=$(q -c "SELECT abs(ST_ScaleX(rast) * ST_ScaleY(rast)) FROM big_tiles LIMIT 1
 CUT_TIN="SELECT z.id, sum(v.cut) AS cut, sum(v.fill) AS fill FROM zones_km z JOIN big_tins k ON tin_envelope(k.t) && z.geom, LATERAL tin_volume(k.t, z.geom, z.base) v GROUP BY z.id"
 CUT_PG="SELECT z.id, $px2 * sum(coalesce((ST_SummaryStats(ST_MapAlgebra(c.r, 1, '32BF', 'GREATEST([rast] - ' || z.base || ', 0)'))).sum, 0)) AS cut, $px2 * sum(coalesce((ST_SummaryStats(ST_MapAlgebra(c.r, 1, '32BF', 'GREATEST(' || z.base || ' - [rast], 0)'))).sum, 0)) AS fill FROM zones_km z JOIN big_tiles t ON ST_Intersects(t.rast, z.geom), LATERAL (SELECT ST_Clip(t.rast, z.geom) AS r) c GROUP BY z.id"
 
-# ms per query: cold (first of a connection) and the warm median
+# ms per query: cold (first of a connection) and the warm median (after
+# one more run: a tile read in slices on its first call is decoded whole on
+# its second, and kept)
 timed() { # query warm_runs -> "cold warm"
   scripts/cluster.sh psql -qAtX -d "$DB" \
     -c "SET max_parallel_workers_per_gather = 0" -c "SET client_min_messages = warning" \
     -c "CREATE TEMP TABLE c AS SELECT median_ms FROM bench('', \$q\$SELECT count(s::text) FROM ($1) s\$q\$, 1)" \
+    -c "CREATE TEMP TABLE w AS SELECT median_ms FROM bench('', \$q\$SELECT count(s::text) FROM ($1) s\$q\$, 1)" \
     -c "SELECT (SELECT median_ms FROM c) || ' ' || median_ms FROM bench('', \$q\$SELECT count(s::text) FROM ($1) s\$q\$, $2)"
 }
 echo "== time (ms; one core): polygons | tinmerge cold | warm | PostGIS cold | warm | PostGIS / tinmerge (warm) | tinmerge per polygon"
