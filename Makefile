@@ -36,6 +36,7 @@ bench:
 	scripts/bench-build.sh
 	scripts/bench-slices.sh
 	scripts/bench-big.sh
+	scripts/bench-zonal.sh
 	scripts/bench-overviews.sh
 	scripts/bench-giga.sh
 	scripts/bench-area.sh
