@@ -126,7 +126,12 @@ pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Rc<Area> {
 
 /// An EWKB argument of the `_tin_*` entry points of 0.6.0 and earlier, with
 /// the verdict their SQL wrapper computed.
-pub(super) fn ewkb_area(bytes: &[u8], validity: Option<&str>, tin_srid: i32, func: &str) -> Rc<Area> {
+pub(super) fn ewkb_area(
+    bytes: &[u8],
+    validity: Option<&str>,
+    tin_srid: i32,
+    func: &str,
+) -> Rc<Area> {
     Rc::new(area_arg(
         ewkb::read(bytes).or_raise(),
         &|| validity.map(str::to_string),
@@ -431,7 +436,12 @@ fn tin_surface_area(
     let (Some(t), Some(g)) = (t, area) else {
         return None;
     };
-    Some(stats_row(&t, level, None, &|srid| geom_area(&g, srid, "tin_surface_area")).1)
+    Some(
+        stats_row(&t, level, None, &|srid| {
+            geom_area(&g, srid, "tin_surface_area")
+        })
+        .1,
+    )
 }
 
 extension_sql!(
@@ -465,8 +475,7 @@ pub(super) fn volume_row(
         with_mesh!(t, level, |m, l, srid| {
             let units = area_units(geographic, srid, m.bbox(), "tin_volume");
             let (s, sums) = swept(key, m, l, &area, units);
-            volume_parts_with(m, &area, &s, base, sums.as_deref(), units, &mut interrupt)
-                .or_raise()
+            volume_parts_with(m, &area, &s, base, sums.as_deref(), units, &mut interrupt).or_raise()
         })
     });
     (v.cut, v.fill)

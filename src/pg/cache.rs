@@ -264,7 +264,10 @@ struct Sliced {
 impl Sliced {
     /// The least recently used entry's key.
     fn oldest(&self) -> Option<(u64, u64)> {
-        self.entries.iter().min_by_key(|(_, e)| e.last).map(|(k, _)| *k)
+        self.entries
+            .iter()
+            .min_by_key(|(_, e)| e.last)
+            .map(|(k, _)| *k)
     }
 }
 

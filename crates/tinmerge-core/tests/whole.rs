@@ -17,8 +17,8 @@ use tinmerge_core::merge::area::whole::{level_sums, stats_from_header, volume_fr
 use tinmerge_core::merge::area::{Method, sweep};
 use tinmerge_core::tin::Tin;
 use tinmerge_core::tin::layout::{
-    HEADER_LEN_V6, LevelSums, SUMS_AT, VERSION_6, VERSION_7, decode, encode_with_sums,
-    read_header, reseal,
+    HEADER_LEN_V6, LevelSums, SUMS_AT, VERSION_6, VERSION_7, decode, encode_with_sums, read_header,
+    reseal,
 };
 
 type P2 = [f64; 2];
@@ -90,23 +90,40 @@ fn check(name: &str, tin: &Tin) {
         let what = |f: &str| format!("{name} level {l}: {f}");
         close(s.area2d, o.area2d, o.area2d, &what("planar area"));
         close(s.area3d, o.area3d, o.area3d, &what("surface area"));
-        assert_eq!((s.min_z, s.max_z), (o.min_z, o.max_z), "{}", what("extremes"));
+        assert_eq!(
+            (s.min_z, s.max_z),
+            (o.min_z, o.max_z),
+            "{}",
+            what("extremes")
+        );
         let zs = o.area2d * o.max_z.abs().max(o.min_z.abs());
         close(s.z_integral, o.z_integral, zs, &what("integral of z"));
-        close(s.slope_integral, o.slope_integral, o.area2d * 90.0, &what("integral of slope"));
+        close(
+            s.slope_integral,
+            o.slope_integral,
+            o.area2d * 90.0,
+            &what("integral of slope"),
+        );
         close(s.max_slope, o.max_slope, 90.0, &what("steepest slope"));
     }
     let stored = encode_with_sums(tin, None, &sums);
     let h = read_header(&stored).unwrap();
     let void = tin.levels.iter().any(|l| l.num_void > 0);
-    assert_eq!(h.version, if void { VERSION_7 } else { VERSION_6 }, "{name}");
+    assert_eq!(
+        h.version,
+        if void { VERSION_7 } else { VERSION_6 },
+        "{name}"
+    );
     assert_eq!(h.sums, sums, "{name}: sums read back");
     assert_eq!(&decode(&stored).unwrap(), tin, "{name}: the tin read back");
 
     let b = tin.bbox;
     let (w, hgt) = (b.max_x - b.min_x, b.max_y - b.min_y);
     let holding = [
-        ("the bounding box itself", rect(b.min_x, b.min_y, b.max_x, b.max_y)),
+        (
+            "the bounding box itself",
+            rect(b.min_x, b.min_y, b.max_x, b.max_y),
+        ),
         (
             "a rectangle around",
             rect(b.min_x - w, b.min_y - hgt, b.max_x + w, b.max_y + hgt),
@@ -128,8 +145,15 @@ fn check(name: &str, tin: &Tin) {
             let s = sweep(tin, l, area, Method::Hierarchy, &mut no_interrupt).unwrap();
             let subtree = (l > 0)
                 .then(|| SubtreeSums::build(tin, l, Units::Planar, &mut no_interrupt).unwrap());
-            let slow = stats_with(tin, area, &s, subtree.as_ref(), Units::Planar, &mut no_interrupt)
-                .unwrap();
+            let slow = stats_with(
+                tin,
+                area,
+                &s,
+                subtree.as_ref(),
+                Units::Planar,
+                &mut no_interrupt,
+            )
+            .unwrap();
             let fast = stats_from_header(&h, l, area)
                 .unwrap_or_else(|| panic!("{name} level {l}: {what} not answered from the header"));
             assert_eq!(fast, slow, "{name} level {l}: {what}");
@@ -146,8 +170,18 @@ fn check(name: &str, tin: &Tin) {
                 .unwrap();
                 let f = volume_from_header(&h, l, area, base).unwrap();
                 let scale = slow.area2d * (b.max_z - b.min_z + 2.0);
-                close(f.cut, v.cut, scale, &format!("{name} level {l} {what}: cut"));
-                close(f.fill, v.fill, scale, &format!("{name} level {l} {what}: fill"));
+                close(
+                    f.cut,
+                    v.cut,
+                    scale,
+                    &format!("{name} level {l} {what}: cut"),
+                );
+                close(
+                    f.fill,
+                    v.fill,
+                    scale,
+                    &format!("{name} level {l} {what}: fill"),
+                );
                 assert_eq!((f.area_above, f.area_below), (v.area_above, v.area_below));
             }
             // a base the surface reaches: the triangles must say
@@ -281,7 +315,12 @@ fn contains_box_agrees_with_geo() {
     assert!(yes > 300 && no > 300, "{yes} boxes inside, {no} not");
     // a diamond |x| + |y| <= 10: its edges run through the corners of the
     // square of side 10, which it covers; a hair more does not
-    let diamond = Area::new(vec![vec![vec![[10.0, 0.0], [0.0, 10.0], [-10.0, 0.0], [0.0, -10.0]]]]);
+    let diamond = Area::new(vec![vec![vec![
+        [10.0, 0.0],
+        [0.0, 10.0],
+        [-10.0, 0.0],
+        [0.0, -10.0],
+    ]]]);
     assert!(diamond.contains_box([-5.0, -5.0, 5.0, 5.0]));
     assert!(!diamond.contains_box([-5.0, -5.0, 5.000001, 5.0]));
     assert!(diamond.contains_box([-1.0, -9.0, 1.0, 9.0]));
@@ -310,7 +349,12 @@ fn damaged_or_crafted_sums_are_errors() {
         ("a NaN integral", 2, 4, f64::NAN),
         ("an infinite area", 0, 0, f64::INFINITY),
         ("a negative area", 4, 0, -1.0),
-        ("a surface smaller than its plane", 1, 1, sums[1].area2d / 2.0),
+        (
+            "a surface smaller than its plane",
+            1,
+            1,
+            sums[1].area2d / 2.0,
+        ),
         ("a height under the bbox", 3, 2, tin.bbox.min_z - 1.0),
         ("min over max", 3, 2, sums[3].max_z + 1.0),
         ("a slope over 90 degrees", 0, 6, 91.0),
@@ -320,7 +364,10 @@ fn damaged_or_crafted_sums_are_errors() {
         put(&mut b, level, field, v);
         reseal(&mut b);
         let e = read_header(&b).unwrap_err().to_string();
-        assert!(e.contains(&format!("level {level}'s stored sums")), "{what}: {e}");
+        assert!(
+            e.contains(&format!("level {level}'s stored sums")),
+            "{what}: {e}"
+        );
         assert!(decode(&b).is_err(), "{what}");
     }
     assert!(good.len() > HEADER_LEN_V6);

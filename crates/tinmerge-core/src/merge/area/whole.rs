@@ -109,11 +109,6 @@ pub fn stats_from_header(h: &Header, level: usize, area: &Area) -> Option<Surfac
 /// Cut and fill against `base` from the header, when
 /// [`stats_from_header`] answers and the level lies wholly above or wholly
 /// below the base (otherwise the triangles that reach it must be read).
-pub fn volume_from_header(
-    h: &Header,
-    level: usize,
-    area: &Area,
-    base: f64,
-) -> Option<VolumeParts> {
+pub fn volume_from_header(h: &Header, level: usize, area: &Area, base: f64) -> Option<VolumeParts> {
     VolumeParts::of_subtree(&stats_from_header(h, level, area)?, base)
 }
