@@ -85,13 +85,17 @@ fn area_arg(g: Ewkb, validity: &dyn Fn() -> Option<String>, tin_srid: i32, func:
     )
 }
 
+/// A polygon's serialised bytes, the tin SRID it was checked against, and
+/// the area made of it.
+type KeptArea = (Vec<u8>, i32, Rc<Area>);
+
 thread_local! {
     /// The last polygon this backend read, checked, as an area: its
     /// serialised bytes, the tin SRID it was checked against, the area.
     /// A join of one polygon with many tiles (a county over a tiled
     /// terrain) reads, checks and indexes it once, not once per tile:
     /// PostGIS's validity verdict on 4,000 vertices is a millisecond.
-    static LAST_AREA: RefCell<Option<(Vec<u8>, i32, Rc<Area>)>> = const { RefCell::new(None) };
+    static LAST_AREA: RefCell<Option<KeptArea>> = const { RefCell::new(None) };
 }
 
 /// Polygons up to this many serialised bytes are kept by [`LAST_AREA`].
