@@ -37,24 +37,13 @@ use crate::merge::area::Sweep;
 use crate::merge::area::clip::{Chain, Moments, clip_chains, clip_convex, clipped_moments};
 use crate::polygon::{Area, Where};
 use crate::tin::TinError;
+use crate::tin::layout::LevelSums;
 use crate::tin::mesh::Mesh;
 
-/// Statistics of the clipped surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SurfaceStats {
-    /// Planar area.
-    pub area2d: f64,
-    /// Surface area.
-    pub area3d: f64,
-    pub min_z: f64,
-    pub max_z: f64,
-    /// Integral of z over the planar area.
-    pub z_integral: f64,
-    /// Integral of the slope (degrees) over the planar area.
-    pub slope_integral: f64,
-    /// Steepest triangle with some area inside, degrees.
-    pub max_slope: f64,
-}
+/// Statistics of the clipped surface: the record a stored value keeps for
+/// each level's whole surface ([`LevelSums`], in the storage layer below
+/// this one, so one definition serves both).
+pub type SurfaceStats = LevelSums;
 
 impl SurfaceStats {
     /// Nothing yet: no area, extremes at their identities.

@@ -71,16 +71,14 @@ where
         } else {
             None
         };
-        let st = stats_with(tin, &around, &s, sums.as_ref(), Units::Planar, interrupt)?;
-        out.push(LevelSums {
-            area2d: st.area2d,
-            area3d: st.area3d,
-            min_z: st.min_z,
-            max_z: st.max_z,
-            z_integral: st.z_integral,
-            slope_integral: st.slope_integral,
-            max_slope: st.max_slope,
-        });
+        out.push(stats_with(
+            tin,
+            &around,
+            &s,
+            sums.as_ref(),
+            Units::Planar,
+            interrupt,
+        )?);
     }
     Ok(out)
 }
@@ -92,18 +90,8 @@ where
 pub fn stats_from_header(h: &Header, level: usize, area: &Area) -> Option<SurfaceStats> {
     let s = h.level_sums(level)?;
     let b = &h.bbox;
-    if !area.contains_box([b.min_x, b.min_y, b.max_x, b.max_y]) {
-        return None;
-    }
-    Some(SurfaceStats {
-        area2d: s.area2d,
-        area3d: s.area3d,
-        min_z: s.min_z,
-        max_z: s.max_z,
-        z_integral: s.z_integral,
-        slope_integral: s.slope_integral,
-        max_slope: s.max_slope,
-    })
+    area.contains_box([b.min_x, b.min_y, b.max_x, b.max_y])
+        .then_some(*s)
 }
 
 /// Cut and fill against `base` from the header, when

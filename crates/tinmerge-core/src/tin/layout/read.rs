@@ -78,14 +78,21 @@ pub struct LevelInfo {
 /// (`merge::area::whole`): planar and surface area, min and max height,
 /// the integrals of height and of slope (degrees) over the planar area, the
 /// steepest slope.
+/// The area merge works with the same record
+/// (`merge::area::surface::SurfaceStats`) for any clipped surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LevelSums {
+    /// Planar area.
     pub area2d: f64,
+    /// Surface area.
     pub area3d: f64,
     pub min_z: f64,
     pub max_z: f64,
+    /// Integral of z over the planar area.
     pub z_integral: f64,
+    /// Integral of the slope (degrees) over the planar area.
     pub slope_integral: f64,
+    /// Steepest triangle with some area inside, degrees.
     pub max_slope: f64,
 }
 
