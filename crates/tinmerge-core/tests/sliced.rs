@@ -139,10 +139,10 @@ fn sliced_reads_answer_as_the_decoded_value() {
 }
 
 /// Places to damage: (byte offset, what the error names) for about 40
-/// groups of a format-4 value or blocks of a format-3 one.
+/// groups of a format-4 or -6 value or blocks of a format-3 one.
 fn damage_sites(stored: &[u8]) -> Vec<(usize, String)> {
     let h = layout::read_header(stored).unwrap();
-    if h.version == layout::VERSION {
+    if h.version == layout::VERSION || h.version == layout::VERSION_6 {
         let ranges = layout::group_ranges(stored, &layout::plan(&h)).unwrap();
         let step = ranges.len() / 40 + 1;
         (0..ranges.len())
