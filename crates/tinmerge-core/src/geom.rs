@@ -297,11 +297,15 @@ pub fn crossing(p: P2, q: P2, u: P2, v: P2) -> P2 {
 /// assert!(is_strictly_convex_ring(&square));
 /// let bowtie = [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]];
 /// assert!(!is_strictly_convex_ring(&bowtie));
+/// // a 2D ring as the readers give it: z is NaN
+/// let flat = square.map(|p| [p[0], p[1], f64::NAN]);
+/// assert!(is_strictly_convex_ring(&flat));
 /// ```
 pub fn is_strictly_convex_ring(ring: &[[f64; 3]]) -> bool {
     let n = ring.len();
+    // closed in x, y (a 2D ring's z is NaN, which equals nothing)
     if n < 4
-        || ring[0] != ring[n - 1]
+        || ring[0][..2] != ring[n - 1][..2]
         || ring.iter().any(|p| !(p[0].is_finite() && p[1].is_finite()))
     {
         return false;

@@ -932,8 +932,12 @@ fn strictly_convex_rings_agree_with_geo_and_are_valid() {
     };
     use tinmerge_core::geom::is_strictly_convex_ring;
     let mut rng = StdRng::seed_from_u64(27);
-    let ring3 =
-        |ls: &LineString<f64>| -> Vec<[f64; 3]> { ls.0.iter().map(|c| [c.x, c.y, 0.0]).collect() };
+    // as the readers give a 2D ring: z is NaN (with z = 0 here, a check
+    // comparing whole points passed this test while every 2D polygon
+    // users send went to GEOS)
+    let ring3 = |ls: &LineString<f64>| -> Vec<[f64; 3]> {
+        ls.0.iter().map(|c| [c.x, c.y, f64::NAN]).collect()
+    };
     let (mut yes, mut no) = (0, 0);
     for case in 0..6000 {
         let (ox, oy, s) = match case % 3 {
