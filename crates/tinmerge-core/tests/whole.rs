@@ -42,13 +42,7 @@ fn oracle(tin: &Tin, l: usize) -> LevelSums {
     };
     for t in 0..live as u32 {
         let c = tin.corners(l, t);
-        let u = [c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]];
-        let v = [c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]];
-        let n = [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ];
+        let n = common::normal(&c);
         let a = n[2] / 2.0;
         assert!(a > 0.0, "level {l} triangle {t} is not counter-clockwise");
         let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();

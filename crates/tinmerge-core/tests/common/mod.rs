@@ -448,12 +448,19 @@ pub fn edge_on(
 /// code of the extension's), for the oracles.
 #[allow(dead_code)]
 pub fn plane_height(c: &[[f64; 3]; 3], x: f64, y: f64) -> f64 {
+    let n = normal(c);
+    c[0][2] - (n[0] * (x - c[0][0]) + n[1] * (y - c[0][1])) / n[2]
+}
+
+/// The cross product of a triangle's sides from its first corner: its
+/// normal, twice its area long (z up for a counter-clockwise triangle).
+#[allow(dead_code)]
+pub fn normal(c: &[[f64; 3]; 3]) -> [f64; 3] {
     let u = [c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]];
     let v = [c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]];
-    let n = [
+    [
         u[1] * v[2] - u[2] * v[1],
         u[2] * v[0] - u[0] * v[2],
         u[0] * v[1] - u[1] * v[0],
-    ];
-    c[0][2] - (n[0] * (x - c[0][0]) + n[1] * (y - c[0][1])) / n[2]
+    ]
 }
