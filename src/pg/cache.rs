@@ -405,6 +405,16 @@ struct SumsCache {
 }
 
 impl SumsCache {
+    /// The entry of (hash, length, level), a fresh counter when there is
+    /// none.
+    fn entry(&mut self, key: (u64, u64, usize), now: u64) -> &mut SumsEntry {
+        self.entries.entry(key).or_insert(SumsEntry {
+            work: 0,
+            sums: None,
+            last: now,
+        })
+    }
+
     fn bytes(&self) -> usize {
         self.entries
             .values()
@@ -468,11 +478,7 @@ pub fn sums_due(hash: u64, len: u64, level: usize, work: u64, triangles: u64) ->
         let mut c = c.borrow_mut();
         c.clock += 1;
         let now = c.clock;
-        let e = c.entries.entry((hash, len, level)).or_insert(SumsEntry {
-            work: 0,
-            sums: None,
-            last: now,
-        });
+        let e = c.entry((hash, len, level), now);
         e.last = now;
         e.work = e.work.saturating_add(work);
         e.sums.is_none() && e.work.saturating_mul(4) >= triangles
@@ -502,11 +508,7 @@ pub fn make_sums(
         let mut c = c.borrow_mut();
         c.trim(limit, sums.bytes());
         let now = c.clock;
-        let e = c.entries.entry((hash, len, level)).or_insert(SumsEntry {
-            work: 0,
-            sums: None,
-            last: now,
-        });
+        let e = c.entry((hash, len, level), now);
         e.sums = Some(sums.clone());
         e.last = now;
         let used = c.bytes();

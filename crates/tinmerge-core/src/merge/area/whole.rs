@@ -7,8 +7,8 @@
 //! the hierarchical sweep finds every level-0 triangle wholly inside, and
 //! each adds its descendants' sums in order. So a polygon that holds the
 //! terrain's bounding box ([`Area::contains_box`]) gets the same bits from
-//! the header as from the triangles (tests/area.rs checks it on both
-//! bundled DEMs, with nodata, at every level). They are in the tin's own
+//! the header as from the triangles (tests/whole.rs checks it on both
+//! bundled DEMs, with nodata, and on tiles, at every level). They are in the tin's own
 //! units: a tin in a geographic SRID, measured in metres on its spheroid,
 //! sums its triangles instead.
 //!
