@@ -219,31 +219,16 @@ SET search_path FROM CURRENT;
 COMMENT ON FUNCTION tin_line_climb(tin, text, int) IS
 'tin_line_climb of a line given as text (WKT or EWKT, e.g. an untyped literal): the value for line::geometry.';
 
--- Area merge: tin_area_triangles, tin_area_stats, tin_surface_area and tin_volume are Rust
--- functions (src/pg/area.rs, and src/pg/overlay.rs for tin_volume of two
--- tins: flags, cost, rows, comments) that take the
--- geometry itself. They pin this search_path, through which they find
--- PostGIS's ST_IsValidReason (their validity verdict, called by OID) and,
--- for the two that measure (in metres on the spheroid for a geographic
--- tin), spatial_ref_sys (read once per backend per SRID, and only when the
--- tin's extent could be in degrees).
-ALTER FUNCTION tin_area_triangles(tin, geometry, int, boolean) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_area_stats(tin, geometry, int) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_volume(tin, geometry, float8, int) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_surface_area(tin, geometry, int) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_volume(tin, tin, geometry, int, int) SET search_path FROM CURRENT;
--- tin_slope_aspect (src/pg/analysis.rs) refuses a geographic tin the same way
-ALTER FUNCTION tin_slope_aspect(tin, int) SET search_path FROM CURRENT;
--- tin_line_of_sight (src/pg/analysis.rs) reads spatial_ref_sys the same way
--- (a geographic tin's degrees in metres, for the earth's curvature)
-ALTER FUNCTION tin_line_of_sight(tin, geometry, geometry, float8, float8, int, boolean, float8) SET search_path FROM CURRENT;
--- the quantized-mesh functions (src/pg/serve.rs) find PostGIS's
--- ST_Transform through it
-ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, boolean, float8, geometry, boolean) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh(tin, int, int, int, int, boolean, float8, geometry, boolean) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh_layer(tin, boolean, boolean, text, boolean, boolean) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh(tin[], int, int, int, boolean, float8, geometry, boolean) SET search_path FROM CURRENT;
-ALTER FUNCTION tin_quantized_mesh_layer(tin[], boolean, boolean, text, boolean, boolean) SET search_path FROM CURRENT;
+-- The Rust functions that call PostGIS (tin_area_triangles, tin_area_stats,
+-- tin_surface_area, tin_volume: ST_IsValidReason, their validity verdict,
+-- called by OID; the quantized-mesh functions: ST_Transform) or read its
+-- spatial_ref_sys (the area functions, tin_slope_aspect and
+-- tin_line_of_sight, for a tin whose extent could be in degrees) find them
+-- in PostGIS's schema, looked up in pg_extension once per backend
+-- (src/pg/args.rs, postgis()), so they work whatever the session's
+-- search_path and pin none: a function with a SET clause pays a
+-- configuration change on every call (0.27.0; until 0.26.0 they pinned this
+-- search_path, 6 % of a zonal join's time).
 
 -- raster merge
 CREATE FUNCTION tin_raster_stats(t tin, rast raster, level int DEFAULT NULL, band int DEFAULT 1, weighted boolean DEFAULT false, half_open boolean DEFAULT false)

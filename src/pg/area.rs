@@ -2,9 +2,10 @@
 //! `tin_volume`. They take the `geometry` itself (read in PostGIS's
 //! serialisation) and ask PostGIS's `ST_IsValidReason` for its verdict by
 //! OID, so no SQL wrapper is planned per call (0.7.0; the first call of a
-//! backend was 0.13 ms slower through the wrapper). They run with the
-//! search_path pinned by sql/tinmerge.sql (`SET search_path FROM CURRENT`),
-//! through which `ST_IsValidReason` and `spatial_ref_sys` are found. Not
+//! backend was 0.13 ms slower through the wrapper). `ST_IsValidReason` and
+//! `spatial_ref_sys` are found in PostGIS's schema (`args::postgis`), so
+//! they pin no search_path (since 0.27.0: a pinned one cost every call a
+//! configuration change). Not
 //! STRICT (a NULL level means finest): a NULL tin, polygon or base height
 //! gives no rows. The `_tin_*` entry points of 0.6.0 and earlier (EWKB and
 //! the verdict as arguments) are in [`super::compat`].
@@ -85,45 +86,51 @@ fn area_arg(g: Ewkb, validity: &dyn Fn() -> Option<String>, tin_srid: i32, func:
     )
 }
 
-/// A polygon's serialised bytes, the tin SRID it was checked against, and
-/// the area made of it.
-type KeptArea = (Vec<u8>, i32, Rc<Area>);
+/// A polygon argument as it was passed ([`GeomArg::as_passed`]: its bytes,
+/// compressed form or TOAST pointer), the transaction a TOAST pointer was
+/// met in, the tin SRID it was checked against, and the area made of it.
+type KeptArea = (Vec<u8>, Option<i64>, i32, Rc<Area>);
 
 thread_local! {
-    /// The last polygon this backend read, checked, as an area: its
-    /// serialised bytes, the tin SRID it was checked against, the area.
-    /// A join of one polygon with many tiles (a county over a tiled
-    /// terrain) reads, checks and indexes it once, not once per tile:
-    /// PostGIS's validity verdict on 4,000 vertices is a millisecond.
+    /// The last polygon this backend read, checked, as an area, keyed by
+    /// the argument as passed: a join of one polygon with many tiles (a
+    /// county over a tiled terrain) reads, checks and indexes it once, not
+    /// once per tile (PostGIS's validity verdict on 4,000 vertices is a
+    /// millisecond), and does not even detoast or decompress it again
+    /// (12 % of a county's join).
     static LAST_AREA: RefCell<Option<KeptArea>> = const { RefCell::new(None) };
 }
 
-/// Polygons up to this many serialised bytes are kept by [`LAST_AREA`].
+/// Polygons passed in up to this many bytes are kept by [`LAST_AREA`].
 const LAST_AREA_BYTES: usize = 16 << 20;
 
 /// A `geometry` argument read whole from PostGIS's serialisation, with
 /// PostGIS's validity verdict asked for only once it is known to be polygonal
-/// (the same bytes as the last call's, for the same SRID: the area checked
-/// then, the same bits).
+/// (the same argument as the last call's, for the same SRID: the area
+/// checked then, the same bits).
 pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Rc<Area> {
-    let bytes = g.bytes();
-    let held = LAST_AREA.with(|c| {
-        c.borrow()
-            .as_ref()
-            .filter(|(b, srid, _)| *srid == tin_srid && b.as_slice() == bytes)
-            .map(|(_, _, a)| a.clone())
+    let passed = g.as_passed();
+    // a TOAST pointer names one value only within a transaction
+    let key = passed.map(|(b, on_disk)| (b, on_disk.then(super::tin_type::transaction_epoch)));
+    let held = key.and_then(|(b, epoch)| {
+        LAST_AREA.with(|c| {
+            c.borrow()
+                .as_ref()
+                .filter(|(kb, ke, srid, _)| *srid == tin_srid && *ke == epoch && kb.as_slice() == b)
+                .map(|(_, _, _, a)| a.clone())
+        })
     });
     if let Some(a) = held {
         return a;
     }
     let a = Rc::new(area_arg(
-        gserialized::read(bytes).or_raise(),
+        gserialized::read(g.bytes()).or_raise(),
         &|| Some(g.postgis_validity()),
         tin_srid,
         func,
     ));
-    if bytes.len() <= LAST_AREA_BYTES {
-        LAST_AREA.with(|c| *c.borrow_mut() = Some((bytes.to_vec(), tin_srid, a.clone())));
+    if let Some((b, epoch)) = key.filter(|(b, _)| b.len() <= LAST_AREA_BYTES) {
+        LAST_AREA.with(|c| *c.borrow_mut() = Some((b.to_vec(), epoch, tin_srid, a.clone())));
     }
     a
 }
@@ -144,6 +151,27 @@ pub(super) fn ewkb_area(
     ))
 }
 
+/// The proj4text and srtext of `srid` in PostGIS's spatial_ref_sys (found
+/// in PostGIS's schema, whatever the search_path), None when it has no row.
+fn srs_text(srid: i32) -> Option<(String, String)> {
+    let (schema, _) = super::args::postgis();
+    let (proj4, srtext) = Spi::get_two_with_args::<String, String>(
+        &format!(
+            "SELECT (SELECT s.proj4text FROM {schema}.spatial_ref_sys s WHERE s.srid OPERATOR(pg_catalog.=) $1), \
+                    (SELECT s.srtext FROM {schema}.spatial_ref_sys s WHERE s.srid OPERATOR(pg_catalog.=) $1)"
+        ),
+        &[srid.into()],
+    )
+    .unwrap_or_else(|e| {
+        raise(
+            PgSqlErrorCode::ERRCODE_UNDEFINED_TABLE,
+            format!("could not read SRID {srid} from PostGIS's spatial_ref_sys: {e}"),
+        )
+    });
+    (proj4.is_some() || srtext.is_some())
+        .then(|| (proj4.unwrap_or_default(), srtext.unwrap_or_default()))
+}
+
 thread_local! {
     /// SRIDs this backend has looked up in spatial_ref_sys, and whether
     /// each is geographic (PostGIS, too, keeps what it has read of an SRID
@@ -155,8 +183,8 @@ thread_local! {
 /// its units: `given` when the caller says, never for an extent that cannot
 /// be in degrees (|x| > 540 or |y| > 90: a projected terrain, decided with
 /// no look-up), otherwise whether spatial_ref_sys describes the SRID as
-/// longitude/latitude (read once per SRID and backend, through the SQL
-/// wrapper's search_path).
+/// longitude/latitude (read once per SRID and backend, in PostGIS's
+/// schema).
 pub(super) fn srid_is_geographic(given: Option<bool>, srid: i32, b: &Bbox) -> bool {
     if let Some(g) = given {
         return g;
@@ -171,17 +199,11 @@ pub(super) fn srid_is_geographic(given: Option<bool>, srid: i32, b: &Bbox) -> bo
     if let Some(g) = GEOGRAPHIC.with(|c| c.borrow().get(&srid).copied()) {
         return g;
     }
-    let g = Spi::get_one_with_args::<bool>(
-        "SELECT coalesce((SELECT s.proj4text LIKE '%+proj=longlat%' OR s.srtext LIKE 'GEOGCS%' OR s.srtext LIKE 'GEOGCRS%' FROM spatial_ref_sys s WHERE s.srid = $1), false)",
-        &[srid.into()],
-    )
-    .unwrap_or_else(|e| {
-        raise(
-            PgSqlErrorCode::ERRCODE_UNDEFINED_TABLE,
-            format!("could not read SRID {srid} from PostGIS's spatial_ref_sys: {e}"),
-        )
-    })
-    .unwrap_or(false);
+    let g = srs_text(srid).is_some_and(|(proj4, srtext)| {
+        proj4.contains("+proj=longlat")
+            || srtext.starts_with("GEOGCS")
+            || srtext.starts_with("GEOGCRS")
+    });
     GEOGRAPHIC.with(|c| c.borrow_mut().insert(srid, g));
     g
 }
@@ -203,13 +225,7 @@ pub(super) fn area_units(geographic: Option<bool>, srid: i32, bbox: &Bbox, func:
     if let Some(s) = SPHEROIDS.with(|c| c.borrow().get(&srid).copied()) {
         return Units::Degrees(s);
     }
-    let def = Spi::get_one_with_args::<String>(
-        "SELECT s.proj4text FROM spatial_ref_sys s WHERE s.srid = $1",
-        &[srid.into()],
-    )
-    .ok()
-    .flatten()
-    .unwrap_or_default();
+    let def = srs_text(srid).map(|(proj4, _)| proj4).unwrap_or_default();
     let Some(s) = Spheroid::from_proj4(&def) else {
         raise(
             PgSqlErrorCode::ERRCODE_INVALID_PARAMETER_VALUE,

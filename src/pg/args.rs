@@ -18,6 +18,28 @@ raw_datum_arg!(
 );
 
 impl GeomArg {
+    /// The argument as it was passed, before any detoasting: its varlena
+    /// bytes (the value itself, its compressed form, or, for a value stored
+    /// out of line, the 18-byte TOAST pointer), and whether they are an
+    /// on-disk TOAST pointer, which names the value only while this
+    /// transaction runs (as PostGIS's TOAST-keyed cache keys by it). None
+    /// for an in-memory pointer (indirect or expanded).
+    pub fn as_passed(&self) -> Option<(&[u8], bool)> {
+        let p = self.0.cast_mut_ptr::<pg_sys::varlena>();
+        // SAFETY: self.0 is a non-NULL varlena Datum of this call; its first
+        // byte tells the varlena kind and varsize_any reads its length from
+        // the header of that kind, all within the value as passed.
+        unsafe {
+            let on_disk = pgrx::varatt_is_1b_e(p)
+                && pgrx::vartag_external(p) as u32 == pg_sys::vartag_external::VARTAG_ONDISK;
+            if pgrx::varatt_is_1b_e(p) && !on_disk {
+                return None;
+            }
+            let n = pgrx::varsize_any(p);
+            Some((std::slice::from_raw_parts(p as *const u8, n), on_disk))
+        }
+    }
+
     /// The value's bytes after the varlena header (detoasted if needed,
     /// short headers accepted).
     pub fn bytes(&self) -> &[u8] {
@@ -150,29 +172,66 @@ thread_local! {
     static TRANSFORM: std::cell::Cell<Option<pg_sys::Oid>> = const { std::cell::Cell::new(None) };
 }
 
-/// The OID of PostGIS's `geometry` type on the search_path (an ERROR when
-/// PostGIS is not there).
-fn geometry_oid() -> pg_sys::Oid {
-    // SAFETY: a NUL-terminated 'static name; a catalog lookup in a transaction.
-    let geometry = unsafe { pg_sys::TypenameGetTypid(c"geometry".as_ptr()) };
-    if geometry == pg_sys::InvalidOid {
-        raise(
-            PgSqlErrorCode::ERRCODE_UNDEFINED_OBJECT,
-            "PostGIS's geometry type is not on the search_path",
-        );
-    }
-    geometry
+thread_local! {
+    /// PostGIS's schema (quoted for SQL) and its `geometry` type, looked
+    /// up once per backend (and again if the type is gone).
+    static POSTGIS: std::cell::RefCell<Option<(String, pg_sys::Oid)>> = const { std::cell::RefCell::new(None) };
 }
 
-/// The OID of the PostGIS function `name(args)`, found through the calling
-/// function's search_path (pinned to PostGIS's schema by `SET search_path
-/// FROM CURRENT` in sql/tinmerge.sql) and cached in `cell` while it exists.
+/// PostGIS's schema, quoted for SQL, and the OID of its `geometry` type,
+/// from the catalogs (`pg_extension`), whatever the session's search_path:
+/// the Rust functions that call PostGIS or read its spatial_ref_sys name
+/// them in that schema, so they pin no search_path (a function with a `SET`
+/// clause pays a configuration change on every call: 6 % of a zonal join's
+/// time, 0.27.0). An ERROR when PostGIS is not installed.
+pub fn postgis() -> (String, pg_sys::Oid) {
+    let held = POSTGIS.with(|c| c.borrow().clone()).filter(|(_, oid)| {
+        // SAFETY: a catalog cache probe inside a transaction.
+        unsafe {
+            pg_sys::SearchSysCacheExists(
+                pg_sys::SysCacheIdentifier::TYPEOID as i32,
+                pg_sys::Datum::from(*oid),
+                pg_sys::Datum::from(0),
+                pg_sys::Datum::from(0),
+                pg_sys::Datum::from(0),
+            )
+        }
+    });
+    if let Some(p) = held {
+        return p;
+    }
+    let found = Spi::get_two::<String, pg_sys::Oid>(
+        "SELECT pg_catalog.quote_ident(n.nspname), t.oid \
+         FROM pg_catalog.pg_extension e \
+         JOIN pg_catalog.pg_namespace n ON n.oid OPERATOR(pg_catalog.=) e.extnamespace \
+         JOIN pg_catalog.pg_type t ON t.typnamespace OPERATOR(pg_catalog.=) n.oid \
+          AND t.typname OPERATOR(pg_catalog.=) 'geometry' \
+         WHERE e.extname OPERATOR(pg_catalog.=) 'postgis'",
+    );
+    let p = match found {
+        Ok((Some(schema), Some(oid))) => (schema, oid),
+        _ => raise(
+            PgSqlErrorCode::ERRCODE_UNDEFINED_OBJECT,
+            "PostGIS is not installed in this database (CREATE EXTENSION postgis)",
+        ),
+    };
+    POSTGIS.with(|c| *c.borrow_mut() = Some(p.clone()));
+    p
+}
+
+/// The OID of PostGIS's `geometry` type.
+fn geometry_oid() -> pg_sys::Oid {
+    postgis().1
+}
+
+/// The OID of the PostGIS function `name(args)`, found in PostGIS's schema
+/// ([`postgis`]) and cached in `cell` while it exists.
 fn postgis_proc(
     cell: &'static std::thread::LocalKey<std::cell::Cell<Option<pg_sys::Oid>>>,
-    name: &std::ffi::CStr,
+    name: &str,
     args: impl FnOnce() -> Vec<pg_sys::Oid>,
 ) -> pg_sys::Oid {
-    // SAFETY: catalog lookups inside a transaction, with NUL-terminated names
+    // SAFETY: catalog lookups inside a transaction, with a NUL-terminated name
     // and an argument OID array that lives across the call (args); an error in
     // them is a PostgreSQL ERROR, which pgrx turns into a Rust panic unwound
     // safely.
@@ -190,7 +249,14 @@ fn postgis_proc(
             Some(oid) => oid,
             None => {
                 let args = args();
-                let list = pg_sys::stringToQualifiedNameList(name.as_ptr());
+                let qualified = std::ffi::CString::new(format!("{}.{name}", postgis().0))
+                    .unwrap_or_else(|_| {
+                        raise(
+                            PgSqlErrorCode::ERRCODE_INVALID_NAME,
+                            "PostGIS's schema name holds a NUL",
+                        )
+                    });
+                let list = pg_sys::stringToQualifiedNameList(qualified.as_ptr());
                 // errors (undefined function) when PostGIS lacks it
                 let oid = pg_sys::LookupFuncName(list, args.len() as i32, args.as_ptr(), false);
                 cell.set(Some(oid));
@@ -211,7 +277,7 @@ pub fn postgis_transform(pts: &[[f64; 2]], from: i32, to: i32) -> Vec<[f64; 2]> 
     }
     let g = Geom::MultiPoint(pts.iter().map(|p| [p[0], p[1], f64::NAN]).collect());
     let bytes = gserialized::write(from, false, &g);
-    let oid = postgis_proc(&TRANSFORM, c"st_transform", || {
+    let oid = postgis_proc(&TRANSFORM, "st_transform", || {
         vec![geometry_oid(), pg_sys::INT4OID]
     });
     // SAFETY: the argument is a complete palloc'd geometry varlena and the
@@ -242,17 +308,18 @@ impl GeomArg {
     /// PostGIS's own verdict on the geometry: `ST_IsValidReason(geom)`
     /// ("Valid Geometry", or what is wrong and where), called directly by
     /// its OID, so a Rust function taking a polygon checks validity as
-    /// PostGIS does without a SQL wrapper to plan. The function is found
-    /// through the calling function's search_path (pinned to PostGIS's
-    /// schema by `SET search_path FROM CURRENT` in sql/tinmerge.sql).
+    /// PostGIS does without a SQL wrapper to plan. The function is found in
+    /// PostGIS's schema ([`postgis`]).
     pub fn postgis_validity(&self) -> String {
         // SAFETY: self.0 is this call's non-NULL geometry Datum; ST_IsValidReason
         // returns a non-NULL text, turned into a palloc'd C string that is copied
         // and then freed.
         unsafe {
-            let oid = postgis_proc(&IS_VALID_REASON, c"st_isvalidreason", || {
-                vec![geometry_oid()]
-            });
+            let oid = postgis_proc(
+                &IS_VALID_REASON,
+                "st_isvalidreason",
+                || vec![geometry_oid()],
+            );
             let reason = pg_sys::OidFunctionCall1Coll(oid, pg_sys::InvalidOid, self.0);
             let c = pg_sys::text_to_cstring(reason.cast_mut_ptr());
             let s = std::ffi::CStr::from_ptr(c).to_string_lossy().into_owned();

@@ -48,7 +48,7 @@ const PREFIX_CHUNKS: u64 = 4;
 /// The backend's local transaction id: unique per transaction in this
 /// backend (read-only ones included), unlike the start timestamp, which two
 /// quick transactions can share.
-fn transaction_epoch() -> i64 {
+pub(super) fn transaction_epoch() -> i64 {
     // SAFETY: MyProc is either NULL (checked) or this backend's PGPROC, valid
     // for the backend's life; the timestamp call has no preconditions.
     unsafe {

@@ -70,7 +70,14 @@ pub struct Area {
     /// Strip k lists `entries[offsets[k]..offsets[k + 1]]` as (ring, segment).
     offsets: Vec<u32>,
     entries: Vec<(u32, u32)>,
+    /// Per ring, the bounding box (min x, min y, max x, max y) of each run
+    /// of [`RUN`] consecutive segments: a merge over a small part of a large
+    /// polygon (one tile of a county) skips the runs that miss it.
+    runs: Vec<Vec<[f64; 4]>>,
 }
+
+/// Segments in a run of [`Area::run_box`].
+pub const RUN: usize = 32;
 
 impl Area {
     /// An area from polygons given as rings (the first of each polygon its
@@ -118,6 +125,33 @@ impl Area {
                 bbox[3] = bbox[3].max(p[1]);
             }
         }
+        let runs = rings
+            .iter()
+            .map(|r| {
+                r.windows(2)
+                    .collect::<Vec<_>>()
+                    .chunks(RUN)
+                    .map(|segs| {
+                        segs.iter().flat_map(|w| w.iter()).fold(
+                            [
+                                f64::INFINITY,
+                                f64::INFINITY,
+                                f64::NEG_INFINITY,
+                                f64::NEG_INFINITY,
+                            ],
+                            |b, p| {
+                                [
+                                    b[0].min(p[0]),
+                                    b[1].min(p[1]),
+                                    b[2].max(p[0]),
+                                    b[3].max(p[1]),
+                                ]
+                            },
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
         let mut area = Area {
             rings,
             bbox,
@@ -126,6 +160,7 @@ impl Area {
             nstrips: 1,
             offsets: vec![0, 0],
             entries: Vec::new(),
+            runs,
         };
         if nseg == 0 {
             return area;
@@ -160,6 +195,13 @@ impl Area {
         area.offsets = counts;
         area.entries = entries;
         area
+    }
+
+    /// The bounding box (min x, min y, max x, max y) of ring `r`'s segments
+    /// `k * RUN .. (k + 1) * RUN` (fewer in its last run); None past the
+    /// ring's last.
+    pub fn run_box(&self, r: usize, k: usize) -> Option<[f64; 4]> {
+        self.runs.get(r)?.get(k).copied()
     }
 
     /// Whether the area has no ring left.
@@ -212,12 +254,16 @@ impl Area {
             let o = corners.map(|c| orient2d(co(a), co(q), c));
             !(o.iter().all(|&v| v >= 0.0) || o.iter().all(|&v| v <= 0.0))
         };
-        let (k0, k1) = (self.strip_of(y0), self.strip_of(y1));
-        let (s, e) = (self.offsets[k0] as usize, self.offsets[k1 + 1] as usize);
-        for &(r, i) in &self.entries[s..e] {
-            let ring = &self.rings[r as usize];
-            if meets(ring[i as usize], ring[i as usize + 1]) {
-                return false;
+        // the runs of segments whose box reaches the rectangle's open inside
+        for (ring, runs) in self.rings.iter().zip(&self.runs) {
+            for (k, rb) in runs.iter().enumerate() {
+                if rb[2] <= x0 || rb[0] >= x1 || rb[3] <= y0 || rb[1] >= y1 {
+                    continue;
+                }
+                let segs = &ring[k * RUN..ring.len().min((k + 1) * RUN + 1)];
+                if segs.windows(2).any(|w| meets(w[0], w[1])) {
+                    return false;
+                }
             }
         }
         self.locate([(x0 + x1) / 2.0, (y0 + y1) / 2.0]) == Where::Inside

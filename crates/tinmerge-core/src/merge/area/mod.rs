@@ -70,7 +70,7 @@ pub use self::sweep::{Method, Sweep, sweep};
 
 use crate::geom::tri_area;
 use crate::interrupt::{Interrupt, Ticker};
-use crate::merge::area::clip::{Chain, clipped_moments};
+use crate::merge::area::clip::clipped_moments;
 use crate::polygon::Area;
 use crate::tin::TinError;
 use crate::tin::hierarchy::descendants;
@@ -112,18 +112,9 @@ where
     let mut out = Vec::with_capacity(s.boundary.len());
     let mut k = 0;
     for &t in &s.boundary {
-        while k < s.chains.len() && s.chains[k].0 < t {
-            k += 1;
-        }
-        let mut e = k;
-        while e < s.chains.len() && s.chains[e].0 == t {
-            e += 1;
-        }
         let cs = corners2(tin, s.level, t)?;
-        let ch: Vec<Chain> = s.chains[k..e].iter().map(|(_, c)| c.clone()).collect();
-        let m = clipped_moments(&cs, cs[0], &ch, &mut |p| area.locate(p));
+        let m = clipped_moments(&cs, cs[0], s.chains_of(t, &mut k), &mut |p| area.locate(p));
         out.push((m.a / tri_area(&cs)).clamp(0.0, 1.0));
-        k = e;
     }
     Ok(out)
 }

@@ -139,18 +139,9 @@ where
     TinError: From<M::Err>,
 {
     let mut k = 0;
-    let mut owned: Vec<Chain> = Vec::new();
     for &t in &s.boundary {
         tk.tick()?;
-        while k < s.chains.len() && s.chains[k].0 < t {
-            k += 1;
-        }
-        owned.clear();
-        while k < s.chains.len() && s.chains[k].0 == t {
-            owned.push(s.chains[k].1.clone());
-            k += 1;
-        }
-        f(tin.corners(s.level, t)?, &owned)?;
+        f(tin.corners(s.level, t)?, s.chains_of(t, &mut k))?;
     }
     Ok(())
 }

@@ -6,7 +6,7 @@ use crate::geom::{P2, co, tri_area};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::merge::area::clip::{Chain, Moments, clip_convex};
 use crate::merge::line::{Sink, Walker};
-use crate::polygon::{Area, Where, segment_meets_open_triangle};
+use crate::polygon::{Area, RUN, Where, segment_meets_open_triangle};
 use crate::tin::hierarchy::children;
 use crate::tin::mesh::{Indexed, Mesh};
 use crate::tin::{NONE, TinError};
@@ -35,11 +35,29 @@ pub struct Sweep {
     pub inside: Vec<Vec<u32>>,
     /// Boundary triangles of the target level, sorted.
     pub boundary: Vec<u32>,
-    /// Pieces of the polygon's boundary in each boundary triangle, as
-    /// (triangle, chain), sorted by triangle.
-    pub chains: Vec<(u32, Chain)>,
+    /// Pieces of the polygon's boundary in the boundary triangles, sorted
+    /// by triangle ([`Sweep::chains_of`] gives one triangle's).
+    pub chains: Vec<Chain>,
+    /// The triangle of each of `chains`, in the same order.
+    pub chain_triangles: Vec<u32>,
     /// Triangles examined (walked, visited by the sweep, or tested).
     pub examined: usize,
+}
+
+impl Sweep {
+    /// The chains of boundary triangle `t`, for triangles asked for in
+    /// increasing order: `k` is where the last one's ended (0 at first).
+    pub fn chains_of(&self, t: u32, k: &mut usize) -> &[Chain] {
+        let ts = &self.chain_triangles;
+        while *k < ts.len() && ts[*k] < t {
+            *k += 1;
+        }
+        let s = *k;
+        while *k < ts.len() && ts[*k] == t {
+            *k += 1;
+        }
+        &self.chains[s..*k]
+    }
 }
 
 /// Corners of triangle t of a level in the plane.
@@ -114,7 +132,11 @@ impl Sink for RingSink {
                         last.2.push(p);
                     }
                 }
-                _ => self.pieces.push((tri, self.ring, vec![p])),
+                _ => {
+                    let mut pts = Vec::with_capacity(8);
+                    pts.push(p);
+                    self.pieces.push((tri, self.ring, pts));
+                }
             }
         }
         self.open = true;
@@ -144,13 +166,25 @@ where
     };
     // one walker for all rings: the hull (for rings entering from outside
     // the domain) is found once per level
+    let b = tin.bbox();
+    let misses = |r: [f64; 4]| r[2] < b.min_x || r[0] > b.max_x || r[3] < b.min_y || r[1] > b.max_y;
     let mut w = Walker::new(tin, level, &mut sink, interrupt);
     for (ri, ring) in area.rings.iter().enumerate() {
         w.sink.ring = ri as u32;
         w.start_part(ring[0])?;
-        for k in 0..ring.len() - 1 {
+        let mut k = 0;
+        while k + 1 < ring.len() {
+            // a run of segments wholly off the terrain's box is skipped:
+            // its first point is off the domain, so the walk is outside
+            // there and stays outside along the run, reporting nothing
+            // (a county's ring over one of its tiles)
+            if k % RUN == 0 && area.run_box(ri, k / RUN).is_some_and(misses) {
+                k += RUN;
+                continue;
+            }
             w.sink.seg = k as u32;
             w.walk_segment(ring[k], ring[k + 1], 0.0)?;
+            k += 1;
         }
         w.end_part(ring[0], true);
     }
@@ -340,7 +374,7 @@ where
         if l == level
             && let Some(pieces) = chains_at_level.take()
         {
-            out.chains = chains(pieces, &flags, area);
+            (out.chain_triangles, out.chains) = chains(pieces, &flags, area).into_iter().unzip();
         }
         prev_boundary = boundary;
     }
@@ -357,7 +391,14 @@ fn drop_void<M: Indexed>(tin: &M, out: &mut Sweep) {
         ins.retain(|&t| !tin.is_void(l, t));
     }
     out.boundary.retain(|&t| !tin.is_void(level, t));
-    out.chains.retain(|(t, _)| !tin.is_void(level, *t));
+    if out.chain_triangles.iter().any(|&t| tin.is_void(level, t)) {
+        let kept: Vec<(u32, Chain)> = std::mem::take(&mut out.chain_triangles)
+            .into_iter()
+            .zip(std::mem::take(&mut out.chains))
+            .filter(|(t, _)| !tin.is_void(level, *t))
+            .collect();
+        (out.chain_triangles, out.chains) = kept.into_iter().unzip();
+    }
 }
 
 /// A ring segment met in a triangle: (triangle, ring, segment).
@@ -635,61 +676,58 @@ where
 /// The pieces of the boundary triangles as chains: a ring's last piece and
 /// its first join when they meet in one triangle at the ring's start.
 fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &Flags, area: &Area) -> Vec<(u32, Chain)> {
-    let mut out: Vec<(u32, Chain)> = Vec::new();
-    let mut i = 0;
-    while i < pieces.len() {
-        let r = pieces[i].1;
-        let mut j = i;
-        while j < pieces.len() && pieces[j].1 == r {
-            j += 1;
+    let mut out: Vec<(u32, Chain)> = Vec::with_capacity(pieces.len());
+    let mut pieces = pieces.into_iter().peekable();
+    while let Some(first) = pieces.next() {
+        // this ring's pieces, moved (not copied) into chains
+        let r = first.1;
+        let mut ring = vec![first];
+        while let Some(p) = pieces.next_if(|p| p.1 == r) {
+            ring.push(p);
         }
-        let ring = &pieces[i..j];
         let start = area.rings[r as usize][0];
-        let mut used_first = false;
-        let mut used_last = false;
         if ring.len() == 1 {
-            let (t, _, pts) = &ring[0];
+            let (t, _, pts) = ring.pop().expect("one piece");
             let closed = pts.first() == Some(&start) && pts.last() == Some(&start);
             out.push((
-                *t,
+                t,
                 Chain {
-                    pts: pts.clone(),
+                    pts,
                     enters: !closed,
                     exits: !closed,
                 },
             ));
-            used_first = true;
-        } else {
-            let (f, l) = (&ring[0], &ring[ring.len() - 1]);
-            if f.0 == l.0 && f.2.first() == Some(&start) && l.2.last() == Some(&start) {
-                let mut pts = l.2.clone();
-                pts.extend_from_slice(&f.2[1..]);
-                out.push((
-                    f.0,
-                    Chain {
-                        pts,
-                        enters: true,
-                        exits: true,
-                    },
-                ));
-                used_first = true;
-                used_last = true;
-            }
+            continue;
         }
-        for (k, (t, _, pts)) in ring.iter().enumerate() {
-            if (k == 0 && used_first) || (k == ring.len() - 1 && used_last) {
-                continue;
-            }
+        let n = ring.len();
+        let joined = {
+            let (f, l) = (&ring[0], &ring[n - 1]);
+            f.0 == l.0 && f.2.first() == Some(&start) && l.2.last() == Some(&start)
+        };
+        let mut ring = ring.into_iter();
+        if joined {
+            let (t, _, first_pts) = ring.next().expect("first piece");
+            let (_, _, mut pts) = ring.next_back().expect("last piece");
+            pts.extend_from_slice(&first_pts[1..]);
             out.push((
-                *t,
+                t,
                 Chain {
-                    pts: pts.clone(),
+                    pts,
                     enters: true,
                     exits: true,
                 },
             ));
         }
-        i = j;
+        out.extend(ring.map(|(t, _, pts)| {
+            (
+                t,
+                Chain {
+                    pts,
+                    enters: true,
+                    exits: true,
+                },
+            )
+        }));
     }
     out.retain(|(t, ch)| {
         ch.pts.len() >= 2 && flags.get(*t as usize).is_some_and(|f| f & BOUNDARY != 0)

@@ -174,8 +174,8 @@ where
     cur: Option<u32>,
     /// Whether the current point has been reported (a piece is open).
     open: bool,
-    /// Hull edges as (triangle, edge), found on first need.
-    hull: Option<Vec<(u32, usize)>>,
+    /// Hull edges, found on first need.
+    hull: Option<Vec<HullEdge>>,
     interrupt: &'a mut Interrupt<'a>,
     ticks: u32,
 }
@@ -507,7 +507,12 @@ where
         }
         let (cp, cq) = (co(p), co(q));
         if self.hull.is_none() {
-            self.hull = Some(hull_edges_in(self.tin, self.level)?);
+            let mut h = Vec::new();
+            for (t, j) in hull_edges_in(self.tin, self.level)? {
+                let tc = self.corners(t)?;
+                h.push(HullEdge::new(t, j, tc[(j + 1) % 3], tc[(j + 2) % 3]));
+            }
+            self.hull = Some(h);
         }
         let hull = self.hull.take().unwrap_or_default();
         let r = self.enter_through(&hull, q, cp, cq);
@@ -518,14 +523,23 @@ where
     /// [`Self::enter`] over the hull edges.
     fn enter_through(
         &mut self,
-        hull: &[(u32, usize)],
+        hull: &[HullEdge],
         q: P2,
         cp: Coord<f64>,
         cq: Coord<f64>,
     ) -> Result<Option<(u32, P2)>, TinError> {
-        for &(t, j) in hull {
-            let tc = self.corners(t)?;
-            let (a, bb) = (tc[(j + 1) % 3], tc[(j + 2) % 3]);
+        let sb = [
+            cp.x.min(cq.x),
+            cp.y.min(cq.y),
+            cp.x.max(cq.x),
+            cp.y.max(cq.y),
+        ];
+        for e in hull {
+            // an edge whose closed box misses the segment's cannot meet it
+            if e.bbox[2] < sb[0] || e.bbox[0] > sb[2] || e.bbox[3] < sb[1] || e.bbox[1] > sb[3] {
+                continue;
+            }
+            let (t, j, a, bb) = (e.t, e.j, e.a, e.b);
             // p strictly outside this edge's half-plane, q on or inside it
             if !(orient2d(a, bb, cp) < 0.0 && orient2d(a, bb, cq) >= 0.0) {
                 continue;
@@ -563,6 +577,28 @@ where
             }
         }
         Ok(None)
+    }
+}
+
+/// A hull edge as [`Walker::enter`] reads it: triangle `t`'s edge opposite
+/// corner `j`, from `a` to `b`, and its box.
+struct HullEdge {
+    t: u32,
+    j: usize,
+    a: Coord<f64>,
+    b: Coord<f64>,
+    bbox: [f64; 4],
+}
+
+impl HullEdge {
+    fn new(t: u32, j: usize, a: Coord<f64>, b: Coord<f64>) -> HullEdge {
+        HullEdge {
+            t,
+            j,
+            a,
+            b,
+            bbox: [a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y)],
+        }
     }
 }
 
