@@ -407,6 +407,7 @@ fn oracle_sees_a_hidden_t_junction() {
             cells: vec![0],
         },
         outline: Default::default(),
+        hull: Default::default(),
     });
     let f = oracle(&g, &tin);
     assert!(f.slivers >= 1 && f.bad_edges >= 1, "{f:?}");

@@ -6,7 +6,8 @@
 //! A decoded value never fails (`Err = Infallible`), and its accessors are
 //! the same array reads as before, so the decoded path costs nothing extra.
 
-use super::{Bbox, Level, NONE, Tin};
+use super::{Bbox, HullEdge, Level, NONE, Tin};
+use std::borrow::Cow;
 use std::convert::Infallible;
 
 /// Triangles, neighbours and vertices of the levels of a triangulation.
@@ -40,6 +41,19 @@ pub trait Mesh {
     fn corners(&self, level: usize, t: u32) -> Result<[[f64; 3]; 3], Self::Err> {
         let [a, b, c] = self.tri(level, t)?;
         Ok([self.vert(a)?, self.vert(b)?, self.vert(c)?])
+    }
+    /// The hull edges of `level`, by increasing triangle id (found by
+    /// reading every triangle's neighbours; a decoded [`Tin`] keeps them).
+    fn hull_edges(&self, level: usize) -> Result<Cow<'_, [HullEdge]>, Self::Err> {
+        let mut h = Vec::new();
+        for t in 0..self.num_triangles(level) as u32 {
+            for (j, &x) in self.nbrs(level, t)?.iter().enumerate() {
+                if x == NONE {
+                    h.push(HullEdge::new(t, j, &self.corners(level, t)?));
+                }
+            }
+        }
+        Ok(Cow::Owned(h))
     }
 }
 
@@ -106,6 +120,20 @@ impl Mesh for Tin {
             (Some(&s), Some(&e)) if s <= e => s..e,
             _ => 0..0,
         })
+    }
+    fn hull_edges(&self, level: usize) -> Result<Cow<'_, [HullEdge]>, Infallible> {
+        let lv = &self.levels[level];
+        Ok(Cow::Borrowed(lv.hull.get_or_init(|| {
+            let mut h = Vec::new();
+            for (t, nb) in lv.nbrs.iter().enumerate() {
+                for (j, &x) in nb.iter().enumerate() {
+                    if x == NONE {
+                        h.push(HullEdge::new(t as u32, j, &self.corners(level, t as u32)));
+                    }
+                }
+            }
+            h
+        })))
     }
 }
 

@@ -207,6 +207,41 @@ pub struct Level {
     /// The domain's outline, derived on first use ([`Tin::outline`]);
     /// `Default::default()` when making a level.
     pub outline: Derived<Outline>,
+    /// The hull edges, derived on first use ([`mesh::Mesh::hull_edges`]);
+    /// `Default::default()` when making a level.
+    pub hull: Derived<Vec<HullEdge>>,
+}
+
+/// An edge of a level's hull (a triangle's edge with no neighbour), as a
+/// line walk entering the terrain from outside reads it: triangle `t`'s
+/// edge opposite corner `j`, from `a` to `b` (the triangle on its left),
+/// and its bounding box (min x, min y, max x, max y).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HullEdge {
+    pub t: u32,
+    pub j: usize,
+    pub a: [f64; 2],
+    pub b: [f64; 2],
+    pub bbox: [f64; 4],
+}
+
+impl HullEdge {
+    /// Edge `j` of triangle `t` with corners `cs`.
+    pub fn new(t: u32, j: usize, cs: &[[f64; 3]; 3]) -> HullEdge {
+        let (a, b) = (cs[(j + 1) % 3], cs[(j + 2) % 3]);
+        HullEdge {
+            t,
+            j,
+            a: [a[0], a[1]],
+            b: [b[0], b[1]],
+            bbox: [
+                a[0].min(b[0]),
+                a[1].min(b[1]),
+                a[0].max(b[0]),
+                a[1].max(b[1]),
+            ],
+        }
+    }
 }
 
 impl Level {

@@ -160,8 +160,8 @@ where
         ring: 0,
         seg: 0,
         want_pieces,
-        pairs: Vec::new(),
-        pieces: Vec::new(),
+        pairs: Vec::with_capacity(64),
+        pieces: Vec::with_capacity(32),
         open: false,
     };
     // one walker for all rings: the hull (for rings entering from outside
@@ -263,7 +263,9 @@ where
 /// Flag bytes of the triangles of one level (or of the vertices), zero
 /// until set, kept in pages allocated when first written: a sweep of a
 /// small polygon over a large terrain costs what it touches, not a byte per
-/// triangle of every level it sweeps.
+/// triangle of every level it sweeps. Pages are zeroed and kept for the
+/// next sweep of the thread when dropped (a tile of a county's boundary
+/// sweeps six levels: six page allocations a call otherwise).
 #[derive(Default)]
 struct Flags {
     n: usize,
@@ -271,6 +273,12 @@ struct Flags {
 }
 
 const FLAG_PAGE: usize = 4096;
+/// Zeroed pages kept per thread.
+const SPARE_PAGES: usize = 64;
+
+thread_local! {
+    static SPARE: std::cell::RefCell<Vec<Box<[u8; FLAG_PAGE]>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
 
 impl Flags {
     fn new(n: usize) -> Flags {
@@ -289,8 +297,30 @@ impl Flags {
         if t >= self.n {
             return None;
         }
-        let page = self.pages[t / FLAG_PAGE].get_or_insert_with(|| Box::new([0; FLAG_PAGE]));
+        let page = self.pages[t / FLAG_PAGE].get_or_insert_with(|| {
+            SPARE
+                .try_with(|s| s.borrow_mut().pop())
+                .ok()
+                .flatten()
+                .unwrap_or_else(|| Box::new([0; FLAG_PAGE]))
+        });
         Some(&mut page[t % FLAG_PAGE])
+    }
+}
+
+impl Drop for Flags {
+    fn drop(&mut self) {
+        // (not at all while the thread's storage is being torn down)
+        let _ = SPARE.try_with(|s| {
+            let mut s = s.borrow_mut();
+            for mut p in self.pages.drain(..).flatten() {
+                if s.len() >= SPARE_PAGES {
+                    break;
+                }
+                p.fill(0);
+                s.push(p);
+            }
+        });
     }
 }
 

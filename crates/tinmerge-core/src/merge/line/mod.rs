@@ -61,8 +61,9 @@ use crate::geom::{P2, co, dist, vco};
 use crate::interrupt::Interrupt;
 use crate::tin::locate;
 use crate::tin::mesh::{Indexed, Mesh};
-use crate::tin::{NONE, Tin, TinError};
+use crate::tin::{HullEdge, NONE, Tin, TinError};
 use robust::{Coord, orient2d};
+use std::borrow::Cow;
 
 /// A polyline as the walker reads it: vertices and the planar distance of
 /// each from the first. Reads may fail (a stored line tree is checked as it
@@ -174,8 +175,8 @@ where
     cur: Option<u32>,
     /// Whether the current point has been reported (a piece is open).
     open: bool,
-    /// Hull edges, found on first need.
-    hull: Option<Vec<HullEdge>>,
+    /// Hull edges, found on first need (kept by a decoded tin).
+    hull: Option<Cow<'a, [HullEdge]>>,
     interrupt: &'a mut Interrupt<'a>,
     ticks: u32,
 }
@@ -506,13 +507,20 @@ where
             return Ok(None);
         }
         let (cp, cq) = (co(p), co(q));
+        // a segment that misses the terrain's box (exactly: the box's
+        // corners all strictly on one side of its line) meets no hull edge
+        let corners = [
+            [b.min_x, b.min_y],
+            [b.max_x, b.min_y],
+            [b.max_x, b.max_y],
+            [b.min_x, b.max_y],
+        ]
+        .map(|c| orient2d(co(p), co(q), co(c)));
+        if corners.iter().all(|&o| o > 0.0) || corners.iter().all(|&o| o < 0.0) {
+            return Ok(None);
+        }
         if self.hull.is_none() {
-            let mut h = Vec::new();
-            for (t, j) in hull_edges_in(self.tin, self.level)? {
-                let tc = self.corners(t)?;
-                h.push(HullEdge::new(t, j, tc[(j + 1) % 3], tc[(j + 2) % 3]));
-            }
-            self.hull = Some(h);
+            self.hull = Some(self.tin.hull_edges(self.level)?);
         }
         let hull = self.hull.take().unwrap_or_default();
         let r = self.enter_through(&hull, q, cp, cq);
@@ -539,7 +547,7 @@ where
             if e.bbox[2] < sb[0] || e.bbox[0] > sb[2] || e.bbox[3] < sb[1] || e.bbox[1] > sb[3] {
                 continue;
             }
-            let (t, j, a, bb) = (e.t, e.j, e.a, e.b);
+            let (t, j, a, bb) = (e.t, e.j, co(e.a), co(e.b));
             // p strictly outside this edge's half-plane, q on or inside it
             if !(orient2d(a, bb, cp) < 0.0 && orient2d(a, bb, cq) >= 0.0) {
                 continue;
@@ -577,28 +585,6 @@ where
             }
         }
         Ok(None)
-    }
-}
-
-/// A hull edge as [`Walker::enter`] reads it: triangle `t`'s edge opposite
-/// corner `j`, from `a` to `b`, and its box.
-struct HullEdge {
-    t: u32,
-    j: usize,
-    a: Coord<f64>,
-    b: Coord<f64>,
-    bbox: [f64; 4],
-}
-
-impl HullEdge {
-    fn new(t: u32, j: usize, a: Coord<f64>, b: Coord<f64>) -> HullEdge {
-        HullEdge {
-            t,
-            j,
-            a,
-            b,
-            bbox: [a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y)],
-        }
     }
 }
 

@@ -239,6 +239,7 @@ pub(super) fn assemble(
                 cells: Vec::new(),
             },
             outline: Default::default(),
+            hull: Default::default(),
         };
         if grids {
             level.grid = grid::build_grid(&tin.verts, &tin.bbox, &level);

@@ -125,6 +125,7 @@ fn level_of(
             cells,
         },
         outline: Default::default(),
+        hull: Default::default(),
     }
 }
 
