@@ -28,7 +28,7 @@
 //! ```
 
 use crate::geom::P2;
-use crate::geom::co;
+use crate::geom::{bbox2, co};
 use robust::orient2d;
 
 /// Where a point lies relative to the area (closed: the boundary belongs to
@@ -128,27 +128,8 @@ impl Area {
         let runs = rings
             .iter()
             .map(|r| {
-                r.windows(2)
-                    .collect::<Vec<_>>()
-                    .chunks(RUN)
-                    .map(|segs| {
-                        segs.iter().flat_map(|w| w.iter()).fold(
-                            [
-                                f64::INFINITY,
-                                f64::INFINITY,
-                                f64::NEG_INFINITY,
-                                f64::NEG_INFINITY,
-                            ],
-                            |b, p| {
-                                [
-                                    b[0].min(p[0]),
-                                    b[1].min(p[1]),
-                                    b[2].max(p[0]),
-                                    b[3].max(p[1]),
-                                ]
-                            },
-                        )
-                    })
+                (0..(r.len() - 1).div_ceil(RUN))
+                    .map(|k| bbox2(r[k * RUN..r.len().min((k + 1) * RUN + 1)].iter().copied()))
                     .collect()
             })
             .collect();

@@ -480,6 +480,8 @@ where
             walked_at: vec![Vec::new(); level + 1],
             boundary_at: vec![Vec::new(); level + 1],
         };
+        m.walked_at[level].reserve(pairs.len());
+        m.boundary_at[level].reserve(pairs.len());
         for &(t, r, s) in pairs {
             self.tk.tick()?;
             let f = m.flags[level]
@@ -525,6 +527,7 @@ where
             };
             for (lists, bit) in [(&mut m.walked_at, WALKED), (&mut m.boundary_at, BOUNDARY)] {
                 let (coarse, fine) = lists.split_at_mut(l + 1);
+                coarse[l].reserve(fine[0].len());
                 for &c in &fine[0] {
                     self.tk.tick()?;
                     let p = up(c)?;
@@ -534,7 +537,7 @@ where
                     }
                 }
             }
-            let mut next = Vec::new();
+            let mut next = Vec::with_capacity(pending.len());
             for &(c, r, s) in &pending {
                 self.tk.tick()?;
                 let p = up(c)?;
@@ -610,7 +613,7 @@ where
             inside, examined, ..
         } = out;
         let inside = &mut inside[l];
-        let mut stack: Vec<(u32, bool)> = Vec::new();
+        let mut stack: Vec<(u32, bool)> = Vec::with_capacity(64);
         for &s0 in seeds {
             if flags[s0 as usize] & SEEN != 0 {
                 continue;
@@ -673,7 +676,7 @@ fn seeds<M: Indexed>(
 where
     TinError: From<M::Err>,
 {
-    let mut seeds: Vec<u32> = Vec::new();
+    let mut seeds: Vec<u32> = Vec::with_capacity(4 * walked.len().max(prev_boundary.len()));
     let mut mark = |t: u32, flags: &mut Flags| -> Result<(), TinError> {
         let f = flags
             .get_mut(t as usize)
