@@ -340,6 +340,14 @@ where
             st.add(&subtree(tin, s.level, (l, t), sums, units, &mut tk)?);
         }
     }
+    // where each point tested lies, kept for the call: a boundary
+    // triangle's corners are its neighbours' too
+    let mut located: rustc_hash::FxHashMap<[u64; 2], Where> = rustc_hash::FxHashMap::default();
+    let mut locate = |q: P2| {
+        *located
+            .entry([q[0].to_bits(), q[1].to_bits()])
+            .or_insert_with(|| area.locate(q))
+    };
     boundary_parts(tin, s, &mut tk, &mut |cs, ch| {
         let c2: [P2; 3] = cs.map(|v| [v[0], v[1]]);
         let o = c2[0];
@@ -353,12 +361,12 @@ where
             st.max_z = st.max_z.max(z);
         }
         for v in &cs {
-            if area.locate([v[0], v[1]]) != Where::Outside {
+            if locate([v[0], v[1]]) != Where::Outside {
                 st.min_z = st.min_z.min(v[2]);
                 st.max_z = st.max_z.max(v[2]);
             }
         }
-        let m = clipped_moments(&c2, o, ch, &mut |q| area.locate(q));
+        let m = clipped_moments(&c2, o, ch, &mut locate);
         st.add_part(o, &m, (z0, gx, gy), units);
         Ok(())
     })?;

@@ -120,6 +120,9 @@ impl Sink for RingSink {
     fn wants_void(&self) -> bool {
         true
     }
+    fn wants_along(&self) -> bool {
+        false
+    }
     fn point(&mut self, tri: u32, p: P2, _along: f64) {
         let pair = (tri, self.ring, self.seg);
         if self.pairs.last() != Some(&pair) {

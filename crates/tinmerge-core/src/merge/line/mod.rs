@@ -134,6 +134,11 @@ pub trait Sink {
     fn wants_void(&self) -> bool {
         false
     }
+    /// Whether the sink reads `along` (false: the walk passes 0 and spares
+    /// a square root per crossing; the area sweep's rings).
+    fn wants_along(&self) -> bool {
+        true
+    }
     /// A point of the cut line, in the piece of triangle `tri`; `along` is
     /// the planar distance from the start of the part.
     fn point(&mut self, tri: u32, p: P2, along: f64);
@@ -344,7 +349,7 @@ where
             },
             None => match self.enter(p, q)? {
                 Some((u, x)) => {
-                    self.emit(u, x, along + dist(p, x));
+                    self.emit(u, x, self.along(along, p, x));
                     u
                 }
                 None => return Ok(()),
@@ -360,7 +365,7 @@ where
             budget -= 1;
             let tc = self.corners(t)?;
             if (0..3).all(|j| orient2d(tc[(j + 1) % 3], tc[(j + 2) % 3], cq) >= 0.0) {
-                self.emit(t, q, along + dist(p, q));
+                self.emit(t, q, self.along(along, p, q));
                 self.cur = Some(t);
                 return Ok(());
             }
@@ -371,7 +376,7 @@ where
                     let ob = orient2d(cp, cq, b);
                     let r = (oa / (oa - ob)).clamp(0.0, 1.0);
                     let x = [a.x + r * (b.x - a.x), a.y + r * (b.y - a.y)];
-                    let ax = along + dist(p, x);
+                    let ax = self.along(along, p, x);
                     self.emit(t, x, ax);
                     let n = self.nbr(t, j)?;
                     if n == NONE {
@@ -384,7 +389,7 @@ where
                 Exit::Corner(j) => {
                     let (vid, v) = self.corner(t, j)?;
                     let x = [v[0], v[1]];
-                    let ax = along + dist(p, x);
+                    let ax = self.along(along, p, x);
                     self.emit(t, x, ax);
                     match self.fan(t, vid, cq)? {
                         Some(n) => {
@@ -400,6 +405,17 @@ where
                     }
                 }
             }
+        }
+    }
+
+    /// The distance along the part at `x`, for a segment from `p` (at
+    /// `along`), when the sink reads it.
+    #[inline]
+    fn along(&self, along: f64, p: P2, x: P2) -> f64 {
+        if self.sink.wants_along() {
+            along + dist(p, x)
+        } else {
+            0.0
         }
     }
 
