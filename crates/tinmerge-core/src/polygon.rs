@@ -79,6 +79,11 @@ pub struct Area {
 /// Segments in a run of [`Area::run_box`].
 pub const RUN: usize = 32;
 
+/// The points of run `k` of closed ring `r`: its segments' ends.
+fn run_points(r: &[P2], k: usize) -> &[P2] {
+    &r[k * RUN..r.len().min((k + 1) * RUN + 1)]
+}
+
 impl Area {
     /// An area from polygons given as rings (the first of each polygon its
     /// shell, the others holes). Rings are closed if open and oriented;
@@ -129,7 +134,7 @@ impl Area {
             .iter()
             .map(|r| {
                 (0..(r.len() - 1).div_ceil(RUN))
-                    .map(|k| bbox2(r[k * RUN..r.len().min((k + 1) * RUN + 1)].iter().copied()))
+                    .map(|k| bbox2(run_points(r, k).iter().copied()))
                     .collect()
             })
             .collect();
@@ -241,8 +246,7 @@ impl Area {
                 if rb[2] <= x0 || rb[0] >= x1 || rb[3] <= y0 || rb[1] >= y1 {
                     continue;
                 }
-                let segs = &ring[k * RUN..ring.len().min((k + 1) * RUN + 1)];
-                if segs.windows(2).any(|w| meets(w[0], w[1])) {
+                if run_points(ring, k).windows(2).any(|w| meets(w[0], w[1])) {
                     return false;
                 }
             }

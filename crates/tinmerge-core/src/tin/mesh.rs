@@ -44,17 +44,27 @@ pub trait Mesh {
     }
     /// The hull edges of `level`, by increasing triangle id (found by
     /// reading every triangle's neighbours; a decoded [`Tin`] keeps them).
-    fn hull_edges(&self, level: usize) -> Result<Cow<'_, [HullEdge]>, Self::Err> {
-        let mut h = Vec::new();
-        for t in 0..self.num_triangles(level) as u32 {
-            for (j, &x) in self.nbrs(level, t)?.iter().enumerate() {
-                if x == NONE {
-                    h.push(HullEdge::new(t, j, &self.corners(level, t)?));
-                }
+    fn hull_edges(&self, level: usize) -> Result<Cow<'_, [HullEdge]>, Self::Err>
+    where
+        Self: Sized,
+    {
+        hull_of(self, level).map(Cow::Owned)
+    }
+}
+
+/// The hull edges of `level` of `m`, by increasing triangle id: every
+/// triangle's neighbours read ([`Mesh::hull_edges`] keeps them for a
+/// decoded [`Tin`]).
+pub fn hull_of<M: Mesh>(m: &M, level: usize) -> Result<Vec<HullEdge>, M::Err> {
+    let mut h = Vec::new();
+    for t in 0..m.num_triangles(level) as u32 {
+        for (j, &x) in m.nbrs(level, t)?.iter().enumerate() {
+            if x == NONE {
+                h.push(HullEdge::new(t, j, &m.corners(level, t)?));
             }
         }
-        Ok(Cow::Owned(h))
     }
+    Ok(h)
 }
 
 /// A [`Mesh`] with the bounding box and the grid index (what
@@ -122,18 +132,11 @@ impl Mesh for Tin {
         })
     }
     fn hull_edges(&self, level: usize) -> Result<Cow<'_, [HullEdge]>, Infallible> {
-        let lv = &self.levels[level];
-        Ok(Cow::Borrowed(lv.hull.get_or_init(|| {
-            let mut h = Vec::new();
-            for (t, nb) in lv.nbrs.iter().enumerate() {
-                for (j, &x) in nb.iter().enumerate() {
-                    if x == NONE {
-                        h.push(HullEdge::new(t as u32, j, &self.corners(level, t as u32)));
-                    }
-                }
-            }
-            h
-        })))
+        Ok(Cow::Borrowed(
+            self.levels[level]
+                .hull
+                .get_or_init(|| infallible(hull_of(self, level))),
+        ))
     }
 }
 

@@ -60,7 +60,7 @@ pub use self::sinks::{Piece, PieceSink, TriangleSink, pieces, pieces_in, runs, t
 use crate::geom::{P2, co, dist, vco};
 use crate::interrupt::Interrupt;
 use crate::tin::locate;
-use crate::tin::mesh::{Indexed, Mesh};
+use crate::tin::mesh::Indexed;
 use crate::tin::{HullEdge, NONE, Tin, TinError};
 use robust::{Coord, orient2d};
 use std::borrow::Cow;
@@ -602,20 +602,6 @@ where
         }
         Ok(None)
     }
-}
-
-/// The hull edges of a level, as (triangle, edge opposite corner j), by
-/// increasing triangle id (reads every triangle's neighbours).
-pub(crate) fn hull_edges_in<M: Mesh>(m: &M, level: usize) -> Result<Vec<(u32, usize)>, M::Err> {
-    let mut h = Vec::new();
-    for t in 0..m.num_triangles(level) as u32 {
-        for (j, &x) in m.nbrs(level, t)?.iter().enumerate() {
-            if x == NONE {
-                h.push((t, j));
-            }
-        }
-    }
-    Ok(h)
 }
 
 /// Where the closed triangle holds p (None: outside it).

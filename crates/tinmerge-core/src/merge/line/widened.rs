@@ -10,11 +10,11 @@
 //! tolerance, not a topological decision); a triangle touched exactly at
 //! the distance counts.
 
-use super::{Polyline, Sink, Walker, hull_edges_in};
+use super::{Polyline, Sink, Walker};
 use crate::geom::P2;
 use crate::geom::{co, point_segment_distance};
 use crate::interrupt::{Interrupt, Ticker};
-use crate::tin::mesh::infallible;
+use crate::tin::mesh::{Mesh, infallible};
 use crate::tin::{NONE, Tin, TinError};
 use robust::orient2d;
 use std::collections::HashMap;
@@ -158,9 +158,9 @@ impl<'a> Near<'a> {
                 return Ok(());
             }
             if self.hull.is_none() {
-                let mut h: Vec<u32> = infallible(hull_edges_in(self.tin, self.level))
-                    .into_iter()
-                    .map(|(t, _)| t)
+                let mut h: Vec<u32> = infallible(self.tin.hull_edges(self.level))
+                    .iter()
+                    .map(|e| e.t)
                     .collect();
                 h.dedup();
                 self.hull = Some(h);
