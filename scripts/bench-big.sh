@@ -27,7 +27,8 @@
 # pyramid with tin_overviews (its table's layer checked byte for byte
 # against the tiles), and serves the same tiles from it (with SERVE).
 #
-# usage: scripts/bench-big.sh [FACTOR [POINTS LINES POLYGONS]]
+# usage: [TINMERGE_BIG_DB=database] scripts/bench-big.sh [FACTOR [POINTS LINES POLYGONS]]
+#   (database tinmerge_big unless named)
 #   make bench:  FACTOR 29, 1,000,000 points, 1,000 lines, 1,000 polygons;
 #                scripts/bench-giga.sh: FACTOR 89 (a billion pixels), with
 #                slices and serving
@@ -43,7 +44,7 @@ NPOLYS="${4:-1000}"
 TOL="${TINMERGE_BIG_TOLERANCE:-1.0}"
 LEVELS=5
 TILE=256
-DB=tinmerge_big
+DB="${TINMERGE_BIG_DB:-tinmerge_big}"
 scripts/cluster.sh start >/dev/null
 q() { scripts/cluster.sh psql -v ON_ERROR_STOP=1 -qAt -d "$DB" "$@"; }
 scripts/cluster.sh psql -q -d postgres -c "DROP DATABASE IF EXISTS $DB" -c "CREATE DATABASE $DB"

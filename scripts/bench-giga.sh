@@ -21,6 +21,6 @@ rc=0
 scripts/bench-big.sh "$FACTOR" 1000000 1000 1000 || rc=$?
 echo "== disk: the generated raster and the cluster after the run"
 du -sh "target/big/dem$FACTOR.raw" target/pg 2>/dev/null || true
-scripts/cluster.sh psql -qAt -d tinmerge_big -F ' | ' -c "SELECT 'database', pg_size_pretty(pg_database_size('tinmerge_big'))"
+scripts/cluster.sh psql -qAt -d "${TINMERGE_BIG_DB:-tinmerge_big}" -F ' | ' -c "SELECT 'database', pg_size_pretty(pg_database_size(current_database()))"
 echo "== bench-giga: $(( $(date +%s) - t0 )) s in all"
 exit "$rc"

@@ -24,7 +24,9 @@ use tinmerge_core::geom::{is_strictly_convex_ring, Spheroid, Units};
 use tinmerge_core::io::ewkb::{self, Ewkb, Geom};
 use tinmerge_core::io::gserialized;
 use tinmerge_core::merge::area::polygon::Area;
-use tinmerge_core::merge::area::surface::{stats_with, volume_parts_with, SubtreeSums};
+use tinmerge_core::merge::area::surface::{
+    stats_with, volume_parts_with, SubtreeSums, SurfaceStats, VolumeParts,
+};
 use tinmerge_core::merge::area::whole;
 use tinmerge_core::merge::area::{area_rows, sweep, Method, Sweep};
 use tinmerge_core::tin::mesh::Indexed;
@@ -358,20 +360,31 @@ where
     (s, sums)
 }
 
-/// The polygon read by `area` in the tin's SRID, and, when it holds the
-/// whole terrain and the header stores each level's sums (format 6 or 7)
-/// in the units the tin is measured in (its own: not a geographic SRID),
-/// what `from_header` answers from them: no triangle is read
-/// (`merge::area::whole`; a tile wholly inside a county).
+/// The polygon read by `area` in the tin's SRID, and what the header
+/// answers without reading a triangle: `nothing` when the polygon leaves
+/// the whole terrain out (`merge::area::whole::misses`: a tile met by the
+/// polygon's bounding box only); when it holds the whole terrain and the
+/// header stores each level's sums (format 6 or 7) in the units the tin is
+/// measured in (its own: not a geographic SRID), what `from_header` answers
+/// from them (a tile wholly inside a county).
 fn with_header<T>(
     t: &TinArg,
     level: Option<i32>,
     geographic: Option<bool>,
     area: &dyn Fn(i32) -> Rc<Area>,
+    func: &str,
+    nothing: impl FnOnce() -> T,
     from_header: impl Fn(&tinmerge_core::tin::layout::Header, usize, &Area) -> Option<T>,
 ) -> (Rc<Area>, Option<T>) {
     let h = t.header();
     let a = area(h.srid);
+    if whole::misses(&h, &a) {
+        // (the level and a geographic SRID's spheroid are still checked,
+        // as the triangles' path does)
+        tinmerge_core::tin::resolve_level(level, h.levels.len()).or_raise();
+        area_units(geographic, h.srid, &h.bbox, func);
+        return (a, Some(nothing()));
+    }
     if h.sums.is_empty() || srid_is_geographic(geographic, h.srid, &h.bbox) {
         return (a, None);
     }
@@ -388,7 +401,15 @@ pub(super) fn stats_row(
     area: &dyn Fn(i32) -> Rc<Area>,
 ) -> StatsRow {
     let key = value_key(t);
-    let (area, got) = with_header(t, level, geographic, area, whole::stats_from_header);
+    let (area, got) = with_header(
+        t,
+        level,
+        geographic,
+        area,
+        "tin_area_stats",
+        SurfaceStats::empty,
+        whole::stats_from_header,
+    );
     let st = got.unwrap_or_else(|| {
         with_mesh!(t, level, |m, l, srid| {
             let units = area_units(geographic, srid, m.bbox(), "tin_area_stats");
@@ -488,9 +509,15 @@ pub(super) fn volume_row(
         );
     }
     let key = value_key(t);
-    let (area, got) = with_header(t, level, geographic, area, |h, l, a| {
-        whole::volume_from_header(h, l, a, base)
-    });
+    let (area, got) = with_header(
+        t,
+        level,
+        geographic,
+        area,
+        "tin_volume",
+        VolumeParts::default,
+        |h, l, a| whole::volume_from_header(h, l, a, base),
+    );
     let v = got.unwrap_or_else(|| {
         with_mesh!(t, level, |m, l, srid| {
             let units = area_units(geographic, srid, m.bbox(), "tin_volume");

@@ -200,8 +200,9 @@ impl Area {
         if self.strip_h <= 0.0 {
             return 0;
         }
-        let k = ((y - self.strip_y0) / self.strip_h).floor();
-        if k <= 0.0 { 0 } else { (k as usize).min(n - 1) }
+        // (truncation is the floor of a positive k, without a libm call)
+        let k = (y - self.strip_y0) / self.strip_h;
+        if k > 0.0 { (k as usize).min(n - 1) } else { 0 }
     }
 
     fn each_segment_strips(&self, mut f: impl FnMut(usize, usize, usize, usize)) {
@@ -215,19 +216,45 @@ impl Area {
 
     /// Whether the closed rectangle `b` (min x, min y, max x, max y, with
     /// min < max) lies within the area: no ring segment meets its open
-    /// inside (exact separating axes: the rectangle's sides and the
-    /// segment's line) and its centre is inside. Then every triangle in it
-    /// is wholly inside, as the area sweep decides.
+    /// inside and its centre is inside ([`Area::box_side`]). Then every
+    /// triangle in it is wholly inside, as the area sweep decides.
     pub fn contains_box(&self, b: [f64; 4]) -> bool {
         let [x0, y0, x1, y1] = b;
-        if self.rings.is_empty()
-            || !(x0 < x1 && y0 < y1)
-            || x0 < self.bbox[0]
-            || y0 < self.bbox[1]
-            || x1 > self.bbox[2]
-            || y1 > self.bbox[3]
-        {
+        if x0 < self.bbox[0] || y0 < self.bbox[1] || x1 > self.bbox[2] || y1 > self.bbox[3] {
             return false;
+        }
+        self.box_side(b) == Some(Where::Inside)
+    }
+
+    /// Whether the open inside of the rectangle `b` (min < max) lies
+    /// outside the area: no ring segment meets it and its centre is
+    /// outside ([`Area::box_side`]). Then nothing of the area lies in the
+    /// rectangle but parts of its edges, which bound no area (a tile met by
+    /// a polygon's bounding box only).
+    pub fn misses_box(&self, b: [f64; 4]) -> bool {
+        let [x0, y0, x1, y1] = b;
+        if !(x0 < x1 && y0 < y1) {
+            return false;
+        }
+        if self.rings.is_empty()
+            || x1 <= self.bbox[0]
+            || x0 >= self.bbox[2]
+            || y1 <= self.bbox[1]
+            || y0 >= self.bbox[3]
+        {
+            return true;
+        }
+        self.box_side(b) == Some(Where::Outside)
+    }
+
+    /// Which side of the area the open inside of the rectangle `b` (min x,
+    /// min y, max x, max y, min < max) lies on, when no ring segment meets
+    /// it (exact separating axes: the rectangle's sides and the segment's
+    /// line): its centre's; None when a segment meets it (or `b` is empty).
+    pub fn box_side(&self, b: [f64; 4]) -> Option<Where> {
+        let [x0, y0, x1, y1] = b;
+        if self.rings.is_empty() || !(x0 < x1 && y0 < y1) {
+            return None;
         }
         let corners = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]].map(co);
         let meets = |a: P2, q: P2| {
@@ -247,11 +274,13 @@ impl Area {
                     continue;
                 }
                 if run_points(ring, k).windows(2).any(|w| meets(w[0], w[1])) {
-                    return false;
+                    return None;
                 }
             }
         }
-        self.locate([(x0 + x1) / 2.0, (y0 + y1) / 2.0]) == Where::Inside
+        // (the centre is in the open inside, which no segment meets: not
+        // on the boundary)
+        Some(self.locate([(x0 + x1) / 2.0, (y0 + y1) / 2.0]))
     }
 
     /// Exact point-in-polygon test.
@@ -370,5 +399,80 @@ mod tests {
                 assert_eq!(a.locate(p), want, "{p:?}");
             }
         }
+    }
+
+    /// Boxes against the comb of the test above: one held by a tooth, one
+    /// in a gap between teeth (inside the polygon's bounding box, outside
+    /// the polygon), one touching a tooth's side from the gap, one across
+    /// a tooth; and every box of a lattice checked against point samples
+    /// of its inside by brute-force parity (what a box is said to be
+    /// inside or outside of, its samples are).
+    #[test]
+    fn boxes_held_missed_or_crossed() {
+        let mut r = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]];
+        for k in (0..5).rev() {
+            let x = 2.0 * k as f64;
+            r.push([x + 1.5, 10.0]);
+            r.push([x + 1.5, 3.0]);
+            r.push([x + 0.5, 3.0]);
+            r.push([x + 0.5, 10.0]);
+        }
+        r.push([0.0, 10.0]);
+        r.push([0.0, 0.0]);
+        let a = Area::new(vec![vec![r.clone()]]);
+        // a tooth is x in [2k+1.5, 2k+2.5], a gap x in (2k+0.5, 2k+1.5), y > 3
+        assert!(a.contains_box([2.0, 4.0, 2.4, 9.0]));
+        assert!(!a.misses_box([2.0, 4.0, 2.4, 9.0]));
+        assert!(a.misses_box([0.7, 4.0, 1.3, 9.0]));
+        assert!(!a.contains_box([0.7, 4.0, 1.3, 9.0]));
+        assert!(
+            a.misses_box([0.5, 3.0, 1.5, 10.0]),
+            "touching the gap's sides and floor"
+        );
+        assert!(!a.misses_box([1.0, 4.0, 2.0, 9.0]) && !a.contains_box([1.0, 4.0, 2.0, 9.0]));
+        assert!(a.misses_box([20.0, 20.0, 21.0, 21.0]));
+        let parity = |p: P2| {
+            let mut n = 0;
+            for w in r.windows(2) {
+                let (u, v) = (w[0], w[1]);
+                if (u[1] > p[1]) != (v[1] > p[1]) {
+                    let x = u[0] + (p[1] - u[1]) / (v[1] - u[1]) * (v[0] - u[0]);
+                    if x > p[0] {
+                        n += 1;
+                    }
+                }
+            }
+            n % 2 == 1
+        };
+        let (mut held, mut missed) = (0, 0);
+        for i in -2..44 {
+            for j in -2..44 {
+                for (w, h) in [(1, 1), (2, 3), (4, 1), (1, 6)] {
+                    let b = [
+                        i as f64 * 0.25,
+                        j as f64 * 0.25,
+                        (i + w) as f64 * 0.25,
+                        (j + h) as f64 * 0.25,
+                    ];
+                    let (c, m) = (a.contains_box(b), a.misses_box(b));
+                    assert!(!(c && m), "{b:?}");
+                    // samples strictly inside the box, off the 0.25 lattice
+                    for fx in [0.13, 0.5, 0.87] {
+                        for fy in [0.11, 0.5, 0.89] {
+                            let p = [b[0] + fx * (b[2] - b[0]), b[1] + fy * (b[3] - b[1])];
+                            if c {
+                                assert!(parity(p), "{b:?} held, {p:?} outside");
+                            }
+                            if m {
+                                assert!(!parity(p), "{b:?} missed, {p:?} inside");
+                            }
+                        }
+                    }
+                    held += c as usize;
+                    missed += m as usize;
+                }
+            }
+        }
+        assert!(held > 500 && missed > 2000, "{held} held, {missed} missed");
     }
 }

@@ -20,7 +20,7 @@
 //! let area = Area::new(vec![vec![vec![[-5.0, -5.0], [1.0, -5.0], [1.0, 5.0], [-5.0, 5.0]]]]);
 //! let tri = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]];
 //! // the boundary piece inside the triangle, going up (interior on its left)
-//! let chains = vec![Chain { pts: vec![[1.0, 0.0], [1.0, 1.0]], enters: true, exits: true }];
+//! let chains = vec![Chain { pts: [[1.0, 0.0], [1.0, 1.0]].into_iter().collect(), enters: true, exits: true }];
 //! let m = clipped_moments(&tri, tri[0], &chains, &mut |p| area.locate(p));
 //! assert!((m.a - 1.5).abs() < 1e-12); // 2 - 1/2
 //! ```
@@ -28,13 +28,18 @@
 use crate::geom::P2;
 use crate::polygon::Where;
 
+/// The points of a [`Chain`]: a piece of a ring in one triangle is most
+/// often two or three points, kept inline (a boundary triangle's pieces
+/// cost no allocation).
+pub type ChainPoints = smallvec::SmallVec<[P2; 4]>;
+
 /// A piece of the area's boundary inside the convex polygon, in ring
 /// order (interior on its left). `enters`: its first point is where it comes
 /// in through the polygon's boundary; `exits`: its last point is where it
 /// leaves. A chain that does neither is a closed ring inside the polygon.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chain {
-    pub pts: Vec<P2>,
+    pub pts: ChainPoints,
     pub enters: bool,
     pub exits: bool,
 }
@@ -120,6 +125,10 @@ fn point_at(conv: &[P2], pos: f64) -> P2 {
     [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
 }
 
+/// A triangle's events: a few (two a piece of the boundary), kept on the
+/// stack.
+type Events = smallvec::SmallVec<[Event; 8]>;
+
 #[derive(Clone, Copy)]
 struct Event {
     pos: f64,
@@ -161,7 +170,7 @@ pub fn clipped_moments(
 /// the corner: ordered by position along the perimeter, its two events
 /// may swap and flip the status of every arc. It is left out; the other
 /// events (or the probes) decide the arcs.
-fn chain_events(conv: &[P2], o: P2, chains: &[Chain], m: &mut Moments) -> Vec<Event> {
+fn chain_events(conv: &[P2], o: P2, chains: &[Chain], m: &mut Moments) -> Events {
     let scale = conv
         .iter()
         .fold(0.0_f64, |a, v| a.max(v[0].abs()).max(v[1].abs()));
@@ -173,7 +182,7 @@ fn chain_events(conv: &[P2], o: P2, chains: &[Chain], m: &mut Moments) -> Vec<Ev
                 .all(|p| (p[0] - v[0]).abs() <= band && (p[1] - v[1]).abs() <= band)
         })
     };
-    let mut events = Vec::new();
+    let mut events = Events::new();
     for ch in chains.iter().filter(|ch| !at_a_corner(ch)) {
         for w in ch.pts.windows(2) {
             m.edge(o, w[0], w[1]);
@@ -239,7 +248,7 @@ fn add_arcs(
     m: &mut Moments,
 ) {
     let n = conv.len();
-    let mut groups: Vec<(usize, usize)> = Vec::new();
+    let mut groups: smallvec::SmallVec<[(usize, usize); 8]> = smallvec::SmallVec::new();
     let mut s = 0;
     for i in 1..=events.len() {
         if i == events.len() || events[i].pos != events[s].pos {
@@ -369,7 +378,7 @@ pub(crate) fn clip_chains(chains: &[Chain], h: &dyn Fn(P2) -> f64) -> Vec<Chain>
             if i == 0 {
                 if hp >= 0.0 {
                     cur = Some(Chain {
-                        pts: vec![p],
+                        pts: smallvec::smallvec![p],
                         enters,
                         exits: false,
                     });
@@ -393,7 +402,7 @@ pub(crate) fn clip_chains(chains: &[Chain], h: &dyn Fn(P2) -> f64) -> Vec<Chain>
                 }
                 (false, true) => {
                     let x = crossing(q, p, hq, hp);
-                    let mut v = vec![x];
+                    let mut v: ChainPoints = smallvec::smallvec![x];
                     if x != p {
                         v.push(p);
                     }
@@ -444,7 +453,7 @@ mod tests {
         ]]]);
         let chains = vec![
             Chain {
-                pts: vec![
+                pts: smallvec::smallvec![
                     [741701.012207414, 4036827.591139494],
                     [741701.012207414, 4036827.7456167075],
                 ],
@@ -452,7 +461,7 @@ mod tests {
                 exits: true,
             },
             Chain {
-                pts: vec![[741671.7194658249, y], [741671.7194658277, y]],
+                pts: smallvec::smallvec![[741671.7194658249, y], [741671.7194658277, y]],
                 enters: true,
                 exits: true,
             },
@@ -508,7 +517,7 @@ mod tests {
             hole,
         ]]);
         let chains = vec![Chain {
-            pts: area.rings[1].clone(),
+            pts: area.rings[1].iter().copied().collect(),
             enters: false,
             exits: false,
         }];
@@ -522,7 +531,7 @@ mod tests {
         let ring = vec![[1.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 0.0]];
         let area = Area::new(vec![vec![ring.clone()]]);
         let chains = vec![Chain {
-            pts: area.rings[0].clone(),
+            pts: area.rings[0].iter().copied().collect(),
             enters: true,
             exits: true,
         }];
@@ -538,13 +547,13 @@ mod tests {
         let m = Moments::of_polygon([0.0, 0.0], &c);
         assert!((m.a - 4.5).abs() < 1e-12);
         let chains = vec![Chain {
-            pts: vec![[0.5, 0.0], [0.5, 1.0], [3.0, 1.0]],
+            pts: smallvec::smallvec![[0.5, 0.0], [0.5, 1.0], [3.0, 1.0]],
             enters: true,
             exits: true,
         }];
         let cut = clip_chains(&chains, &h);
         assert_eq!(cut.len(), 1);
-        assert_eq!(cut[0].pts, vec![[1.0, 1.0], [3.0, 1.0]]);
+        assert_eq!(cut[0].pts.as_slice(), &[[1.0, 1.0], [3.0, 1.0]]);
         assert!(cut[0].enters && cut[0].exits);
     }
 }

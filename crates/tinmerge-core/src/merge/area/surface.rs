@@ -82,10 +82,12 @@ impl SurfaceStats {
             return;
         }
         let (k, mx, my) = units.local(o[1] + m.my / m.a, gx, gy);
-        let grad = mx.hypot(my);
-        let slope = grad.atan().to_degrees();
+        // (the gradient's length squared: no overflow or underflow to
+        // guard against at slopes a terrain has, which hypot's care costs)
+        let g2 = mx * mx + my * my;
+        let slope = g2.sqrt().atan().to_degrees();
         self.area2d += k * m.a;
-        self.area3d += k * m.a * (1.0 + grad * grad).sqrt();
+        self.area3d += k * m.a * (1.0 + g2).sqrt();
         self.z_integral += k * m.linear(z0, gx, gy);
         self.slope_integral += k * m.a * slope;
         self.max_slope = self.max_slope.max(slope);
@@ -342,7 +344,8 @@ where
     }
     // where each point tested lies, kept for the call: a boundary
     // triangle's corners are its neighbours' too
-    let mut located: rustc_hash::FxHashMap<[u64; 2], Where> = rustc_hash::FxHashMap::default();
+    let mut located: rustc_hash::FxHashMap<[u64; 2], Where> =
+        rustc_hash::FxHashMap::with_capacity_and_hasher(2 * s.boundary.len(), Default::default());
     let mut locate = |q: P2| {
         *located
             .entry([q[0].to_bits(), q[1].to_bits()])

@@ -4,7 +4,7 @@
 
 use crate::geom::{P2, co, tri_area};
 use crate::interrupt::{Interrupt, Ticker};
-use crate::merge::area::clip::{Chain, Moments, clip_convex};
+use crate::merge::area::clip::{Chain, ChainPoints, Moments, clip_convex};
 use crate::merge::line::{Sink, Walker};
 use crate::polygon::{Area, RUN, Where, segment_meets_open_triangle};
 use crate::tin::hierarchy::children;
@@ -106,7 +106,7 @@ struct RingSink {
     want_pieces: bool,
     pairs: Vec<(u32, u32, u32)>,
     /// (triangle, ring, points)
-    pieces: Vec<(u32, u32, Vec<P2>)>,
+    pieces: Vec<(u32, u32, ChainPoints)>,
     open: bool,
 }
 
@@ -136,7 +136,7 @@ impl Sink for RingSink {
                     }
                 }
                 _ => {
-                    let mut pts = Vec::with_capacity(8);
+                    let mut pts = ChainPoints::new();
                     pts.push(p);
                     self.pieces.push((tri, self.ring, pts));
                 }
@@ -154,6 +154,7 @@ fn walk_rings<M: Indexed>(
     level: usize,
     area: &Area,
     want_pieces: bool,
+    sc: &mut Scratch,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<RingSink, TinError>
 where
@@ -163,8 +164,8 @@ where
         ring: 0,
         seg: 0,
         want_pieces,
-        pairs: Vec::with_capacity(64),
-        pieces: Vec::with_capacity(32),
+        pairs: std::mem::take(&mut sc.pairs),
+        pieces: std::mem::take(&mut sc.pieces),
         open: false,
     };
     // one walker for all rings: the hull (for rings entering from outside
@@ -263,30 +264,157 @@ where
     }
 }
 
+/// The vectors a sweep works in, kept per thread for the next sweep: a
+/// zonal join sweeps a boundary tile per row, and allocating them afresh
+/// was a tenth of its time. A sweep takes them ([`Scratch::take`]) and
+/// gives them back when it is done; a [`Sweep`] gives back its own when
+/// dropped. (A sweep that fails leaves them to be dropped.)
+#[derive(Default)]
+struct Scratch {
+    pairs: Vec<Pair>,
+    pending: Vec<Pair>,
+    next: Vec<Pair>,
+    pieces: Vec<(u32, u32, ChainPoints)>,
+    tagged: Vec<(u32, u32, Chain)>,
+    chains: Vec<Chain>,
+    seeds: Vec<u32>,
+    stack: Vec<(u32, bool)>,
+    /// emptied vectors of triangle ids
+    lists: Vec<Vec<u32>>,
+}
+
+/// Vectors of triangle ids kept in a [`Scratch`].
+const SPARE_LISTS: usize = 64;
+/// Capacity past which a vector is not kept (a sweep of a whole large
+/// terrain's level gives its memory back).
+const KEEP_CAPACITY: usize = 1 << 16;
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
+impl Scratch {
+    /// The thread's vectors (empty ones when another sweep of the thread
+    /// holds them, or while its storage is torn down).
+    fn take() -> Scratch {
+        SCRATCH
+            .try_with(|c| {
+                c.try_borrow_mut()
+                    .map(|mut s| std::mem::take(&mut *s))
+                    .unwrap_or_default()
+            })
+            .unwrap_or_default()
+    }
+
+    /// Back to the thread, emptied, but for vectors grown past
+    /// [`KEEP_CAPACITY`].
+    fn give_back(mut self) {
+        fn keep<T>(v: &mut Vec<T>) {
+            v.clear();
+            if v.capacity() > KEEP_CAPACITY {
+                *v = Vec::new();
+            }
+        }
+        keep(&mut self.pairs);
+        keep(&mut self.pending);
+        keep(&mut self.next);
+        keep(&mut self.pieces);
+        keep(&mut self.tagged);
+        keep(&mut self.chains);
+        keep(&mut self.seeds);
+        keep(&mut self.stack);
+        self.lists.retain(|v| v.capacity() <= KEEP_CAPACITY);
+        self.lists.truncate(SPARE_LISTS);
+        for v in &mut self.lists {
+            v.clear();
+        }
+        let _ = SCRATCH.try_with(|c| {
+            if let Ok(mut s) = c.try_borrow_mut() {
+                *s = self;
+            }
+        });
+    }
+
+    /// An empty vector of triangle ids.
+    fn list(&mut self) -> Vec<u32> {
+        let mut v = self.lists.pop().unwrap_or_default();
+        v.clear();
+        v
+    }
+}
+
+impl Drop for Sweep {
+    fn drop(&mut self) {
+        let _ = SCRATCH.try_with(|c| {
+            let Ok(mut s) = c.try_borrow_mut() else {
+                return;
+            };
+            for v in self.inside.drain(..).chain([
+                std::mem::take(&mut self.boundary),
+                std::mem::take(&mut self.chain_triangles),
+            ]) {
+                if s.lists.len() < SPARE_LISTS && v.capacity() > 0 && v.capacity() <= KEEP_CAPACITY
+                {
+                    s.lists.push(v);
+                }
+            }
+            let mut chains = std::mem::take(&mut self.chains);
+            if chains.capacity() > s.chains.capacity() && chains.capacity() <= KEEP_CAPACITY {
+                chains.clear();
+                s.chains = chains;
+            }
+        });
+    }
+}
+
 /// Flag bytes of the triangles of one level (or of the vertices), zero
-/// until set, kept in pages allocated when first written: a sweep of a
-/// small polygon over a large terrain costs what it touches, not a byte per
-/// triangle of every level it sweeps. Pages are zeroed and kept for the
-/// next sweep of the thread when dropped (a tile of a county's boundary
-/// sweeps six levels: six page allocations a call otherwise).
+/// until set. A level of up to [`FLAT_FLAGS`] triangles (a tile's) has
+/// them in one vector; a larger one keeps them in pages allocated when
+/// first written: a sweep of a small polygon over a large terrain costs
+/// what it touches, not a byte per triangle of every level it sweeps.
+/// Vectors and pages are kept for the next sweep of the thread when
+/// dropped (a tile of a county's boundary sweeps six levels, and these
+/// sizes are past the allocator's fast path).
 #[derive(Default)]
 struct Flags {
     n: usize,
+    /// all the flags, when `n <= FLAT_FLAGS`
+    flat: Vec<u8>,
     pages: Vec<Option<Box<[u8; FLAG_PAGE]>>>,
 }
 
 const FLAG_PAGE: usize = 4096;
+/// Levels up to this many triangles have their flags in one vector.
+const FLAT_FLAGS: usize = 4 * FLAG_PAGE;
 /// Zeroed pages kept per thread.
 const SPARE_PAGES: usize = 64;
 
+/// Vectors kept per thread.
+const SPARE_FLAT: usize = 16;
+
 thread_local! {
     static SPARE: std::cell::RefCell<Vec<Box<[u8; FLAG_PAGE]>>> = const { std::cell::RefCell::new(Vec::new()) };
+    static SPARE_VECS: std::cell::RefCell<Vec<Vec<u8>>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 impl Flags {
     fn new(n: usize) -> Flags {
+        if n <= FLAT_FLAGS {
+            let mut flat = SPARE_VECS
+                .try_with(|s| s.borrow_mut().pop())
+                .ok()
+                .flatten()
+                .unwrap_or_default();
+            flat.resize(n, 0);
+            return Flags {
+                n,
+                flat,
+                pages: Vec::new(),
+            };
+        }
         Flags {
             n,
+            flat: Vec::new(),
             pages: (0..n.div_ceil(FLAG_PAGE)).map(|_| None).collect(),
         }
     }
@@ -299,6 +427,9 @@ impl Flags {
     fn get_mut(&mut self, t: usize) -> Option<&mut u8> {
         if t >= self.n {
             return None;
+        }
+        if self.pages.is_empty() {
+            return self.flat.get_mut(t);
         }
         let page = self.pages[t / FLAG_PAGE].get_or_insert_with(|| {
             SPARE
@@ -313,6 +444,19 @@ impl Flags {
 
 impl Drop for Flags {
     fn drop(&mut self) {
+        if self.pages.is_empty() {
+            let mut flat = std::mem::take(&mut self.flat);
+            if flat.capacity() > 0 {
+                flat.clear();
+                let _ = SPARE_VECS.try_with(|s| {
+                    let mut s = s.borrow_mut();
+                    if s.len() < SPARE_FLAT {
+                        s.push(flat);
+                    }
+                });
+            }
+            return;
+        }
         // (not at all while the thread's storage is being torn down)
         let _ = SPARE.try_with(|s| {
             let mut s = s.borrow_mut();
@@ -331,6 +475,9 @@ impl std::ops::Index<usize> for Flags {
     type Output = u8;
     fn index(&self, t: usize) -> &u8 {
         assert!(t < self.n, "flag {t} of {}", self.n);
+        if self.pages.is_empty() {
+            return &self.flat[t];
+        }
         self.pages[t / FLAG_PAGE]
             .as_ref()
             .map_or(&0, |p| &p[t % FLAG_PAGE])
@@ -366,12 +513,17 @@ where
             num_levels,
         });
     }
+    let mut sc = Scratch::take();
     let mut out = Sweep {
         level,
-        inside: vec![Vec::new(); level + 1],
-        ..Sweep::default()
+        inside: (0..=level).map(|_| sc.list()).collect(),
+        boundary: Vec::new(),
+        chains: Vec::new(),
+        chain_triangles: Vec::new(),
+        examined: 0,
     };
     if area.is_empty() {
+        sc.give_back();
         return Ok(out);
     }
     let first = if method == Method::Hierarchy {
@@ -382,7 +534,7 @@ where
     // The boundary, found once at the target level with the line walk; at
     // coarser levels it is the ancestors' (a triangle's inside holds its
     // children's), found by following parent links (Scarlatos §6.5).
-    let walk = walk_rings(tin, level, area, true, interrupt)?;
+    let walk = walk_rings(tin, level, area, true, &mut sc, interrupt)?;
     let mut s = Sweeper {
         tin,
         area,
@@ -390,12 +542,17 @@ where
         first,
         level,
         status: Status::new(tin, area),
+        seeds: std::mem::take(&mut sc.seeds),
+        stack: std::mem::take(&mut sc.stack),
         tk: Ticker::new(interrupt),
     };
-    let (mut marks, pending) = s.mark_target(&walk.pairs)?;
-    s.mark_upward(&mut marks, pending)?;
-    let mut chains_at_level = Some(walk.pieces);
-    let mut prev_boundary: Vec<u32> = Vec::new();
+    let RingSink {
+        pairs, mut pieces, ..
+    } = walk;
+    let mut marks = s.mark_target(&pairs, &mut sc)?;
+    sc.pairs = pairs;
+    s.mark_upward(&mut marks, &mut sc)?;
+    let mut prev_boundary: Vec<u32> = sc.list();
     for l in first..=level {
         let walked = std::mem::take(&mut marks.walked_at[l]);
         let mut boundary = std::mem::take(&mut marks.boundary_at[l]);
@@ -404,14 +561,22 @@ where
         s.sweep_level(l, &walked, &prev_boundary, &mut flags, &mut out)?;
         out.inside[l].sort_unstable();
         boundary.sort_unstable();
-        if l == level
-            && let Some(pieces) = chains_at_level.take()
-        {
-            (out.chain_triangles, out.chains) = chains(pieces, &flags, area).into_iter().unzip();
+        if l == level {
+            chains(&mut pieces, &flags, area, &mut sc, &mut out);
         }
-        prev_boundary = boundary;
+        sc.lists.push(walked);
+        sc.lists
+            .push(std::mem::replace(&mut prev_boundary, boundary));
     }
     out.boundary = prev_boundary;
+    sc.pieces = pieces;
+    (sc.seeds, sc.stack) = (s.seeds, s.stack);
+    for v in marks.walked_at.into_iter().chain(marks.boundary_at) {
+        if v.capacity() > 0 {
+            sc.lists.push(v);
+        }
+    }
+    sc.give_back();
     drop_void(tin, &mut out);
     Ok(out)
 }
@@ -456,6 +621,10 @@ struct Sweeper<'a, 't, 'i, M: Indexed> {
     first: usize,
     level: usize,
     status: Status<'a, M>,
+    /// the current level's seeds and the spread's stack, kept for the next
+    /// level
+    seeds: Vec<u32>,
+    stack: Vec<(u32, bool)>,
     tk: Ticker<'t, 'i>,
 }
 
@@ -470,18 +639,18 @@ where
     }
 
     /// The marks at the target level, from the walk's (triangle, ring,
-    /// segment) `pairs`; and the pairs whose segment touches its triangle
-    /// without crossing its inside (running along its edges): those may
-    /// still cross the inside of an ancestor, and are tested again going
-    /// up.
-    fn mark_target(&mut self, pairs: &[Pair]) -> Result<(Marks, Vec<Pair>), TinError> {
+    /// segment) `pairs`; and, in `sc.pending`, the pairs whose segment
+    /// touches its triangle without crossing its inside (running along its
+    /// edges): those may still cross the inside of an ancestor, and are
+    /// tested again going up.
+    fn mark_target(&mut self, pairs: &[Pair], sc: &mut Scratch) -> Result<Marks, TinError> {
         let (tin, level, first) = (self.tin, self.level, self.first);
         let mut m = Marks {
             flags: (0..=level)
                 .map(|l| Flags::new(if l >= first { tin.num_triangles(l) } else { 0 }))
                 .collect(),
-            walked_at: vec![Vec::new(); level + 1],
-            boundary_at: vec![Vec::new(); level + 1],
+            walked_at: (0..=level).map(|_| sc.list()).collect(),
+            boundary_at: (0..=level).map(|_| sc.list()).collect(),
         };
         m.walked_at[level].reserve(pairs.len());
         m.boundary_at[level].reserve(pairs.len());
@@ -502,18 +671,22 @@ where
                 }
             }
         }
-        let pending = pairs
-            .iter()
-            .filter(|&&(t, _, _)| m.flags[level][t as usize] & BOUNDARY == 0)
-            .copied()
-            .collect();
-        Ok((m, pending))
+        sc.pending.clear();
+        sc.pending.extend(
+            pairs
+                .iter()
+                .filter(|&&(t, _, _)| m.flags[level][t as usize] & BOUNDARY == 0)
+                .copied(),
+        );
+        Ok(m)
     }
 
     /// The marks of the coarser levels: a triangle's parent is walked or
-    /// boundary when it is, and the `pending` segments are tested against
-    /// the parents' insides.
-    fn mark_upward(&mut self, m: &mut Marks, mut pending: Vec<Pair>) -> Result<(), TinError> {
+    /// boundary when it is, and the pending segments (`sc.pending`) are
+    /// tested against the parents' insides.
+    fn mark_upward(&mut self, m: &mut Marks, sc: &mut Scratch) -> Result<(), TinError> {
+        let mut pending = std::mem::take(&mut sc.pending);
+        let mut next = std::mem::take(&mut sc.next);
         let tin = self.tin;
         for l in (self.first..self.level).rev() {
             let nl = tin.num_triangles(l);
@@ -540,7 +713,7 @@ where
                     }
                 }
             }
-            let mut next = Vec::with_capacity(pending.len());
+            next.clear();
             for &(c, r, s) in &pending {
                 self.tk.tick()?;
                 let p = up(c)?;
@@ -557,8 +730,9 @@ where
             }
             next.sort_unstable();
             next.dedup();
-            pending = next;
+            std::mem::swap(&mut pending, &mut next);
         }
+        (sc.pending, sc.next) = (pending, next);
         Ok(())
     }
 
@@ -592,8 +766,19 @@ where
                 out.examined += n;
             }
         } else {
-            let seeds = seeds(self.tin, l, open_sweep, walked, prev_boundary, flags)?;
+            let mut seeds = std::mem::take(&mut self.seeds);
+            seeds.clear();
+            find_seeds(
+                self.tin,
+                l,
+                open_sweep,
+                walked,
+                prev_boundary,
+                flags,
+                &mut seeds,
+            )?;
             self.spread(l, open_sweep, &seeds, flags, out)?;
+            self.seeds = seeds;
         }
         Ok(())
     }
@@ -616,7 +801,8 @@ where
             inside, examined, ..
         } = out;
         let inside = &mut inside[l];
-        let mut stack: Vec<(u32, bool)> = Vec::with_capacity(64);
+        let mut stack = std::mem::take(&mut self.stack);
+        stack.clear();
         for &s0 in seeds {
             if flags[s0 as usize] & SEEN != 0 {
                 continue;
@@ -660,6 +846,7 @@ where
                 }
             }
         }
+        self.stack = stack;
         Ok(())
     }
 }
@@ -667,19 +854,20 @@ where
 /// The seeds of level `l`'s sweep: at the first level (`open_sweep`), the
 /// triangles the rings touch (`walked`) and their neighbours; below, the
 /// children of the level above's boundary triangles. Every one that is not
-/// a boundary triangle is wholly in or out.
-fn seeds<M: Indexed>(
+/// a boundary triangle is wholly in or out. Into `seeds`.
+fn find_seeds<M: Indexed>(
     tin: &M,
     l: usize,
     open_sweep: bool,
     walked: &[u32],
     prev_boundary: &[u32],
     flags: &mut Flags,
-) -> Result<Vec<u32>, TinError>
+    seeds: &mut Vec<u32>,
+) -> Result<(), TinError>
 where
     TinError: From<M::Err>,
 {
-    let mut seeds: Vec<u32> = Vec::with_capacity(4 * walked.len().max(prev_boundary.len()));
+    seeds.reserve(4 * walked.len().max(prev_boundary.len()));
     let mut mark = |t: u32, flags: &mut Flags| -> Result<(), TinError> {
         let f = flags
             .get_mut(t as usize)
@@ -706,18 +894,34 @@ where
             }
         }
     }
-    Ok(seeds)
+    Ok(())
 }
 
-/// The pieces of the boundary triangles as chains: a ring's last piece and
-/// its first join when they meet in one triangle at the ring's start.
-fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &Flags, area: &Area) -> Vec<(u32, Chain)> {
-    let mut out: Vec<(u32, Chain)> = Vec::with_capacity(pieces.len());
-    let mut pieces = pieces.into_iter().peekable();
+/// The pieces of the boundary triangles as chains, into `out.chains` and
+/// `out.chain_triangles` in triangle order (a triangle's in ring order): a
+/// ring's last piece and its first join when they meet in one triangle at
+/// the ring's start. `pieces` is emptied.
+fn chains(
+    pieces: &mut Vec<(u32, u32, ChainPoints)>,
+    flags: &Flags,
+    area: &Area,
+    sc: &mut Scratch,
+    out: &mut Sweep,
+) {
+    // (triangle, order made, chain): sorted by the first two
+    let mut tagged = std::mem::take(&mut sc.tagged);
+    tagged.clear();
+    let mut push = |t: u32, ch: Chain| {
+        let k = tagged.len() as u32;
+        tagged.push((t, k, ch));
+    };
+    let mut pieces = pieces.drain(..).peekable();
+    let mut ring: Vec<(u32, u32, ChainPoints)> = Vec::new();
     while let Some(first) = pieces.next() {
         // this ring's pieces, moved (not copied) into chains
         let r = first.1;
-        let mut ring = vec![first];
+        ring.clear();
+        ring.push(first);
         while let Some(p) = pieces.next_if(|p| p.1 == r) {
             ring.push(p);
         }
@@ -725,14 +929,14 @@ fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &Flags, area: &Area) -> Vec<(
         if ring.len() == 1 {
             let (t, _, pts) = ring.pop().expect("one piece");
             let closed = pts.first() == Some(&start) && pts.last() == Some(&start);
-            out.push((
+            push(
                 t,
                 Chain {
                     pts,
                     enters: !closed,
                     exits: !closed,
                 },
-            ));
+            );
             continue;
         }
         let n = ring.len();
@@ -740,34 +944,44 @@ fn chains(pieces: Vec<(u32, u32, Vec<P2>)>, flags: &Flags, area: &Area) -> Vec<(
             let (f, l) = (&ring[0], &ring[n - 1]);
             f.0 == l.0 && f.2.first() == Some(&start) && l.2.last() == Some(&start)
         };
-        let mut ring = ring.into_iter();
+        let mut ring = ring.drain(..);
         if joined {
             let (t, _, first_pts) = ring.next().expect("first piece");
             let (_, _, mut pts) = ring.next_back().expect("last piece");
             pts.extend_from_slice(&first_pts[1..]);
-            out.push((
+            push(
                 t,
                 Chain {
                     pts,
                     enters: true,
                     exits: true,
                 },
-            ));
+            );
         }
-        out.extend(ring.map(|(t, _, pts)| {
-            (
+        for (t, _, pts) in ring {
+            push(
                 t,
                 Chain {
                     pts,
                     enters: true,
                     exits: true,
                 },
-            )
-        }));
+            );
+        }
     }
-    out.retain(|(t, ch)| {
+    tagged.retain(|(t, _, ch)| {
         ch.pts.len() >= 2 && flags.get(*t as usize).is_some_and(|f| f & BOUNDARY != 0)
     });
-    out.sort_by_key(|(t, _)| *t);
-    out
+    // (unstable on distinct keys: the order of a stable sort by triangle,
+    // without its buffer)
+    tagged.sort_unstable_by_key(|&(t, k, _)| (t, k));
+    let mut cs = std::mem::take(&mut sc.chains);
+    cs.clear();
+    let mut ts = sc.list();
+    for (t, _, ch) in tagged.drain(..) {
+        ts.push(t);
+        cs.push(ch);
+    }
+    (out.chain_triangles, out.chains) = (ts, cs);
+    sc.tagged = tagged;
 }

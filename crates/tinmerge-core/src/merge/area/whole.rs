@@ -94,6 +94,16 @@ pub fn stats_from_header(h: &Header, level: usize, area: &Area) -> Option<Surfac
         .then_some(*s)
 }
 
+/// Whether `area` leaves out the whole terrain of the header's tin: the
+/// open inside of its bounding box is outside the polygon
+/// ([`Area::misses_box`]), so the polygon clips nothing of it (a tile met
+/// by the polygon's bounding box only). Then every statistic is that of
+/// nothing, in any units; no triangle need be read.
+pub fn misses(h: &Header, area: &Area) -> bool {
+    let b = &h.bbox;
+    area.misses_box([b.min_x, b.min_y, b.max_x, b.max_y])
+}
+
 /// Cut and fill against `base` from the header, when
 /// [`stats_from_header`] answers and the level lies wholly above or wholly
 /// below the base (otherwise the triangles that reach it must be read).
