@@ -23,7 +23,7 @@ use super::tin_type::TinArg;
 use tinmerge_core::geom::{is_strictly_convex_ring, Spheroid, Units};
 use tinmerge_core::io::ewkb::{self, Ewkb, Geom};
 use tinmerge_core::io::gserialized;
-use tinmerge_core::merge::area::polygon::Area;
+use tinmerge_core::merge::area::polygon::{Area, Where};
 use tinmerge_core::merge::area::surface::{
     stats_with, volume_parts_with, SubtreeSums, SurfaceStats, VolumeParts,
 };
@@ -361,12 +361,12 @@ where
 }
 
 /// The polygon read by `area` in the tin's SRID, and what the header
-/// answers without reading a triangle: `nothing` when the polygon leaves
-/// the whole terrain out (`merge::area::whole::misses`: a tile met by the
-/// polygon's bounding box only); when it holds the whole terrain and the
-/// header stores each level's sums (format 6 or 7) in the units the tin is
-/// measured in (its own: not a geographic SRID), what `from_header` answers
-/// from them (a tile wholly inside a county).
+/// answers without reading a triangle (`merge::area::whole::box_side`):
+/// `nothing` when the polygon leaves the whole terrain out (a tile met by
+/// the polygon's bounding box only); when it holds the whole terrain and
+/// the header stores each level's sums (format 6 or 7) in the units the
+/// tin is measured in (its own: not a geographic SRID), what `from_header`
+/// makes of the level's sums (a tile wholly inside a county).
 fn with_header<T>(
     t: &TinArg,
     level: Option<i32>,
@@ -374,22 +374,26 @@ fn with_header<T>(
     area: &dyn Fn(i32) -> Rc<Area>,
     func: &str,
     nothing: impl FnOnce() -> T,
-    from_header: impl Fn(&tinmerge_core::tin::layout::Header, usize, &Area) -> Option<T>,
+    from_header: impl Fn(&tinmerge_core::tin::layout::Header, usize) -> Option<T>,
 ) -> (Rc<Area>, Option<T>) {
     let h = t.header();
     let a = area(h.srid);
-    if whole::misses(&h, &a) {
+    let side = whole::box_side(&h, &a);
+    if side == Some(Where::Outside) {
         // (the level and a geographic SRID's spheroid are still checked,
         // as the triangles' path does)
         tinmerge_core::tin::resolve_level(level, h.levels.len()).or_raise();
         area_units(geographic, h.srid, &h.bbox, func);
         return (a, Some(nothing()));
     }
-    if h.sums.is_empty() || srid_is_geographic(geographic, h.srid, &h.bbox) {
+    if side != Some(Where::Inside)
+        || h.sums.is_empty()
+        || srid_is_geographic(geographic, h.srid, &h.bbox)
+    {
         return (a, None);
     }
     let l = tinmerge_core::tin::resolve_level(level, h.levels.len()).or_raise();
-    let got = from_header(&h, l, &a);
+    let got = from_header(&h, l);
     (a, got)
 }
 
@@ -408,7 +412,7 @@ pub(super) fn stats_row(
         area,
         "tin_area_stats",
         SurfaceStats::empty,
-        whole::stats_from_header,
+        whole::level_stats,
     );
     let st = got.unwrap_or_else(|| {
         with_mesh!(t, level, |m, l, srid| {
@@ -516,7 +520,7 @@ pub(super) fn volume_row(
         area,
         "tin_volume",
         VolumeParts::default,
-        |h, l, a| whole::volume_from_header(h, l, a, base),
+        |h, l| VolumeParts::of_subtree(&whole::level_stats(h, l)?, base),
     );
     let v = got.unwrap_or_else(|| {
         with_mesh!(t, level, |m, l, srid| {

@@ -326,7 +326,6 @@ pub fn is_strictly_convex_ring(ring: &[[f64; 3]]) -> bool {
         return false;
     }
     let mut left = None;
-    let mut turned = 0.0;
     for i in 0..m {
         let (a, b, c) = (corners[(i + m - 1) % m], corners[i], corners[(i + 1) % m]);
         let o = orient(&a, &b, &c);
@@ -334,16 +333,32 @@ pub fn is_strictly_convex_ring(ring: &[[f64; 3]]) -> bool {
             return false;
         }
         left = Some(o > 0.0);
-        // the turn's size in [0, pi] (its sign is the exact orientation's,
-        // the same at every corner), near pi too, as the angle between the
-        // two sides
-        let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
-        turned += (u[0] * v[1] - u[1] * v[0])
-            .abs()
-            .atan2(u[0] * v[0] + u[1] * v[1]);
     }
-    // the turns add up to 2 pi times the times the ring goes round
-    (turned - std::f64::consts::TAU).abs() < std::f64::consts::PI
+    // Every turn is one way and less than half a turn, so the sides'
+    // direction goes round monotonically; each time round, the sign of
+    // their x step changes twice (passing straight up and straight down;
+    // a side straight up or down between two others is passed over: two
+    // such in a row would be collinear). Exact: the sign of a difference
+    // of two floats is the true one.
+    let dx = |i: usize| corners[(i + 1) % m][0] - corners[i][0];
+    let (mut first, mut prev, mut changes) = (None, None, 0);
+    for i in 0..m {
+        let d = dx(i);
+        if d == 0.0 {
+            continue;
+        }
+        let right = d > 0.0;
+        match prev {
+            Some(p) if p != right => changes += 1,
+            Some(_) => {}
+            None => first = Some(right),
+        }
+        prev = Some(right);
+    }
+    if first.is_some() && first != prev {
+        changes += 1;
+    }
+    changes == 2
 }
 
 /// A spheroid: semi-major axis (metres) and flattening.

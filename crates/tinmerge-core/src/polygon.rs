@@ -227,14 +227,22 @@ impl Area {
     }
 
     /// Whether the open inside of the rectangle `b` (min < max) lies
-    /// outside the area: no ring segment meets it and its centre is
-    /// outside ([`Area::box_side`]). Then nothing of the area lies in the
-    /// rectangle but parts of its edges, which bound no area (a tile met by
-    /// a polygon's bounding box only).
+    /// outside the area ([`Area::box_relation`]). Then nothing of the area
+    /// lies in the rectangle but parts of its edges, which bound no area (a
+    /// tile met by a polygon's bounding box only).
     pub fn misses_box(&self, b: [f64; 4]) -> bool {
+        self.box_relation(b) == Some(Where::Outside)
+    }
+
+    /// Where the open inside of the rectangle `b` (min x, min y, max x,
+    /// max y) lies: `Outside` when it misses the area's bounding box or no
+    /// ring segment meets it and its centre is outside, `Inside` when no
+    /// segment meets it and its centre is inside ([`Area::box_side`]);
+    /// None when a segment meets it, or `b` is empty.
+    pub fn box_relation(&self, b: [f64; 4]) -> Option<Where> {
         let [x0, y0, x1, y1] = b;
         if !(x0 < x1 && y0 < y1) {
-            return false;
+            return None;
         }
         if self.rings.is_empty()
             || x1 <= self.bbox[0]
@@ -242,9 +250,9 @@ impl Area {
             || y1 <= self.bbox[1]
             || y0 >= self.bbox[3]
         {
-            return true;
+            return Some(Where::Outside);
         }
-        self.box_side(b) == Some(Where::Outside)
+        self.box_side(b)
     }
 
     /// Which side of the area the open inside of the rectangle `b` (min x,
@@ -355,9 +363,9 @@ mod tests {
         assert!(segment_meets_open_triangle(&t, [0.0, 0.0], [1.0, 1.0]));
     }
 
-    #[test]
-    fn locate_matches_brute_force_parity() {
-        // a comb-shaped ring, points on a fine lattice (many on the boundary)
+    /// A comb-shaped ring in 0..10: teeth x in [2k+1.5, 2k+2.5] (and the
+    /// edges), gaps x in (2k+0.5, 2k+1.5) above y = 3.
+    fn comb() -> Vec<P2> {
         let mut r = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]];
         for k in (0..5).rev() {
             let x = 2.0 * k as f64;
@@ -368,6 +376,29 @@ mod tests {
         }
         r.push([0.0, 10.0]);
         r.push([0.0, 0.0]);
+        r
+    }
+
+    /// Brute-force parity: whether a ray from `p` to +x crosses the ring
+    /// an odd number of times (for points off the ring).
+    fn odd_crossings(r: &[P2], p: P2) -> bool {
+        let mut n = 0;
+        for w in r.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            if (a[1] > p[1]) != (b[1] > p[1]) {
+                let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+                if x > p[0] {
+                    n += 1;
+                }
+            }
+        }
+        n % 2 == 1
+    }
+
+    #[test]
+    fn locate_matches_brute_force_parity() {
+        // the comb, points on a fine lattice (many on the boundary)
+        let r = comb();
         let a = Area::new(vec![vec![r.clone()]]);
         for i in -2..=42 {
             for j in -2..=42 {
@@ -379,19 +410,9 @@ mod tests {
                         && w[0][1].min(w[1][1]) <= p[1]
                         && p[1] <= w[0][1].max(w[1][1])
                 });
-                let mut n = 0;
-                for w in r.windows(2) {
-                    let (a, b) = (w[0], w[1]);
-                    if (a[1] > p[1]) != (b[1] > p[1]) {
-                        let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-                        if x > p[0] {
-                            n += 1;
-                        }
-                    }
-                }
                 let want = if on {
                     Where::Boundary
-                } else if n % 2 == 1 {
+                } else if odd_crossings(&r, p) {
                     Where::Inside
                 } else {
                     Where::Outside
@@ -409,18 +430,8 @@ mod tests {
     /// inside or outside of, its samples are).
     #[test]
     fn boxes_held_missed_or_crossed() {
-        let mut r = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]];
-        for k in (0..5).rev() {
-            let x = 2.0 * k as f64;
-            r.push([x + 1.5, 10.0]);
-            r.push([x + 1.5, 3.0]);
-            r.push([x + 0.5, 3.0]);
-            r.push([x + 0.5, 10.0]);
-        }
-        r.push([0.0, 10.0]);
-        r.push([0.0, 0.0]);
+        let r = comb();
         let a = Area::new(vec![vec![r.clone()]]);
-        // a tooth is x in [2k+1.5, 2k+2.5], a gap x in (2k+0.5, 2k+1.5), y > 3
         assert!(a.contains_box([2.0, 4.0, 2.4, 9.0]));
         assert!(!a.misses_box([2.0, 4.0, 2.4, 9.0]));
         assert!(a.misses_box([0.7, 4.0, 1.3, 9.0]));
@@ -431,19 +442,7 @@ mod tests {
         );
         assert!(!a.misses_box([1.0, 4.0, 2.0, 9.0]) && !a.contains_box([1.0, 4.0, 2.0, 9.0]));
         assert!(a.misses_box([20.0, 20.0, 21.0, 21.0]));
-        let parity = |p: P2| {
-            let mut n = 0;
-            for w in r.windows(2) {
-                let (u, v) = (w[0], w[1]);
-                if (u[1] > p[1]) != (v[1] > p[1]) {
-                    let x = u[0] + (p[1] - u[1]) / (v[1] - u[1]) * (v[0] - u[0]);
-                    if x > p[0] {
-                        n += 1;
-                    }
-                }
-            }
-            n % 2 == 1
-        };
+        let parity = |p: P2| odd_crossings(&r, p);
         let (mut held, mut missed) = (0, 0);
         for i in -2..44 {
             for j in -2..44 {

@@ -738,7 +738,7 @@ where
 
     /// Level `l`'s inside triangles into `out`: every triangle tested
     /// (the scan's first level), all or none (no ring enters the domain),
-    /// or the sweep from the seeds ([`seeds`], [`Sweeper::spread`]).
+    /// or the sweep from the seeds ([`find_seeds`], [`Sweeper::spread`]).
     fn sweep_level(
         &mut self,
         l: usize,

@@ -36,7 +36,7 @@ use crate::geom::Units;
 use crate::interrupt::Interrupt;
 use crate::merge::area::surface::{SubtreeSums, SurfaceStats, VolumeParts, stats_with};
 use crate::merge::area::{Method, sweep};
-use crate::polygon::Area;
+use crate::polygon::{Area, Where};
 use crate::tin::TinError;
 use crate::tin::layout::{Header, LevelSums};
 use crate::tin::mesh::Indexed;
@@ -94,14 +94,21 @@ pub fn stats_from_header(h: &Header, level: usize, area: &Area) -> Option<Surfac
         .then_some(*s)
 }
 
-/// Whether `area` leaves out the whole terrain of the header's tin: the
-/// open inside of its bounding box is outside the polygon
-/// ([`Area::misses_box`]), so the polygon clips nothing of it (a tile met
-/// by the polygon's bounding box only). Then every statistic is that of
-/// nothing, in any units; no triangle need be read.
-pub fn misses(h: &Header, area: &Area) -> bool {
+/// Which side of `area` the open inside of the header's bounding box lies
+/// on, when no ring meets it ([`Area::box_relation`]): `Outside` when the
+/// polygon leaves out the whole terrain (a tile met by the polygon's
+/// bounding box only: every statistic is that of nothing, in any units, no
+/// triangle read), `Inside` when it holds it (then [`level_stats`]); None
+/// when a ring crosses it.
+pub fn box_side(h: &Header, area: &Area) -> Option<Where> {
     let b = &h.bbox;
-    area.misses_box([b.min_x, b.min_y, b.max_x, b.max_y])
+    area.box_relation([b.min_x, b.min_y, b.max_x, b.max_y])
+}
+
+/// The stored sums of `level` as statistics, when the header has them:
+/// the answer for a polygon that holds the terrain ([`box_side`]).
+pub fn level_stats(h: &Header, level: usize) -> Option<SurfaceStats> {
+    h.level_sums(level).copied()
 }
 
 /// Cut and fill against `base` from the header, when
