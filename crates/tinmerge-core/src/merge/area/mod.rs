@@ -61,6 +61,7 @@
 
 pub mod clip;
 pub use crate::polygon;
+mod scratch;
 pub mod surface;
 mod sweep;
 pub mod whole;

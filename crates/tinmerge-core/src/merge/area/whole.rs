@@ -88,10 +88,8 @@ where
 /// nothing). Planar units only: the caller measures a geographic tin
 /// itself.
 pub fn stats_from_header(h: &Header, level: usize, area: &Area) -> Option<SurfaceStats> {
-    let s = h.level_sums(level)?;
-    let b = &h.bbox;
-    area.contains_box([b.min_x, b.min_y, b.max_x, b.max_y])
-        .then_some(*s)
+    let s = level_stats(h, level)?;
+    (box_side(h, area) == Some(Where::Inside)).then_some(s)
 }
 
 /// Which side of `area` the open inside of the header's bounding box lies
