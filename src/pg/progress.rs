@@ -15,7 +15,7 @@
 
 use std::cell::RefCell;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use pgrx::prelude::*;
 use pgrx::{GucContext, GucFlags, GucRegistry, GucSetting};
@@ -45,10 +45,11 @@ const PREFIX: &str = "tinmerge_progress.";
 /// A file longer than this is not one of ours.
 const MAX_FILE: u64 = 4096;
 
-/// The statement now reporting, and when it last gave a NOTICE.
+/// The statement now reporting, and when it last gave a NOTICE (its
+/// start before the first).
 struct Current {
     statement_start: pg_sys::TimestampTz,
-    last_notice: Instant,
+    last_notice: pg_sys::TimestampTz,
 }
 
 thread_local! {
@@ -108,31 +109,32 @@ fn line(func: &str, r: &Report, statement_start: pg_sys::TimestampTz) -> String 
 
 /// Publish `r`, a report of `func`'s work: the file rewritten, and a
 /// NOTICE when `tinmerge.progress_interval` has passed since the last one
-/// of this statement (or since its first report).
+/// of this statement (or since the statement began).
 pub fn publish(func: &str, r: &Report) {
     // SAFETY: reads the current statement's start time
     let statement_start = unsafe { pg_sys::GetCurrentStatementStartTimestamp() };
+    // SAFETY: reads the clock
+    let now = unsafe { pg_sys::GetCurrentTimestamp() };
     let notice = CURRENT.with(|c| {
         let mut c = c.borrow_mut();
-        match c.as_mut() {
-            Some(cur) if cur.statement_start == statement_start => {
-                let every = INTERVAL.get();
-                let due =
-                    every > 0 && cur.last_notice.elapsed() >= Duration::from_secs(every as u64);
-                if due {
-                    cur.last_notice = Instant::now();
-                }
-                due
-            }
+        let cur = match c.as_mut() {
+            Some(cur) if cur.statement_start == statement_start => cur,
             _ => {
-                *c = Some(Current {
-                    statement_start,
-                    last_notice: Instant::now(),
-                });
                 sweep_dead();
-                false
+                c.insert(Current {
+                    statement_start,
+                    last_notice: statement_start,
+                })
             }
+        };
+        // the first NOTICE once the interval has passed since the
+        // statement began, then one an interval
+        let every = i64::from(INTERVAL.get()) * 1_000_000;
+        let due = every > 0 && now - cur.last_notice >= every;
+        if due {
+            cur.last_notice = now;
         }
+        due
     });
     if let Some(path) = own_file() {
         // best effort: progress never fails the work

@@ -3,7 +3,8 @@
 //! against the result it returns (its own levels' triangle counts, the
 //! number of tiles of the raster): each finer level's refinement counts its
 //! parents, the previous level's triangles, from 0 to all of them, never
-//! down; a tiled build counts its tiles.
+//! down, then assembly and the build's own check count its levels; a
+//! tiled build counts its tiles.
 use crate::common;
 
 use std::cell::RefCell;
@@ -73,7 +74,22 @@ fn a_raster_build_counts_each_levels_parents() {
             &mut || Ok(()),
         )
     };
-    let (tin, steps) = collect(|| build().unwrap());
+    let (tin, all) = collect(|| build().unwrap());
+    // after the refinement, assembly and the build's own check count the
+    // levels
+    let n = tin.levels.len() as u64;
+    for phase in ["assembling the levels", "checking the levels"] {
+        let done: Vec<u64> = all
+            .iter()
+            .filter(|s| s.0 == phase)
+            .map(|s| {
+                assert_eq!((s.1, s.3), ("levels", n), "{phase}");
+                s.2
+            })
+            .collect();
+        assert_eq!(done, (0..=n).collect::<Vec<_>>(), "{phase}");
+    }
+    let steps: Vec<_> = all.into_iter().filter(|s| s.1 != "levels").collect();
     assert!(steps.iter().all(|s| s.1 == "triangles"));
     let by = phases(&steps);
     // one phase per finer level (and one for the parents it refines again,

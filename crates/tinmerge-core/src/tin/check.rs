@@ -105,7 +105,8 @@ fn validate_levels(tin: &Tin, grids: bool, interrupt: &mut Interrupt<'_>) -> Res
 /// rounding apart where there should be one, a T-junction); no triangle
 /// of zero area up to rounding ([`crate::geom::is_sliver`]: a hidden
 /// T-junction); the children of every triangle tiling it. Linear in the
-/// value (on `tinmerge.threads` for the structure). A failure is a bug of
+/// value (on `tinmerge.threads` for the structure; its levels reported
+/// as a phase's progress, [`crate::progress::step`]). A failure is a bug of
 /// the build: [`TinError::Internal`], naming the level, triangle and what
 /// failed.
 pub fn verify_built(tin: &Tin, grids: bool, interrupt: &mut Interrupt<'_>) -> Result<(), TinError> {
@@ -117,7 +118,9 @@ pub fn verify_built(tin: &Tin, grids: bool, interrupt: &mut Interrupt<'_>) -> Re
             e.to_string(),
         )
     })?;
+    let n = tin.levels.len() as u64;
     for l in 0..tin.levels.len() {
+        crate::progress::step("checking the levels", "levels", l as u64, n);
         interrupt()?;
         let mut found = Vec::new();
         holes(tin, l, &mut found);
@@ -144,6 +147,7 @@ pub fn verify_built(tin: &Tin, grids: bool, interrupt: &mut Interrupt<'_>) -> Re
                 .map_err(|e| internal("a level not nested in the one before", e.to_string()))?;
         }
     }
+    crate::progress::step("checking the levels", "levels", n, n);
     Ok(())
 }
 

@@ -152,7 +152,8 @@ pub(crate) fn assemble_verified(
 }
 
 /// Order triangles, link neighbours, place parents and
-/// build grid indexes (when `grids`; else left empty for the caller).
+/// build grid indexes (when `grids`; else left empty for the caller). Its
+/// levels are reported as a phase's progress ([`crate::progress::step`]).
 pub(super) fn assemble(
     verts: Vec<[f64; 3]>,
     mut raw: Vec<RawLevel>,
@@ -171,7 +172,9 @@ pub(super) fn assemble(
     // the final position of each triangle of the previous level, by its
     // index in that level's `tris`
     let mut position: Vec<u32> = Vec::new();
+    let n = raw.len() as u64;
     for (l, raw_level) in raw.into_iter().enumerate() {
+        crate::progress::step("assembling the levels", "levels", l as u64, n);
         let RawLevel {
             tolerance,
             max_error,
@@ -246,5 +249,6 @@ pub(super) fn assemble(
         }
         tin.levels.push(level);
     }
+    crate::progress::step("assembling the levels", "levels", n, n);
     Ok(tin)
 }
