@@ -94,32 +94,40 @@ fn area_arg(g: Ewkb, validity: &dyn Fn() -> Option<String>, tin_srid: i32, func:
 type KeptArea = (Vec<u8>, Option<i64>, i32, Rc<Area>);
 
 thread_local! {
-    /// The last polygon this backend read, checked, as an area, keyed by
-    /// the argument as passed: a join of one polygon with many tiles (a
-    /// county over a tiled terrain) reads, checks and indexes it once, not
-    /// once per tile (PostGIS's validity verdict on 4,000 vertices is a
-    /// millisecond), and does not even detoast or decompress it again
-    /// (12 % of a county's join).
-    static LAST_AREA: RefCell<Option<KeptArea>> = const { RefCell::new(None) };
+    /// The polygons this backend read last, checked, as areas, keyed by
+    /// the argument as passed, the most recent first: a join of one
+    /// polygon with many tiles (a county over a tiled terrain) reads,
+    /// checks and indexes it once, not once per tile (PostGIS's validity
+    /// verdict on 4,000 vertices is a millisecond), and does not even
+    /// detoast or decompress it again (12 % of a county's join); a plan
+    /// that takes the tiles in the outer loop and the polygons in the inner
+    /// (rows of a few polygons interleaved) finds each of them here too.
+    static KEPT_AREAS: RefCell<Vec<KeptArea>> = const { RefCell::new(Vec::new()) };
 }
 
-/// Polygons passed in up to this many bytes are kept by [`LAST_AREA`].
-const LAST_AREA_BYTES: usize = 16 << 20;
+/// At most this many polygons are kept by [`KEPT_AREAS`]...
+const KEPT_AREAS_MAX: usize = 16;
+/// ... passed in this many bytes together at most (a polygon passed in
+/// more is not kept).
+const KEPT_AREAS_BYTES: usize = 16 << 20;
 
 /// A `geometry` argument read whole from PostGIS's serialisation, with
 /// PostGIS's validity verdict asked for only once it is known to be polygonal
-/// (the same argument as the last call's, for the same SRID: the area
-/// checked then, the same bits).
+/// (an argument kept in [`KEPT_AREAS`] for the same SRID: the area checked
+/// then, the same bits).
 pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Rc<Area> {
     let passed = g.as_passed();
     // a TOAST pointer names one value only within a transaction
     let key = passed.map(|(b, on_disk)| (b, on_disk.then(super::tin_type::transaction_epoch)));
     let held = key.and_then(|(b, epoch)| {
-        LAST_AREA.with(|c| {
-            c.borrow()
-                .as_ref()
-                .filter(|(kb, ke, srid, _)| *srid == tin_srid && *ke == epoch && kb.as_slice() == b)
-                .map(|(_, _, _, a)| a.clone())
+        KEPT_AREAS.with(|c| {
+            let mut kept = c.borrow_mut();
+            let i = kept.iter().position(|(kb, ke, srid, _)| {
+                *srid == tin_srid && *ke == epoch && kb.as_slice() == b
+            })?;
+            // the most recent first
+            kept[..=i].rotate_right(1);
+            Some(kept[0].3.clone())
         })
     });
     if let Some(a) = held {
@@ -131,8 +139,21 @@ pub(super) fn geom_area(g: &GeomArg, tin_srid: i32, func: &str) -> Rc<Area> {
         tin_srid,
         func,
     ));
-    if let Some((b, epoch)) = key.filter(|(b, _)| b.len() <= LAST_AREA_BYTES) {
-        LAST_AREA.with(|c| *c.borrow_mut() = Some((b.to_vec(), epoch, tin_srid, a.clone())));
+    if let Some((b, epoch)) = key.filter(|(b, _)| b.len() <= KEPT_AREAS_BYTES) {
+        KEPT_AREAS.with(|c| {
+            let mut kept = c.borrow_mut();
+            kept.insert(0, (b.to_vec(), epoch, tin_srid, a.clone()));
+            let mut bytes = 0;
+            let keep = kept
+                .iter()
+                .take(KEPT_AREAS_MAX)
+                .take_while(|k| {
+                    bytes += k.0.len();
+                    bytes <= KEPT_AREAS_BYTES
+                })
+                .count();
+            kept.truncate(keep);
+        });
     }
     a
 }

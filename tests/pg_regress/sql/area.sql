@@ -233,3 +233,24 @@ clipped AS (
 SELECT abs(ours.area2d - (SELECT sum(a) FROM clipped)) / ours.area2d < 1e-9 AS area2d_ok,
        (SELECT sum(a) FROM clipped WHERE ST_Within(geom, cg)) > 0.5 * ours.area2d AS mostly_inside
 FROM ours;
+-- a plan that takes the tiles in the outer loop meets three polygons in
+-- turn for each tile (their rows interleaved): each row is its own
+-- polygon's (the backend keeps the polygons it read last, by their
+-- bytes); the oracle is PostGIS's area of each circle clipped to the
+-- tiles' triangles
+CREATE TABLE area_three AS
+  SELECT i, ST_Buffer(ST_Translate(ST_Centroid(geom), 2000 * i, -1500 * i), 3000 + 1000 * i, 16) AS geom
+  FROM area_circle, generate_series(1, 3) i;
+WITH ours AS (
+  SELECT c.i, sum(s.area2d) AS area2d, count(*) AS rows
+  FROM area_tiles k
+  CROSS JOIN LATERAL (SELECT i, geom FROM area_three c WHERE tin_envelope(k.t) && c.geom OFFSET 0) c,
+  LATERAL tin_area_stats(k.t, c.geom) s
+  GROUP BY c.i),
+oracle AS (
+  SELECT c.i, sum(ST_Area(ST_Intersection(tr.geom, c.geom))) AS area2d
+  FROM area_tiles, area_three c, tin_triangles(t) tr
+  WHERE tr.geom && c.geom
+  GROUP BY c.i)
+SELECT i, rows > 1 AS several_tiles, abs(ours.area2d - oracle.area2d) / oracle.area2d < 1e-9 AS area2d_ok
+FROM ours JOIN oracle USING (i) ORDER BY i;
