@@ -106,6 +106,13 @@ SELECT c.id AS contour, k.id AS tile, k.t,
        ST_CollectionExtract(ST_Intersection(c.geom, tin_envelope(k.t)), 2) AS geom
 FROM tile_contours c JOIN tin_tiles k ON tin_envelope(k.t) && c.geom;
 DELETE FROM tile_pieces WHERE ST_IsEmpty(geom);
+-- the oracles below cut pieces by their tile's triangles (level 1 and the
+-- finest), made once by tin_triangles and found through a GiST index
+CREATE TEMP TABLE tile_tris AS
+SELECT k.id AS tile, l AS level, tr.geom
+FROM tin_tiles k, generate_series(1, 2) l, tin_triangles(k.t, l) tr;
+CREATE INDEX ON tile_tris USING gist (geom);
+ANALYZE tile_tris;
 WITH tiled AS (
   SELECT p.contour AS id, sum(s.length2d) AS len2d, sum(s.length3d) AS len3d
   FROM tile_pieces p, tin_line_segments(p.t, p.geom, 1) s GROUP BY p.contour
@@ -117,9 +124,8 @@ WITH tiled AS (
   -- segment's rise from the plane of its triangle (plane_z)
   SELECT p.contour AS id,
          sum(sqrt(ST_Length(g.geom) ^ 2 + (plane_z(tr.geom, ST_EndPoint(g.geom)) - plane_z(tr.geom, ST_StartPoint(g.geom))) ^ 2)) AS len3d
-  FROM tile_pieces p, tin_triangles(p.t, 1) tr,
+  FROM tile_pieces p JOIN tile_tris tr ON tr.tile = p.tile AND tr.level = 1 AND tr.geom && p.geom,
        ST_DumpSegments(ST_CollectionExtract(ST_Intersection(p.geom, tr.geom), 2)) g
-  WHERE tr.geom && p.geom
   GROUP BY p.contour
 )
 SELECT count(*) AS contours,
@@ -155,12 +161,11 @@ WITH wbands AS (
   -- each band's piece in each tile cut into parts of at most 64 vertices
   -- (ST_Subdivide: they partition it), so that each triangle is cut by a
   -- few small parts
-  SELECT b.id, k.t, ST_Subdivide(ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), 64) AS geom
+  SELECT b.id, k.id AS tile, ST_Subdivide(ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), 64) AS geom
   FROM wbands b JOIN tin_tiles k ON tin_envelope(k.t) && b.geom
 ), oracle AS (
   SELECT p.id, sum(ST_Area(ST_Intersection(tr.geom, p.geom)) * slope_factor(tr.geom)) AS a3
-  FROM parts p, tin_triangles(p.t, 1) tr
-  WHERE tr.geom && p.geom
+  FROM parts p JOIN tile_tris tr ON tr.tile = p.tile AND tr.level = 1 AND tr.geom && p.geom
   GROUP BY p.id
 )
 SELECT count(*) AS bands,
@@ -191,13 +196,13 @@ WITH wbands AS (
   SELECT b.id, v.cut, v.fill, ST_Area(b.geom) AS area FROM wbands b, window_tin w, base, tin_volume(w.t, b.geom, base.z) v
 ), parts AS (
   -- (every third band: the finest level's triangles are many)
-  SELECT b.id, k.t, ST_Subdivide(ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), 64) AS geom
+  SELECT b.id, k.id AS tile, ST_Subdivide(ST_CollectionExtract(ST_Intersection(b.geom, tin_envelope(k.t)), 3), 64) AS geom
   FROM wbands b JOIN tin_tiles k ON tin_envelope(k.t) && b.geom WHERE b.id % 3 = 0
 ), oracle AS (
   SELECT p.id, sum(ST_Area(i.geom) * (plane_z(tr.geom, ST_Centroid(i.geom)) - base.z)) AS net
-  FROM parts p, base, tin_triangles(p.t) tr,
+  FROM parts p JOIN tile_tris tr ON tr.tile = p.tile AND tr.level = 2 AND tr.geom && p.geom, base,
        LATERAL (SELECT ST_CollectionExtract(ST_Intersection(tr.geom, p.geom), 3) AS geom) i
-  WHERE tr.geom && p.geom AND NOT ST_IsEmpty(i.geom)
+  WHERE NOT ST_IsEmpty(i.geom)
   GROUP BY p.id
 )
 SELECT count(*) AS bands, count(*) FILTER (WHERE single.cut + single.fill > 0) AS with_volume,
