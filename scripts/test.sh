@@ -68,9 +68,12 @@ trap 'scripts/cluster.sh stop' EXIT
 # The suite in two halves of about equal time, run at the same time on two
 # databases (each with 00_setup and the same data), so the queries of one
 # half use the core the other's single-threaded queries leave idle: the
-# five longest tests on tinmerge_regress2, every other test on
-# tinmerge_regress (the later steps read its tables).
-first="tiles boundary overlay between_samples breaklines"
+# five longest tests and overviews (after tiles: it constrains
+# window_tiles) on tinmerge_regress2, every other test on tinmerge_regress
+# (the later steps read its tables). On 2026-12-07 the step took 894 s
+# with overviews in the second half; by the tests' times then, about
+# 770 s and 750 s a half now.
+first="tiles boundary overlay between_samples breaklines overviews"
 for db in tinmerge_regress tinmerge_regress2; do
   scripts/cluster.sh psql -q -d postgres -c "CREATE DATABASE $db"
   scripts/cluster.sh psql -q -d $db -c "CREATE EXTENSION tinmerge CASCADE" 2>/dev/null
