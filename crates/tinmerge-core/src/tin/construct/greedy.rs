@@ -281,17 +281,82 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
 
     /// Split the edge of `h` at point `p` on it (where it crosses a grid
     /// segment, with the segment's height): the new vertex.
+    ///
+    /// Where a triangle beside the split would be a sliver, `p` lies on
+    /// its far edge up to rounding: the split is made and that edge is
+    /// split at `p` too ([`Mesh::fold`]), the sliver gone. This is the tip
+    /// of a needle between two edges that cannot be flipped away (both
+    /// locked), an angle so sharp that no point near its apex makes a
+    /// proper triangle with both (harness seeds 211121, 320067: scattered
+    /// samples along a scan line); `p` is then on both edges up to
+    /// rounding, and the edges keep their lines.
     fn split_edge_at(&mut self, h: u32, p: [f64; 3]) -> Result<u32, TinError> {
-        if self.thin_split(h, &p, false) {
-            let (a, b) = (self.m.at(h), self.m.at(next(h)));
-            return Err(internal(&format!(
-                "would make a sliver splitting the edge {a:?} - {b:?} at {p:?}"
-            )));
-        }
+        let folds = if self.thin_split(h, &p, false) {
+            self.folds(h, &p).ok_or_else(|| {
+                let (a, b) = (self.m.at(h), self.m.at(next(h)));
+                internal(&format!(
+                    "would make a sliver splitting the edge {a:?} - {b:?} at {p:?}"
+                ))
+            })?
+        } else {
+            0
+        };
         let v = self.m.add_point(p);
-        self.split_edge(h, v);
+        let g = self.m.twin[h as usize];
+        self.touched.push(h / 3);
+        if g != NONE {
+            self.touched.push(g / 3);
+        }
+        // the half-edges opposite the new vertex: c -> a, b -> c (and
+        // d -> b, a -> d across)
+        let mut opposite = Vec::with_capacity(4);
+        self.m.split_edge(h, v, &mut opposite);
+        for (k, &e) in opposite.iter().enumerate() {
+            if folds & (1 << k) == 0 {
+                self.stack.push(e);
+                continue;
+            }
+            let across = self.m.twin[e as usize];
+            let Some(free) = self.m.fold(e) else {
+                return Err(internal(&format!("could not fold a sliver at {p:?}")));
+            };
+            self.touched.push(e / 3);
+            self.touched.push(across / 3);
+            // the edge between them and their edges opposite p
+            let (s, t) = (3 * (e / 3), 3 * (across / 3));
+            self.stack.extend_from_slice(&[free, s + 1, t + 2]);
+        }
         self.legalize();
         Ok(v)
+    }
+
+    /// Which of the triangles a split of `h` at `p` makes (a, p, c;
+    /// p, b, c; b, p, d; p, a, d: bits 0-3) are slivers to fold
+    /// ([`Mesh::fold`]), or `None` when one is not proper and cannot be.
+    fn folds(&self, h: u32, p: &[f64; 3]) -> Option<u8> {
+        let g = self.m.twin[h as usize];
+        // each triangle's edge opposite p, as u -> w
+        let mut far = vec![prev(h), next(h)];
+        if g != NONE {
+            far.extend_from_slice(&[prev(g), next(g)]);
+        }
+        let mut bits = 0u8;
+        for (k, &e) in far.iter().enumerate() {
+            let (u, w) = (self.m.at(e), self.m.at(next(e)));
+            if proper(u, w, p) {
+                continue;
+            }
+            let f = self.m.twin[e as usize];
+            if f == NONE || !within_roundings(u, w, p, 1.0) || !strictly_between(u, w, p) {
+                return None;
+            }
+            let x = self.m.at(prev(f));
+            if !proper(p, u, x) || !proper(w, p, x) {
+                return None;
+            }
+            bits |= 1 << k;
+        }
+        Some(bits)
     }
 
     /// Whether splitting the edge of `h` at `p` would make a triangle

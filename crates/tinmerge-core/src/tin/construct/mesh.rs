@@ -210,6 +210,52 @@ impl Mesh {
         out.push(3 * t2 + 1);
     }
 
+    /// Fold away the sliver of half-edge `e` (u -> w, in u, w, p with `p`
+    /// on the line u - w up to rounding, between its ends): the triangle
+    /// across (w, u, x) is split at `p` into p, u, x (in the sliver's
+    /// slot) and w, p, x, and the sliver is gone. The halves p - u and
+    /// w - p each join what was on both sides, locked when either was
+    /// (an edge the split made and the edge folded). Both new triangles
+    /// take the parent of the one across. Returns the free half-edge
+    /// x -> p, to be legalized; `None`, with nothing changed, on the hull
+    /// or when a new triangle would not be proper.
+    pub(super) fn fold(&mut self, e: u32) -> Option<u32> {
+        let f = self.twin[e as usize];
+        if f == NONE {
+            return None;
+        }
+        let (s, t) = (e / 3, f / 3);
+        let (u, w, p) = (
+            self.v[e as usize],
+            self.v[next(e) as usize],
+            self.v[prev(e) as usize],
+        );
+        let x = self.v[prev(f) as usize];
+        let pt = |v: u32| &self.pts[v as usize];
+        if !proper(pt(p), pt(u), pt(x)) || !proper(pt(w), pt(p), pt(x)) {
+            return None;
+        }
+        let lock_e = self.locked[e as usize];
+        let (o_wp, l_wp) = (self.twin[next(e) as usize], self.locked[next(e) as usize]);
+        let (o_pu, l_pu) = (self.twin[prev(e) as usize], self.locked[prev(e) as usize]);
+        let (o_ux, l_ux) = (self.twin[next(f) as usize], self.locked[next(f) as usize]);
+        let (o_xw, l_xw) = (self.twin[prev(f) as usize], self.locked[prev(f) as usize]);
+        let parent = self.parent[t as usize];
+        // s: p -> u, u -> x, x -> p; t: w -> p, p -> x, x -> w
+        let (h0, g0) = (3 * s, 3 * t);
+        self.v[h0 as usize..h0 as usize + 3].copy_from_slice(&[p, u, x]);
+        self.v[g0 as usize..g0 as usize + 3].copy_from_slice(&[w, p, x]);
+        self.parent[s as usize] = parent;
+        self.link(h0, o_pu, l_pu || lock_e);
+        self.link(h0 + 1, o_ux, l_ux);
+        self.link(g0, o_wp, l_wp || lock_e);
+        self.link(g0 + 2, o_xw, l_xw);
+        self.link(h0 + 2, g0 + 1, false);
+        self.set_out(s);
+        self.set_out(t);
+        Some(h0 + 2)
+    }
+
     /// Whether the free edge of `h` (a -> b, apex c; twin's apex d) may be
     /// flipped to c - d: both new triangles counter-clockwise and not
     /// slivers.
