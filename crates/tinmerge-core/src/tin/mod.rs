@@ -32,6 +32,7 @@ pub mod locate;
 pub mod mesh;
 pub mod outline;
 pub mod samples;
+pub mod seam_rounds;
 pub mod sides;
 pub mod sliced;
 pub mod surface;

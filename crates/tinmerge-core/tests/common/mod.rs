@@ -277,9 +277,10 @@ pub fn table_of(
 }
 
 #[allow(dead_code)]
-/// The planning rounds of `tin_tiles_from_table` over the tiles whose row
-/// is in `plan` (tiles outside are not there: as a table without them),
-/// then the encoded tins of the tiles in `own` rows, by (tx, ty).
+/// The planning rounds of `tin_tiles_from_table` (the core's
+/// `SeamRounds`, which the SQL function runs) over the tiles whose row is
+/// in `plan` (tiles outside are not there: as a table without them), then
+/// the encoded tins of the tiles in `own` rows, by (tx, ty).
 pub fn table_build(
     grid: &tinmerge_core::tin::tiles::TableGrid,
     blocks: &[tinmerge_core::tin::tiles::Block],
@@ -288,65 +289,91 @@ pub fn table_build(
     plan: std::ops::Range<usize>,
     own: std::ops::Range<usize>,
 ) -> Vec<((usize, usize), Vec<u8>)> {
-    use tinmerge_core::tin::tile::build_tile_kept;
-    use tinmerge_core::tin::tiles::{SEAM_ROUNDS, Seams, keep_border_samples};
-    let local: Vec<usize> = (0..blocks.len())
-        .filter(|&k| plan.contains(&blocks[k].place.ty))
-        .collect();
-    let index: std::collections::HashMap<(usize, usize), usize> = local
-        .iter()
-        .map(|&k| ((blocks[k].place.tx, blocks[k].place.ty), k))
-        .collect();
-    let at = |tx: usize, ty: usize| index.get(&(tx, ty)).map(|&k| &blocks[k]);
-    let build = |k: usize, seams: &Seams| {
-        let b = &blocks[k];
-        let (tx, ty, p) = (b.place.tx, b.place.ty, b.place);
-        let s = keep_border_samples(b, at(tx + 1, ty), at(tx, ty + 1), at(tx + 1, ty + 1));
-        let keep = seams.border(
-            p.col..p.col + p.width as i64 + 1,
-            p.row..p.row + p.height as i64 + 1,
-        );
-        build_tile_kept(
-            s,
-            &grid.lattice,
-            (p.col, p.row),
-            tols,
+    table_rounds(
+        grid,
+        blocks,
+        tinmerge_core::tin::seam_rounds::SeamRounds::rows(
+            grid,
+            tols.to_vec(),
             srid,
-            &keep,
-            &mut || Ok(()),
-        )
-        .unwrap()
-    };
-    let mut seams = Seams::default();
-    let mut todo = local.clone();
-    for _ in 0..SEAM_ROUNDS {
-        let asked: Vec<_> = todo
-            .iter()
-            .filter_map(|&k| build(k, &seams).map(|(_, w)| w))
-            .collect();
-        let mut again: Vec<usize> = Vec::new();
-        for w in &asked {
-            for (c, r) in seams.add(w) {
-                for t in grid.tiles_holding(c, r) {
-                    again.extend(index.get(&t).copied());
-                }
-            }
+            true,
+            own,
+            plan,
+        ),
+    )
+}
+
+/// The tiles of `blocks` (placed on `grid`) built by `rounds`, encoded, in
+/// (ty, tx) order: what `tin_tiles_from_table` returns.
+#[allow(dead_code)]
+pub fn table_rounds(
+    grid: &tinmerge_core::tin::tiles::TableGrid,
+    blocks: &[tinmerge_core::tin::tiles::Block],
+    mut rounds: tinmerge_core::tin::seam_rounds::SeamRounds,
+) -> Vec<((usize, usize), Vec<u8>)> {
+    use tinmerge_core::io::raster::Band;
+    use tinmerge_core::tin::TinError;
+    use tinmerge_core::tin::seam_rounds::TileReader;
+    // the blocks as bands, nodata NaN, read as SPI reads them: only the
+    // tiles asked for
+    struct Memory<'a>(&'a [tinmerge_core::tin::tiles::Block<'a>]);
+    impl TileReader for Memory<'_> {
+        fn read(&mut self, want: &[usize]) -> Result<Vec<(usize, Band)>, TinError> {
+            Ok(want
+                .iter()
+                .map(|&k| {
+                    let b = &self.0[k];
+                    let values = b
+                        .values
+                        .iter()
+                        .map(|&v| if (b.valid)(v) { v } else { f64::NAN })
+                        .collect();
+                    let band = Band {
+                        pixel_type: 11,
+                        nodata: None,
+                        all_nodata: false,
+                        values,
+                    };
+                    (k, band)
+                })
+                .collect())
         }
-        again.sort_by_key(|&k| (blocks[k].place.ty, blocks[k].place.tx));
-        again.dedup();
-        if again.is_empty() {
-            break;
-        }
-        todo = again;
     }
-    let mut out: Vec<((usize, usize), Vec<u8>)> = local
-        .iter()
-        .filter(|&&k| own.contains(&blocks[k].place.ty))
-        .filter_map(|&k| {
-            let p = blocks[k].place;
-            build(k, &seams).map(|(t, _)| ((p.tx, p.ty), tinmerge_core::tin::layout::encode(&t)))
+    // the blocks in the grid's order
+    let mut by_place: Vec<Option<&tinmerge_core::tin::tiles::Block>> = vec![None; grid.tiles.len()];
+    for b in blocks {
+        if let Some(k) = grid
+            .tiles
+            .iter()
+            .position(|p| (p.tx, p.ty) == (b.place.tx, b.place.ty))
+        {
+            by_place[k] = Some(b);
+        }
+    }
+    let ordered: Vec<tinmerge_core::tin::tiles::Block> = by_place
+        .into_iter()
+        .map(|b| {
+            let b = b.expect("a block for every tile of the grid");
+            tinmerge_core::tin::tiles::Block {
+                place: b.place,
+                values: b.values,
+                valid: b.valid,
+            }
         })
         .collect();
+    let mut reader = Memory(&ordered);
+    let mut out = Vec::new();
+    while let Some(batch) = rounds
+        .next_batch(
+            grid,
+            &mut reader,
+            &|tx, ty, t| ((tx, ty), tinmerge_core::tin::layout::encode(&t)),
+            &mut |_| Ok(()),
+        )
+        .unwrap()
+    {
+        out.extend(batch);
+    }
     out.sort_by_key(|o| o.0);
     out
 }

@@ -2,7 +2,9 @@
 //! the bundled DEMs on random lattices ([`terrain`]), built every way a
 //! user builds (`tin_from_raster` over the valid pixels or filling the
 //! gaps, with a boundary, soft or hard breaklines, `tin_tiles`,
-//! `tin_from_points`) at random tolerances and level counts, and overlaid
+//! `tin_tiles_from_table` over or between the data, a `tin_overviews`
+//! layer ([`tables`]), `tin_from_points`) at random tolerances and level
+//! counts, and overlaid
 //! in random pairs (the same raster at another tolerance, a copy shifted
 //! by a fraction of a pixel, a tin with itself; both code paths), every
 //! result judged by [`oracle`], which never asks the code under test.
@@ -35,6 +37,7 @@
 
 mod between;
 mod oracle;
+mod tables;
 mod terrain;
 
 /// The thinnest triangle a build on pixel centres alone may make, as a
@@ -70,7 +73,7 @@ struct Tally {
     counts: Counts,
 }
 
-const KINDS: [&str; 10] = [
+const KINDS: [&str; 11] = [
     "raster (valid pixels)",
     "raster (fill_gaps)",
     "raster + boundary",
@@ -81,6 +84,7 @@ const KINDS: [&str; 10] = [
     "overlay",
     "raster (default, 2nd)",
     "tin_tiles_from_table",
+    "tin_overviews layer",
 ];
 
 struct Failure {
@@ -266,13 +270,20 @@ fn trial(
 ) -> Result<Option<(usize, Counts, usize, usize)>, Failure> {
     let mut rng = StdRng::seed_from_u64(seed);
     let r = terrain(&mut rng);
-    let kind = rng.random_range(0..KINDS.len() - 1);
+    // (the first nine kinds; the rest drawn below from theirs)
+    let kind = rng.random_range(0..9);
     let levels = rng.random_range(2..=5usize);
     let tol = log_uniform(&mut rng, 0.5, 20.0);
     // tiles: of one raster (tin_tiles) or of a table (the last kind), drawn
     // after the rest so that the other kinds' seeds stay as they were
     let kind = if kind == 5 && rng.random_bool(0.4) {
         9
+    } else {
+        kind
+    };
+    // a table's overview layer, half the table trials
+    let kind = if kind == 9 && rng.random_bool(0.5) {
+        10
     } else {
         kind
     };
@@ -480,54 +491,71 @@ fn trial(
                 }
             }
         }
-        9 => {
+        9 | 10 => {
             // the raster cut as raster2pgsql -t n x n cuts it, each tile
-            // its own raster, built as tin_tiles_from_table builds them
-            // (the test's copy of its seam rounds, common::table_build)
+            // its own raster, built by the seam rounds tin_tiles_from_table
+            // runs (the core's SeamRounds); or, half the time, an overview
+            // of it so cut (kind 10), built as tin_overviews builds a layer
+            // over the raster: its nodata pixels over data covered, its
+            // frame grown to reach the raster's outer centres, its
+            // tolerance f times
             let n = rng.random_range(6..40usize);
-            let sql = format!(
-                "-- the raster as a table of {n} x {n} tiles (raster2pgsql -t {n}x{n}), then: SELECT tx, ty, v.* FROM tin_tiles_from_table('that_table', {tol:?}, {levels}, fill_gaps => true) s, tin_validate(s.t) v; -- the raster: {}",
-                r.sql
+            let fill_gaps = rng.random_bool(0.6);
+            let f = rng.random_range(2..=4usize);
+            let over = (kind == 10).then(|| tables::overview(&r, f));
+            let layer = over.as_ref().unwrap_or(&r);
+            let f = if over.is_some() { f } else { 1 };
+            let sql = if over.is_some() {
+                format!(
+                    "-- the raster as a table of {n} x {n} tiles with an overview x{f} (raster2pgsql -t {n}x{n} -l {f}; the harness's overview is nearest neighbour at each pixel's centre), then: SELECT factor, tx, ty, v.* FROM tin_overviews('that_table', {tol:?}, {levels}, fill_gaps => {fill_gaps}) s, tin_validate(s.t) v WHERE factor = {f}; -- the raster: {}",
+                    r.sql
+                )
+            } else {
+                format!(
+                    "-- the raster as a table of {n} x {n} tiles (raster2pgsql -t {n}x{n}), then: SELECT tx, ty, v.* FROM tin_tiles_from_table('that_table', {tol:?}, {levels}, fill_gaps => {fill_gaps}) s, tin_validate(s.t) v; -- the raster: {}",
+                    r.sql
+                )
+            };
+            let table = tables::cut(layer, n);
+            let grid = tables::grid_of(&table)
+                .map_err(|e| fail(format!("placing the tiles: {e}"), sql.clone()))?;
+            let ltols: Vec<f64> = tols.iter().map(|t| t * f as f64).collect();
+            let mut rounds = tinmerge_core::tin::seam_rounds::SeamRounds::new(
+                &grid,
+                ltols,
+                r.srid,
+                fill_gaps,
+                (0, 1),
             );
-            let valid = |v: f64| !v.is_nan();
-            let mut table = Vec::new();
-            for r0 in (0..r.h).step_by(n) {
-                for c0 in (0..r.w).step_by(n) {
-                    let (w, h) = (n.min(r.w - c0), n.min(r.h - r0));
-                    let own = Lattice {
-                        ip_x: r.lat.ip_x + c0 as f64 * r.lat.scale_x,
-                        ip_y: r.lat.ip_y + r0 as f64 * r.lat.scale_y,
-                        ..r.lat
-                    };
-                    let vals: Vec<f64> = (r0..r0 + h)
-                        .flat_map(|y| r.z[y * r.w + c0..y * r.w + c0 + w].to_vec())
-                        .collect();
-                    table.push((own, w, h, vals));
+            if over.is_some() {
+                let whole = tables::grid_of(&vec![(r.lat, r.w, r.h, Vec::new())])
+                    .map_err(|e| fail(format!("placing the raster: {e}"), sql.clone()))?;
+                rounds.covering(&grid, &whole);
+            }
+            let mut reader = tables::Reader {
+                tiles: &table,
+                base: over.as_ref().map(|_| &r),
+            };
+            let tiles = match tables::run(&grid, rounds, &mut reader) {
+                Ok(t) => t,
+                Err(TinError::Degenerate(_)) | Err(TinError::InvalidParameter(_)) => {
+                    return Ok(None);
+                }
+                Err(e) => return Err(fail(format!("the build failed: {e}"), sql)),
+            };
+            builds = tiles.len();
+            match &over {
+                None => {
+                    counts += check_tiles(&tiles, &r, px).map_err(|e| fail(e, sql.clone()))?;
+                }
+                Some(o) => {
+                    let given = tables::covered(o, &r);
+                    counts += check_tiles(&tiles, &given, px * f as f64)
+                        .map_err(|e| fail(e, sql.clone()))?;
+                    counts.centres +=
+                        tables::check_covers(&tiles, &r).map_err(|e| fail(e, sql.clone()))?;
                 }
             }
-            let metas: Vec<(Lattice, usize, usize)> =
-                table.iter().map(|t| (t.0, t.1, t.2)).collect();
-            let grid = tinmerge_core::tin::tiles::place_tiles(&metas)
-                .map_err(|e| fail(format!("placing the tiles: {e}"), sql.clone()))?;
-            let blocks: Vec<tinmerge_core::tin::tiles::Block> = grid
-                .tiles
-                .iter()
-                .zip(&table)
-                .map(|(p, t)| tinmerge_core::tin::tiles::Block {
-                    place: *p,
-                    values: &t.3,
-                    valid: &valid,
-                })
-                .collect();
-            let rows = grid.counts().1;
-            let built = crate::common::table_build(&grid, &blocks, &tols, r.srid, 0..rows, 0..rows);
-            let tiles: Vec<Tin> = built
-                .iter()
-                .map(|(_, b)| tinmerge_core::tin::layout::decode(b))
-                .collect::<Result<_, _>>()
-                .map_err(|e| fail(format!("a tile does not decode: {e}"), sql.clone()))?;
-            builds = tiles.len();
-            counts += check_tiles(&tiles, &r, px).map_err(|e| fail(e, sql.clone()))?;
         }
         _ => {
             // an overlay of two builds

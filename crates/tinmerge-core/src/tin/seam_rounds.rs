@@ -1,0 +1,340 @@
+//! The seam rounds of a table of raster tiles: what `tin_tiles_from_table`
+//! and each layer of `tin_overviews` run, one driver whatever reads the
+//! tiles ([`TileReader`]: SPI in the SQL layer, memory in the tests).
+//!
+//! Tiles are built a batch at a time (one per thread), in rows, each with
+//! its neighbours' border pixels ([`keep_border_samples`]) and the seam
+//! samples kept so far ([`Seams`]). Rounds of *planning* build the tiles
+//! whose seams gained samples and keep only what they ask for
+//! ([`Wanted`]), as [`super::tiles::build_tiles`] does for one raster; when
+//! a round asks for nothing new (or after [`SEAM_ROUNDS`]), every tile of
+//! the slice's own rows is built once more, with them, and returned. Only
+//! the rows a batch needs are held (its rows and the one below), so the
+//! memory is bounded by two rows of tiles and one batch of builds.
+//!
+//! ```
+//! use tinmerge_core::io::raster::Band;
+//! use tinmerge_core::tin::lattice::Lattice;
+//! use tinmerge_core::tin::seam_rounds::{SeamRounds, TileReader};
+//! use tinmerge_core::tin::tiles::place_tiles;
+//! use tinmerge_core::tin::TinError;
+//! // a 40 x 30 raster cut into 20 x 15 tiles
+//! let z = |c: usize, r: usize| ((c as f64) * 0.3).sin() * 8.0 + r as f64;
+//! let l = |c: usize, r: usize| Lattice { ip_x: 500.0 + 10.0 * c as f64, ip_y: 900.0 - 10.0 * r as f64,
+//!                                        scale_x: 10.0, scale_y: -10.0, skew_x: 0.0, skew_y: 0.0 };
+//! let mut tiles = Vec::new();
+//! for (c0, r0) in [(0, 0), (20, 0), (0, 15), (20, 15)] {
+//!     let values = (r0..r0 + 15).flat_map(|r| (c0..c0 + 20).map(move |c| z(c, r))).collect();
+//!     tiles.push((l(c0, r0), Band { pixel_type: 10, nodata: None, all_nodata: false, values }));
+//! }
+//! let grid = place_tiles(&tiles.iter().map(|t| (t.0, 20, 15)).collect::<Vec<_>>()).unwrap();
+//! struct Memory(Vec<(Lattice, Band)>);
+//! impl TileReader for Memory {
+//!     fn read(&mut self, want: &[usize]) -> Result<Vec<(usize, Band)>, TinError> {
+//!         Ok(want.iter().map(|&k| (k, self.0[k].1.clone())).collect())
+//!     }
+//! }
+//! let mut rounds = SeamRounds::new(&grid, vec![2.0, 0.5], 32616, true, (0, 1));
+//! let mut reader = Memory(tiles);
+//! let mut out = Vec::new();
+//! while let Some(batch) = rounds.next_batch(&grid, &mut reader, &|tx, ty, t| (tx, ty, t), &mut |_| Ok(())).unwrap() {
+//!     out.extend(batch);
+//! }
+//! assert_eq!(out.iter().map(|t| (t.0, t.1)).collect::<Vec<_>>(), [(0, 0), (1, 0), (0, 1), (1, 1)]);
+//! ```
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use super::tile::Wanted;
+use super::tile_domain::build_tile_window;
+use super::tiles::{
+    Block, Pad, SEAM_ROUNDS, Seams, TableGrid, keep_border_samples, keep_border_window,
+    pad_samples, slice_rows,
+};
+use super::{Tin, TinError};
+use crate::io::raster::Band;
+
+/// Where a table's tiles come from.
+pub trait TileReader {
+    /// The bands of the grid's tiles `want` (indexes into
+    /// [`TableGrid::tiles`]), in any order, every one of them (one left
+    /// out is an internal error). An overview layer's reader gives its
+    /// nodata pixels over data the data under them
+    /// ([`super::cover::Cover`]).
+    fn read(&mut self, want: &[usize]) -> Result<Vec<(usize, Band)>, TinError>;
+}
+
+/// The batch [`SeamRounds::next_batch`] is about to build: for progress,
+/// interrupts and a check of the memory it needs.
+#[derive(Clone, Copy, Debug)]
+pub struct Step {
+    /// a round of planning the seams (its tiles are not returned)
+    pub planning: bool,
+    /// the round, from 0
+    pub round: usize,
+    /// tiles of the round built so far, and in all
+    pub done: usize,
+    pub total: usize,
+    /// tiles in this batch
+    pub tiles: usize,
+}
+
+/// A table's tiles being built in seam rounds (module docs).
+pub struct SeamRounds {
+    tols: Vec<f64>,
+    srid: i32,
+    fill_gaps: bool,
+    /// the sides of the frame an overview layer's tiles are grown on
+    /// ([`pad_samples`]), and the frame
+    pad: (Pad, [i64; 4]),
+    /// the round's tiles in (ty, tx) order, and the next to build
+    order: Vec<usize>,
+    next: usize,
+    /// tile index by (tx, ty), of the planned rows
+    at: HashMap<(usize, usize), usize>,
+    loaded: HashMap<usize, Band>,
+    seams: Seams,
+    asked: Vec<Wanted>,
+    round: usize,
+    planning: bool,
+    /// the rows of tiles returned (the slice's own) and planned with
+    /// (theirs and the halo, [`slice_rows`])
+    own: Range<usize>,
+    plan: Range<usize>,
+}
+
+impl SeamRounds {
+    /// The tiles of `grid` in slice `slice` of `slices` (rows of tiles),
+    /// one tin each at `tols`; over the hull of their samples with
+    /// `fill_gaps`, else over their valid pixels' squares.
+    pub fn new(
+        grid: &TableGrid,
+        tols: Vec<f64>,
+        srid: i32,
+        fill_gaps: bool,
+        (slice, slices): (usize, usize),
+    ) -> SeamRounds {
+        let (own, plan) = slice_rows(grid.counts().1, slice, slices);
+        SeamRounds::rows(grid, tols, srid, fill_gaps, own, plan)
+    }
+
+    /// [`SeamRounds::new`] returning the tiles of rows `own`, the seams
+    /// planned with rows `plan` (holding `own`; a slice's are
+    /// [`slice_rows`]'s, its own and a halo).
+    pub fn rows(
+        grid: &TableGrid,
+        tols: Vec<f64>,
+        srid: i32,
+        fill_gaps: bool,
+        own: Range<usize>,
+        plan: Range<usize>,
+    ) -> SeamRounds {
+        let mut order: Vec<usize> = (0..grid.tiles.len())
+            .filter(|&k| plan.contains(&grid.tiles[k].ty))
+            .collect();
+        order.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
+        let at = order
+            .iter()
+            .map(|&k| ((grid.tiles[k].tx, grid.tiles[k].ty), k))
+            .collect();
+        SeamRounds {
+            tols,
+            srid,
+            fill_gaps,
+            pad: Default::default(),
+            order,
+            next: 0,
+            at,
+            loaded: HashMap::new(),
+            seams: Seams::default(),
+            asked: Vec::new(),
+            round: 0,
+            planning: true,
+            own,
+            plan,
+        }
+    }
+
+    /// This layer (on `grid`) as an overview of `base`: its frame's tiles
+    /// grown by a pixel where `base`'s outer pixel centres lie past its
+    /// own ([`TableGrid::short_of`]).
+    pub fn covering(&mut self, grid: &TableGrid, base: &TableGrid) {
+        if let Some(frame) = grid.frame() {
+            self.pad = (grid.short_of(base), frame);
+        }
+    }
+
+    /// The tolerances, coarsest first.
+    pub fn tolerances(&self) -> &[f64] {
+        &self.tols
+    }
+
+    /// The next batch of tiles of `grid` built, `each(tx, ty, tin)` of
+    /// those returned (on the build's threads: encode there), an empty
+    /// batch while planning; `None` when every tile has been returned.
+    /// `before` sees each batch first (and may refuse it).
+    pub fn next_batch<R: Send>(
+        &mut self,
+        grid: &TableGrid,
+        reader: &mut dyn TileReader,
+        each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
+        before: &mut dyn FnMut(Step) -> Result<(), TinError>,
+    ) -> Result<Option<Vec<R>>, TinError> {
+        while self.next >= self.order.len() {
+            if !self.planning {
+                return Ok(None);
+            }
+            self.end_round(grid);
+        }
+        let batch: Vec<usize> = self.order
+            [self.next..(self.next + super::par::threads().max(1)).min(self.order.len())]
+            .to_vec();
+        before(Step {
+            planning: self.planning,
+            round: self.round,
+            done: self.next,
+            total: self.order.len(),
+            tiles: batch.len(),
+        })?;
+        self.next += batch.len();
+        let (first, last) = (
+            grid.tiles[batch[0]].ty,
+            grid.tiles[batch[batch.len() - 1]].ty,
+        );
+        self.load_rows(grid, reader, first..=last + 1)?;
+        self.build(grid, &batch, each).map(Some)
+    }
+
+    /// The end of a round of planning: the seam samples asked for taken,
+    /// and the tiles that hold new ones to build in the next round; or,
+    /// when there are none (or after [`SEAM_ROUNDS`] rounds), every tile
+    /// of the slice's own rows, to return.
+    fn end_round(&mut self, grid: &TableGrid) {
+        let mut again: Vec<usize> = Vec::new();
+        for w in std::mem::take(&mut self.asked) {
+            for (c, r) in self.seams.add(&w) {
+                again.extend(
+                    grid.tiles_holding(c, r)
+                        .into_iter()
+                        .filter_map(|t| self.at.get(&t).copied()),
+                );
+            }
+        }
+        self.round += 1;
+        if again.is_empty() || self.round >= SEAM_ROUNDS {
+            self.planning = false;
+            again = (0..grid.tiles.len())
+                .filter(|&k| self.own.contains(&grid.tiles[k].ty))
+                .collect();
+        }
+        again.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
+        again.dedup();
+        self.order = again;
+        self.next = 0;
+        self.loaded.clear();
+    }
+
+    /// Read the bands of tile rows `rows` not read yet, and forget the
+    /// rows above the first.
+    fn load_rows(
+        &mut self,
+        grid: &TableGrid,
+        reader: &mut dyn TileReader,
+        rows: std::ops::RangeInclusive<usize>,
+    ) -> Result<(), TinError> {
+        self.loaded
+            .retain(|&k, _| grid.tiles[k].ty >= *rows.start());
+        let want: Vec<usize> = (0..grid.tiles.len())
+            .filter(|&k| {
+                let ty = grid.tiles[k].ty;
+                rows.contains(&ty) && self.plan.contains(&ty) && !self.loaded.contains_key(&k)
+            })
+            .collect();
+        if !want.is_empty() {
+            let got = reader.read(&want)?;
+            self.loaded.extend(got);
+        }
+        Ok(())
+    }
+
+    /// Build tiles `batch` (their rows and the next loaded), one per
+    /// thread: while planning, keep what they ask of their seams.
+    fn build<R: Send>(
+        &mut self,
+        grid: &TableGrid,
+        batch: &[usize],
+        each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
+    ) -> Result<Vec<R>, TinError> {
+        type Valid<'a> = Box<dyn Fn(f64) -> bool + Sync + 'a>;
+        let valids: HashMap<usize, Valid<'_>> = self
+            .loaded
+            .iter()
+            .map(|(&k, b)| (k, Box::new(move |v: f64| b.is_valid(v)) as Valid<'_>))
+            .collect();
+        let block = |tx: usize, ty: usize| -> Option<Block> {
+            let k = *self.at.get(&(tx, ty))?;
+            Some(Block {
+                place: grid.tiles[k],
+                values: &self.loaded.get(&k)?.values,
+                valid: valids.get(&k)?.as_ref(),
+            })
+        };
+        let (lattice, tols, srid) = (grid.lattice, &self.tols, self.srid);
+        let (seams, planning, fill_gaps, pad) =
+            (&self.seams, self.planning, self.fill_gaps, self.pad);
+        let built = super::par::map(batch, |&k| {
+            let p = grid.tiles[k];
+            let Some(own) = block(p.tx, p.ty) else {
+                return Err(TinError::Internal(format!(
+                    "tile ({}, {}) of the batch was not read",
+                    p.tx, p.ty
+                )));
+            };
+            let (right, below) = (block(p.tx + 1, p.ty), block(p.tx, p.ty + 1));
+            let mut s = keep_border_samples(
+                &own,
+                right.as_ref(),
+                below.as_ref(),
+                block(p.tx + 1, p.ty + 1).as_ref(),
+            );
+            let size = keep_border_window(&own, right.as_ref(), below.as_ref());
+            let grow = pad.0.of_tile(pad.1, &p);
+            let (origin, size) = pad_samples(&mut s, (p.col, p.row), size, grow);
+            let keep = seams.border(
+                origin.0..p.col + p.width as i64 + 1 + i64::from(grow.right),
+                origin.1..p.row + p.height as i64 + 1 + i64::from(grow.bottom),
+            );
+            let tile = crate::progress::quiet(|| {
+                build_tile_window(
+                    s,
+                    &lattice,
+                    origin,
+                    size,
+                    tols,
+                    srid,
+                    &keep,
+                    fill_gaps,
+                    &mut || Ok(()),
+                )
+            });
+            tile.map(|t| {
+                t.map(|(t, wanted)| {
+                    if planning {
+                        (None, wanted)
+                    } else {
+                        (Some(each(p.tx, p.ty, t)), Vec::new())
+                    }
+                })
+            })
+        });
+        let mut out = Vec::new();
+        for r in built {
+            if let Some((row, wanted)) = r? {
+                out.extend(row);
+                self.asked.push(wanted);
+            }
+        }
+        Ok(out)
+    }
+}
