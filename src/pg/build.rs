@@ -21,8 +21,8 @@ use tinmerge_core::tin::build::{
 };
 use tinmerge_core::tin::construct::build_points;
 use tinmerge_core::tin::lattice::Lattice;
+use tinmerge_core::tin::seam_rounds::build_tiles;
 use tinmerge_core::tin::tile_domain::build_tile_window;
-use tinmerge_core::tin::tiles::build_tiles;
 
 /// Refuse a build that would pass `tinmerge.max_memory` (the samples are
 /// already allocated); otherwise hand `tinmerge.threads` to the core.

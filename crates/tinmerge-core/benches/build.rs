@@ -198,8 +198,9 @@ fn levels_table() {
 /// Wall time (median of 3), tile builds, seam samples kept, finest
 /// triangles.
 fn tiles(d: &common::Dem) {
+    use tinmerge_core::tin::seam_rounds::build_tiles;
     use tinmerge_core::tin::tile::build_tile;
-    use tinmerge_core::tin::tiles::{build_tiles, tile_counts, tile_window};
+    use tinmerge_core::tin::tiles::{tile_counts, tile_window};
     println!();
     println!(
         "| raster | tiles | build | tile builds | seam samples kept | finest triangles | ms (median of 3) |"

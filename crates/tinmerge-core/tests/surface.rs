@@ -1028,7 +1028,7 @@ fn over_tolerance_finds_values_built_at_the_samples_only() {
     }
 }
 
-/// The tiles of `r` in tiles of `n` pixels (`tin::tiles::build_tiles`, as
+/// The tiles of `r` in tiles of `n` pixels (`tin::seam_rounds::build_tiles`, as
 /// `tin_tiles` builds them: keep_border, decided in each tile's own frame,
 /// seam samples the tiles beside ask for kept by both), each within its
 /// tolerances on its own pixels, between the samples and in the one-pixel
@@ -1038,7 +1038,7 @@ fn over_tolerance_finds_values_built_at_the_samples_only() {
 /// number of tiles.
 fn check_tiles(what: &str, r: &Raster, n: usize, tols: &[f64], fill_gaps: bool) -> usize {
     let mut tiles = Vec::new();
-    tinmerge_core::tin::tiles::build_tiles(
+    tinmerge_core::tin::seam_rounds::build_tiles(
         &r.z,
         r.w,
         r.h,

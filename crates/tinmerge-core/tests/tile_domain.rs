@@ -123,7 +123,7 @@ fn tiles_over_the_data_cover_the_valid_squares_and_agree_on_their_seams() {
         };
         let tols = default_tolerances(tol, 3).unwrap();
         let mut tiles = Vec::new();
-        tinmerge_core::tin::tiles::build_tiles(
+        tinmerge_core::tin::seam_rounds::build_tiles(
             &d.values,
             d.width,
             d.height,

@@ -6,9 +6,12 @@
 //! its neighbours' border pixels ([`keep_border_samples`]) and the seam
 //! samples kept so far ([`Seams`]). Rounds of *planning* build the tiles
 //! whose seams gained samples and keep only what they ask for
-//! ([`Wanted`]), as [`super::tiles::build_tiles`] does for one raster; when
-//! a round asks for nothing new (or after [`SEAM_ROUNDS`]), every tile of
-//! the slice's own rows is built once more, with them, and returned. Only
+//! ([`Wanted`]); when a round asks for nothing new (or after
+//! [`SEAM_ROUNDS`]), every tile of the slice's own rows is built once
+//! more, with them, and returned. [`build_tiles`] (`tin_tiles`: one band
+//! in memory, [`InMemory`]) holds every build's result instead
+//! ([`SeamRounds::run_held`]) and builds again only the tiles whose
+//! seams gained samples. Only
 //! the rows a batch needs are held (its rows and the one below), so the
 //! memory is bounded by two rows of tiles and one batch of builds.
 //!
@@ -46,13 +49,15 @@
 use std::collections::HashMap;
 use std::ops::Range;
 
+use super::lattice::Lattice;
 use super::tile::Wanted;
 use super::tile_domain::build_tile_window;
 use super::tiles::{
-    Block, Pad, SEAM_ROUNDS, Seams, TableGrid, keep_border_samples, keep_border_window,
-    pad_samples, slice_rows,
+    Block, Pad, Placed, SEAM_ROUNDS, Seams, TableGrid, keep_border_samples, keep_border_window,
+    pad_samples, slice_rows, tile_counts,
 };
 use super::{Tin, TinError};
+use crate::interrupt::Interrupt;
 use crate::io::raster::Band;
 
 /// Where a table's tiles come from.
@@ -63,6 +68,49 @@ pub trait TileReader {
     /// nodata pixels over data the data under them
     /// ([`super::cover::Cover`]).
     fn read(&mut self, want: &[usize]) -> Result<Vec<(usize, Band)>, TinError>;
+}
+
+/// The tiles of one band in memory (`values` row-major, `width` a row,
+/// `valid` telling data from nodata), placed on `grid`: what
+/// [`build_tiles`] reads.
+pub struct InMemory<'a> {
+    pub values: &'a [f64],
+    pub width: usize,
+    pub valid: &'a (dyn Fn(f64) -> bool + Sync),
+    pub grid: &'a TableGrid,
+}
+
+impl TileReader for InMemory<'_> {
+    fn read(&mut self, want: &[usize]) -> Result<Vec<(usize, Band)>, TinError> {
+        want.iter()
+            .map(|&k| {
+                let p = self
+                    .grid
+                    .tiles
+                    .get(k)
+                    .ok_or_else(|| TinError::Internal(format!("no tile {k} in the grid")))?;
+                let (c0, r0) = (p.col as usize, p.row as usize);
+                let mut values = Vec::with_capacity(p.width * p.height);
+                for r in r0..r0 + p.height {
+                    let row = self
+                        .values
+                        .get(r * self.width + c0..r * self.width + c0 + p.width)
+                        .ok_or_else(|| TinError::Internal(format!("tile {k} is off the band")))?;
+                    values.extend(
+                        row.iter()
+                            .map(|&v| if (self.valid)(v) { v } else { f64::NAN }),
+                    );
+                }
+                let band = Band {
+                    pixel_type: 11,
+                    nodata: None,
+                    all_nodata: false,
+                    values,
+                };
+                Ok((k, band))
+            })
+            .collect()
+    }
 }
 
 /// The batch [`SeamRounds::next_batch`] is about to build: for progress,
@@ -102,6 +150,8 @@ pub struct SeamRounds {
     /// (theirs and the halo, [`slice_rows`])
     own: Range<usize>,
     plan: Range<usize>,
+    /// every build's result kept ([`SeamRounds::run_held`])
+    hold: bool,
 }
 
 impl SeamRounds {
@@ -153,6 +203,7 @@ impl SeamRounds {
             planning: true,
             own,
             plan,
+            hold: false,
         }
     }
 
@@ -206,6 +257,30 @@ impl SeamRounds {
         self.build(grid, &batch, each).map(Some)
     }
 
+    /// Every tile of the own rows built, each one's last build kept
+    /// (`each`'s result, on the build's threads): a tile is built again
+    /// only when its seams gain samples, so where the results may all be
+    /// held (tiles in memory: `tin_tiles`) no round is spent building
+    /// every tile once more. In (ty, tx) order, with the seam samples
+    /// kept.
+    pub fn run_held<R: Send>(
+        mut self,
+        grid: &TableGrid,
+        reader: &mut dyn TileReader,
+        each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
+        before: &mut dyn FnMut(Step) -> Result<(), TinError>,
+    ) -> Result<(Vec<R>, Seams), TinError> {
+        self.hold = true;
+        let mut last: HashMap<(usize, usize), R> = HashMap::new();
+        let keyed = |tx: usize, ty: usize, t: Tin| ((ty, tx), each(tx, ty, t));
+        while let Some(batch) = self.next_batch(grid, reader, &keyed, before)? {
+            last.extend(batch.into_iter().filter(|(k, _)| self.own.contains(&k.0)));
+        }
+        let mut out: Vec<((usize, usize), R)> = last.into_iter().collect();
+        out.sort_by_key(|o| o.0);
+        Ok((out.into_iter().map(|o| o.1).collect(), self.seams))
+    }
+
     /// The end of a round of planning: the seam samples asked for taken,
     /// and the tiles that hold new ones to build in the next round; or,
     /// when there are none (or after [`SEAM_ROUNDS`] rounds), every tile
@@ -224,9 +299,13 @@ impl SeamRounds {
         self.round += 1;
         if again.is_empty() || self.round >= SEAM_ROUNDS {
             self.planning = false;
-            again = (0..grid.tiles.len())
-                .filter(|&k| self.own.contains(&grid.tiles[k].ty))
-                .collect();
+            // every tile to return; holding every build's result, only
+            // those whose seams gained samples since their last build
+            if !self.hold {
+                again = (0..grid.tiles.len())
+                    .filter(|&k| self.own.contains(&grid.tiles[k].ty))
+                    .collect();
+            }
         }
         again.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
         again.dedup();
@@ -281,8 +360,13 @@ impl SeamRounds {
             })
         };
         let (lattice, tols, srid) = (grid.lattice, &self.tols, self.srid);
-        let (seams, planning, fill_gaps, pad) =
-            (&self.seams, self.planning, self.fill_gaps, self.pad);
+        let (seams, planning, fill_gaps, pad, hold) = (
+            &self.seams,
+            self.planning,
+            self.fill_gaps,
+            self.pad,
+            self.hold,
+        );
         let built = super::par::map(batch, |&k| {
             let p = grid.tiles[k];
             let Some(own) = block(p.tx, p.ty) else {
@@ -320,11 +404,8 @@ impl SeamRounds {
             });
             tile.map(|t| {
                 t.map(|(t, wanted)| {
-                    if planning {
-                        (None, wanted)
-                    } else {
-                        (Some(each(p.tx, p.ty, t)), Vec::new())
-                    }
+                    let wanted = if planning { wanted } else { Vec::new() };
+                    ((!planning || hold).then(|| each(p.tx, p.ty, t)), wanted)
                 })
             })
         });
@@ -337,4 +418,101 @@ impl SeamRounds {
         }
         Ok(out)
     }
+}
+
+/// Build every tile of a band (`values` row-major, `width x height`,
+/// `valid` telling data from nodata) on `lattice`, with `tolerances` per
+/// level and keep_border; over the valid pixels' squares only unless
+/// `fill_gaps` ([`super::tile_domain`]). Every tile holds its tolerances between the
+/// samples, the one-pixel strips along its seams included: the seam samples
+/// a tile asks for ([`Wanted`]) are kept by both tiles of the seam, which
+/// are built again, for up to [`SEAM_ROUNDS`] rounds ([`Seams`]).
+/// `each(tx, ty, tin)` runs on the build's thread (on `tin::par`'s threads
+/// when there are several: encode there), and `consume` gets the results of
+/// the last round on the calling thread in row-major tile order. A tile
+/// without three non-collinear valid samples (nodata, or a last row or
+/// column one pixel thick) gives nothing. Interrupts are checked between
+/// tiles (on threads, between rounds of one tile per thread; a tile's own
+/// build is not interrupted). The seam samples kept.
+#[allow(clippy::too_many_arguments)]
+pub fn build_tiles<R: Send>(
+    values: &[f64],
+    width: usize,
+    height: usize,
+    valid: &(dyn Fn(f64) -> bool + Sync),
+    lattice: &Lattice,
+    tile_px: usize,
+    tolerances: &[f64],
+    fill_gaps: bool,
+    srid: i32,
+    interrupt: &mut Interrupt<'_>,
+    each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
+    consume: &mut dyn FnMut(R) -> Result<(), TinError>,
+) -> Result<Seams, TinError> {
+    if tile_px < 2 {
+        return Err(TinError::InvalidParameter(format!(
+            "tile_px must be at least 2 pixels, got {tile_px}"
+        )));
+    }
+    if values.len() != width * height {
+        return Err(TinError::InvalidParameter(format!(
+            "raster band has {} values for {width} x {height} pixels",
+            values.len()
+        )));
+    }
+    let (nx, ny) = tile_counts(width, height, tile_px);
+    let grid = TableGrid {
+        lattice: *lattice,
+        tile_width: tile_px,
+        tile_height: tile_px,
+        tiles: (0..ny)
+            .flat_map(|ty| (0..nx).map(move |tx| (tx, ty)))
+            .map(|(tx, ty)| {
+                let (c0, r0) = (tx * tile_px, ty * tile_px);
+                Placed {
+                    tx,
+                    ty,
+                    col: c0 as i64,
+                    row: r0 as i64,
+                    width: tile_px.min(width - c0),
+                    height: tile_px.min(height - r0),
+                }
+            })
+            .collect(),
+    };
+    let mut reader = InMemory {
+        values,
+        width,
+        valid,
+        grid: &grid,
+    };
+    let rounds = SeamRounds::rows(&grid, tolerances.to_vec(), srid, fill_gaps, 0..ny, 0..ny);
+    // each phase's last step is all its tiles
+    let mut phase: Option<(String, u64)> = None;
+    let mut before = |s: Step| {
+        let name = if s.round == 0 {
+            "building tiles".to_string()
+        } else {
+            format!(
+                "building tiles again with their seams' samples (round {})",
+                s.round
+            )
+        };
+        if let Some((p, n)) = phase.take().filter(|p| p.0 != name) {
+            crate::progress::step(&p, "tiles", n, n);
+        }
+        crate::progress::step(&name, "tiles", s.done as u64, s.total as u64);
+        phase = Some((name, s.total as u64));
+        interrupt()
+    };
+    // (a tile's own levels are not reported between the tiles)
+    let (results, seams) = rounds.run_held(&grid, &mut reader, each, &mut before)?;
+    if let Some((p, n)) = phase {
+        crate::progress::step(&p, "tiles", n, n);
+    }
+    for r in results {
+        interrupt()?;
+        consume(r)?;
+    }
+    Ok(seams)
 }

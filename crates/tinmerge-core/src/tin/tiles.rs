@@ -22,7 +22,8 @@
 //!
 //! ```
 //! use tinmerge_core::tin::lattice::Lattice;
-//! use tinmerge_core::tin::tiles::{build_tiles, tile_window};
+//! use tinmerge_core::tin::seam_rounds::build_tiles;
+//! use tinmerge_core::tin::tiles::tile_window;
 //! // a 5 x 4 raster of 1 m pixels, cut into 2-pixel tiles: 3 x 2 tiles
 //! let values: Vec<f64> = (0..20).map(|i| ((i * 7) % 5) as f64).collect();
 //! let lat = Lattice { ip_x: 0.0, ip_y: 4.0, scale_x: 1.0, scale_y: -1.0, skew_x: 0.0, skew_y: 0.0 };
@@ -36,15 +37,12 @@
 //! assert_eq!(tiles.iter().map(|t| (t.0, t.1)).collect::<Vec<_>>(), [(0, 0), (1, 0), (0, 1), (1, 1)]);
 //! ```
 
+use super::TinError;
 use super::build::Border;
 use super::lattice::Lattice;
 use super::tile::Wanted;
 #[cfg(doc)]
 use super::tile::build_tile_kept;
-use super::tile_domain::build_tile_window;
-use super::{Tin, TinError};
-use crate::interrupt::Interrupt;
-use crate::par;
 use std::ops::Range;
 
 /// Number of tiles across and down for `width x height` pixels in tiles of
@@ -74,144 +72,8 @@ pub fn tile_window(
     )
 }
 
-/// Build every tile of a band (`values` row-major, `width x height`,
-/// `valid` telling data from nodata) on `lattice`, with `tolerances` per
-/// level and keep_border; over the valid pixels' squares only unless
-/// `fill_gaps` ([`super::tile_domain`]). Every tile holds its tolerances between the
-/// samples, the one-pixel strips along its seams included: the seam samples
-/// a tile asks for ([`Wanted`]) are kept by both tiles of the seam, which
-/// are built again, for up to [`SEAM_ROUNDS`] rounds ([`Seams`]).
-/// `each(tx, ty, tin)` runs on the build's thread (on `tin::par`'s threads
-/// when there are several: encode there), and `consume` gets the results of
-/// the last round on the calling thread in row-major tile order. A tile
-/// without three non-collinear valid samples (nodata, or a last row or
-/// column one pixel thick) gives nothing. Interrupts are checked between
-/// tiles (on threads, between rounds of one tile per thread; a tile's own
-/// build is not interrupted). The seam samples kept.
-#[allow(clippy::too_many_arguments)]
-pub fn build_tiles<R: Send>(
-    values: &[f64],
-    width: usize,
-    height: usize,
-    valid: &(dyn Fn(f64) -> bool + Sync),
-    lattice: &Lattice,
-    tile_px: usize,
-    tolerances: &[f64],
-    fill_gaps: bool,
-    srid: i32,
-    interrupt: &mut Interrupt<'_>,
-    each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
-    consume: &mut dyn FnMut(R) -> Result<(), TinError>,
-) -> Result<Seams, TinError> {
-    if tile_px < 2 {
-        return Err(TinError::InvalidParameter(format!(
-            "tile_px must be at least 2 pixels, got {tile_px}"
-        )));
-    }
-    if values.len() != width * height {
-        return Err(TinError::InvalidParameter(format!(
-            "raster band has {} values for {width} x {height} pixels",
-            values.len()
-        )));
-    }
-    let (nx, ny) = tile_counts(width, height, tile_px);
-    let tiles: Vec<(usize, usize)> = (0..ny)
-        .flat_map(|ty| (0..nx).map(move |tx| (tx, ty)))
-        .collect();
-    // one tile with the seam samples kept so far: Ok(None) when it has too
-    // few samples to triangulate
-    let one =
-        |&(tx, ty): &(usize, usize), seams: &Seams| -> Result<Option<(R, Wanted)>, TinError> {
-            let (cols, rows) = tile_window(width, height, tile_px, tx, ty);
-            let mut samples = Vec::new();
-            for r in rows.clone() {
-                for c in cols.clone() {
-                    let v = values[r * width + c];
-                    if valid(v) {
-                        samples.push([c as f64, r as f64, v]);
-                    }
-                }
-            }
-            let origin = (cols.start as i64, rows.start as i64);
-            let keep = seams.border(
-                cols.start as i64..cols.end as i64,
-                rows.start as i64..rows.end as i64,
-            );
-            let size = (cols.len(), rows.len());
-            // (a tile's own levels are not reported between the tiles)
-            let built = crate::progress::quiet(|| {
-                build_tile_window(
-                    samples,
-                    lattice,
-                    origin,
-                    size,
-                    tolerances,
-                    srid,
-                    &keep,
-                    fill_gaps,
-                    &mut || Ok(()),
-                )
-            })?;
-            Ok(built.map(|(tin, wanted)| (each(tx, ty, tin), wanted)))
-        };
-    let mut results: Vec<Option<R>> = (0..tiles.len()).map(|_| None).collect();
-    let mut seams = Seams::default();
-    let mut todo: Vec<usize> = (0..tiles.len()).collect();
-    for round in 0..=SEAM_ROUNDS {
-        let mut asked: Vec<Wanted> = Vec::new();
-        let phase = if round == 0 {
-            "building tiles".to_string()
-        } else {
-            format!("building tiles again with their seams' samples (round {round})")
-        };
-        let mut done = 0u64;
-        // one tile per thread at a time (a tile is a whole build:
-        // interrupts are seen between tiles, not within one)
-        for batch in todo.chunks(par::threads().max(1)) {
-            crate::progress::step(&phase, "tiles", done, todo.len() as u64);
-            done += batch.len() as u64;
-            interrupt()?;
-            let built = par::map(batch, |&k| one(&tiles[k], &seams));
-            for (&k, r) in batch.iter().zip(built) {
-                let r = r?;
-                let (res, wanted) = match r {
-                    Some((res, w)) => (Some(res), w),
-                    None => (None, Vec::new()),
-                };
-                results[k] = res;
-                asked.push(wanted);
-            }
-        }
-        crate::progress::step(&phase, "tiles", done, todo.len() as u64);
-        if round == SEAM_ROUNDS {
-            break;
-        }
-        let mut again: Vec<usize> = Vec::new();
-        for w in &asked {
-            for (c, r) in seams.add(w) {
-                for tx in tiles_holding(c, tile_px, nx) {
-                    for ty in tiles_holding(r, tile_px, ny) {
-                        again.push(ty * nx + tx);
-                    }
-                }
-            }
-        }
-        again.sort_unstable();
-        again.dedup();
-        if again.is_empty() {
-            break;
-        }
-        todo = again;
-    }
-    for r in results.into_iter().flatten() {
-        interrupt()?;
-        consume(r)?;
-    }
-    Ok(seams)
-}
-
 /// Rounds of building again the tiles whose seams gained samples that a
-/// tile beside them asked for ([`build_tiles`]).
+/// tile beside them asked for ([`build_tiles`](super::seam_rounds::build_tiles)).
 pub const SEAM_ROUNDS: usize = 8;
 
 /// Rows of tiles above and below a slice that its build plans with
@@ -649,7 +511,7 @@ pub struct Block<'a> {
 /// built from: its own valid pixels, the first column of the tile to its
 /// right and the first row of the one below (each when that tile is there
 /// and adjoins it), and the first pixel of the one below-right when all
-/// three are, as [`build_tiles`] takes them from one raster. A missing
+/// three are, as [`build_tiles`](super::seam_rounds::build_tiles) takes them from one raster. A missing
 /// tile leaves a hole its neighbours do not reach into.
 pub fn keep_border_samples(
     own: &Block,

@@ -401,7 +401,7 @@ pub fn tiles_and_seams_of(
 ) {
     let valid = |v: f64| !v.is_nan() && Some(v) != d.nodata;
     let mut tiles = Vec::new();
-    let seams = tinmerge_core::tin::tiles::build_tiles(
+    let seams = tinmerge_core::tin::seam_rounds::build_tiles(
         &d.values,
         d.width,
         d.height,

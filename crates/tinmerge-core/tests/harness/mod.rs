@@ -60,7 +60,7 @@ use tinmerge_core::tin::build::{
 };
 use tinmerge_core::tin::construct::build_points;
 use tinmerge_core::tin::lattice::Lattice;
-use tinmerge_core::tin::tiles::build_tiles;
+use tinmerge_core::tin::seam_rounds::build_tiles;
 use tinmerge_core::tin::{Tin, TinError};
 
 /// One kind of trial's tally.
