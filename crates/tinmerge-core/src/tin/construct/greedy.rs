@@ -304,16 +304,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             0
         };
         let v = self.m.add_point(p);
-        let g = self.m.twin[h as usize];
-        self.touched.push(h / 3);
-        if g != NONE {
-            self.touched.push(g / 3);
-        }
-        // the half-edges opposite the new vertex: c -> a, b -> c (and
-        // d -> b, a -> d across)
-        let mut opposite = Vec::with_capacity(4);
-        self.m.split_edge(h, v, &mut opposite);
-        for (k, &e) in opposite.iter().enumerate() {
+        // the half-edges opposite the new vertex, pushed last: c -> a,
+        // b -> c (and d -> b, a -> d across)
+        let first = self.stack.len();
+        self.split_edge(h, v);
+        for (k, e) in self.stack.split_off(first).into_iter().enumerate() {
             if folds & (1 << k) == 0 {
                 self.stack.push(e);
                 continue;
