@@ -4,7 +4,7 @@
 # tinmerge.progress_interval = 2, while a second session reads the view
 # tin_progress every half second. Checked: the second session sees the
 # first's pid, function and phases, done rising to the total, done never
-# past it, and in the last phase ("building tiles") the total is the
+# past it, and in the phase that builds every tile ("building tiles") the total is the
 # number of tiles the table has (counted by PostGIS, the oracle); the
 # first session got NOTICE lines in that form; after it ends, no row and
 # no file of it is left. Then the same build cancelled (pg_cancel_backend)
@@ -63,18 +63,18 @@ for r in rows:
     assert done >= last.get(r[2], 0), f"done went down in {r[2]}: {last.get(r[2])} -> {done}"
     last[r[2]] = done
 final = [r for r in rows if r[2] == 'building tiles']
-assert final, f"no row of the last phase 'building tiles' (phases seen: {phases})"
-assert all(int(r[4]) == tiles for r in final), f"the last phase's total is not the table's {tiles} tiles: {final[-1]}"
+assert final, f"no row of the phase 'building tiles' (phases seen: {phases})"
+assert all(int(r[4]) == tiles for r in final), f"the phase 'building tiles' has not the table's {tiles} tiles for total: {final[-1]}"
 assert any(r[7] == 't' for r in rows), "no row had a time left"
 rising = sum(1 for a, b in zip(final, final[1:]) if int(b[3]) > int(a[3]))
-assert rising >= 2, f"done rose {rising} times in the last phase"
+assert rising >= 2, f"done rose {rising} times in the phase 'building tiles'"
 notices = [l for l in open(err) if l.startswith('NOTICE:')]
 form = re.compile(r"NOTICE:  tin_tiles_from_table: (.+): (\d+) of (\d+) tiles \(\d+ %\), [\d.]+ tiles/s(, .+ left)? \(.+ so far\)$")
 assert len(notices) >= 3, f"{len(notices)} NOTICE lines, not 3 or more: {open(err).read()[:500]}"
 for n in notices:
     assert form.match(n.rstrip('\n')), f"a NOTICE line not of the form: {n!r}"
 print(f"ok: {len(rows)} rows of session A seen in {len(phases)} phases ({', '.join(phases)}), "
-      f"last phase {final[0][3]} -> {final[-1][3]} of {tiles} tiles; {len(notices)} NOTICE lines, e.g.")
+      f"'building tiles' {final[0][3]} -> {final[-1][3]} of {tiles} tiles; {len(notices)} NOTICE lines, e.g.")
 print("  " + notices[len(notices) // 2].rstrip('\n'))
 PY
 left=$(q -c "SELECT count(*) FROM _tin_progress() WHERE pid = $pid")
@@ -88,7 +88,7 @@ for _ in $(seq 1 120); do
   pid=$(q -c "SELECT pid FROM tin_progress WHERE phase = 'building tiles' AND percent > 20" | head -1)
   [ -n "$pid" ] && break
 done
-[ -n "$pid" ] || { echo "progress: the second build's last phase was never seen past 20 %"; exit 1; }
+[ -n "$pid" ] || { echo "progress: the second build's phase 'building tiles' was never seen past 20 %"; exit 1; }
 q -c "SELECT pg_cancel_backend($pid)" > /dev/null
 wait "$a" || true
 grep -q "canceling statement due to user request" "$out/a.err" ||

@@ -35,7 +35,7 @@ pub fn define_guc() {
 const MB: usize = 1024 * 1024;
 
 /// The limit in bytes, or None when unlimited.
-fn limit() -> Option<usize> {
+pub fn limit() -> Option<usize> {
     let mb = MAX_MEMORY_MB.get();
     (mb >= 0).then(|| (mb as usize).saturating_mul(MB))
 }

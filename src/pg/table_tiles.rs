@@ -12,16 +12,20 @@ use super::table_source::TableSource;
 use tinmerge_core::io::raster;
 use tinmerge_core::tin::build::default_tolerances;
 use tinmerge_core::tin::cover::Cover;
-use tinmerge_core::tin::seam_rounds::{SeamRounds, Step, TileReader};
+use tinmerge_core::tin::seam_rounds::{Held, SeamRounds, Step, TileReader};
 use tinmerge_core::tin::TinError;
 
 /// A table of raster tiles (`raster2pgsql -t`, `ST_Tile`) being built
 /// tile by tile: `tin_tiles_from_table(tiles regclass, ...)`, its seam
 /// rounds run by the core ([`SeamRounds`]). Rows of tiles are read through
 /// SPI as they are needed (a tile row and the one below it held at once),
-/// tiles are built `tinmerge.threads` at a time, and each result is handed
-/// out before the next batch is built, so the call's memory is bounded by
-/// two rows of tiles and one batch of builds, whatever the table's size.
+/// tiles are built `tinmerge.threads` at a time, and each tile's last
+/// build is held ([`SeamRounds::hold`]) while the results fit in a quarter
+/// of `tinmerge.max_memory`: the stored tins, 85 MB for a billion pixels.
+/// Past that they are dropped and every tile is built once more at the
+/// end, each result handed out before the next batch is built, so the
+/// call's memory stays bounded by two rows of tiles and one batch of
+/// builds, whatever the table's size.
 pub(super) struct TableTiles {
     /// The table's tiles.
     src: std::sync::Arc<TableSource>,
@@ -30,6 +34,8 @@ pub(super) struct TableTiles {
     cover: Option<std::sync::Arc<TableSource>>,
     rounds: SeamRounds,
     ready: std::collections::VecDeque<(i32, i32, TinOut)>,
+    /// Each tile's last build, while held.
+    held: Held<(i32, i32, TinOut)>,
     done: bool,
     /// Progress reported (`super::progress`), its phases named after
     /// `label` (an overview layer's).
@@ -120,19 +126,23 @@ impl TableTiles {
         }
         let tols = default_tolerances(tolerance, levels).or_raise();
         let src = TableSource::open(func, tab, column, band);
-        let rounds = SeamRounds::new(
+        let mut rounds = SeamRounds::new(
             &src.grid,
             tols,
             src.srid,
             fill_gaps,
             (slice as usize, slices as usize),
         );
+        rounds.hold();
         super::threads::apply();
         TableTiles {
             src: std::sync::Arc::new(src),
             cover: None,
             rounds,
             ready: Default::default(),
+            held: Held::new(memory::limit().map_or(usize::MAX, |l| l / 4), |r| {
+                r.2 .0.len()
+            }),
             done: false,
             tracker: super::progress::Tracker::new(func),
             label: String::new(),
@@ -149,13 +159,23 @@ impl TableTiles {
         let lattice = src.grid.lattice;
         let per_tile = (src.grid.tile_width + 1) * (src.grid.tile_height + 1);
         let levels = self.rounds.tolerances().len();
+        let (holding, let_go) = (self.rounds.holding(), self.held.dropped());
         let mut before = |s: Step| {
             pgrx::check_for_interrupts!();
-            let phase = if s.planning {
+            let phase = if holding && s.round == 0 {
+                format!("{label}building tiles")
+            } else if holding {
+                format!(
+                    "{label}building tiles again with their seams' samples (round {})",
+                    s.round
+                )
+            } else if s.planning {
                 format!(
                     "{label}planning the seams (round {}): building tiles",
                     s.round + 1
                 )
+            } else if let_go {
+                format!("{label}building tiles once more (their builds were past a quarter of tinmerge.max_memory)")
             } else {
                 format!("{label}building tiles")
             };
@@ -177,7 +197,7 @@ impl TableTiles {
         };
         match self
             .rounds
-            .next_batch(&src.grid, &mut reader, &each, &mut before)
+            .next_held(&mut self.held, &src.grid, &mut reader, &each, &mut before)
             .or_raise()
         {
             Some(rows) => self.ready.extend(rows),

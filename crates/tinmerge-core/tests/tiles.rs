@@ -418,6 +418,26 @@ fn a_table_of_tiles_builds_the_tiles_of_the_whole_raster() {
             assert!(g == w, "{name}: tile {:?} differs from build_tiles'", g.0);
         }
         assert!(got.len() > 6);
+        // the same with each tile's last build held (as the SQL function
+        // does), and held until they pass half their bytes, then dropped
+        // and every tile built once more
+        let bytes: usize = want.iter().map(|w| w.1.len()).sum();
+        for (budget, dropped) in [(usize::MAX, false), (bytes / 2, true)] {
+            let rounds = tinmerge_core::tin::seam_rounds::SeamRounds::rows(
+                &grid,
+                tols.clone(),
+                srid,
+                true,
+                0..rows,
+                0..rows,
+            );
+            let (held, was) = common::table_rounds_held(&grid, &blocks, rounds, Some(budget));
+            assert_eq!(was, dropped, "{name}: held up to {budget} bytes");
+            assert!(
+                held == want,
+                "{name}: held up to {budget} bytes, not build_tiles' tiles"
+            );
+        }
         // tile (1, 1) missing: (0, 1) gets no right column (nor the corner of
         // (1, 2)), (0, 0) no corner
         let without = |tx: usize, ty: usize| at(tx, ty).filter(|_| (tx, ty) != (1, 1));

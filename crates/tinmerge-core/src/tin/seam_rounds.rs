@@ -8,12 +8,15 @@
 //! whose seams gained samples and keep only what they ask for
 //! ([`Wanted`]); when a round asks for nothing new (or after
 //! [`SEAM_ROUNDS`]), every tile of the slice's own rows is built once
-//! more, with them, and returned. [`build_tiles`] (`tin_tiles`: one band
-//! in memory, [`InMemory`]) holds every build's result instead
-//! ([`SeamRounds::run_held`]) and builds again only the tiles whose
-//! seams gained samples. Only
-//! the rows a batch needs are held (its rows and the one below), so the
-//! memory is bounded by two rows of tiles and one batch of builds.
+//! more, with them, and returned. A caller that can keep every tile's
+//! result ([`SeamRounds::hold`]: `tin_tiles`, whose band is in memory,
+//! [`build_tiles`]; `tin_tiles_from_table` while they fit in a quarter of
+//! `tinmerge.max_memory`) is handed every build of the own rows instead
+//! and keeps each tile's last: no pass is spent building every tile once
+//! more, only the tiles whose seams gained samples are built again. Only
+//! the rows a batch needs are read (its rows and the one below), so
+//! besides the results held the memory is bounded by two rows of tiles
+//! and one batch of builds.
 //!
 //! ```
 //! use tinmerge_core::io::raster::Band;
@@ -126,6 +129,35 @@ pub struct Step {
     pub total: usize,
     /// tiles in this batch
     pub tiles: usize,
+}
+
+/// Each tile's last build, held by [`SeamRounds::next_held`] while their
+/// size (as `size` counts it) is within a budget.
+pub struct Held<R> {
+    /// by (ty, tx)
+    last: std::collections::BTreeMap<(usize, usize), R>,
+    bytes: usize,
+    budget: usize,
+    size: fn(&R) -> usize,
+    dropped: bool,
+}
+
+impl<R> Held<R> {
+    /// Nothing held yet; at most `budget` of `size`.
+    pub fn new(budget: usize, size: fn(&R) -> usize) -> Held<R> {
+        Held {
+            last: Default::default(),
+            bytes: 0,
+            budget,
+            size,
+            dropped: false,
+        }
+    }
+
+    /// Whether what was held passed the budget and was dropped.
+    pub fn dropped(&self) -> bool {
+        self.dropped
+    }
 }
 
 /// A table's tiles being built in seam rounds (module docs).
@@ -257,12 +289,78 @@ impl SeamRounds {
         self.build(grid, &batch, each).map(Some)
     }
 
+    /// From now on every build of a tile of the own rows is handed out
+    /// (`each`'s result), in the rounds of planning too, and the caller
+    /// keeps the last of each tile: a tile is built again only when its
+    /// seams gain samples, and no pass is spent building every tile once
+    /// more at the end. The caller that cannot keep them all any longer
+    /// calls [`SeamRounds::let_go`].
+    pub fn hold(&mut self) {
+        self.hold = true;
+    }
+
+    /// Whether the builds are handed out as they are made
+    /// ([`SeamRounds::hold`]).
+    pub fn holding(&self) -> bool {
+        self.hold
+    }
+
+    /// The caller has dropped every result it held: as without
+    /// [`SeamRounds::hold`], every tile of the own rows is built once more
+    /// when the seams are planned (at once, if they are).
+    pub fn let_go(&mut self) {
+        if !self.hold {
+            return;
+        }
+        self.hold = false;
+        if !self.planning {
+            self.order = self.own_tiles();
+            self.next = 0;
+        }
+    }
+
+    /// [`SeamRounds::next_batch`] holding each tile's last build in
+    /// `held` ([`SeamRounds::hold`] first): batches are empty while they
+    /// are held, and the held ones come out at the end, in (ty, tx) order.
+    /// Once they pass `held`'s budget they are dropped
+    /// ([`SeamRounds::let_go`]) and the batches hand out their tiles as
+    /// without holding.
+    pub fn next_held<R: Send>(
+        &mut self,
+        held: &mut Held<R>,
+        grid: &TableGrid,
+        reader: &mut dyn TileReader,
+        each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
+        before: &mut dyn FnMut(Step) -> Result<(), TinError>,
+    ) -> Result<Option<Vec<R>>, TinError> {
+        let holding = self.hold;
+        let keyed = |tx: usize, ty: usize, t: Tin| ((ty, tx), each(tx, ty, t));
+        let Some(batch) = self.next_batch(grid, reader, &keyed, before)? else {
+            return Ok((!held.last.is_empty())
+                .then(|| std::mem::take(&mut held.last).into_values().collect()));
+        };
+        if !holding {
+            return Ok(Some(batch.into_iter().map(|b| b.1).collect()));
+        }
+        for (k, r) in batch {
+            held.bytes += (held.size)(&r);
+            if let Some(old) = held.last.insert(k, r) {
+                held.bytes -= (held.size)(&old);
+            }
+        }
+        if held.bytes > held.budget {
+            held.last.clear();
+            held.bytes = 0;
+            held.dropped = true;
+            self.let_go();
+        }
+        Ok(Some(Vec::new()))
+    }
+
     /// Every tile of the own rows built, each one's last build kept
-    /// (`each`'s result, on the build's threads): a tile is built again
-    /// only when its seams gain samples, so where the results may all be
-    /// held (tiles in memory: `tin_tiles`) no round is spent building
-    /// every tile once more. In (ty, tx) order, with the seam samples
-    /// kept.
+    /// (`each`'s result, on the build's threads; [`SeamRounds::hold`]):
+    /// where the results may all be held (tiles in memory: `tin_tiles`).
+    /// In (ty, tx) order, with the seam samples kept.
     pub fn run_held<R: Send>(
         mut self,
         grid: &TableGrid,
@@ -270,15 +368,13 @@ impl SeamRounds {
         each: &(dyn Fn(usize, usize, Tin) -> R + Sync),
         before: &mut dyn FnMut(Step) -> Result<(), TinError>,
     ) -> Result<(Vec<R>, Seams), TinError> {
-        self.hold = true;
-        let mut last: HashMap<(usize, usize), R> = HashMap::new();
-        let keyed = |tx: usize, ty: usize, t: Tin| ((ty, tx), each(tx, ty, t));
-        while let Some(batch) = self.next_batch(grid, reader, &keyed, before)? {
-            last.extend(batch.into_iter().filter(|(k, _)| self.own.contains(&k.0)));
+        self.hold();
+        let mut held = Held::new(usize::MAX, |_| 0);
+        let mut out = Vec::new();
+        while let Some(batch) = self.next_held(&mut held, grid, reader, each, before)? {
+            out.extend(batch);
         }
-        let mut out: Vec<((usize, usize), R)> = last.into_iter().collect();
-        out.sort_by_key(|o| o.0);
-        Ok((out.into_iter().map(|o| o.1).collect(), self.seams))
+        Ok((out, self.seams))
     }
 
     /// The end of a round of planning: the seam samples asked for taken,
@@ -301,10 +397,10 @@ impl SeamRounds {
             self.planning = false;
             // every tile to return; holding every build's result, only
             // those whose seams gained samples since their last build
-            if !self.hold {
-                again = (0..grid.tiles.len())
-                    .filter(|&k| self.own.contains(&grid.tiles[k].ty))
-                    .collect();
+            if self.hold {
+                again.retain(|&k| self.own.contains(&grid.tiles[k].ty));
+            } else {
+                again = self.own_tiles();
             }
         }
         again.sort_by_key(|&k| (grid.tiles[k].ty, grid.tiles[k].tx));
@@ -312,6 +408,18 @@ impl SeamRounds {
         self.order = again;
         self.next = 0;
         self.loaded.clear();
+    }
+
+    /// The tiles of the own rows, in (ty, tx) order.
+    fn own_tiles(&self) -> Vec<usize> {
+        let mut own: Vec<((usize, usize), usize)> = self
+            .at
+            .iter()
+            .filter(|(p, _)| self.own.contains(&p.1))
+            .map(|(&(tx, ty), &k)| ((ty, tx), k))
+            .collect();
+        own.sort_unstable();
+        own.into_iter().map(|o| o.1).collect()
     }
 
     /// Read the bands of tile rows `rows` not read yet, and forget the
@@ -360,12 +468,13 @@ impl SeamRounds {
             })
         };
         let (lattice, tols, srid) = (grid.lattice, &self.tols, self.srid);
-        let (seams, planning, fill_gaps, pad, hold) = (
+        let (seams, planning, fill_gaps, pad, hold, own_rows) = (
             &self.seams,
             self.planning,
             self.fill_gaps,
             self.pad,
             self.hold,
+            &self.own,
         );
         let built = super::par::map(batch, |&k| {
             let p = grid.tiles[k];
@@ -405,7 +514,8 @@ impl SeamRounds {
             tile.map(|t| {
                 t.map(|(t, wanted)| {
                     let wanted = if planning { wanted } else { Vec::new() };
-                    ((!planning || hold).then(|| each(p.tx, p.ty, t)), wanted)
+                    let out = !planning || (hold && own_rows.contains(&p.ty));
+                    (out.then(|| each(p.tx, p.ty, t)), wanted)
                 })
             })
         });

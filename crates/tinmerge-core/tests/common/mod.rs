@@ -300,17 +300,36 @@ pub fn table_build(
             own,
             plan,
         ),
+        None,
     )
 }
 
 /// The tiles of `blocks` (placed on `grid`) built by `rounds`, encoded, in
-/// (ty, tx) order: what `tin_tiles_from_table` returns.
+/// (tx, ty) order: what `tin_tiles_from_table` returns. With `held`, each
+/// tile's last build held up to that many bytes of encoded tins (past
+/// them, dropped and every tile built once more at the end), as
+/// `tin_tiles_from_table` holds them; whether they were dropped.
 #[allow(dead_code)]
 pub fn table_rounds(
     grid: &tinmerge_core::tin::tiles::TableGrid,
     blocks: &[tinmerge_core::tin::tiles::Block],
-    mut rounds: tinmerge_core::tin::seam_rounds::SeamRounds,
+    rounds: tinmerge_core::tin::seam_rounds::SeamRounds,
+    held: Option<usize>,
 ) -> Vec<((usize, usize), Vec<u8>)> {
+    table_rounds_held(grid, blocks, rounds, held).0
+}
+
+/// Encoded tins by (tx, ty).
+pub type Encoded = Vec<((usize, usize), Vec<u8>)>;
+
+/// [`table_rounds`] and whether what was held was dropped.
+#[allow(dead_code)]
+pub fn table_rounds_held(
+    grid: &tinmerge_core::tin::tiles::TableGrid,
+    blocks: &[tinmerge_core::tin::tiles::Block],
+    mut rounds: tinmerge_core::tin::seam_rounds::SeamRounds,
+    held: Option<usize>,
+) -> (Encoded, bool) {
     use tinmerge_core::io::raster::Band;
     use tinmerge_core::tin::TinError;
     use tinmerge_core::tin::seam_rounds::TileReader;
@@ -363,8 +382,15 @@ pub fn table_rounds(
         .collect();
     let mut reader = Memory(&ordered);
     let mut out = Vec::new();
+    type Out = ((usize, usize), Vec<u8>);
+    let mut hold =
+        tinmerge_core::tin::seam_rounds::Held::new(held.unwrap_or(0), |o: &Out| o.1.len());
+    if held.is_some() {
+        rounds.hold();
+    }
     while let Some(batch) = rounds
-        .next_batch(
+        .next_held(
+            &mut hold,
             grid,
             &mut reader,
             &|tx, ty, t| ((tx, ty), tinmerge_core::tin::layout::encode(&t)),
@@ -374,8 +400,11 @@ pub fn table_rounds(
     {
         out.extend(batch);
     }
+    let n = out.len();
     out.sort_by_key(|o| o.0);
-    out
+    out.dedup_by_key(|o| o.0);
+    assert_eq!(out.len(), n, "a tile handed out twice");
+    (out, hold.dropped())
 }
 
 #[allow(dead_code)]

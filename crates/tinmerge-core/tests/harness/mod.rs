@@ -536,7 +536,14 @@ fn trial(
                 tiles: &table,
                 base: over.as_ref().map(|_| &r),
             };
-            let tiles = match tables::run(&grid, rounds, &mut reader) {
+            // each tile's last build held (as SQL holds them), or dropped
+            // past a budget of a few tiles' vertices, or never held
+            let held = match rng.random_range(0..4) {
+                0 | 1 => Some(usize::MAX),
+                2 => Some(rng.random_range(0..4 * n * n)),
+                _ => None,
+            };
+            let tiles = match tables::run(&grid, rounds, &mut reader, held) {
                 Ok(t) => t,
                 Err(TinError::Degenerate(_)) | Err(TinError::InvalidParameter(_)) => {
                     return Ok(None);

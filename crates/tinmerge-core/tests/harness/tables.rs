@@ -9,7 +9,7 @@ use super::terrain::Raster;
 use tinmerge_core::io::raster::Band;
 use tinmerge_core::tin::cover::Cover;
 use tinmerge_core::tin::lattice::Lattice;
-use tinmerge_core::tin::seam_rounds::{SeamRounds, TileReader};
+use tinmerge_core::tin::seam_rounds::{Held, SeamRounds, TileReader};
 use tinmerge_core::tin::tiles::{TableGrid, place_tiles};
 use tinmerge_core::tin::{Tin, TinError};
 
@@ -77,19 +77,37 @@ impl TileReader for Reader<'_> {
     }
 }
 
-/// Every tile `rounds` returns, in (ty, tx) order.
+/// Every tile `rounds` returns, in (ty, tx) order: with `held`, each
+/// tile's last build held up to that many of its vertices
+/// (`SeamRounds::next_held`; past them dropped, and every tile built once
+/// more), as `tin_tiles_from_table` holds its results; without, every
+/// tile built once more at the end.
 pub fn run(
     grid: &TableGrid,
     mut rounds: SeamRounds,
     reader: &mut Reader<'_>,
+    held: Option<usize>,
 ) -> Result<Vec<Tin>, TinError> {
     let mut out = Vec::new();
-    while let Some(batch) =
-        rounds.next_batch(grid, reader, &|tx, ty, t| (ty, tx, t), &mut |_| Ok(()))?
-    {
+    let mut hold = Held::new(held.unwrap_or(0), |o: &(usize, usize, Tin)| o.2.verts.len());
+    if held.is_some() {
+        rounds.hold();
+    }
+    while let Some(batch) = rounds.next_held(
+        &mut hold,
+        grid,
+        reader,
+        &|tx, ty, t| (ty, tx, t),
+        &mut |_| Ok(()),
+    )? {
         out.extend(batch);
     }
     out.sort_by_key(|o| (o.0, o.1));
+    let n = out.len();
+    out.dedup_by_key(|o| (o.0, o.1));
+    if out.len() != n {
+        return Err(TinError::Internal("a tile was handed out twice".into()));
+    }
     Ok(out.into_iter().map(|o| o.2).collect())
 }
 

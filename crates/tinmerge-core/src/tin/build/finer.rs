@@ -309,6 +309,12 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
             .map(|k| !spec.keep_border && spec.reference.is_none() && self.hull[t] & (1 << k) != 0)
     }
 
+    /// The sides that are a tile's seam (keep_border's hull sides).
+    fn seam_of(&self, t: usize) -> [bool; 3] {
+        let keep = self.spec.keep_border;
+        [0, 1, 2].map(|k| keep && self.hull.get(t).is_some_and(|h| h & (1 << k) != 0))
+    }
+
     /// The hull sides, as (parent, side).
     fn hull_sides(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         (0..self.prev.len())
@@ -366,6 +372,7 @@ impl<'a, P: ParentSamples> Parents<'a, P> {
                             parent: t as u32,
                             corners: self.prev[t].map(|v| self.corner_samples[v as usize]),
                             free: self.free_of(t),
+                            seam: self.seam_of(t),
                             void: self.void_of(t),
                             tol: self.tol,
                             last_resort: last_resort.get(t).copied().unwrap_or(false),

@@ -29,6 +29,9 @@ pub(super) struct Job<'a> {
     pub(super) parent: u32,
     pub(super) corners: [u32; 3],
     pub(super) free: [bool; 3],
+    /// the sides on a tile's seam (keep_border's hull), planned at
+    /// [`seam_tolerance`](super::common::seam_tolerance)
+    pub(super) seam: [bool; 3],
     pub(super) void: Void,
     pub(super) tol: f64,
     pub(super) last_resort: bool,
@@ -212,6 +215,7 @@ impl Own {
             // a void parent's side between two void parents: left whole
             let (side_reference, side_tol) = match job.void {
                 Some(domain) if !domain[k] => (None, VOID_TOL),
+                _ if job.seam[k] => (job.reference, super::common::seam_tolerance(job.tol)),
                 _ => (job.reference, job.tol),
             };
             let mut plan = plan_side(

@@ -128,24 +128,36 @@ pub(super) fn build_inner(
     };
     let (verts, raw_levels) = if net.segs.is_empty() {
         let b: Builder<'_, _, Dt> = start(&grid, &hull, opts.keep_border, reference)?;
-        build_levels(b, &grid, &sides, spec, interrupt)?
+        let seam = vec![true; sides.len()];
+        build_levels(b, &grid, &sides, &seam, spec, interrupt)?
     } else {
         let segment_sides = segment_sides(&net, &profiles, &grid, seams)?;
         drop(profiles);
         let mut b: Builder<'_, _, Cdt> = start(&grid, &hull, true, reference)?;
         let kept = if seams.is_some() { border.at(0) } else { &[] };
+        // a tile's seams, planned at the seam tolerance
+        let on_seam: Vec<bool> = net
+            .segs
+            .iter()
+            .map(|s| {
+                let (a, b) = (&net.verts[s[0] as usize], &net.verts[s[1] as usize]);
+                reference.is_some() && seams.is_some_and(|sl| sl.holds(a, b))
+            })
+            .collect();
         add_network(
             &mut b,
             &net,
             &segment_sides,
+            &on_seam,
             tolerances[0],
             kept,
             &|x, y| grid.find(x, y),
         )?;
-        let sides: Vec<Vec<usize>> = segment_sides
+        let (sides, seam): (Vec<Vec<usize>>, Vec<bool>) = segment_sides
             .into_iter()
-            .filter(|s| !s.is_empty())
-            .collect();
+            .zip(on_seam)
+            .filter(|s| !s.0.is_empty())
+            .unzip();
         // a tile's seams keep what the tiles agreed on; other lines no
         // border
         let no_border = Border::default();
@@ -153,7 +165,7 @@ pub(super) fn build_inner(
             border: if seams.is_some() { border } else { &no_border },
             ..*spec
         };
-        build_levels(b, &grid, &sides, &segments, interrupt)?
+        build_levels(b, &grid, &sides, &seam, &segments, interrupt)?
     };
     drop(grid);
     // on a lattice the grid indexes are built once, by `Lattice::to_world`
@@ -227,7 +239,9 @@ pub(super) fn mark_void(
 }
 
 /// Every level: level 0 refined in `b` (the whole domain, its hull
-/// inserted; the hull's `sides` under keep_border), the finer ones parent by
+/// inserted; the hull's `sides` under keep_border, or the soft lines',
+/// those on a tile's `seam` planned at
+/// [`seam_tolerance`](super::common::seam_tolerance)), the finer ones parent by
 /// parent on `src`, void outside the spec's `boundaries` (none: the whole
 /// hull), to its `tolerances`, keeping its `border`, between samples on its
 /// `reference`. The vertices and the levels, for [`assemble`].
@@ -235,6 +249,7 @@ pub(super) fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
     mut b: Builder<'_, S, T>,
     src: &P,
     sides: &[Vec<usize>],
+    seam: &[bool],
     spec: &Spec<'_>,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
@@ -246,9 +261,13 @@ pub(super) fn build_levels<S: Samples, T: Tri, P: ParentSamples>(
         border,
         ..
     } = *spec;
+    // (seams are tighter only where their strips are measured: between
+    // samples, as the finer levels' hull sides are)
+    let seam: Vec<bool> = seam.iter().map(|&s| s && reference.is_some()).collect();
     let mut level0 = refine_level0(
         &mut b,
         sides,
+        &seam,
         tolerances[0],
         SEED_VERTICES,
         border.at(0),
@@ -307,12 +326,14 @@ pub(super) fn start<'g, S: Samples, T: Tri>(
 
 /// Level 0: refine `b` (its hull inserted) to `tol`, the vertices of the
 /// hull's `sides` (keep_border) chosen first, from each side's samples
-/// alone (a seam's two tiles agree on them), those at `forced` positions
-/// (the seam's samples both tiles were told to keep, [`Border`]) among
-/// them from the start.
+/// alone (a seam's two tiles agree on them; a `seam` side's at
+/// [`seam_tolerance`](super::common::seam_tolerance)), those at `forced`
+/// positions (the seam's samples both tiles were told to keep,
+/// [`Border`]) among them from the start.
 pub(super) fn refine_level0<S: Samples, T: Tri>(
     b: &mut Builder<'_, S, T>,
     sides: &[Vec<usize>],
+    seam: &[bool],
     tol: f64,
     max_vertices: usize,
     forced: &[[f64; 2]],
@@ -327,7 +348,7 @@ pub(super) fn refine_level0<S: Samples, T: Tri>(
     }
     let mut border_error = 0.0f64;
     let mut new = Vec::new();
-    for side in sides {
+    for (k, side) in sides.iter().enumerate() {
         interrupt()?;
         let grid = b.grid;
         let mut chosen: Vec<bool> = (0..side.len())
@@ -345,7 +366,11 @@ pub(super) fn refine_level0<S: Samples, T: Tri>(
             &|i| grid.point(i),
             side,
             &mut chosen,
-            tol,
+            if seam.get(k).copied().unwrap_or(false) {
+                super::common::seam_tolerance(tol)
+            } else {
+                tol
+            },
             &mut new,
         ));
     }
@@ -474,7 +499,8 @@ pub(super) fn build_dense(
         border,
         ..Spec::new(tolerances, srid, opts)
     };
-    let (verts, raw_levels) = build_levels(b, &d, &sides, &spec, interrupt)?;
+    let seam = vec![true; sides.len()];
+    let (verts, raw_levels) = build_levels(b, &d, &sides, &seam, &spec, interrupt)?;
     drop(d);
     assemble_verified(verts, raw_levels, srid, false, interrupt)
 }

@@ -323,14 +323,17 @@ pub(super) fn with_crossings(
 /// Level 0's constraint edges: the network's vertices inserted (they are
 /// samples of `b`'s grid), then each segment with a profile (`sides[k]`:
 /// its samples from end to end, or empty) split at the profile samples
-/// [`choose_border`] picks at `tol` after the `kept` positions (a tile's
-/// seam samples, [`Border`]) (inserted before the constraints, so
+/// [`choose_border`] picks at `tol` (a tile's `seam`: at
+/// [`seam_tolerance`](super::common::seam_tolerance)) after the `kept`
+/// positions (a tile's seam samples, [`Border`]) (inserted before the
+/// constraints, so
 /// each piece is an edge of its own: they lie on the segment only up to
 /// rounding), and every piece added as a constraint.
 pub(super) fn add_network<S: Samples>(
     b: &mut Builder<'_, S, Cdt>,
     net: &Network,
     sides: &[Vec<usize>],
+    seam: &[bool],
     tol: f64,
     kept: &[[f64; 2]],
     find: &dyn Fn(f64, f64) -> Option<usize>,
@@ -369,6 +372,11 @@ pub(super) fn add_network<S: Samples>(
                         j == 0 || j + 1 == side.len() || keep
                     })
                     .collect();
+                let tol = if seam.get(k).copied().unwrap_or(false) {
+                    super::common::seam_tolerance(tol)
+                } else {
+                    tol
+                };
                 choose_border(&|i| grid.point(i), side, &mut chosen, tol, &mut new);
                 for i in new {
                     let h = b.insert_sample(i, handle.get(&p).copied())?;

@@ -55,6 +55,7 @@ pub(super) fn refine_parent(
         parent,
         corners,
         free,
+        seam,
         void,
         tol,
         last_resort,
@@ -72,7 +73,7 @@ pub(super) fn refine_parent(
     // (a last resort is refined as scattered samples are: its vertices at
     // crossings are no pixels)
     if void.is_none() && !last_resort && corners.iter().all(|&s| (s as usize) < n) {
-        let plans = lattice_plans(d, corners, free, reference, forced, tol);
+        let plans = lattice_plans(d, corners, free, seam, reference, forced, tol);
         if plans
             .iter()
             .all(|p| p.chosen.iter().all(|q| matches!(q, Pt::Sample(_))))
@@ -154,6 +155,7 @@ fn lattice_plans(
     d: &Dense,
     corners: [u32; 3],
     free: [bool; 3],
+    seam: [bool; 3],
     reference: Option<&dyn Reference>,
     forced: &Forced,
     tol: f64,
@@ -174,7 +176,11 @@ fn lattice_plans(
                 &on,
                 reference,
                 forced,
-                tol,
+                if seam[k] {
+                    super::common::seam_tolerance(tol)
+                } else {
+                    tol
+                },
             )
         })
         .collect()
