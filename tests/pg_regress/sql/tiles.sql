@@ -238,8 +238,8 @@ SELECT count(*) AS matched FROM one_call o JOIN tin_tiles k ON ST_Equals(tin_env
 -- a strip needs): tin_validate against the window raster, where the grid
 -- segments beyond a tile's seams are its neighbours'. The SQL pattern's
 -- tiles cannot (a tile alone cannot put a vertex on a seam its neighbour
--- does not know of): 46 levels over before the seams were planned at a
--- tenth of the tolerance (after 0.27.0), none in this window since
+-- does not know of): 46 levels over before the seams were planned at
+-- half the tolerance (after 0.27.0), fewer since
 SELECT 'tin_tiles' AS build, count(DISTINCT (o.tx, o.ty)) AS tiles, count(v.level) AS levels_over
 FROM one_call o CROSS JOIN dem_window d LEFT JOIN LATERAL tin_validate(o.t, d.rast) v ON true
 UNION ALL

@@ -293,18 +293,21 @@ pub(super) const VOID_TOL: f64 = f64::MAX / 4.0;
 pub(super) const AT_FLAG: u32 = 1 << 31;
 
 /// The tolerance a tile's seam (keep_border's hull side, between
-/// samples) is planned at: a tenth of the level's. A seam held to the
-/// level's tolerance left the one-pixel strips beside it over the
-/// tolerance where edges from its vertices cross them, so the tiles asked
-/// their neighbours for seam samples ([`crate::tin::tile::Wanted`]) and
-/// both were built again, round after round: on the bundled UTM DEM in
-/// 96-pixel tiles, 188 seam samples asked and 47 builds of 16 tiles at
-/// the level's tolerance, one sample and 18 builds at a tenth (a quarter:
-/// 5 samples, 24 builds), for 1.9 % more triangles (docs/performance.md,
-/// 2026-12-07). Both tiles of a seam plan it alike, so it still agrees.
+/// samples) is planned at: half the level's. A seam held to the level's
+/// tolerance left the one-pixel strips beside it over the tolerance where
+/// edges from its vertices cross them, so the tiles asked their
+/// neighbours for seam samples ([`crate::tin::tile::Wanted`]) and both
+/// were built again, round after round. Measured (docs/performance.md,
+/// 2026-12-07), the 105-Mpixel terrain of `scripts/bench-big.sh` (1 m, 5
+/// levels, 1,582 tiles): 228 s and 1,249,543 finest vertices at the
+/// level's tolerance; 83 s and 1,226,952 at half; 79 s and 1,332,410 at
+/// 0.3; 88 s and 1,859,944 at a tenth (its rough seams then take nearly
+/// every pixel). On the bundled UTM DEM in 96-pixel tiles, 47 builds of
+/// 16 tiles at the level's tolerance, 28 at half, 18 at a tenth. Both
+/// tiles of a seam plan it alike, so it still agrees.
 pub(crate) fn seam_tolerance(tol: f64) -> f64 {
     tol * SEAM_TOLERANCE
 }
 
 /// [`seam_tolerance`]'s fraction of the level's tolerance.
-pub(crate) const SEAM_TOLERANCE: f64 = 0.1;
+pub(crate) const SEAM_TOLERANCE: f64 = 0.5;
