@@ -239,7 +239,7 @@ SELECT count(*) AS matched FROM one_call o JOIN tin_tiles k ON ST_Equals(tin_env
 -- segments beyond a tile's seams are its neighbours'. The SQL pattern's
 -- tiles cannot (a tile alone cannot put a vertex on a seam its neighbour
 -- does not know of): 46 levels over before the seams were planned at
--- half the tolerance (after 0.27.0), fewer since
+-- half the tolerance (after 0.27.0), 20 since
 SELECT 'tin_tiles' AS build, count(DISTINCT (o.tx, o.ty)) AS tiles, count(v.level) AS levels_over
 FROM one_call o CROSS JOIN dem_window d LEFT JOIN LATERAL tin_validate(o.t, d.rast) v ON true
 UNION ALL
