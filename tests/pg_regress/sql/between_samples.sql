@@ -179,7 +179,9 @@ WHERE b.build = 'hard breaklines' GROUP BY 1 ORDER BY 1 DESC;
 -- a tile's build (keep_border) is held at the samples only in the
 -- one-pixel strip along its hull (the seam's vertices are its own samples,
 -- so that the tile beside it agrees): tin_validate names the levels over
--- their tolerance there, and PostGIS agrees at the place it names (bilinear ST_Value
+-- their tolerance there (3 and 4 of 0-4: seams are planned at half the
+-- tolerance after 0.27.0; every level before), and PostGIS agrees at the
+-- place it names (bilinear ST_Value
 -- on a grid line is the two pixels' line; the geographic DEM has no
 -- nodata, so every neighbour is there; PostGIS's bilinear ST_Value needs
 -- a nodata value set all the same)
