@@ -21,7 +21,7 @@ use tinmerge_core::tin::TinError;
 /// SPI as they are needed (a tile row and the one below it held at once),
 /// tiles are built `tinmerge.threads` at a time, and each tile's last
 /// build is held ([`SeamRounds::hold`]) while the results fit in a quarter
-/// of `tinmerge.max_memory`: the stored tins, 85 MB for a billion pixels.
+/// of `tinmerge.max_memory`: the stored tins, about 100 MB for a billion pixels.
 /// Past that they are dropped and every tile is built once more at the
 /// end, each result handed out before the next batch is built, so the
 /// call's memory stays bounded by two rows of tiles and one batch of
