@@ -292,8 +292,8 @@ pub(super) const VOID_TOL: f64 = f64::MAX / 4.0;
 /// [`ParentOut::verts`](super::general::ParentOut::verts): the vertex is a point of [`ParentOut::at`](super::general::ParentOut::at).
 pub(super) const AT_FLAG: u32 = 1 << 31;
 
-/// The tolerance a tile's seam (keep_border's hull side, between
-/// samples) is planned at: half the level's. A seam held to the level's
+/// The tolerance a side is planned at: the level's `tol`, or half of it
+/// for a tile's `seam` (keep_border's hull side, between samples). A seam held to the level's
 /// tolerance left the one-pixel strips beside it over the tolerance where
 /// edges from its vertices cross them, so the tiles asked their
 /// neighbours for seam samples ([`crate::tin::tile::Wanted`]) and both
@@ -305,8 +305,8 @@ pub(super) const AT_FLAG: u32 = 1 << 31;
 /// every pixel). On the bundled UTM DEM in 96-pixel tiles, 47 builds of
 /// 16 tiles at the level's tolerance, 28 at half, 18 at a tenth. Both
 /// tiles of a seam plan it alike, so it still agrees.
-pub(crate) fn seam_tolerance(tol: f64) -> f64 {
-    tol * SEAM_TOLERANCE
+pub(crate) fn seam_tolerance(tol: f64, seam: bool) -> f64 {
+    if seam { tol * SEAM_TOLERANCE } else { tol }
 }
 
 /// [`seam_tolerance`]'s fraction of the level's tolerance.

@@ -215,8 +215,10 @@ impl Own {
             // a void parent's side between two void parents: left whole
             let (side_reference, side_tol) = match job.void {
                 Some(domain) if !domain[k] => (None, VOID_TOL),
-                _ if job.seam[k] => (job.reference, super::common::seam_tolerance(job.tol)),
-                _ => (job.reference, job.tol),
+                _ => (
+                    job.reference,
+                    super::common::seam_tolerance(job.tol, job.seam[k]),
+                ),
             };
             let mut plan = plan_side(
                 [Pt::Sample(ea), Pt::Sample(eb)],

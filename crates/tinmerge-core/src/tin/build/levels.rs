@@ -366,11 +366,7 @@ pub(super) fn refine_level0<S: Samples, T: Tri>(
             &|i| grid.point(i),
             side,
             &mut chosen,
-            if seam.get(k).copied().unwrap_or(false) {
-                super::common::seam_tolerance(tol)
-            } else {
-                tol
-            },
+            super::common::seam_tolerance(tol, seam.get(k).copied().unwrap_or(false)),
             &mut new,
         ));
     }

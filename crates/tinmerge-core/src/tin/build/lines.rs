@@ -372,11 +372,7 @@ pub(super) fn add_network<S: Samples>(
                         j == 0 || j + 1 == side.len() || keep
                     })
                     .collect();
-                let tol = if seam.get(k).copied().unwrap_or(false) {
-                    super::common::seam_tolerance(tol)
-                } else {
-                    tol
-                };
+                let tol = super::common::seam_tolerance(tol, seam.get(k).copied().unwrap_or(false));
                 choose_border(&|i| grid.point(i), side, &mut chosen, tol, &mut new);
                 for i in new {
                     let h = b.insert_sample(i, handle.get(&p).copied())?;

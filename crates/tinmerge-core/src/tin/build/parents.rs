@@ -176,11 +176,7 @@ fn lattice_plans(
                 &on,
                 reference,
                 forced,
-                if seam[k] {
-                    super::common::seam_tolerance(tol)
-                } else {
-                    tol
-                },
+                super::common::seam_tolerance(tol, seam[k]),
             )
         })
         .collect()
