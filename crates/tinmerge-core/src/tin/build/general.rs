@@ -30,7 +30,7 @@ pub(super) struct Job<'a> {
     pub(super) corners: [u32; 3],
     pub(super) free: [bool; 3],
     /// the sides on a tile's seam (keep_border's hull), planned at
-    /// [`seam_tolerance`](super::common::seam_tolerance)
+    /// [`seam_tolerance`]
     pub(super) seam: [bool; 3],
     pub(super) void: Void,
     pub(super) tol: f64,

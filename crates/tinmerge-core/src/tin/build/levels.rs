@@ -241,7 +241,7 @@ pub(super) fn mark_void(
 /// Every level: level 0 refined in `b` (the whole domain, its hull
 /// inserted; the hull's `sides` under keep_border, or the soft lines',
 /// those on a tile's `seam` planned at
-/// [`seam_tolerance`](super::common::seam_tolerance)), the finer ones parent by
+/// [`seam_tolerance`]), the finer ones parent by
 /// parent on `src`, void outside the spec's `boundaries` (none: the whole
 /// hull), to its `tolerances`, keeping its `border`, between samples on its
 /// `reference`. The vertices and the levels, for [`assemble`].
@@ -327,7 +327,7 @@ pub(super) fn start<'g, S: Samples, T: Tri>(
 /// Level 0: refine `b` (its hull inserted) to `tol`, the vertices of the
 /// hull's `sides` (keep_border) chosen first, from each side's samples
 /// alone (a seam's two tiles agree on them; a `seam` side's at
-/// [`seam_tolerance`](super::common::seam_tolerance)), those at `forced`
+/// [`seam_tolerance`]), those at `forced`
 /// positions (the seam's samples both tiles were told to keep,
 /// [`Border`]) among them from the start.
 pub(super) fn refine_level0<S: Samples, T: Tri>(
