@@ -476,6 +476,10 @@ pub(super) fn build_dense(
             "need at least 3 samples with distinct x,y to build a tin, got {count}"
         )));
     }
+    if opts.keep_border && opts.between_samples {
+        // build engine 2 (issue 74)
+        return crate::tin::construct::build_dense_kept(&d, tolerances, srid, border, interrupt);
+    }
     let hull = dense_hull(&d);
     let whole = d.window(d.c0, d.r0, d.width, d.height);
     let grid_reference = GridReference::on_lattice(&d);

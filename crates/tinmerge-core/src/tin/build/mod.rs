@@ -59,7 +59,7 @@ use self::assemble::*;
 pub use self::common::{
     Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
 };
-pub(crate) use self::common::{RawLevel, convex_hull};
+pub(crate) use self::common::{RawLevel, convex_hull, seam_tolerance};
 use self::levels::*;
 pub(crate) use self::levels::{dense_hull, dense_of, lattice_hull};
 pub use self::raster::{RasterBand, RasterBuild, build_raster};

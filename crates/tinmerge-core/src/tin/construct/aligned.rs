@@ -66,13 +66,15 @@ fn shape(m: &Mesh, t: u32) -> Option<(u32, [i64; 2])> {
 /// hanging. `z` gives the middle's height (`None`: no data there);
 /// `touched` gets every triangle changed. `None`, with nothing changed,
 /// when `t` is not a lattice-aligned right triangle ([`shape`]) or its
-/// middle has no data.
+/// middle has no data, or with `keep_hull` when its hypotenuse is on the
+/// hull (a kept side's vertices are its profile's, [`super::kept`]).
 pub(super) fn bisect(
     m: &mut Mesh,
     t: u32,
     z: &mut dyn FnMut(i64, i64) -> Option<f64>,
     touched: &mut Vec<u32>,
     scratch: &mut Vec<u32>,
+    keep_hull: bool,
     depth: u32,
 ) -> Result<Option<u32>, TinError> {
     if depth > 128 {
@@ -81,6 +83,9 @@ pub(super) fn bisect(
     let Some((h, mid)) = shape(m, t) else {
         return Ok(None);
     };
+    if keep_hull && m.twin[h as usize] == NONE {
+        return Ok(None);
+    }
     let Some(height) = z(mid[0], mid[1]) else {
         return Ok(None);
     };
@@ -93,7 +98,7 @@ pub(super) fn bisect(
             Some((hg, _)) if hg != g => {
                 // coarser: split it first (t is left as it was); when it
                 // cannot be, the shared edge is split in both
-                if bisect(m, g / 3, z, touched, scratch, depth + 1)?.is_none() {
+                if bisect(m, g / 3, z, touched, scratch, keep_hull, depth + 1)?.is_none() {
                     break;
                 }
             }
@@ -144,19 +149,29 @@ const MIN_LEG: f64 = 4.0;
 /// corner kept, and the rest of the hull (a strip along its slanting
 /// sides, the nodata gaps) triangulated around them, constrained Delaunay
 /// (spade). `z` gives the height of a valid pixel centre, `None`
-/// elsewhere.
+/// elsewhere. With `keep_sides`, no vertex on the hull but its corners
+/// (a kept side's vertices are its profile's, [`super::kept`]): a
+/// triangle with a corner on a side is not kept.
 pub(super) fn cover(
     width: usize,
     height: usize,
     hull: &[[i64; 2]],
+    keep_sides: bool,
     z: &dyn Fn(i64, i64) -> Option<f64>,
 ) -> Result<Mesh, TinError> {
     let hull: Vec<[f64; 3]> = hull
         .iter()
         .map(|p| [p[0] as f64, p[1] as f64, 0.0])
         .collect();
+    let n = hull.len();
+    let off_sides = |q: &[f64; 3]| {
+        hull.iter().any(|c| c[..2] == q[..2])
+            || (0..n).all(|k| orient(&hull[k], &hull[(k + 1) % n], q) != 0.0)
+    };
     let keep = |c: &[[f64; 3]; 3]| {
-        within(c, &hull) && c.iter().all(|p| z(p[0] as i64, p[1] as i64).is_some())
+        within(c, &hull)
+            && c.iter().all(|p| z(p[0] as i64, p[1] as i64).is_some())
+            && (!keep_sides || c.iter().all(off_sides))
     };
     let big = square(width, height, &hull, &keep)?;
     let kept: Vec<[[f64; 3]; 3]> = (0..big.triangles())
@@ -202,7 +217,7 @@ fn square(
             if !keep(&c)
                 && leg(&big, t) > MIN_LEG
                 && !apart(&c, hull)
-                && bisect(&mut big, t, &mut flat, &mut touched, &mut scratch, 0)?.is_some()
+                && bisect(&mut big, t, &mut flat, &mut touched, &mut scratch, false, 0)?.is_some()
             {
                 changed = true;
                 continue;

@@ -17,9 +17,10 @@
 //! its worst sample.
 
 mod cavity;
+mod reserve;
 
 use super::aligned;
-use super::measure::{Fix, Source, Worst, measure};
+use super::measure::{Fix, RESERVED, Source, Worst, measure};
 use super::mesh::{Mesh, NONE, next, prev, proper};
 use super::queue::Queue;
 use crate::geom::{BEND, orient, orient_slack, strictly_between, within_roundings};
@@ -47,6 +48,8 @@ pub(super) struct Greedy<'g, S: Source + ?Sized> {
     /// the shortest longest side (across or along, in pixels) a triangle
     /// is bisected at ([`bisect_from`]); shorter ones take the sample
     bisect_from: f64,
+    /// the hull's vertices are made only by [`Greedy::insert_kept`]
+    keep_hull: bool,
 }
 
 /// How many pixels a row's runs of one height must hold on average
@@ -95,7 +98,17 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
     /// raster band only), along the lattice ([`aligned::cover`]) and
     /// refined by bisection until [`Greedy::aligned`] is cleared. Every
     /// triangle measured.
-    pub(super) fn new(g: &'g S, floor: f64, aligned: bool) -> Result<Self, TinError> {
+    ///
+    /// With `keep_hull`, no vertex is made on the hull but by
+    /// [`Greedy::insert_kept`] (and crossings on a side across no lattice
+    /// line): the lattice-aligned triangles keep off it and are not
+    /// bisected at it ([`super::kept`]).
+    pub(super) fn new(
+        g: &'g S,
+        floor: f64,
+        aligned: bool,
+        keep_hull: bool,
+    ) -> Result<Self, TinError> {
         let corners = g.hull()?;
         if let (true, Some(band)) = (aligned, g.lattice()) {
             let w = band.width;
@@ -103,13 +116,17 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                 .iter()
                 .map(|&i| [(i as usize % w) as i64, (i as usize / w) as i64])
                 .collect();
-            let m = aligned::cover(band.width, band.height, &lattice, &|c, r| band.at(c, r))?;
+            let m = aligned::cover(band.width, band.height, &lattice, keep_hull, &|c, r| {
+                band.at(c, r)
+            })?;
             let ids = m
                 .pts
                 .iter()
                 .map(|p| (p[1] as usize * w + p[0] as usize) as u32)
                 .collect();
-            return Ok(Self::with(g, floor, m, ids, true));
+            let mut s = Self::with(g, floor, m, ids, true);
+            s.keep_hull = keep_hull;
+            return Ok(s);
         }
         let mut m = Mesh::new();
         for &id in &corners {
@@ -119,7 +136,9 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             m.add_triangle(0, i, i + 1, 0);
         }
         m.link_all();
-        Ok(Self::with(g, floor, m, corners, false))
+        let mut s = Self::with(g, floor, m, corners, false);
+        s.keep_hull = keep_hull;
+        Ok(s)
     }
 
     /// `ids`: the sample at each of `m`'s vertices.
@@ -136,6 +155,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             limit: 4 * g.count() + 1024,
             aligned,
             bisect_from: if aligned { bisect_from(g) } else { 0.0 },
+            keep_hull: false,
         };
         for (v, &id) in ids.iter().enumerate() {
             s.vid[id as usize] = v as u32;
@@ -546,7 +566,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
 
     fn vertex_at(&self, id: u32) -> Option<u32> {
         let v = self.vid[id as usize];
-        (v != NONE).then_some(v)
+        (v != NONE && v != RESERVED).then_some(v)
     }
 
     /// Whether triangle `t` is big enough to be bisected
@@ -572,6 +592,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                 &mut |c, r| g.at(c, r),
                 &mut self.touched,
                 &mut scratch,
+                self.keep_hull,
                 0,
             )?;
             self.stack = scratch;
@@ -608,6 +629,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                         let vp = self.vertex_at(a);
                         let vq = self.vertex_at(b);
                         let (Some(vp), Some(vq)) = (vp, vq) else {
+                            if [a, b].iter().any(|&i| self.vid[i as usize] == RESERVED) {
+                                // measured while its other end was free:
+                                // stuck now, measured again without it
+                                return Ok(());
+                            }
                             return Err(internal("lost a pixel's vertex"));
                         };
                         let before = self.touched.len();
@@ -732,6 +758,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         }
     }
 
+    /// The last level refines by free insertion only.
+    pub(super) fn finest(&mut self) {
+        self.aligned = false;
+    }
+
     pub(super) fn into_points(self) -> Vec<[f64; 3]> {
         self.m.pts
     }
@@ -747,11 +778,11 @@ pub(super) fn levels<S: Source + ?Sized>(
     let floor = tolerances.last().copied().unwrap_or(0.0);
     // coarse levels along the lattice, the last by free insertion into
     // them
-    let mut s = Greedy::new(g, floor, tolerances.len() > 1)?;
+    let mut s = Greedy::new(g, floor, tolerances.len() > 1, false)?;
     let mut raw = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {
         if l + 1 == tolerances.len() {
-            s.aligned = false;
+            s.finest();
         }
         let phase = format!("building level {} of {}", l + 1, tolerances.len());
         s.run(tol, &phase, interrupt)?;

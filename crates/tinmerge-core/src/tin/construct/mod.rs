@@ -14,7 +14,10 @@
 //!   triangles split at their longest edge's middle), for a band without
 //!   nodata: their edges meet grid lines only at pixel centres, so the
 //!   levels below never split them at a crossing;
-//! - [`greedy`]: the driver, level after level in the same triangulation.
+//! - [`greedy`]: the driver, level after level in the same triangulation;
+//! - [`kept`]: a band with `keep_border` (a tile): each hull side's
+//!   vertices chosen from its own samples, level by level, before the
+//!   driver refines inside ([`build_dense_kept`]).
 //!
 //! Every vertex is a sample (a pixel centre: whole lattice numbers, so
 //! every test of which side is exact; a scattered sample, on an edge when
@@ -45,6 +48,7 @@
 
 mod aligned;
 mod greedy;
+mod kept;
 mod measure;
 mod mesh;
 mod points;
@@ -52,7 +56,10 @@ mod queue;
 
 pub use measure::Heights;
 
-use super::build::{RawLevel, assemble_verified, check_tolerances, on_lattice, prepare_samples};
+use super::build::{
+    Border, RawLevel, assemble_verified, check_tolerances, on_lattice, prepare_samples,
+};
+use super::dense::Dense;
 use super::lattice::Lattice;
 use super::{Tin, TinError};
 use crate::interrupt::Interrupt;
@@ -94,6 +101,42 @@ pub fn build_band(
     let (pts, raw) = band_levels(&g, tolerances, interrupt)?;
     let tin = assemble_verified(pts, raw, srid, false, interrupt)?;
     on_lattice(tin, lattice, (0, 0))
+}
+
+/// The hierarchy of the lattice samples `d` (in their window's frame)
+/// with `keep_border` ([`kept`]): every hull side's vertices chosen from
+/// its own samples, keeping `border`'s (in the same frame), every level
+/// within its tolerance at every valid pixel centre and where its edges
+/// cross the grid segments between them but those ending at a side's
+/// sample it did not choose (the strip along the hull, which the seam
+/// rounds mend). Verified before it is returned, in `d`'s frame.
+pub(crate) fn build_dense_kept(
+    d: &Dense,
+    tolerances: &[f64],
+    srid: i32,
+    border: &Border,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<Tin, TinError> {
+    check_tolerances(tolerances)?;
+    let g = Heights {
+        z: &d.z,
+        width: d.width,
+        height: d.height,
+    };
+    let (c0, r0) = (d.c0 as f64, d.r0 as f64);
+    let local = Border {
+        levels: border
+            .levels
+            .iter()
+            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
+            .collect(),
+    };
+    let (mut pts, raw) = kept::levels(&g, tolerances, &local, interrupt)?;
+    for p in &mut pts {
+        p[0] += c0;
+        p[1] += r0;
+    }
+    assemble_verified(pts, raw, srid, false, interrupt)
 }
 
 /// The hierarchy of scattered samples (x, y, z; what `tin_from_points`

@@ -1,0 +1,170 @@
+//! A band built with `keep_border` (a tile of `tin_tiles`,
+//! `tin_tiles_from_table`, `tin_overviews`; `tin_from_raster(...,
+//! keep_border => true)`): the vertices on each side of the valid pixel
+//! centres' hull are chosen from that side's samples alone, level by
+//! level, so two tiles sharing a column (or row) of samples choose the
+//! same ones and their surfaces are the same along it at every level.
+//!
+//! Each level, before the greedy refinement ([`super::greedy`]) runs to
+//! its tolerance, each side's profile (its valid samples from its end
+//! smaller in (column, row) to the other) is split by
+//! [`choose_border`] at [`seam_tolerance`] from what the coarser levels
+//! chose and the samples the tiles agreed to keep ([`Border`]), exactly as
+//! the parent-by-parent build does (a tile built over its data only,
+//! beside one built here, plans the shared column the same way). The
+//! side's other samples stay [`RESERVED`](super::measure::RESERVED): the
+//! greedy refinement makes no vertex of them, and an edge crossing a grid
+//! segment from one to a vertex is not measured (one to a free sample is,
+//! and mended by that sample). What it thus cannot mend from inside (an
+//! edge crossing such a segment over the tolerance, in the strip along the
+//! hull) is what the tile asks of its seams
+//! ([`Wanted`](crate::tin::tile::Wanted)), and the seam rounds
+//! ([`crate::tin::seam_rounds`]) keep those samples in both tiles.
+//!
+//! The coarse levels run along the lattice ([`super::aligned`]) as a whole
+//! band's do, but keep off the hull: no triangle of the first cover has a
+//! corner on a side (but the hull's corners), and none is bisected at a
+//! side. On the bundled UTM DEM in 96-pixel tiles at 2 m, 5 levels, the
+//! finest levels have 205,431 triangles together (277,508 parent by
+//! parent; 314,350 with Delaunay coarse levels, whose edges cross grid
+//! lines).
+//!
+//! A side along no lattice line (across nodata) has samples only where
+//! lattice points fall on it; the greedy refinement splits its pieces
+//! where they cross grid segments, always at a piece's worst crossing
+//! (a triangle's worst error bounds its sides'), so those splits too
+//! depend on the side alone.
+
+use super::greedy::Greedy;
+use super::measure::{Heights, Source};
+use crate::interrupt::Interrupt;
+use crate::tin::TinError;
+use crate::tin::build::{Border, RawLevel, seam_tolerance};
+use crate::tin::sides::choose_border;
+use rustc_hash::FxHashSet;
+
+/// The hull's sides: each one's valid samples in canonical order (its end
+/// smaller in (column, row) first, as the parent-by-parent build orders
+/// them) and which of them are chosen so far.
+struct Sides {
+    sides: Vec<Vec<u32>>,
+    chosen: Vec<Vec<bool>>,
+}
+
+impl Sides {
+    fn new(g: &Heights<'_>, hull: &[u32]) -> Sides {
+        let w = g.width as i64;
+        let col_row = |i: u32| (i as i64 % w, i as i64 / w);
+        let sides: Vec<Vec<u32>> = (0..hull.len())
+            .map(|k| {
+                let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
+                let ((ca, ra), (cb, rb)) = (col_row(a), col_row(b));
+                let (dc, dr) = (cb - ca, rb - ra);
+                let steps = gcd(dc.unsigned_abs(), dr.unsigned_abs()) as i64;
+                let mut side = vec![a];
+                for s in 1..steps {
+                    let (c, r) = (ca + dc / steps * s, ra + dr / steps * s);
+                    let i = (r * w + c) as u32;
+                    if !g.z[i as usize].is_nan() {
+                        side.push(i);
+                    }
+                }
+                side.push(b);
+                if col_row(b) < col_row(a) {
+                    side.reverse();
+                }
+                side
+            })
+            .collect();
+        let chosen = sides
+            .iter()
+            .map(|s| (0..s.len()).map(|k| k == 0 || k + 1 == s.len()).collect())
+            .collect();
+        Sides { sides, chosen }
+    }
+
+    /// The samples strictly inside the sides, none chosen yet.
+    fn inner(&self) -> Vec<u32> {
+        self.sides
+            .iter()
+            .flat_map(|s| s.get(1..s.len().saturating_sub(1)).unwrap_or(&[]))
+            .copied()
+            .collect()
+    }
+
+    /// One level's choice at `tol` (a seam's): the `kept` samples first,
+    /// then the Douglas-Peucker split of each side. The samples newly
+    /// chosen, in order, and the worst error left along the sides.
+    fn plan(&mut self, g: &Heights<'_>, kept: &FxHashSet<u32>, tol: f64) -> (Vec<u32>, f64) {
+        let mut new_ids = Vec::new();
+        let mut err = 0.0f64;
+        for (side, chosen) in self.sides.iter().zip(&mut self.chosen) {
+            for (k, &id) in side.iter().enumerate() {
+                if !chosen[k] && kept.contains(&id) {
+                    chosen[k] = true;
+                    new_ids.push(id);
+                }
+            }
+            let mut picked = Vec::new();
+            err = err.max(choose_border(
+                &|k| g.point(side[k] as u32),
+                &(0..side.len()).collect::<Vec<usize>>(),
+                chosen,
+                tol,
+                &mut picked,
+            ));
+            new_ids.extend(picked.into_iter().map(|k| side[k]));
+        }
+        (new_ids, err)
+    }
+}
+
+fn gcd(mut a: u64, mut b: u64) -> u64 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// Every level of band `g` with its hull's sides kept, the samples of
+/// `border` (column and row in `g`'s frame, per level) kept on them: its
+/// vertices (in `g`'s frame) and levels.
+pub(super) fn levels(
+    g: &Heights<'_>,
+    tolerances: &[f64],
+    border: &Border,
+    interrupt: &mut Interrupt<'_>,
+) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
+    let floor = tolerances.last().copied().unwrap_or(0.0);
+    // coarse levels along the lattice, off the sides
+    let mut s = Greedy::new(g, floor, tolerances.len() > 1, true)?;
+    let mut sides = Sides::new(g, &g.hull()?);
+    s.reserve(&sides.inner());
+    let mut raw = Vec::with_capacity(tolerances.len());
+    for (l, &tol) in tolerances.iter().enumerate() {
+        interrupt()?;
+        if l + 1 == tolerances.len() {
+            s.finest();
+        }
+        let kept: FxHashSet<u32> = border
+            .at(l)
+            .iter()
+            .filter_map(|p| {
+                let (c, r) = (p[0], p[1]);
+                let inside = c == c.trunc()
+                    && r == r.trunc()
+                    && (0.0..g.width as f64).contains(&c)
+                    && (0.0..g.height as f64).contains(&r);
+                inside.then(|| (r as usize * g.width + c as usize) as u32)
+            })
+            .collect();
+        let (new_ids, side_err) = sides.plan(g, &kept, seam_tolerance(tol, true));
+        s.insert_kept(&new_ids)?;
+        let phase = format!("building level {} of {}", l + 1, tolerances.len());
+        s.run(tol, &phase, interrupt)?;
+        let mut level = s.finish_level(tol, l == 0, l + 1 == tolerances.len());
+        level.max_error = level.max_error.max(side_err);
+        raw.push(level);
+    }
+    Ok((s.into_points(), raw))
+}
