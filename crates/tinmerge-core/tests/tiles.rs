@@ -326,11 +326,14 @@ fn build_tiles_cuts_the_keep_border_pattern_and_its_seams_agree() {
 /// their vertices.
 #[allow(clippy::type_complexity)]
 fn shape(t: &Tin, l: usize, px: f64) -> Vec<([(i64, i64, u64); 3], Option<[(i64, i64, u64); 3]>)> {
+    // (offset from the half-millionths: a vertex where an edge crosses a
+    // grid segment at a dyadic fraction of a pixel, 1/128 say, lies on one,
+    // and the rounding of the two lattices then puts it either side)
     let key = |v: u32| {
         let p = t.verts[v as usize];
         (
-            (p[0] / px * 1e6).round() as i64,
-            (p[1] / px * 1e6).round() as i64,
+            (p[0] / px * 1e6 + 0.3183).round() as i64,
+            (p[1] / px * 1e6 + 0.3183).round() as i64,
             p[2].to_bits(),
         )
     };

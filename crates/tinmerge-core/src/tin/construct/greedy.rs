@@ -50,6 +50,9 @@ pub(super) struct Greedy<'g, S: Source + ?Sized> {
     bisect_from: f64,
     /// the hull's vertices are made only by [`Greedy::insert_kept`]
     keep_hull: bool,
+    /// grid segments from a reserved sample that an edge crosses where no
+    /// split makes proper triangles ([`Greedy::split_beside_kept`])
+    stuck: rustc_hash::FxHashSet<(u32, u32)>,
 }
 
 /// How many pixels a row's runs of one height must hold on average
@@ -156,6 +159,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             aligned,
             bisect_from: if aligned { bisect_from(g) } else { 0.0 },
             keep_hull: false,
+            stuck: Default::default(),
         };
         for (v, &id) in ids.iter().enumerate() {
             s.vid[id as usize] = v as u32;
@@ -192,7 +196,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
         }
         let w = measure(&self.m, t, self.g, &self.vid);
         self.worst[t as usize] = w;
-        let key = (w.err > self.floor).then(|| w.err.to_bits());
+        let key = (w.err > self.floor && !self.is_stuck(&w.fix)).then(|| w.err.to_bits());
         self.queue.set(t, key);
     }
 
@@ -630,9 +634,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                         let vq = self.vertex_at(b);
                         let (Some(vp), Some(vq)) = (vp, vq) else {
                             if [a, b].iter().any(|&i| self.vid[i as usize] == RESERVED) {
-                                // measured while its other end was free:
-                                // stuck now, measured again without it
-                                return Ok(());
+                                return self.split_beside_kept(h, a, b);
                             }
                             return Err(internal("lost a pixel's vertex"));
                         };

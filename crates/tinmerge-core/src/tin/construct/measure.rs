@@ -21,8 +21,8 @@ use crate::tin::build::lattice_hull;
 /// What [`Greedy`](super::greedy::Greedy)'s `vid` holds at a sample that
 /// is no vertex and may not be made one by the greedy refinement (a sample
 /// of a kept hull side its own profile has not chosen, [`super::kept`]):
-/// it is not measured, nor a grid segment from it to a vertex
-/// ([`stuck`]).
+/// it is not measured, and an edge crossing a grid segment from it to a
+/// vertex is split where it crosses.
 pub(super) const RESERVED: u32 = NONE - 1;
 
 /// A raster band's heights in place, row by row, `NaN` where no data.
@@ -48,9 +48,8 @@ pub(super) trait Source {
     /// (`vid[id] == NONE`).
     fn worst_sample(&self, c: &[[f64; 3]; 3], vid: &[u32]) -> Worst;
     /// The worst crossing of edge p -> q with a segment between two
-    /// samples (`k` left 0), but segments with an end [`RESERVED`] in
-    /// `vid` and the other a vertex or reserved too.
-    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3], vid: &[u32]) -> Worst;
+    /// samples (`k` left 0).
+    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst;
     /// Where edge p -> q crosses the segment between samples `a` and `b`
     /// (a crossing [`Source::worst_crossing`] gave), with the segment's
     /// height there: the very point it measured, so a triangle's worst
@@ -99,8 +98,8 @@ impl Source for Heights<'_> {
     fn worst_sample(&self, c: &[[f64; 3]; 3], vid: &[u32]) -> Worst {
         samples(c, self, vid)
     }
-    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3], vid: &[u32]) -> Worst {
-        crossings(p, q, self, vid)
+    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst {
+        crossings(p, q, self)
     }
     /// [`Source::crossing_of`] of this band, the same arithmetic as
     /// [`crossings`]: the fraction along the edge from the segment's own
@@ -221,7 +220,7 @@ pub(super) fn measure<S: Source + ?Sized>(m: &Mesh, t: u32, g: &S, vid: &[u32]) 
     for k in 0..3u32 {
         let h = 3 * t + k;
         let (p, q) = (m.at(h), m.at(next(h)));
-        let w = g.worst_crossing(p, q, vid);
+        let w = g.worst_crossing(p, q);
         if let (true, Fix::Crossing { a, b, .. }) = (w.err > worst.err, w.fix) {
             worst = Worst {
                 err: w.err,
@@ -333,18 +332,10 @@ fn span(c: &[[i64; 2]; 3], r: i64) -> Option<(i64, i64)> {
     (c0 <= c1).then_some((c0, c1))
 }
 
-/// Whether a grid segment whose ends' `vid` are `a` and `b` is one the
-/// greedy refinement cannot mend: an end [`RESERVED`] and the other no
-/// free sample (its crossings are then left to the seam rounds).
-#[inline]
-fn stuck(a: u32, b: u32) -> bool {
-    (a == RESERVED && b != NONE) || (b == RESERVED && a != NONE)
-}
-
 /// The worst crossing of edge p -> q with a grid segment between two valid
-/// pixel centres (not at a centre, which [`samples`] measures; not one
-/// [`stuck`]), the edge's height there against the segment's.
-pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
+/// pixel centres (not at a centre, which [`samples`] measures), the edge's
+/// height there against the segment's.
+pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
     let mut worst = Worst::NONE;
     // rows crossed: y = r, the segment from (c, r) to (c + 1, r)
     let mut each = |along_rows: bool| {
@@ -376,15 +367,13 @@ pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>, vid: &[u32]
                     let zs = za + f * (zb - za);
                     let ze = p[2] + s * (q[2] - p[2]);
                     let e = (ze - zs).abs();
-                    let ia = a[1] as usize * g.width + a[0] as usize;
-                    let ib = b[1] as usize * g.width + b[0] as usize;
-                    if e > worst.err && !stuck(vid[ia], vid[ib]) {
+                    if e > worst.err {
                         worst = Worst {
                             err: e,
                             fix: Fix::Crossing {
                                 k: 0,
-                                a: ia as u32,
-                                b: ib as u32,
+                                a: (a[1] as usize * g.width + a[0] as usize) as u32,
+                                b: (b[1] as usize * g.width + b[0] as usize) as u32,
                             },
                         };
                     }

@@ -130,7 +130,7 @@ impl Source for Scattered {
         found
     }
 
-    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3], _vid: &[u32]) -> Worst {
+    fn worst_crossing(&self, p: &[f64; 3], q: &[f64; 3]) -> Worst {
         let mut worst = Worst::NONE;
         self.reference.for_each_crossing_of(p, q, &mut |x, ends| {
             // through a sample up to rounding: that sample, measured as
