@@ -176,12 +176,13 @@ FROM bs_terrain b
      JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem),
      tin_validate(b.t, d.rast) v
 WHERE b.build = 'hard breaklines' GROUP BY 1 ORDER BY 1 DESC;
--- a tile's build (keep_border) is held at the samples only in the
--- one-pixel strip along its hull (the seam's vertices are its own samples,
--- so that the tile beside it agrees): tin_validate names the levels over
--- their tolerance there (3 and 4 of 0-4: seams are planned at half the
--- tolerance after 0.27.0; every level before), and PostGIS agrees at the
--- place it names (bilinear ST_Value
+-- a tile's build (keep_border) chooses the seam's vertices from its own
+-- samples (so that the tile beside it agrees); the one-pixel strip along
+-- its hull was held at the samples only, and tin_validate named the levels
+-- over their tolerance there (every level until 0.27.0, 3 and 4 of 0-4
+-- with the seams at half the tolerance); build engine 2 mends the strip
+-- from inside (after 0.27.0): none on this DEM. Where it names one,
+-- PostGIS agrees at the place (bilinear ST_Value
 -- on a grid line is the two pixels' line; the geographic DEM has no
 -- nodata, so every neighbour is there; PostGIS's bilinear ST_Value needs
 -- a nodata value set all the same)

@@ -63,10 +63,9 @@ SELECT l AS level, count(*) AS seam_points, min(tiles) AS min_tiles, max(tiles) 
        count(*) FILTER (WHERE off > 2.0 * 2 ^ (2 - l) + 1e-9) AS beyond_tolerance
 FROM per GROUP BY l ORDER BY l;
 
--- the tiles against one tin of the window: the tiles are still built by
--- the old engine (tin/build), the one tin by build engine 2 since issue
--- 74 (its coarse levels along the lattice: more triangles there, fewer at
--- the finest); until then 1.0 at every level (0.6 to 0.8 % more)
+-- the tiles against one tin of the window: both built by build engine 2
+-- (after 0.27.0; the tiles by the old engine before, 0.7 to 1.1); 1.0 at
+-- every level
 -- (until 0.7.0 keep_border made every border pixel a vertex of
 -- every level: fans of slivers at the coarse levels that persisted into
 -- the finest; on the 3.1 m tiles of scripts/bench-big.sh, 3.6x the
@@ -237,9 +236,11 @@ SELECT count(*) AS matched FROM one_call o JOIN tin_tiles k ON ST_Equals(tin_env
 -- their seams too (since 0.14.0: both tiles of a seam keep the seam pixels
 -- a strip needs): tin_validate against the window raster, where the grid
 -- segments beyond a tile's seams are its neighbours'. The SQL pattern's
--- tiles cannot (a tile alone cannot put a vertex on a seam its neighbour
+-- tiles need not (a tile alone cannot put a vertex on a seam its neighbour
 -- does not know of): 46 levels over before the seams were planned at
--- half the tolerance (after 0.27.0), 20 since
+-- half the tolerance (after 0.27.0), 20 with that; none since build
+-- engine 2 builds the tiles and mends a strip from inside (after 0.27.0),
+-- on this window
 SELECT 'tin_tiles' AS build, count(DISTINCT (o.tx, o.ty)) AS tiles, count(v.level) AS levels_over
 FROM one_call o CROSS JOIN dem_window d LEFT JOIN LATERAL tin_validate(o.t, d.rast) v ON true
 UNION ALL

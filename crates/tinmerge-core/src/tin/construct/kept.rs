@@ -13,21 +13,23 @@
 //! the parent-by-parent build does (a tile built over its data only,
 //! beside one built here, plans the shared column the same way). The
 //! side's other samples stay [`RESERVED`](super::measure::RESERVED): the
-//! greedy refinement makes no vertex of them, and an edge crossing a grid
-//! segment from one to a vertex is not measured (one to a free sample is,
-//! and mended by that sample). What it thus cannot mend from inside (an
-//! edge crossing such a segment over the tolerance, in the strip along the
-//! hull) is what the tile asks of its seams
-//! ([`Wanted`](crate::tin::tile::Wanted)), and the seam rounds
-//! ([`crate::tin::seam_rounds`]) keep those samples in both tiles.
+//! greedy refinement makes no vertex of them. An edge crossing a grid
+//! segment from one to a vertex over the tolerance is split where it
+//! crosses ([`super::greedy`]'s `reserve::split_beside_kept`), exact there,
+//! so the strip along the hull is mended from inside; only where that split
+//! would make a nearly flat triangle is the segment left stuck (not
+//! queued again), and what stays over the tolerance there is what the tile
+//! asks of its seams ([`Wanted`](crate::tin::tile::Wanted)): the seam
+//! rounds ([`crate::tin::seam_rounds`]) keep those samples in both tiles.
 //!
 //! The coarse levels run along the lattice ([`super::aligned`]) as a whole
 //! band's do, but keep off the hull: no triangle of the first cover has a
 //! corner on a side (but the hull's corners), and none is bisected at a
 //! side. On the bundled UTM DEM in 96-pixel tiles at 2 m, 5 levels, the
-//! finest levels have 205,431 triangles together (277,508 parent by
+//! finest levels have 205,573 triangles together (277,508 parent by
 //! parent; 314,350 with Delaunay coarse levels, whose edges cross grid
-//! lines).
+//! lines), and the seam rounds build each of its 16 tiles once (28 builds
+//! before).
 //!
 //! A side along no lattice line (across nodata) has samples only where
 //! lattice points fall on it; the greedy refinement splits its pieces
