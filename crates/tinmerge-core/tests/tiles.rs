@@ -332,8 +332,8 @@ fn shape(t: &Tin, l: usize, px: f64) -> Vec<([(i64, i64, u64); 3], Option<[(i64,
     let key = |v: u32| {
         let p = t.verts[v as usize];
         (
-            (p[0] / px * 1e6 + 0.3183).round() as i64,
-            (p[1] / px * 1e6 + 0.3183).round() as i64,
+            (p[0] / px * 1e6 + 0.2937).round() as i64,
+            (p[1] / px * 1e6 + 0.2937).round() as i64,
             p[2].to_bits(),
         )
     };

@@ -4,7 +4,8 @@
 use crate::interrupt::Interrupt;
 use crate::tin::samples::c2;
 
-use crate::tin::{MAX_LEVELS, TinError};
+use crate::tin::lattice::Lattice;
+use crate::tin::{MAX_LEVELS, Tin, TinError};
 use robust::orient2d;
 use spade::{ConstrainedDelaunayTriangulation, DelaunayTriangulation, Point2, Triangulation};
 
@@ -311,3 +312,52 @@ pub(crate) fn seam_tolerance(tol: f64, seam: bool) -> f64 {
 
 /// [`seam_tolerance`]'s fraction of the level's tolerance.
 pub(crate) const SEAM_TOLERANCE: f64 = 0.5;
+
+/// The convex hull (counter-clockwise, no collinear points) of the valid
+/// pixels of a `width` x `height` lattice (`valid` by pixel index, row by
+/// row), as pixel indices: only each row's first and last valid pixel can
+/// be on it.
+pub(crate) fn lattice_hull(
+    width: usize,
+    height: usize,
+    valid: &dyn Fn(usize) -> bool,
+) -> Vec<usize> {
+    let mut ends: Vec<usize> = Vec::new();
+    for r in 0..height {
+        let row = r * width..(r + 1) * width;
+        let first = row.clone().find(|&i| valid(i));
+        let last = row.rev().find(|&i| valid(i));
+        if let (Some(a), Some(b)) = (first, last) {
+            ends.push(a);
+            if b != a {
+                ends.push(b);
+            }
+        }
+    }
+    let col_row = |i: usize| (i % width, i / width);
+    ends.sort_by_key(|&i| col_row(i));
+    let pts: Vec<[f64; 3]> = ends
+        .iter()
+        .map(|&i| [col_row(i).0 as f64, col_row(i).1 as f64, 0.0])
+        .collect();
+    convex_hull(&pts).into_iter().map(|k| ends[k]).collect()
+}
+
+/// A tin built in a window's frame put on the lattice: its vertices moved
+/// by `origin` (whole pixels: exact) and mapped to world coordinates.
+pub(crate) fn on_lattice(
+    mut tin: Tin,
+    lattice: &Lattice,
+    origin: (i64, i64),
+) -> Result<Tin, TinError> {
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
+    for v in &mut tin.verts {
+        v[0] += c0;
+        v[1] += r0;
+    }
+    let tin = lattice.to_world(tin);
+    for v in &tin.verts {
+        crate::tin::check_xy("a pixel centre", v[0], v[1])?;
+    }
+    Ok(tin)
+}

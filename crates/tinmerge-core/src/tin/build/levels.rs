@@ -392,36 +392,6 @@ pub(crate) fn dense_hull(d: &Dense) -> Vec<usize> {
     lattice_hull(d.width, d.height, &|i| d.valid(i))
 }
 
-/// The convex hull (counter-clockwise, no collinear points) of the valid
-/// pixels of a `width` x `height` lattice (`valid` by pixel index, row by
-/// row), as pixel indices: only each row's first and last valid pixel can
-/// be on it.
-pub(crate) fn lattice_hull(
-    width: usize,
-    height: usize,
-    valid: &dyn Fn(usize) -> bool,
-) -> Vec<usize> {
-    let mut ends: Vec<usize> = Vec::new();
-    for r in 0..height {
-        let row = r * width..(r + 1) * width;
-        let first = row.clone().find(|&i| valid(i));
-        let last = row.rev().find(|&i| valid(i));
-        if let (Some(a), Some(b)) = (first, last) {
-            ends.push(a);
-            if b != a {
-                ends.push(b);
-            }
-        }
-    }
-    let col_row = |i: usize| (i % width, i / width);
-    ends.sort_by_key(|&i| col_row(i));
-    let pts: Vec<[f64; 3]> = ends
-        .iter()
-        .map(|&i| [col_row(i).0 as f64, col_row(i).1 as f64, 0.0])
-        .collect();
-    convex_hull(&pts).into_iter().map(|k| ends[k]).collect()
-}
-
 /// Largest lattice window, in pixels per sample, read in place
 /// ([`build_dense`]); sparser samples are bucketed.
 pub(super) const DENSE_PIXELS_PER_SAMPLE: usize = 8;

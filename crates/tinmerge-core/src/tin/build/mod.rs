@@ -42,9 +42,9 @@
 //! tin.sanity_check().unwrap();
 //! ```
 
-mod assemble;
+pub(crate) mod assemble;
 mod builder;
-mod common;
+pub(crate) mod common;
 mod crossings;
 mod finer;
 mod general;
@@ -54,17 +54,16 @@ mod parents;
 mod raster;
 mod window;
 
-pub(crate) use self::assemble::assemble_verified;
 use self::assemble::*;
+use self::common::on_lattice;
 pub use self::common::{
     Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
 };
-pub(crate) use self::common::{RawLevel, convex_hull, seam_tolerance};
+pub(crate) use self::common::{RawLevel, convex_hull};
 use self::levels::*;
-pub(crate) use self::levels::{dense_hull, dense_of, lattice_hull};
+pub(crate) use self::levels::{dense_hull, dense_of};
 pub use self::raster::{RasterBand, RasterBuild, build_raster};
 pub use self::window::build_lattice_window_domain;
-pub(crate) use self::window::on_lattice;
 use super::breaklines::{Breakline, clip_to_hull};
 use super::delaunay_ref::DelaunayReference;
 use super::dense::Dense;
@@ -443,7 +442,7 @@ pub fn build_lattice_window_kept(
     };
     let tin = build_inner(samples, &spec, interrupt)?;
     local(&tin)?;
-    window::on_lattice(tin, lattice, origin)
+    on_lattice(tin, lattice, origin)
 }
 
 /// A single-level tin from a triangulation given as vertices and

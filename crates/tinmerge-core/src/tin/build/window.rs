@@ -153,22 +153,3 @@ pub(super) fn in_frame(keep: &Border, origin: (i64, i64)) -> Border {
             .collect(),
     }
 }
-
-/// A tin built in a window's frame put on the lattice: its vertices moved
-/// by `origin` (whole pixels: exact) and mapped to world coordinates.
-pub(crate) fn on_lattice(
-    mut tin: Tin,
-    lattice: &Lattice,
-    origin: (i64, i64),
-) -> Result<Tin, TinError> {
-    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
-    for v in &mut tin.verts {
-        v[0] += c0;
-        v[1] += r0;
-    }
-    let tin = lattice.to_world(tin);
-    for v in &tin.verts {
-        crate::tin::check_xy("a pixel centre", v[0], v[1])?;
-    }
-    Ok(tin)
-}

@@ -26,7 +26,7 @@ use super::queue::Queue;
 use crate::geom::{BEND, orient, orient_slack, strictly_between, within_roundings};
 use crate::interrupt::{Interrupt, Ticker};
 use crate::tin::TinError;
-use crate::tin::build::RawLevel;
+use crate::tin::build::common::RawLevel;
 
 pub(super) struct Greedy<'g, S: Source + ?Sized> {
     m: Mesh,

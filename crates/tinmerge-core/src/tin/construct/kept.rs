@@ -41,7 +41,7 @@ use super::greedy::Greedy;
 use super::measure::{Heights, Source};
 use crate::interrupt::Interrupt;
 use crate::tin::TinError;
-use crate::tin::build::{Border, RawLevel, seam_tolerance};
+use crate::tin::build::common::{Border, RawLevel, seam_tolerance};
 use crate::tin::sides::choose_border;
 use rustc_hash::FxHashSet;
 
@@ -109,7 +109,7 @@ impl Sides {
             }
             let mut picked = Vec::new();
             err = err.max(choose_border(
-                &|k| g.point(side[k] as u32),
+                &|k| g.point(side[k]),
                 &(0..side.len()).collect::<Vec<usize>>(),
                 chosen,
                 tol,

@@ -16,7 +16,7 @@
 use super::mesh::{Mesh, NONE, next};
 use crate::geom::{self, floor_fast, left_or_on_rounded, orient};
 use crate::tin::TinError;
-use crate::tin::build::lattice_hull;
+use crate::tin::build::common::lattice_hull;
 
 /// What [`Greedy`](super::greedy::Greedy)'s `vid` holds at a sample that
 /// is no vertex and may not be made one by the greedy refinement (a sample

@@ -56,9 +56,8 @@ mod queue;
 
 pub use measure::Heights;
 
-use super::build::{
-    Border, RawLevel, assemble_verified, check_tolerances, on_lattice, prepare_samples,
-};
+use super::build::assemble::assemble_verified;
+use super::build::common::{Border, RawLevel, check_tolerances, on_lattice, prepare_samples};
 use super::dense::Dense;
 use super::lattice::Lattice;
 use super::{Tin, TinError};

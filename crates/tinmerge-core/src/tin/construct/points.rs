@@ -8,7 +8,7 @@ use super::measure::{Fix, Plane, Source, Worst};
 use super::mesh::NONE;
 use crate::geom::{is_sliver, left_or_on_rounded, max_abs_xy};
 use crate::tin::TinError;
-use crate::tin::build::convex_hull;
+use crate::tin::build::common::convex_hull;
 use crate::tin::delaunay_ref::DelaunayReference;
 use crate::tin::samples::SampleGrid;
 
