@@ -176,6 +176,20 @@ FROM bs_terrain b
      JOIN (SELECT 'utm' AS dem, rast FROM dem UNION ALL SELECT 'geographic', rast FROM dem_geo) d USING (dem),
      tin_validate(b.t, d.rast) v
 WHERE b.build = 'hard breaklines' GROUP BY 1 ORDER BY 1 DESC;
+-- where tin_validate names a place, PostGIS agrees there (bilinear
+-- ST_Value, as below): the places it names for the hard-breakline build
+-- judged without its lines, between pixel centres, where the lines cut
+-- the grid segments
+SELECT v.level, v.problem, x.err > tin_tolerance(b.t, v.level) AS over,
+       abs(abs(tin_height(b.t, x.p, v.level) - ST_Value(ST_SetBandNoDataValue(d.rast, 1, -32768), 1, x.p, resample => 'bilinear'))
+           - x.err) < 1e-6 AS postgis_agrees,
+       v.triangle = tin_locate(b.t, x.p, v.level)
+         OR ST_DWithin((SELECT geom FROM tin_triangles(b.t, v.level) WHERE id = v.triangle), x.p, 1e-9) AS triangle_holds_it,
+       v.detail LIKE '%between pixel centres%' AS between_centres
+FROM bs_terrain b, dem_geo d, tin_validate(b.t, d.rast) v,
+     LATERAL (SELECT substring(v.detail FROM '^error ([-0-9.e+]+) ')::float8 AS err,
+                     ST_SetSRID(ST_GeomFromText(substring(v.detail FROM '(POINT\([^)]*\))')), 4326) AS p) x
+WHERE b.dem = 'geographic' AND b.build = 'hard breaklines' ORDER BY 1;
 -- a tile's build (keep_border) chooses the seam's vertices from its own
 -- samples (so that the tile beside it agrees); the one-pixel strip along
 -- its hull was held at the samples only, and tin_validate named the levels
