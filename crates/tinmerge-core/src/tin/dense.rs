@@ -96,6 +96,21 @@ impl Dense {
             }
         }
     }
+
+    /// The samples with data on the segment between samples `a` and `b`,
+    /// both ends included, in the segment's canonical order (from its end
+    /// smaller in (column, row)), as the builds order a hull side's
+    /// samples: a hull side or a parent's side, planned from its own
+    /// samples.
+    pub fn side(&self, a: usize, b: usize) -> Vec<usize> {
+        let mut side = vec![a];
+        self.on_segment(a, b, &mut side);
+        side.push(b);
+        if self.col_row(b) < self.col_row(a) {
+            side.reverse();
+        }
+        side
+    }
 }
 
 fn gcd(mut a: u64, mut b: u64) -> u64 {

@@ -361,3 +361,16 @@ pub(crate) fn on_lattice(
     }
     Ok(tin)
 }
+
+/// The kept seam samples (on the lattice) in a window's frame (`origin`
+/// its first pixel).
+pub(crate) fn in_frame(keep: &Border, origin: (i64, i64)) -> Border {
+    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
+    Border {
+        levels: keep
+            .levels
+            .iter()
+            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
+            .collect(),
+    }
+}

@@ -459,7 +459,7 @@ pub(super) fn build_dense(
     let b: Builder<'_, _, Dt> = start(&whole, &hull, opts.keep_border, reference)?;
     let sides: Vec<Vec<usize>> = if opts.keep_border {
         (0..hull.len())
-            .map(|k| lattice_side(&d, hull[k], hull[(k + 1) % hull.len()]))
+            .map(|k| d.side(hull[k], hull[(k + 1) % hull.len()]))
             .collect()
     } else {
         Vec::new()

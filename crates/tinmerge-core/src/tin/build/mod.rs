@@ -55,11 +55,11 @@ mod raster;
 mod window;
 
 use self::assemble::*;
-use self::common::on_lattice;
 pub use self::common::{
     Border, BuildOptions, MAX_SAMPLES, check_tolerances, default_tolerances, prepare_samples,
 };
 pub(crate) use self::common::{RawLevel, convex_hull};
+use self::common::{in_frame, on_lattice};
 use self::levels::*;
 pub(crate) use self::levels::{dense_hull, dense_of};
 pub use self::raster::{RasterBand, RasterBuild, build_raster};
@@ -434,7 +434,7 @@ pub fn build_lattice_window_kept(
             p[1] + r0
         )));
     }
-    let keep = window::in_frame(keep, origin);
+    let keep = in_frame(keep, origin);
     let spec = Spec {
         on_lattice: true,
         border: &keep,

@@ -11,19 +11,6 @@ use crate::tin::samples::{SampleGrid, Samples};
 use crate::tin::sides::{Forced, Pt, SidePlan, plan_side};
 use crate::tin::surface::Reference;
 
-/// The samples with data on the segment between samples `a` and `b` of a
-/// lattice, both ends included, in the segment's canonical order (from its
-/// end smaller in (x, y)), as [`hull_sides`](super::common::hull_sides) gives them.
-pub(super) fn lattice_side(d: &Dense, a: usize, b: usize) -> Vec<usize> {
-    let mut side = vec![a];
-    d.on_segment(a, b, &mut side);
-    side.push(b);
-    if d.col_row(b) < d.col_row(a) {
-        side.reverse();
-    }
-    side
-}
-
 /// Rounds of forcing crossings onto sides per level, at most (a round
 /// refines again only the parents of the sides it split; the rounds end
 /// when one splits none).
@@ -149,7 +136,7 @@ pub(super) fn refine_parent(
 }
 
 /// The plans of a lattice parent's fixed sides (`free[k]` false): each
-/// side's samples found by gcd steps ([`lattice_side`]) and its crossings,
+/// side's samples found by gcd steps ([`Dense::side`]) and its crossings,
 /// split by [`plan_side`].
 fn lattice_plans(
     d: &Dense,
@@ -163,7 +150,7 @@ fn lattice_plans(
     (0..3)
         .filter(|&k| !free[k])
         .map(|k| {
-            let side = lattice_side(d, corners[k] as usize, corners[(k + 1) % 3] as usize);
+            let side = d.side(corners[k] as usize, corners[(k + 1) % 3] as usize);
             let on: Vec<(usize, [f64; 3])> = side[1..side.len() - 1]
                 .iter()
                 .map(|&g| (g, d.point(g)))

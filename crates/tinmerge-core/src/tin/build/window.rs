@@ -140,16 +140,3 @@ pub(super) fn check_lattice(lattice: &Lattice) -> Result<(), TinError> {
         lattice.scale_x, lattice.scale_y, lattice.skew_x, lattice.skew_y
     )))
 }
-
-/// The kept seam samples (on the lattice) in a window's frame (`origin`
-/// its first pixel).
-pub(super) fn in_frame(keep: &Border, origin: (i64, i64)) -> Border {
-    let (c0, r0) = (origin.0 as f64, origin.1 as f64);
-    Border {
-        levels: keep
-            .levels
-            .iter()
-            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
-            .collect(),
-    }
-}

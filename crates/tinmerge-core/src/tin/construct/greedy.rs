@@ -127,9 +127,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
                 .iter()
                 .map(|p| (p[1] as usize * w + p[0] as usize) as u32)
                 .collect();
-            let mut s = Self::with(g, floor, m, ids, true);
-            s.keep_hull = keep_hull;
-            return Ok(s);
+            return Ok(Self::with(g, floor, m, ids, true, keep_hull));
         }
         let mut m = Mesh::new();
         for &id in &corners {
@@ -139,13 +137,11 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             m.add_triangle(0, i, i + 1, 0);
         }
         m.link_all();
-        let mut s = Self::with(g, floor, m, corners, false);
-        s.keep_hull = keep_hull;
-        Ok(s)
+        Ok(Self::with(g, floor, m, corners, false, keep_hull))
     }
 
     /// `ids`: the sample at each of `m`'s vertices.
-    fn with(g: &'g S, floor: f64, m: Mesh, ids: Vec<u32>, aligned: bool) -> Self {
+    fn with(g: &'g S, floor: f64, m: Mesh, ids: Vec<u32>, aligned: bool, keep_hull: bool) -> Self {
         let mut s = Greedy {
             m,
             g,
@@ -158,7 +154,7 @@ impl<'g, S: Source + ?Sized> Greedy<'g, S> {
             limit: 4 * g.count() + 1024,
             aligned,
             bisect_from: if aligned { bisect_from(g) } else { 0.0 },
-            keep_hull: false,
+            keep_hull,
             stuck: Default::default(),
         };
         for (v, &id) in ids.iter().enumerate() {

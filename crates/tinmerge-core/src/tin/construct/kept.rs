@@ -42,6 +42,7 @@ use super::measure::{Heights, Source};
 use crate::interrupt::Interrupt;
 use crate::tin::TinError;
 use crate::tin::build::common::{Border, RawLevel, seam_tolerance};
+use crate::tin::dense::Dense;
 use crate::tin::sides::choose_border;
 use rustc_hash::FxHashSet;
 
@@ -54,28 +55,14 @@ struct Sides {
 }
 
 impl Sides {
-    fn new(g: &Heights<'_>, hull: &[u32]) -> Sides {
-        let w = g.width as i64;
-        let col_row = |i: u32| (i as i64 % w, i as i64 / w);
+    fn new(d: &Dense, hull: &[u32]) -> Sides {
         let sides: Vec<Vec<u32>> = (0..hull.len())
             .map(|k| {
                 let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
-                let ((ca, ra), (cb, rb)) = (col_row(a), col_row(b));
-                let (dc, dr) = (cb - ca, rb - ra);
-                let steps = gcd(dc.unsigned_abs(), dr.unsigned_abs()) as i64;
-                let mut side = vec![a];
-                for s in 1..steps {
-                    let (c, r) = (ca + dc / steps * s, ra + dr / steps * s);
-                    let i = (r * w + c) as u32;
-                    if !g.z[i as usize].is_nan() {
-                        side.push(i);
-                    }
-                }
-                side.push(b);
-                if col_row(b) < col_row(a) {
-                    side.reverse();
-                }
-                side
+                d.side(a as usize, b as usize)
+                    .into_iter()
+                    .map(|i| i as u32)
+                    .collect()
             })
             .collect();
         let chosen = sides
@@ -121,26 +108,24 @@ impl Sides {
     }
 }
 
-fn gcd(mut a: u64, mut b: u64) -> u64 {
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    a
-}
-
-/// Every level of band `g` with its hull's sides kept, the samples of
-/// `border` (column and row in `g`'s frame, per level) kept on them: its
-/// vertices (in `g`'s frame) and levels.
+/// Every level of the lattice samples `d` with its hull's sides kept, the
+/// samples of `border` (column and row in `d`'s window's frame, per level)
+/// kept on them: its vertices (in that frame) and levels.
 pub(super) fn levels(
-    g: &Heights<'_>,
+    d: &Dense,
     tolerances: &[f64],
     border: &Border,
     interrupt: &mut Interrupt<'_>,
 ) -> Result<(Vec<[f64; 3]>, Vec<RawLevel>), TinError> {
+    let g = &Heights {
+        z: &d.z,
+        width: d.width,
+        height: d.height,
+    };
     let floor = tolerances.last().copied().unwrap_or(0.0);
     // coarse levels along the lattice, off the sides
     let mut s = Greedy::new(g, floor, tolerances.len() > 1, true)?;
-    let mut sides = Sides::new(g, &g.hull()?);
+    let mut sides = Sides::new(d, &g.hull()?);
     s.reserve(&sides.inner());
     let mut raw = Vec::with_capacity(tolerances.len());
     for (l, &tol) in tolerances.iter().enumerate() {

@@ -57,7 +57,9 @@ mod queue;
 pub use measure::Heights;
 
 use super::build::assemble::assemble_verified;
-use super::build::common::{Border, RawLevel, check_tolerances, on_lattice, prepare_samples};
+use super::build::common::{
+    Border, RawLevel, check_tolerances, in_frame, on_lattice, prepare_samples,
+};
 use super::dense::Dense;
 use super::lattice::Lattice;
 use super::{Tin, TinError};
@@ -117,20 +119,9 @@ pub(crate) fn build_dense_kept(
     interrupt: &mut Interrupt<'_>,
 ) -> Result<Tin, TinError> {
     check_tolerances(tolerances)?;
-    let g = Heights {
-        z: &d.z,
-        width: d.width,
-        height: d.height,
-    };
+    let local = in_frame(border, (d.c0, d.r0));
+    let (mut pts, raw) = kept::levels(d, tolerances, &local, interrupt)?;
     let (c0, r0) = (d.c0 as f64, d.r0 as f64);
-    let local = Border {
-        levels: border
-            .levels
-            .iter()
-            .map(|l| l.iter().map(|p| [p[0] - c0, p[1] - r0]).collect())
-            .collect(),
-    };
-    let (mut pts, raw) = kept::levels(&g, tolerances, &local, interrupt)?;
     for p in &mut pts {
         p[0] += c0;
         p[1] += r0;
