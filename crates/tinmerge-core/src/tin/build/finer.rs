@@ -109,14 +109,16 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
         drop(level);
         out.tris.shrink_to_fit();
         out.parents.shrink_to_fit();
-        raw.push(RawLevel {
+        let mut level = RawLevel {
             tolerance: tol,
             max_error: out.max_error,
             num_vertices: numbering.verts.len() as u32,
             tris: out.tris,
             parents: out.parents,
             void,
-        });
+        };
+        super::mend::mend_sliver_holes(numbering.verts, &mut level);
+        raw.push(level);
     }
     Ok(())
 }

@@ -50,6 +50,7 @@ mod finer;
 mod general;
 mod levels;
 mod lines;
+mod mend;
 mod parents;
 mod raster;
 mod window;
