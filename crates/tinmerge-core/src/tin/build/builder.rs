@@ -543,6 +543,26 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
         ))
     }
 
+    /// Whether vertices `u` and `v` lie on one side of the parent (corners
+    /// `c`): both on one fixed side's chain, or both on a free side
+    /// (`free[k]`, side `k` from corner `k`) up to rounding.
+    pub(super) fn same_side(&self, u: u32, v: u32, c: &[[f64; 3]; 3], free: [bool; 3]) -> bool {
+        let side = |w: u32| self.vside.get(w as usize).copied().unwrap_or(0);
+        if side(u) & side(v) != 0 {
+            return true;
+        }
+        let (p, q) = (
+            self.vert3(FixedVertexHandle::from_index(u as usize)),
+            self.vert3(FixedVertexHandle::from_index(v as usize)),
+        );
+        (0..3).any(|k| {
+            let (a, b) = (&c[k], &c[(k + 1) % 3]);
+            free[k]
+                && crate::geom::within_roundings(a, b, &p, crate::geom::BEND)
+                && crate::geom::within_roundings(a, b, &q, crate::geom::BEND)
+        })
+    }
+
     /// The crossings of free edges over `tol` that no pixel could mend,
     /// each with the side of the parent (corners `c`, counter-clockwise;
     /// side `k` from corner `k`, not `free[k]`) its grid segment crosses:
@@ -620,11 +640,20 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
     /// meets the neighbour's vertices. Raster builds, decided on the
     /// lattice, have none.
     pub(super) fn snapshot(&self) -> Vec<[u32; 3]> {
-        self.dt
+        self.snapshot_dropping().0
+    }
+
+    /// [`Builder::snapshot`], and whether it dropped a sliver.
+    pub(super) fn snapshot_dropping(&self) -> (Vec<[u32; 3]>, bool) {
+        let mut dropped = false;
+        let tris = self
+            .dt
             .inner_faces()
             .filter(|f| {
                 let v = f.vertices().map(|v| self.vert3(v.fix()));
-                !crate::geom::is_sliver(&v[0], &v[1], &v[2])
+                let sliver = crate::geom::is_sliver(&v[0], &v[1], &v[2]);
+                dropped |= sliver;
+                !sliver
             })
             .map(|f| {
                 let v = f.vertices();
@@ -634,7 +663,8 @@ impl<S: Samples, T: Tri> Builder<'_, S, T> {
                     v[2].fix().index() as u32,
                 ]
             })
-            .collect()
+            .collect();
+        (tris, dropped)
     }
 }
 

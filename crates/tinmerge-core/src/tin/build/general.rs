@@ -93,12 +93,14 @@ pub(super) fn refine_parent_general(
     // a void parent's error is no level's
     let err = if void.is_some() { 0.0 } else { err };
     let unmended = b.unmended(tol, &c, free);
-    let mut tris = b.snapshot();
+    let (mut tris, dropped) = b.snapshot_dropping();
     if chains.iter().any(|ch| ch.len() > 2) {
         tris = close_chains(tris, &chains, &b.vsample, &|v| {
             b.vert3(FixedVertexHandle::from_index(v))
         });
     }
+    // a sliver dropped at a corner leaves a gap for the level to mend
+    let dropped = dropped && super::mend::leaves_gap(&tris, &|u, v| b.same_side(u, v, &c, free));
     let (verts, at) = parent_out(&b, &local.grid, &own.gid);
     scratch.keep(b);
     Ok(ParentOut {
@@ -108,6 +110,7 @@ pub(super) fn refine_parent_general(
         tris,
         err,
         unmended,
+        dropped,
     })
 }
 
@@ -317,4 +320,8 @@ pub(super) struct ParentOut {
     /// crossings over the tolerance that no pixel could mend, by the side
     /// their grid segment crosses ([`Builder::unmended`])
     pub(super) unmended: Vec<(SideKey, SegKey)>,
+    /// whether the refinement dropped a sliver at a corner, leaving a gap
+    /// ([`super::mend::leaves_gap`]) the level mends after it is refined
+    /// ([`super::mend`])
+    pub(super) dropped: bool,
 }

@@ -22,6 +22,24 @@ use rustc_hash::FxHashMap;
 use super::common::RawLevel;
 use crate::tin::NONE;
 
+/// Whether a parent's children `tris` leave a gap inside it: an edge
+/// without its twin among them whose ends are not on one side of the
+/// parent (`same_side`). A sliver dropped along a side leaves none
+/// ([`close_chains`] makes the triangle across meet its vertex); one
+/// dropped at a corner, between vertices of two sides, does, and only
+/// then is the level searched ([`mend_sliver_holes`]).
+///
+/// [`close_chains`]: crate::tin::sides::close_chains
+pub(super) fn leaves_gap(tris: &[[u32; 3]], same_side: &dyn Fn(u32, u32) -> bool) -> bool {
+    let edges: rustc_hash::FxHashSet<(u32, u32)> = tris
+        .iter()
+        .flat_map(|t| (0..3).map(move |j| (t[j], t[(j + 1) % 3])))
+        .collect();
+    edges
+        .iter()
+        .any(|&(u, v)| !edges.contains(&(v, u)) && !same_side(u, v))
+}
+
 /// Mend every gap of `level` (vertices `verts`) that is a sliver of three
 /// edges: the triangle whose edge is the sliver's longest is split at the
 /// sliver's third vertex. A gap that is not a sliver, or whose split would

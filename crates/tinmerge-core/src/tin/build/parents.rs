@@ -93,7 +93,10 @@ pub(super) fn refine_parent(
             b.reference = reference;
             let (err, _) = b.refine_parent(corners.map(|s| win.local(s as usize)), &plans, tol)?;
             let unmended = b.unmended(tol, &c, free);
-            let tris = b.snapshot();
+            let (tris, dropped) = b.snapshot_dropping();
+            // a sliver dropped at a corner leaves a gap for the level to mend
+            let dropped =
+                dropped && super::mend::leaves_gap(&tris, &|u, v| b.same_side(u, v, &c, free));
             let verts = b
                 .vsample
                 .iter()
@@ -107,6 +110,7 @@ pub(super) fn refine_parent(
                 tris,
                 err,
                 unmended,
+                dropped,
             });
         }
     }
