@@ -13,7 +13,10 @@
 //! raster with a boundary on a 0.81 m projected grid, level 3, a sliver of
 //! 6e-8 m² beside a parent 0.28 mm wide at one end). The gap is mended
 //! here as within one parent: the triangle across the long edge is split
-//! at the sliver's vertex into two, both children of its parent.
+//! at the sliver's vertex into two, both children of its parent. Only a
+//! level where a parent reported such a gap among its own children
+//! ([`leaves_gap`]) is searched: searching every level cost 0.5-1 µs a
+//! triangle.
 //!
 //! [`close_chains`]: crate::tin::sides::close_chains
 
