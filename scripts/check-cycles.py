@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Fails if a Rust module uses another module that uses it back (directly or
 through others), or if a module of the core uses one of a higher layer
-(`LAYERS`: docs/architecture.md's order, lowest first). Reads `use crate::...`, `use super::...` and inline
+(`LAYERS`: docs/architecture.md's order, lowest first). Reads `use crate::...`, `use super::...`, `use self::...` (a child's items
+taken, or re-exported with `pub use`: a module that re-exports a child
+uses it) and inline
 `crate::a::b` paths of every .rs file under the given crate roots; a module is
 a file (`a/b.rs` is `a::b`, `a/mod.rs` is `a`). Declaring a child (`mod x;`)
 is not a use; `#[cfg(test)] mod tests` blocks are skipped.
@@ -89,6 +91,10 @@ def main(roots):
                     segs = segs[1:]
                 elif segs[0] == "super":
                     segs = here[:-1] + segs[1:]
+                elif segs[0] == "self":
+                    # `use self::x::{..}` and `pub use self::x::..`: a
+                    # child's items taken or re-exported
+                    segs = here + segs[1:]
                 else:
                     continue
                 # the longest prefix that is a module of this crate

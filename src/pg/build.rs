@@ -15,9 +15,9 @@ use super::tin_type::TinOut;
 use tinmerge_core::io::{ewkb, raster};
 use tinmerge_core::merge::area::polygon::Area;
 use tinmerge_core::tin::breaklines::Breakline;
+use tinmerge_core::tin::build::raster::{RasterBand, RasterBuild};
 use tinmerge_core::tin::build::{
     build_lattice, check_tolerances, default_tolerances, points_build_bytes, BuildOptions,
-    RasterBand, RasterBuild,
 };
 use tinmerge_core::tin::construct::build_points;
 use tinmerge_core::tin::lattice::Lattice;
@@ -418,7 +418,7 @@ fn build_raster_constrained(
         fill_gaps,
     };
     let tin = track("tin_from_raster", || {
-        tinmerge_core::tin::build::build_raster(
+        tinmerge_core::tin::build::raster::build_raster(
             heights,
             with,
             tols,

@@ -55,9 +55,8 @@ use std::time::{Duration, Instant};
 use terrain::{Raster, terrain};
 use tinmerge_core::merge::overlay::{overlay, overlay_constrained};
 use tinmerge_core::tin::breaklines::Breakline;
-use tinmerge_core::tin::build::{
-    RasterBand, RasterBuild, boundary, build_raster, default_tolerances,
-};
+use tinmerge_core::tin::build::raster::{RasterBand, RasterBuild, build_raster};
+use tinmerge_core::tin::build::{boundary, default_tolerances};
 use tinmerge_core::tin::construct::build_points;
 use tinmerge_core::tin::lattice::Lattice;
 use tinmerge_core::tin::seam_rounds::build_tiles;

@@ -2,7 +2,7 @@
 //! with heights, by [`PieceSink`]) or the triangles crossed
 //! ([`TriangleSink`]), and the runs of pieces along each part.
 
-use super::{Part, Sink, walk_parts};
+use super::walk::{Part, Sink, walk_parts};
 use crate::geom::{P2, dist};
 use crate::interrupt::Interrupt;
 use crate::tin::mesh::{Indexed, Mesh};

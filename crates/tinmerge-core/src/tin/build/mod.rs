@@ -52,7 +52,7 @@ mod levels;
 mod lines;
 mod mend;
 mod parents;
-mod raster;
+pub mod raster;
 mod window;
 
 use self::assemble::*;
@@ -63,7 +63,6 @@ pub(crate) use self::common::{RawLevel, convex_hull};
 use self::common::{in_frame, on_lattice};
 use self::levels::*;
 pub(crate) use self::levels::{dense_hull, dense_of};
-pub use self::raster::{RasterBand, RasterBuild, build_raster};
 pub use self::window::build_lattice_window_domain;
 use super::breaklines::{Breakline, clip_to_hull};
 use super::delaunay_ref::DelaunayReference;
