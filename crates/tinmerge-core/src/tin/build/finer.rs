@@ -107,7 +107,7 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
                 .collect()
         };
         drop(level);
-        let out_dropped = out.dropped;
+        let gap = out.gap;
         out.tris.shrink_to_fit();
         out.parents.shrink_to_fit();
         let mut level = RawLevel {
@@ -118,8 +118,8 @@ pub(super) fn refine_by_parents<P: ParentSamples>(
             parents: out.parents,
             void,
         };
-        // only a dropped sliver leaves a gap to mend
-        if out_dropped {
+        // only a level a parent left a gap in is searched
+        if gap {
             super::mend::mend_sliver_holes(numbering.verts, &mut level);
         }
         raw.push(level);
@@ -133,8 +133,8 @@ struct Children {
     tris: Vec<[u32; 3]>,
     parents: Vec<u32>,
     max_error: f64,
-    /// a parent dropped a sliver
-    dropped: bool,
+    /// a parent left a gap ([`ParentOut::gap`])
+    gap: bool,
 }
 
 /// The vertices of every level so far, numbered in the order parents hand
@@ -185,7 +185,7 @@ impl<'v> Numbering<'v> {
     /// One parent's children added to `out`, their vertices numbered.
     fn merge<P: ParentSamples>(&mut self, src: &P, o: ParentOut, out: &mut Children) {
         out.max_error = out.max_error.max(o.err);
-        out.dropped |= o.dropped;
+        out.gap |= o.gap;
         let ids: Vec<u32> = o
             .verts
             .iter()

@@ -100,7 +100,7 @@ pub(super) fn refine_parent_general(
         });
     }
     // a sliver dropped at a corner leaves a gap for the level to mend
-    let dropped = dropped && super::mend::leaves_gap(&tris, &|u, v| b.same_side(u, v, &c, free));
+    let gap = dropped && super::mend::leaves_gap(&tris, &|u, v| b.same_side(u, v, &c, free));
     let (verts, at) = parent_out(&b, &local.grid, &own.gid);
     scratch.keep(b);
     Ok(ParentOut {
@@ -110,7 +110,7 @@ pub(super) fn refine_parent_general(
         tris,
         err,
         unmended,
-        dropped,
+        gap,
     })
 }
 
@@ -323,5 +323,5 @@ pub(super) struct ParentOut {
     /// whether the refinement dropped a sliver at a corner, leaving a gap
     /// ([`super::mend::leaves_gap`]) the level mends after it is refined
     /// ([`super::mend`])
-    pub(super) dropped: bool,
+    pub(super) gap: bool,
 }

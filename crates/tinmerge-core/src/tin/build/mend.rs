@@ -24,6 +24,7 @@ use rustc_hash::FxHashMap;
 
 use super::common::RawLevel;
 use crate::tin::NONE;
+use crate::tin::hierarchy::compute_neighbours;
 
 /// Whether a parent's children `tris` leave a gap inside it: an edge
 /// without its twin among them whose ends are not on one side of the
@@ -46,28 +47,26 @@ pub(super) fn leaves_gap(tris: &[[u32; 3]], same_side: &dyn Fn(u32, u32) -> bool
 /// Mend every gap of `level` (vertices `verts`) that is a sliver of three
 /// edges: the triangle whose edge is the sliver's longest is split at the
 /// sliver's third vertex. A gap that is not a sliver, or whose split would
-/// make a sliver or a triangle turned over, is left for the build's own
-/// check to refuse. Returns how many gaps were mended.
-pub(super) fn mend_sliver_holes(verts: &[[f64; 3]], level: &mut RawLevel) -> usize {
-    let tris = &level.tris;
-    // every directed edge, by its triangle and position
-    let mut edges: FxHashMap<(u32, u32), (u32, u8)> = FxHashMap::default();
-    edges.reserve(3 * tris.len());
-    for (t, tri) in tris.iter().enumerate() {
-        for j in 0..3 {
-            edges.insert((tri[j], tri[(j + 1) % 3]), (t as u32, j as u8));
-        }
-    }
-    // the edges without a twin, by their start (NONE: two start there)
+/// make a sliver or a triangle turned over (or a level whose edges do not
+/// match, [`compute_neighbours`]), is left for the build's own check to
+/// refuse.
+pub(super) fn mend_sliver_holes(verts: &[[f64; 3]], level: &mut RawLevel) {
+    let Ok(nbrs) = compute_neighbours(&level.tris) else {
+        return;
+    };
+    // the edges without a neighbour (triangle t's edge opposite corner j),
+    // by their start (NONE: two start there)
     let mut next: FxHashMap<u32, (u32, u32, u8)> = FxHashMap::default();
-    for (&(a, b), &(t, j)) in &edges {
-        if !edges.contains_key(&(b, a)) {
-            next.entry(a)
-                .and_modify(|e| e.0 = NONE)
-                .or_insert((b, t, j));
+    for (t, (tri, nb)) in level.tris.iter().zip(&nbrs).enumerate() {
+        for j in 0..3 {
+            if nb[j] == NONE {
+                next.entry(tri[(j + 1) % 3])
+                    .and_modify(|e| e.0 = NONE)
+                    .or_insert((tri[(j + 2) % 3], t as u32, j as u8));
+            }
         }
     }
-    drop(edges);
+    drop(nbrs);
     let mut splits: Vec<(u32, u8, u32)> = Vec::new();
     let mut starts: Vec<u32> = next.keys().copied().collect();
     starts.sort_unstable();
@@ -100,14 +99,14 @@ pub(super) fn mend_sliver_holes(verts: &[[f64; 3]], level: &mut RawLevel) -> usi
         let (t, j) = [(ta, ja), (tb, jb), (tc, jc)][k];
         splits.push((t, j, [a, b, c][(k + 2) % 3]));
     }
-    let mut mended = 0;
     let mut split = vec![false; level.tris.len()];
     for (t, j, v) in splits {
         if std::mem::replace(&mut split[t as usize], true) {
             continue;
         }
+        // the edge u -> w opposite corner x
         let tri = level.tris[t as usize];
-        let (u, w, x) = (
+        let (x, u, w) = (
             tri[j as usize],
             tri[(j as usize + 1) % 3],
             tri[(j as usize + 2) % 3],
@@ -129,7 +128,5 @@ pub(super) fn mend_sliver_holes(verts: &[[f64; 3]], level: &mut RawLevel) -> usi
         if let Some(&void) = level.void.get(t as usize) {
             level.void.push(void);
         }
-        mended += 1;
     }
-    mended
 }

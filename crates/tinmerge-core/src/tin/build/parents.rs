@@ -95,7 +95,7 @@ pub(super) fn refine_parent(
             let unmended = b.unmended(tol, &c, free);
             let (tris, dropped) = b.snapshot_dropping();
             // a sliver dropped at a corner leaves a gap for the level to mend
-            let dropped =
+            let gap =
                 dropped && super::mend::leaves_gap(&tris, &|u, v| b.same_side(u, v, &c, free));
             let verts = b
                 .vsample
@@ -110,7 +110,7 @@ pub(super) fn refine_parent(
                 tris,
                 err,
                 unmended,
-                dropped,
+                gap,
             });
         }
     }
