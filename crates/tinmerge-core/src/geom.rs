@@ -139,10 +139,22 @@ pub(crate) fn whole(p: &[f64; 3]) -> Option<[i64; 2]> {
 /// Whether d lies strictly inside the circle through the
 /// counter-clockwise a, b, c, exactly: in integers when all four are
 /// [`whole`] (lattice points are often cocircular, where the adaptive
-/// float test is slowest), else by `robust::incircle`.
+/// float test is slowest; in `i64` when a, b and c are within 2^14 of d,
+/// else in `i128`), else by `robust::incircle`.
 pub(crate) fn in_circle(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> bool {
     if let (Some(a), Some(b), Some(c), Some(d)) = (whole(a), whole(b), whole(c), whole(d)) {
-        let rel = |p: [i64; 2]| [(p[0] - d[0]) as i128, (p[1] - d[1]) as i128];
+        let rel = |p: [i64; 2]| [p[0] - d[0], p[1] - d[1]];
+        let (a, b, c) = (rel(a), rel(b), rel(c));
+        // within 2^14 of d (every triangle but the first few of a big
+        // band): each product under 2^58, the sum of three fits an i64
+        let near = |p: [i64; 2]| p[0].abs() < 1 << 14 && p[1].abs() < 1 << 14;
+        if near(a) && near(b) && near(c) {
+            let lift = |p: [i64; 2]| p[0] * p[0] + p[1] * p[1];
+            let cross = |p: [i64; 2], q: [i64; 2]| p[0] * q[1] - p[1] * q[0];
+            let det = lift(a) * cross(b, c) + lift(b) * cross(c, a) + lift(c) * cross(a, b);
+            return det > 0;
+        }
+        let rel = |p: [i64; 2]| [p[0] as i128, p[1] as i128];
         let (a, b, c) = (rel(a), rel(b), rel(c));
         let lift = |p: [i128; 2]| p[0] * p[0] + p[1] * p[1];
         let cross = |p: [i128; 2], q: [i128; 2]| p[0] * q[1] - p[1] * q[0];

@@ -236,31 +236,19 @@ pub(super) fn measure<S: Source + ?Sized>(m: &Mesh, t: u32, g: &S, vid: &[u32]) 
 fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
     let plane = Plane::of(c);
     let mut worst = Worst::NONE;
-    let mut scan = |r: i64, c0: i64, c1: i64, keep: &dyn Fn(i64) -> bool| {
-        let (y, row) = (r as f64, r as usize * g.width);
-        for col in c0.max(0)..=c1.min(g.width as i64 - 1) {
-            let i = row + col as usize;
-            let z = g.z[i];
-            if z.is_nan() || vid[i] != NONE || !keep(col) {
-                continue;
-            }
-            let e = (z - plane.z(col as f64, y)).abs();
-            if e > worst.err {
-                worst = Worst {
-                    err: e,
-                    fix: Fix::Sample(i as u32),
-                };
-            }
-        }
-    };
     if let Some(corners) = whole(c) {
         // corners at pixel centres: each row's span from the edges
-        // exactly, in integers
+        // exactly, in integers, stepped row by row
         let lo = corners.iter().map(|p| p[1]).min().unwrap_or(0).max(0);
         let hi = corners.iter().map(|p| p[1]).max().unwrap_or(-1);
-        for r in lo..=hi.min(g.height as i64 - 1) {
-            if let Some((c0, c1)) = span(&corners, r) {
-                scan(r, c0, c1, &|_| true);
+        let hi = hi.min(g.height as i64 - 1);
+        if lo > hi {
+            return worst;
+        }
+        let mut rows = Spans::new(&corners, lo);
+        for r in lo..=hi {
+            if let Some((c0, c1)) = rows.next_row() {
+                scan_row(g, vid, &plane, r, c0, c1, |_| true, &mut worst);
             }
         }
         return worst;
@@ -297,14 +285,46 @@ fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
             (sure0..=sure1).contains(&col)
                 || (0..3).all(|k| left_or_on_rounded(&c[k], &c[(k + 1) % 3], &q))
         };
-        scan(r, xl.ceil() as i64 - 1, xr.floor() as i64 + 1, &inside);
+        let (c0, c1) = (xl.ceil() as i64 - 1, xr.floor() as i64 + 1);
+        scan_row(g, vid, &plane, r, c0, c1, inside, &mut worst);
     }
     worst
 }
 
+/// The worst valid centre of row `r` from column `c0` to `c1` (clipped
+/// to the band) that is no vertex and that `keep` takes, against `plane`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn scan_row(
+    g: &Heights<'_>,
+    vid: &[u32],
+    plane: &Plane,
+    r: i64,
+    c0: i64,
+    c1: i64,
+    keep: impl Fn(i64) -> bool,
+    worst: &mut Worst,
+) {
+    let (y, row) = (r as f64, r as usize * g.width);
+    for col in c0.max(0)..=c1.min(g.width as i64 - 1) {
+        let i = row + col as usize;
+        let z = g.z[i];
+        if z.is_nan() || vid[i] != NONE || !keep(col) {
+            continue;
+        }
+        let e = (z - plane.z(col as f64, y)).abs();
+        if e > worst.err {
+            *worst = Worst {
+                err: e,
+                fix: Fix::Sample(i as u32),
+            };
+        }
+    }
+}
+
 /// The corners as whole lattice numbers, when they all are (every corner
 /// a pixel centre, under [`geom::WHOLE`]): "left or on up to rounding"
-/// is then exactly "left or on", which [`span`] decides in integers.
+/// is then exactly "left or on", which [`Spans`] decides in integers.
 fn whole(c: &[[f64; 3]; 3]) -> Option<[[i64; 2]; 3]> {
     Some([
         geom::whole(&c[0])?,
@@ -313,23 +333,74 @@ fn whole(c: &[[f64; 3]; 3]) -> Option<[[i64; 2]; 3]> {
     ])
 }
 
-/// The columns of row `r` in the closed counter-clockwise triangle with
-/// whole corners `c`: on or left of each edge, exactly.
-fn span(c: &[[i64; 2]; 3], r: i64) -> Option<(i64, i64)> {
-    let (mut c0, mut c1) = (i64::MIN, i64::MAX);
-    for k in 0..3 {
-        let (p, q) = (c[k], c[(k + 1) % 3]);
-        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
-        // left or on: dx (r - py) - dy (x - px) >= 0, i.e. a x + b >= 0
-        let (a, b) = (-dy, dx * (r - p[1]) + dy * p[0]);
-        match a.signum() {
-            1 => c0 = c0.max(-b.div_euclid(a)),
-            -1 => c1 = c1.min(b.div_euclid(-a)),
-            _ if b < 0 => return None,
-            _ => {}
-        }
+/// The columns of each row in the closed counter-clockwise triangle with
+/// whole corners, row after row: on or left of each edge, exactly. Edge
+/// p -> q holds x on row r when `a x + b >= 0`, with `a = -dy` and
+/// `b = dx (r - py) + dy px`; each edge keeps `floor(b / |a|)` and its
+/// remainder, stepped by `dx` a row, so a row costs no division.
+struct Spans {
+    edges: [EdgeRows; 3],
+}
+
+#[derive(Clone, Copy)]
+struct EdgeRows {
+    /// the sign of `a`: 1 a lower bound on x, -1 an upper one, 0 none
+    /// (then the row is empty when `b < 0`)
+    sign: i64,
+    /// |a| (1 when `a` is 0)
+    d: i64,
+    /// `b`, or `floor(b / d)` when `a` is not 0
+    q: i64,
+    /// `b - q d`, in `0..d`
+    rem: i64,
+    /// `dx` split the same way: the step of `q` and of `rem` a row
+    step_q: i64,
+    step_rem: i64,
+}
+
+impl Spans {
+    /// The spans of `c` from row `r` on.
+    fn new(c: &[[i64; 2]; 3], r: i64) -> Spans {
+        let edges = std::array::from_fn(|k| {
+            let (p, q) = (c[k], c[(k + 1) % 3]);
+            let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+            let (a, b) = (-dy, dx * (r - p[1]) + dy * p[0]);
+            let d = a.abs().max(1);
+            let q = b.div_euclid(d);
+            let step_q = dx.div_euclid(d);
+            EdgeRows {
+                sign: a.signum(),
+                d,
+                q,
+                rem: b - q * d,
+                step_q,
+                step_rem: dx - step_q * d,
+            }
+        });
+        Spans { edges }
     }
-    (c0 <= c1).then_some((c0, c1))
+
+    /// The columns of the current row (first and last), if any; then
+    /// on to the next row.
+    #[inline]
+    fn next_row(&mut self) -> Option<(i64, i64)> {
+        let (mut c0, mut c1) = (i64::MIN, i64::MAX);
+        let mut empty = false;
+        for e in &mut self.edges {
+            match e.sign {
+                1 => c0 = c0.max(-e.q),
+                -1 => c1 = c1.min(e.q),
+                _ => empty |= e.q < 0,
+            }
+            e.q += e.step_q;
+            e.rem += e.step_rem;
+            if e.rem >= e.d {
+                e.rem -= e.d;
+                e.q += 1;
+            }
+        }
+        (!empty && c0 <= c1).then_some((c0, c1))
+    }
 }
 
 /// The worst crossing of edge p -> q with a grid segment between two valid
@@ -389,7 +460,7 @@ pub(super) fn crossings(p: &[f64; 3], q: &[f64; 3], g: &Heights<'_>) -> Worst {
 
 #[cfg(test)]
 mod tests {
-    use super::{span, whole};
+    use super::{Spans, whole};
     use crate::geom::{
         in_circle, left_or_on_rounded, left_or_within_roundings, orient, orient_slack,
     };
@@ -436,8 +507,14 @@ mod tests {
             );
             for _ in 0..4 {
                 let row = lo - 1 + r(hi - lo + 3);
+                // stepped to the row from up to 40 rows before it
+                let before = r(41);
+                let mut rows = Spans::new(&w, row - before);
+                for _ in 0..before {
+                    rows.next_row();
+                }
                 // a window of columns around the span and the bounds
-                let got = span(&w, row);
+                let got = rows.next_row();
                 let probe: Vec<i64> = match got {
                     Some((a, b)) => vec![a - 1, a, b, b + 1, x0 - 1, x1 + 1],
                     None => (0..8).map(|_| x0 - 1 + r(x1 - x0 + 3)).collect(),
@@ -462,7 +539,8 @@ mod tests {
         let mut r = rng(0x2545_f491_4f6c_dd1d);
         let (mut inside, mut on) = (0, 0);
         for trial in 0..200_000 {
-            let span = [3, 8, 1000, 1 << 20][trial % 4];
+            // both sides of the 64-bit test's reach (2^14 from the fourth)
+            let span = [3, 8, 1000, (1 << 14) + 300, 1 << 20][trial % 5];
             let base = if span == 1 << 20 { 0 } else { r(1 << 19) };
             let p: [[f64; 3]; 4] =
                 std::array::from_fn(|_| [(base + r(span)) as f64, (base + r(span)) as f64, 0.0]);
