@@ -245,6 +245,16 @@ fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
         if lo > hi {
             return worst;
         }
+        // each row's first centres asked of memory at once, before the
+        // scan waits on them one row at a time
+        let x0 = corners.iter().map(|p| p[0]).min().unwrap_or(0).max(0) as usize;
+        if x0 < g.width {
+            for r in lo..=hi {
+                let i = r as usize * g.width + x0;
+                prefetch(&g.z[i]);
+                prefetch(&vid[i]);
+            }
+        }
         let mut rows = Spans::new(&corners, lo);
         for r in lo..=hi {
             if let Some((c0, c1)) = rows.next_row() {
@@ -289,6 +299,21 @@ fn samples(c: &[[f64; 3]; 3], g: &Heights<'_>, vid: &[u32]) -> Worst {
         scan_row(g, vid, &plane, r, c0, c1, inside, &mut worst);
     }
     worst
+}
+
+/// A hint that `x` will be read soon (nothing where there is no such
+/// instruction).
+#[inline(always)]
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: a prefetch reads nothing and cannot fault; `sse` is in
+        // every x86-64 target
+        unsafe { _mm_prefetch::<_MM_HINT_T0>((x as *const T).cast()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
 }
 
 /// The worst valid centre of row `r` from column `c0` to `c1` (clipped
