@@ -17,7 +17,8 @@ use super::surface::{Crossing, Reference};
 /// Douglas-Peucker split of the side's height profile, from the positions
 /// already `chosen` (at first its two corners), until every sample of the
 /// side is within `tol` of the straight line between the chosen samples on
-/// either side of it. Each gap is split at its first worst sample, and the
+/// either side of it. Each gap is split at its first worst sample (a gap
+/// of a power of two steps at its middle), and the
 /// error is measured from coordinate differences only, so tiles whose
 /// lattices differ by whole pixels choose the same samples of a shared
 /// seam. Marks the new choices in `chosen`, pushes their sample indices to
@@ -51,10 +52,20 @@ pub(crate) fn choose_border(
             }
         }
         if best.0 > tol {
-            chosen[best.1] = true;
-            new.push(side[best.1]);
-            gaps.push((i, best.1));
-            gaps.push((best.1, j));
+            // a gap of 2^k steps is halved: a whole tile side (2^k pixels)
+            // is then split where a lattice-aligned triangulation bisects
+            // it, and a kept build stays aligned inside
+            // ([`crate::tin::construct`]); the gap's middle is pushed before
+            // its halves'
+            let at = if (j - i).is_power_of_two() {
+                (i + j) / 2
+            } else {
+                best.1
+            };
+            chosen[at] = true;
+            new.push(side[at]);
+            gaps.push((i, at));
+            gaps.push((at, j));
         } else {
             worst = worst.max(best.0);
         }
@@ -334,4 +345,113 @@ pub(crate) fn close_chains(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::choose_border;
+
+    /// A seeded rough profile along a row: (x, 0, z).
+    fn profile(n: usize, seed: u64) -> Vec<[f64; 3]> {
+        let mut s = seed;
+        let mut z = 100.0;
+        (0..n)
+            .map(|i| {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                z += (s % 2001) as f64 / 1000.0 - 1.0 + 0.3 * ((i as f64) / 9.0).sin();
+                [i as f64, 0.0, z]
+            })
+            .collect()
+    }
+
+    /// The largest error of the samples strictly between `i` and `j`
+    /// against the line between them.
+    fn gap_error(p: &[[f64; 3]], i: usize, j: usize) -> f64 {
+        (i + 1..j)
+            .map(|k| {
+                let t = (p[k][0] - p[i][0]) / (p[j][0] - p[i][0]);
+                (p[k][2] - (p[i][2] + t * (p[j][2] - p[i][2]))).abs()
+            })
+            .fold(0.0, f64::max)
+    }
+
+    fn choose(p: &[[f64; 3]], tol: f64) -> (Vec<usize>, Vec<usize>, f64) {
+        let side: Vec<usize> = (0..p.len()).collect();
+        let mut chosen: Vec<bool> = (0..p.len()).map(|k| k == 0 || k + 1 == p.len()).collect();
+        let mut new = Vec::new();
+        let worst = choose_border(&|k| p[k], &side, &mut chosen, tol, &mut new);
+        let marks = (0..p.len()).filter(|&k| chosen[k]).collect();
+        (marks, new, worst)
+    }
+
+    /// A side of 2^8 steps (a whole tile side of 256 pixels) is halved:
+    /// every gap left is a dyadic interval, each split only because the
+    /// interval it halves was over the tolerance, each middle chosen
+    /// before its halves', and every sample within the tolerance of its
+    /// gap's line (checked here by its own arithmetic).
+    #[test]
+    fn a_whole_tile_side_is_halved_where_it_needs() {
+        for seed in 1..40u64 {
+            let p = profile(257, seed * 7919);
+            let tol = [0.5, 2.0, 8.0][seed as usize % 3];
+            let (marks, new, worst) = choose(&p, tol);
+            let mut left = 0.0f64;
+            for w in marks.windows(2) {
+                let (i, j) = (w[0], w[1]);
+                let len = j - i;
+                assert!(
+                    len.is_power_of_two() && i % len == 0,
+                    "seed {seed}: gap {i}..{j}"
+                );
+                let e = gap_error(&p, i, j);
+                assert!(e <= tol, "seed {seed}: gap {i}..{j} off by {e}");
+                left = left.max(e);
+                if len < 256 {
+                    // the interval it halves
+                    let (a, b) = (i - i % (2 * len), i - i % (2 * len) + 2 * len);
+                    assert!(
+                        gap_error(&p, a, b) > tol,
+                        "seed {seed}: {a}..{b} split needlessly"
+                    );
+                }
+            }
+            assert_eq!(worst, left, "seed {seed}");
+            // a middle before its halves
+            for (n, &k) in new.iter().enumerate() {
+                let step = 1 << k.trailing_zeros();
+                if step < 128 {
+                    let parent = if (k / step) % 4 == 1 {
+                        k + step
+                    } else {
+                        k - step
+                    };
+                    let at = new.iter().position(|&q| q == parent);
+                    assert!(
+                        at.is_some_and(|a| a < n),
+                        "seed {seed}: {k} before {parent}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Any other gap is split at its worst sample (the first of equals).
+    #[test]
+    fn other_gaps_split_at_their_worst_sample() {
+        for seed in 1..40u64 {
+            let p = profile(101, seed * 104_729);
+            let (_, new, _) = choose(&p, 0.5);
+            let want = (1..100)
+                .map(|k| {
+                    let t = p[k][0] / 100.0;
+                    ((p[k][2] - (p[0][2] + t * (p[100][2] - p[0][2]))).abs(), k)
+                })
+                .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+            if want.0 > 0.5 {
+                assert_eq!(new.first(), Some(&want.1), "seed {seed}");
+            }
+        }
+    }
 }

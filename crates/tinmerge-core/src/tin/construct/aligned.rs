@@ -60,21 +60,32 @@ fn shape(m: &Mesh, t: u32) -> Option<(u32, [i64; 2])> {
     (sx % 2 == 0 && sy % 2 == 0).then_some((h, [sx / 2, sy / 2]))
 }
 
+/// Which hull edges a bisection may split.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(super) enum Hull {
+    /// any (a band's own hull)
+    Free,
+    /// none: a kept side's vertices are its profile's ([`super::kept`])
+    Kept,
+    /// only at this lattice point: the kept side's vertex being made
+    At([i64; 2]),
+}
+
 /// Split triangle `t` at the middle of its hypotenuse, and its neighbour
 /// there with it: a coarser right triangle across it (whose leg it is) is
 /// bisected first, as often as it takes, so that no vertex is left
 /// hanging. `z` gives the middle's height (`None`: no data there);
 /// `touched` gets every triangle changed. `None`, with nothing changed,
 /// when `t` is not a lattice-aligned right triangle ([`shape`]) or its
-/// middle has no data, or with `keep_hull` when its hypotenuse is on the
-/// hull (a kept side's vertices are its profile's, [`super::kept`]).
+/// middle has no data, or when its hypotenuse is on the hull and `hull`
+/// does not allow a vertex at its middle.
 pub(super) fn bisect(
     m: &mut Mesh,
     t: u32,
     z: &mut dyn FnMut(i64, i64) -> Option<f64>,
     touched: &mut Vec<u32>,
     scratch: &mut Vec<u32>,
-    keep_hull: bool,
+    hull: Hull,
     depth: u32,
 ) -> Result<Option<u32>, TinError> {
     if depth > 128 {
@@ -83,7 +94,7 @@ pub(super) fn bisect(
     let Some((h, mid)) = shape(m, t) else {
         return Ok(None);
     };
-    if keep_hull && m.twin[h as usize] == NONE {
+    if m.twin[h as usize] == NONE && hull != Hull::Free && hull != Hull::At(mid) {
         return Ok(None);
     }
     let Some(height) = z(mid[0], mid[1]) else {
@@ -98,7 +109,7 @@ pub(super) fn bisect(
             Some((hg, _)) if hg != g => {
                 // coarser: split it first (t is left as it was); when it
                 // cannot be, the shared edge is split in both
-                if bisect(m, g / 3, z, touched, scratch, keep_hull, depth + 1)?.is_none() {
+                if bisect(m, g / 3, z, touched, scratch, hull, depth + 1)?.is_none() {
                     break;
                 }
             }
@@ -217,7 +228,16 @@ fn square(
             if !keep(&c)
                 && leg(&big, t) > MIN_LEG
                 && !apart(&c, hull)
-                && bisect(&mut big, t, &mut flat, &mut touched, &mut scratch, false, 0)?.is_some()
+                && bisect(
+                    &mut big,
+                    t,
+                    &mut flat,
+                    &mut touched,
+                    &mut scratch,
+                    Hull::Free,
+                    0,
+                )?
+                .is_some()
             {
                 changed = true;
                 continue;

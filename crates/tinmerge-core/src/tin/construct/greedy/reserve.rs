@@ -47,6 +47,9 @@ impl<S: Source + ?Sized> Greedy<'_, S> {
             if v != NONE && v != RESERVED {
                 continue;
             }
+            if self.aligned && self.bisect_to(id)? {
+                continue;
+            }
             self.vid[id as usize] = NONE;
             self.insert_sample(0, id)?;
         }
