@@ -13,21 +13,41 @@
 
 use super::surface::{Crossing, Reference};
 
+/// How a side is split ([`choose_border`]): at what tolerance, and
+/// whether a gap of a power of two steps is halved (a tile's seam).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Split {
+    pub(crate) tol: f64,
+    pub(crate) halve: bool,
+}
+
+impl Split {
+    /// A side that no other tile shares: each gap at its worst sample.
+    pub(crate) fn at(tol: f64) -> Split {
+        Split { tol, halve: false }
+    }
+}
+
 /// One level's choice of border vertices on a hull side (`keep_border`): a
 /// Douglas-Peucker split of the side's height profile, from the positions
 /// already `chosen` (at first its two corners), until every sample of the
-/// side is within `tol` of the straight line between the chosen samples on
-/// either side of it. Each gap is split at its first worst sample (a gap
-/// of a power of two steps at its middle), and the
+/// side is within `split.tol` of the straight line between the chosen
+/// samples on either side of it. Each gap is split at its first worst
+/// sample; with `split.halve` (a tile's seam) a gap of a power of two
+/// steps at its middle instead: a whole tile side (2^k pixels) is then
+/// split only where a lattice-aligned triangulation bisects it, and a
+/// kept build stays along the lattice inside ([`crate::tin::construct`]).
+/// Every build plans a seam so, whichever engine, so two tiles agree. The
 /// error is measured from coordinate differences only, so tiles whose
 /// lattices differ by whole pixels choose the same samples of a shared
 /// seam. Marks the new choices in `chosen`, pushes their sample indices to
-/// `new` and returns the worst error left.
+/// `new` (a gap's middle before its halves') and returns the worst error
+/// left.
 pub(crate) fn choose_border(
     point: &dyn Fn(usize) -> [f64; 3],
     side: &[usize],
     chosen: &mut [bool],
-    tol: f64,
+    split: Split,
     new: &mut Vec<usize>,
 ) -> f64 {
     let err = |i: usize, j: usize, k: usize| -> f64 {
@@ -51,13 +71,8 @@ pub(crate) fn choose_border(
                 best = (e, k);
             }
         }
-        if best.0 > tol {
-            // a gap of 2^k steps is halved: a whole tile side (2^k pixels)
-            // is then split where a lattice-aligned triangulation bisects
-            // it, and a kept build stays aligned inside
-            // ([`crate::tin::construct`]); the gap's middle is pushed before
-            // its halves'
-            let at = if (j - i).is_power_of_two() {
+        if best.0 > split.tol {
+            let at = if split.halve && (j - i).is_power_of_two() {
                 (i + j) / 2
             } else {
                 best.1
@@ -147,7 +162,7 @@ type SideCrossing = (f64, [f64; 3], bool, [[f64; 3]; 2]);
 /// positions `a`, `b`), the samples strictly between them in order along it
 /// (`on`: sample, position) and, with a `reference`, its crossings with the
 /// grid segments between valid pixels, at their reference heights. A
-/// Douglas-Peucker split ([`choose_border`]) of that profile at `tol` picks
+/// Douglas-Peucker split ([`choose_border`]) of that profile by `split` picks
 /// the chain: the two parents sharing the side compute the same profile
 /// bit for bit and so the same chain, and a coarse edge becomes, level by
 /// level, a profile of the surface along it.
@@ -158,7 +173,7 @@ pub(crate) fn plan_side(
     on: &[(usize, [f64; 3])],
     reference: Option<&dyn Reference>,
     forced: &Forced,
-    tol: f64,
+    split: Split,
 ) -> SidePlan {
     let must: &[SegKey] = forced
         .get(&side_key(a, b))
@@ -240,7 +255,7 @@ pub(crate) fn plan_side(
         .map(|k| k == 0 || k + 1 == prof.len() || prof_must[k])
         .collect();
     let mut new = Vec::new();
-    let err = choose_border(&|k| prof[k].1, &idx, &mut chosen, tol, &mut new);
+    let err = choose_border(&|k| prof[k].1, &idx, &mut chosen, split, &mut new);
     let mut plan = SidePlan {
         reserve: Vec::new(),
         chosen: Vec::new(),
@@ -349,7 +364,7 @@ pub(crate) fn close_chains(
 
 #[cfg(test)]
 mod tests {
-    use super::choose_border;
+    use super::{Split, choose_border};
 
     /// A seeded rough profile along a row: (x, 0, z).
     fn profile(n: usize, seed: u64) -> Vec<[f64; 3]> {
@@ -377,11 +392,11 @@ mod tests {
             .fold(0.0, f64::max)
     }
 
-    fn choose(p: &[[f64; 3]], tol: f64) -> (Vec<usize>, Vec<usize>, f64) {
+    fn choose(p: &[[f64; 3]], split: Split) -> (Vec<usize>, Vec<usize>, f64) {
         let side: Vec<usize> = (0..p.len()).collect();
         let mut chosen: Vec<bool> = (0..p.len()).map(|k| k == 0 || k + 1 == p.len()).collect();
         let mut new = Vec::new();
-        let worst = choose_border(&|k| p[k], &side, &mut chosen, tol, &mut new);
+        let worst = choose_border(&|k| p[k], &side, &mut chosen, split, &mut new);
         let marks = (0..p.len()).filter(|&k| chosen[k]).collect();
         (marks, new, worst)
     }
@@ -396,7 +411,7 @@ mod tests {
         for seed in 1..40u64 {
             let p = profile(257, seed * 7919);
             let tol = [0.5, 2.0, 8.0][seed as usize % 3];
-            let (marks, new, worst) = choose(&p, tol);
+            let (marks, new, worst) = choose(&p, Split { tol, halve: true });
             let mut left = 0.0f64;
             for w in marks.windows(2) {
                 let (i, j) = (w[0], w[1]);
@@ -437,16 +452,23 @@ mod tests {
         }
     }
 
-    /// Any other gap is split at its worst sample (the first of equals).
+    /// Any other gap, and any gap of a side no tile shares, is split at
+    /// its worst sample (the first of equals).
     #[test]
     fn other_gaps_split_at_their_worst_sample() {
-        for seed in 1..40u64 {
-            let p = profile(101, seed * 104_729);
-            let (_, new, _) = choose(&p, 0.5);
-            let want = (1..100)
+        for seed in 1..80u64 {
+            let (n, halve) = if seed % 2 == 0 {
+                (101, true)
+            } else {
+                (257, false)
+            };
+            let p = profile(n, seed * 104_729);
+            let (_, new, _) = choose(&p, Split { tol: 0.5, halve });
+            let m = n - 1;
+            let want = (1..m)
                 .map(|k| {
-                    let t = p[k][0] / 100.0;
-                    ((p[k][2] - (p[0][2] + t * (p[100][2] - p[0][2]))).abs(), k)
+                    let t = p[k][0] / m as f64;
+                    ((p[k][2] - (p[0][2] + t * (p[m][2] - p[0][2]))).abs(), k)
                 })
                 .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
             if want.0 > 0.5 {

@@ -310,6 +310,16 @@ pub(crate) fn seam_tolerance(tol: f64, seam: bool) -> f64 {
     if seam { tol * SEAM_TOLERANCE } else { tol }
 }
 
+/// How a side is split ([`crate::tin::sides::choose_border`]): a tile's
+/// seam at [`seam_tolerance`], its gaps of a power of two steps halved;
+/// any other side at `tol`.
+pub(crate) fn seam_split(tol: f64, seam: bool) -> crate::tin::sides::Split {
+    crate::tin::sides::Split {
+        tol: seam_tolerance(tol, seam),
+        halve: seam,
+    }
+}
+
 /// [`seam_tolerance`]'s fraction of the level's tolerance.
 pub(crate) const SEAM_TOLERANCE: f64 = 0.5;
 

@@ -5,7 +5,7 @@
 use super::builder::*;
 use super::common::*;
 use crate::tin::samples::SampleGrid;
-use crate::tin::sides::{Forced, Pt, SegKey, SideKey, SidePlan, close_chains, plan_side};
+use crate::tin::sides::{Forced, Pt, SegKey, SideKey, SidePlan, Split, close_chains, plan_side};
 use crate::tin::surface::Reference;
 use crate::tin::{NONE, TinError};
 use spade::handles::FixedVertexHandle;
@@ -216,11 +216,11 @@ impl Own {
                 .collect();
             let (ea, eb) = self.ends[k];
             // a void parent's side between two void parents: left whole
-            let (side_reference, side_tol) = match job.void {
-                Some(domain) if !domain[k] => (None, VOID_TOL),
+            let (side_reference, split) = match job.void {
+                Some(domain) if !domain[k] => (None, Split::at(VOID_TOL)),
                 _ => (
                     job.reference,
-                    super::common::seam_tolerance(job.tol, job.seam[k]),
+                    super::common::seam_split(job.tol, job.seam[k]),
                 ),
             };
             let mut plan = plan_side(
@@ -230,7 +230,7 @@ impl Own {
                 &side,
                 side_reference,
                 job.forced,
-                side_tol,
+                split,
             );
             for q in &mut plan.chosen {
                 if let Pt::At(p) = *q {

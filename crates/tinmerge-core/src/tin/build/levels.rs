@@ -366,7 +366,7 @@ pub(super) fn refine_level0<S: Samples, T: Tri>(
             &|i| grid.point(i),
             side,
             &mut chosen,
-            super::common::seam_tolerance(tol, seam.get(k).copied().unwrap_or(false)),
+            super::common::seam_split(tol, seam.get(k).copied().unwrap_or(false)),
             &mut new,
         ));
     }

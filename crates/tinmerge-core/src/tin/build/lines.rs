@@ -323,8 +323,8 @@ pub(super) fn with_crossings(
 /// Level 0's constraint edges: the network's vertices inserted (they are
 /// samples of `b`'s grid), then each segment with a profile (`sides[k]`:
 /// its samples from end to end, or empty) split at the profile samples
-/// [`choose_border`] picks at `tol` (a tile's `seam`: at
-/// [`seam_tolerance`]) after the `kept`
+/// [`choose_border`] picks at `tol` (a tile's `seam`: [`seam_split`])
+/// after the `kept`
 /// positions (a tile's seam samples, [`Border`]) (inserted before the
 /// constraints, so
 /// each piece is an edge of its own: they lie on the segment only up to
@@ -372,8 +372,8 @@ pub(super) fn add_network<S: Samples>(
                         j == 0 || j + 1 == side.len() || keep
                     })
                     .collect();
-                let tol = seam_tolerance(tol, seam.get(k).copied().unwrap_or(false));
-                choose_border(&|i| grid.point(i), side, &mut chosen, tol, &mut new);
+                let split = seam_split(tol, seam.get(k).copied().unwrap_or(false));
+                choose_border(&|i| grid.point(i), side, &mut chosen, split, &mut new);
                 for i in new {
                     let h = b.insert_sample(i, handle.get(&p).copied())?;
                     handle.insert(i, h);

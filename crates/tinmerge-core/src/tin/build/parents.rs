@@ -167,7 +167,7 @@ fn lattice_plans(
                 &on,
                 reference,
                 forced,
-                super::common::seam_tolerance(tol, seam[k]),
+                super::common::seam_split(tol, seam[k]),
             )
         })
         .collect()

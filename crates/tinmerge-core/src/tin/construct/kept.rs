@@ -8,7 +8,7 @@
 //! Each level, before the greedy refinement ([`super::greedy`]) runs to
 //! its tolerance, each side's profile (its valid samples from its end
 //! smaller in (column, row) to the other) is split by
-//! [`choose_border`] at [`seam_tolerance`] from what the coarser levels
+//! [`choose_border`] at [`seam_split`] from what the coarser levels
 //! chose and the samples the tiles agreed to keep ([`Border`]), exactly as
 //! the parent-by-parent build does (a tile built over its data only,
 //! beside one built here, plans the shared column the same way). The
@@ -52,9 +52,9 @@ use super::greedy::Greedy;
 use super::measure::{Heights, Source};
 use crate::interrupt::Interrupt;
 use crate::tin::TinError;
-use crate::tin::build::common::{Border, RawLevel, seam_tolerance};
+use crate::tin::build::common::{Border, RawLevel, seam_split};
 use crate::tin::dense::Dense;
-use crate::tin::sides::choose_border;
+use crate::tin::sides::{Split, choose_border};
 use rustc_hash::FxHashSet;
 
 /// The hull's sides: each one's valid samples in canonical order (its end
@@ -95,7 +95,7 @@ impl Sides {
     /// One level's choice at `tol` (a seam's): the `kept` samples first,
     /// then the Douglas-Peucker split of each side. The samples newly
     /// chosen, in order, and the worst error left along the sides.
-    fn plan(&mut self, g: &Heights<'_>, kept: &FxHashSet<u32>, tol: f64) -> (Vec<u32>, f64) {
+    fn plan(&mut self, g: &Heights<'_>, kept: &FxHashSet<u32>, split: Split) -> (Vec<u32>, f64) {
         let mut new_ids = Vec::new();
         let mut err = 0.0f64;
         for (side, chosen) in self.sides.iter().zip(&mut self.chosen) {
@@ -110,7 +110,7 @@ impl Sides {
                 &|k| g.point(side[k]),
                 &(0..side.len()).collect::<Vec<usize>>(),
                 chosen,
-                tol,
+                split,
                 &mut picked,
             ));
             new_ids.extend(picked.into_iter().map(|k| side[k]));
@@ -156,7 +156,7 @@ pub(super) fn levels(
                 inside.then(|| (r as usize * g.width + c as usize) as u32)
             })
             .collect();
-        let (new_ids, side_err) = sides.plan(g, &kept, seam_tolerance(tol, true));
+        let (new_ids, side_err) = sides.plan(g, &kept, seam_split(tol, true));
         s.insert_kept(&new_ids)?;
         let phase = format!("building level {} of {}", l + 1, tolerances.len());
         s.run(tol, &phase, interrupt)?;
